@@ -1,0 +1,59 @@
+# feeddrive — build the FMU, run the main job, test, benchmark.
+#   make / make fmu   build build/LinearMotorFeedDrive.fmu
+#   make run          set-up, FMU, the paper's closed-loop reproductions, report (prints the tables)
+#   make test         set-up, FMU, every test
+#   make bench        benchmark table (build/bench.md)
+MODEL      := LinearMotorFeedDrive
+PYTHON     ?= python3
+VENV       := .venv
+PY         := $(VENV)/bin/python
+BUILD      := build
+GEN        := $(BUILD)/gen
+FMU        := $(BUILD)/$(MODEL).fmu
+SO         := $(BUILD)/binaries/linux64/$(MODEL).so
+CC         ?= cc
+CFLAGS     ?= -std=c99 -O2 -fPIC -Wall -Wextra -Werror -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE
+SRC_C      := $(filter-out %gen_vars.py,$(wildcard fmu_src/*.c))
+SRC_H      := $(wildcard fmu_src/*.h)
+STAMP      := $(VENV)/.installed
+
+.PHONY: all fmu run test bench clean venv
+all: fmu
+fmu: $(FMU)
+venv: $(STAMP)
+
+$(STAMP): python/pyproject.toml
+	test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install -q --upgrade pip
+	$(PY) -m pip install -q -e 'python[test]'
+	touch $@
+
+$(BUILD)/fmi_include: $(STAMP)
+	mkdir -p $(BUILD)
+	$(PY) -c "import fmpy, os; print(os.path.join(os.path.dirname(fmpy.__file__), 'c-code'))" > $@
+
+$(GEN)/model_vars.h $(GEN)/model_vars.c: modelDescription.xml fmu_src/gen_vars.py $(STAMP)
+	$(PY) fmu_src/gen_vars.py modelDescription.xml $(GEN)
+
+$(SO): $(SRC_C) $(SRC_H) $(GEN)/model_vars.h $(GEN)/model_vars.c $(BUILD)/fmi_include
+	mkdir -p $(dir $@)
+	$(CC) $(CFLAGS) -shared -fvisibility=default -I fmu_src -I $(GEN) -I "$$(cat $(BUILD)/fmi_include)" \
+	    -o $@ $(SRC_C) $(GEN)/model_vars.c -lm
+	@! (ldd $@ | grep -v -E 'linux-vdso|libc\.so|libm\.so|ld-linux|not a dynamic' | grep -q .) || \
+	    (echo "error: $@ links more than libc/libm:"; ldd $@; exit 1)
+
+$(FMU): $(SO) modelDescription.xml
+	$(PY) tools/package_fmu.py --xml modelDescription.xml --so $(SO) \
+	    --sources fmu_src $(GEN) --out $@
+
+run: $(FMU)
+	$(PY) -m feeddrive.cli run
+
+test: $(FMU)
+	$(PY) -m pytest -q tests
+
+bench: $(FMU)
+	$(PY) -m feeddrive.bench --out $(BUILD)/bench.md
+
+clean:
+	rm -rf $(BUILD)

@@ -1,0 +1,595 @@
+/* FMI 2.0 glue common to model exchange and co-simulation: life cycle, call-sequence checks,
+ * logging, get/set with value checks, FMU state snapshots. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "fmi2_instance.h"
+
+#define MODEL_MAGIC 0x46445256u   /* "FDRV" */
+
+static const char *const CAT_NAME[] = {"logEvents", "logStatusWarning", "logStatusError"};
+
+void fmu_log(instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...) {
+    char buf[1024];
+    va_list ap;
+    int idx = cat == LOG_EVENTS ? 0 : (cat == LOG_WARNING ? 1 : 2);
+    if (!c || !c->cb.logger) return;
+    /* errors and warnings are always reported; event traces only when asked for */
+    if (cat == LOG_EVENTS && !(c->logging_on && (c->log_mask & LOG_EVENTS))) return;
+    va_start(ap, fmt);
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    va_end(ap);
+    c->cb.logger(c->cb.componentEnvironment, c->name ? c->name : "?", st, CAT_NAME[idx], "%s", buf);
+}
+
+instance_t *fmu_cast(fmi2Component comp, const char *fn) {
+    instance_t *c = (instance_t *)comp;
+    (void)fn;
+    if (!c || c->m.magic != MODEL_MAGIC) return NULL;
+    return c;
+}
+
+int fmu_allowed(instance_t *c, const char *fn, int mask) {
+    static const char *const NAMES[] = {"Instantiated", "InitializationMode", "EventMode",
+                                        "ContinuousTimeMode", "StepComplete", "StepFailed",
+                                        "Terminated", "Error", "Fatal"};
+    int k = 0;
+    if (c->m.fsm & mask) return 1;
+    while (k < 8 && !(c->m.fsm & (1 << k))) k++;
+    fmu_log(c, fmi2Error, LOG_ERROR, "%s: illegal call in state %s", fn, NAMES[k]);
+    if (c->m.fsm != ST_FATAL) c->m.fsm = ST_ERROR;
+    return 0;
+}
+
+static void set_inputs(model_t *m) {
+    m->in.u = m->val[VR_u];
+    m->in.F_ext = m->val[VR_F_ext];
+}
+
+static void load_states(model_t *m) {
+    int j;
+    for (j = 0; j < MODEL_NX; j++) m->y[j] = m->val[MODEL_STATE_VR[j]];
+}
+
+double fmu_next_sample(const model_t *m) { return m->t0 + (double)(m->d.k + 1) * m->p.Ts; }
+
+int fmu_sample_due(const model_t *m) {
+    double t = m->time;
+    return m->p.current_dynamics && t >= fmu_next_sample(m) - 1e-9 * (fabs(t) > 1.0 ? fabs(t) : 1.0);
+}
+
+void fmu_update_outputs(instance_t *c) {
+    model_t *m = &c->m;
+    int j;
+    if (m->out_valid) return;
+    set_inputs(m);
+    plant_outputs(&m->p, &m->d, m->y, &m->in, &m->out);
+    plant_derivatives(&m->p, &m->d, m->y, &m->in, m->dydt);
+    for (j = 0; j < MODEL_NX; j++) {
+        m->val[MODEL_STATE_VR[j]] = m->y[j];
+        m->val[MODEL_DER_VR[j]] = m->dydt[j];
+    }
+    m->val[VR_i] = m->out.i;
+    m->val[VR_F_motor] = m->out.F_motor;
+    m->val[VR_F_cogging] = m->out.F_cg;
+    m->val[VR_F_friction] = m->out.F_fric;
+    m->val[VR_K_f] = m->out.K_f;
+    m->val[VR_n_stuck] = m->out.n_stuck;
+    m->val[VR_stats_n_stick] = (double)m->d.n_stick;
+    m->val[VR_stats_n_slip] = (double)m->d.n_slip;
+    m->val[VR_stats_n_time_events] = (double)m->d.n_time_events;
+    m->val[VR_stats_n_state_events] = (double)m->d.n_state_events;
+    m->val[VR_stats_n_steps] = (double)m->solver.n_steps;
+    m->val[VR_stats_n_rhs] = (double)m->solver.n_rhs;
+    /* friction.F[j] reports the element's effective force (nu_j s(v) when lag is off) */
+    for (j = 0; j < PLANT_NE_MAX; j++) m->val[VRA_friction_F[j + 1]] = m->out.F_elem[j];
+    m->out_valid = 1;
+}
+
+void fmu_check_stroke(instance_t *c) {
+    model_t *m = &c->m;
+    double x = m->y[PLANT_IX];
+    if (x < m->p.x_min || x > m->p.x_max) {
+        if (!m->stroke_warned)
+            fmu_log(c, fmi2Warning, LOG_WARNING,
+                    "x = %.9g m left the stroke [%g, %g] m at t = %.9g s: the maps are evaluated at the "
+                    "nearest stroke end until it returns", x, m->p.x_min, m->p.x_max, m->time);
+        m->stroke_warned = 1;
+    } else {
+        m->stroke_warned = 0;
+    }
+}
+
+int fmu_event_update(instance_t *c, fmi2Boolean *states_changed) {
+    model_t *m = &c->m;
+    bool changed = false;
+    int n = 0, samples = 0;
+    set_inputs(m);
+    do {
+        int due = fmu_sample_due(m);
+        n += plant_event_update(&m->p, &m->d, m->y, &m->in, due != 0, &changed);
+        samples += due;
+        if (due)
+            fmu_log(c, fmi2OK, LOG_EVENTS, "t = %.9g s: current-loop sample %ld, i = %.9g A", m->time,
+                    m->d.k, m->d.i);
+    } while (fmu_sample_due(m) && samples < 1000000);
+    if (samples > 1)
+        fmu_log(c, fmi2Warning, LOG_WARNING, "t = %.9g s: %d current-loop samples were overdue (the importer "
+                "stepped past nextEventTime)", m->time, samples);
+    if (n > 0)
+        fmu_log(c, fmi2OK, LOG_EVENTS, "t = %.9g s: %d friction switch(es), v = %.6g m/s, stuck %d",
+                m->time, n, m->y[PLANT_IV], (int)0);
+    fmu_check_stroke(c);
+    m->out_valid = 0;
+    *states_changed = changed ? fmi2True : fmi2False;
+    return n;
+}
+
+fmi2Status fmu_recompile(instance_t *c, const double *backup_val) {
+    model_t *m = &c->m;
+    char msg[512];
+    plant_params_t old = m->p;
+    int j;
+    if (!plant_params_compile(m->val, &m->p, msg, sizeof msg)) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s", msg);
+        if (backup_val) memcpy(m->val, backup_val, sizeof m->val);
+        m->p = old;
+        return fmi2Error;
+    }
+    /* elements switched on or off by a tunable change start stuck at zero force */
+    for (j = 0; j < PLANT_NE_MAX; j++) {
+        if (m->p.active[j] == old.active[j]) continue;
+        m->y[PLANT_IF + j] = 0.0;
+        m->d.stuck[j] = m->p.active[j];
+    }
+    m->params_ok = 1;
+    m->out_valid = 0;
+    m->solver_restart = 1;
+    return fmi2OK;
+}
+
+/* ---------------------------------------------------------------- life cycle */
+
+const char *fmi2GetTypesPlatform(void) { return fmi2TypesPlatform; }
+const char *fmi2GetVersion(void) { return fmi2Version; }
+
+fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2String fmuGUID,
+                              fmi2String fmuResourceLocation, const fmi2CallbackFunctions *functions,
+                              fmi2Boolean visible, fmi2Boolean loggingOn) {
+    instance_t *c;
+    size_t len;
+    int j;
+    (void)fmuResourceLocation;
+    (void)visible;
+    if (!functions || !functions->allocateMemory || !functions->freeMemory) return NULL;
+    if (!instanceName || !*instanceName) {
+        if (functions->logger)
+            functions->logger(functions->componentEnvironment, "?", fmi2Error, "logStatusError",
+                              "fmi2Instantiate: instanceName must be a non-empty string");
+        return NULL;
+    }
+    if (!fmuGUID || strcmp(fmuGUID, MODEL_GUID) != 0) {
+        if (functions->logger)
+            functions->logger(functions->componentEnvironment, instanceName, fmi2Error, "logStatusError",
+                              "fmi2Instantiate: GUID %s does not match this FMU's %s",
+                              fmuGUID ? fmuGUID : "(null)", MODEL_GUID);
+        return NULL;
+    }
+    if (fmuType != fmi2ModelExchange && fmuType != fmi2CoSimulation) {
+        if (functions->logger)
+            functions->logger(functions->componentEnvironment, instanceName, fmi2Error, "logStatusError",
+                              "fmi2Instantiate: fmuType %d is neither fmi2ModelExchange (0) nor "
+                              "fmi2CoSimulation (1)", (int)fmuType);
+        return NULL;
+    }
+    c = (instance_t *)functions->allocateMemory(1, sizeof(instance_t));
+    if (!c) return NULL;
+    memset(c, 0, sizeof *c);
+    len = strlen(instanceName) + 1;
+    c->name = (char *)functions->allocateMemory(len, 1);
+    if (!c->name) { functions->freeMemory(c); return NULL; }
+    memcpy(c->name, instanceName, len);
+    c->cb = *functions;
+    c->type = fmuType;
+    c->logging_on = loggingOn != 0;
+    c->log_mask = LOG_EVENTS | LOG_WARNING | LOG_ERROR;
+    c->m.magic = MODEL_MAGIC;
+    c->m.size = (unsigned)sizeof(model_t);
+    c->m.fsm = ST_INSTANTIATED;
+    for (j = 0; j < MODEL_NVARS; j++) c->m.val[MODEL_VARS[j].vr] = MODEL_VARS[j].start;
+    c->m.tol = c->m.val[VR_solver_tol];
+    return c;
+}
+
+void fmi2FreeInstance(fmi2Component comp) {
+    instance_t *c = fmu_cast(comp, "fmi2FreeInstance");
+    fmi2CallbackFreeMemory fr;
+    if (!c) return;
+    fr = c->cb.freeMemory;
+    c->m.magic = 0;
+    fr(c->name);
+    fr(c);
+}
+
+fmi2Status fmi2SetDebugLogging(fmi2Component comp, fmi2Boolean loggingOn, size_t nCategories,
+                               const fmi2String categories[]) {
+    instance_t *c = fmu_cast(comp, "fmi2SetDebugLogging");
+    size_t k;
+    if (!c) return fmi2Error;
+    c->logging_on = loggingOn != 0;
+    if (nCategories == 0) { c->log_mask = LOG_EVENTS | LOG_WARNING | LOG_ERROR; return fmi2OK; }
+    if (!categories) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SetDebugLogging: categories is NULL with nCategories = %zu",
+                nCategories);
+        return fmi2Error;
+    }
+    c->log_mask = LOG_WARNING | LOG_ERROR;
+    for (k = 0; k < nCategories; k++) {
+        if (categories[k] && strcmp(categories[k], "logEvents") == 0) c->log_mask |= LOG_EVENTS;
+        else if (!categories[k] || (strcmp(categories[k], "logStatusWarning") != 0 &&
+                                    strcmp(categories[k], "logStatusError") != 0)) {
+            fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SetDebugLogging: unknown log category \"%s\" (known: "
+                    "logEvents, logStatusWarning, logStatusError)", categories[k] ? categories[k] : "(null)");
+            return fmi2Error;
+        }
+    }
+    return fmi2OK;
+}
+
+fmi2Status fmi2SetupExperiment(fmi2Component comp, fmi2Boolean toleranceDefined, fmi2Real tolerance,
+                               fmi2Real startTime, fmi2Boolean stopTimeDefined, fmi2Real stopTime) {
+    instance_t *c = fmu_cast(comp, "fmi2SetupExperiment");
+    if (!c || !fmu_allowed(c, "fmi2SetupExperiment", ST_INSTANTIATED)) return fmi2Error;
+    if (!isfinite(startTime) || (stopTimeDefined && (!isfinite(stopTime) || stopTime < startTime)) ||
+        (toleranceDefined && (!isfinite(tolerance) || tolerance <= 0.0 || tolerance >= 1.0))) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SetupExperiment: startTime = %g, stopTime = %g, tolerance = %g: "
+                "allowed finite startTime, stopTime >= startTime, tolerance in (0, 1)",
+                startTime, stopTime, tolerance);
+        return fmi2Error;
+    }
+    c->m.time = c->m.t0 = startTime;
+    c->m.stop_defined = stopTimeDefined != 0;
+    c->m.stop_time = stopTime;
+    c->m.tol_defined = toleranceDefined != 0;
+    if (toleranceDefined) c->m.tol = tolerance;
+    return fmi2OK;
+}
+
+fmi2Status fmi2EnterInitializationMode(fmi2Component comp) {
+    instance_t *c = fmu_cast(comp, "fmi2EnterInitializationMode");
+    if (!c || !fmu_allowed(c, "fmi2EnterInitializationMode", ST_INSTANTIATED)) return fmi2Error;
+    c->m.fsm = ST_INIT;
+    c->m.out_valid = 0;
+    c->m.params_ok = 0;
+    return fmi2OK;
+}
+
+/* compile parameters and initialise the plant from the current values */
+static fmi2Status initialize_plant(instance_t *c) {
+    model_t *m = &c->m;
+    char msg[512];
+    double atol[PLANT_NX];
+    int j;
+    if (!plant_params_compile(m->val, &m->p, msg, sizeof msg)) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s", msg);
+        m->params_ok = 0;
+        return fmi2Error;
+    }
+    m->params_ok = 1;
+    load_states(m);
+    set_inputs(m);
+    plant_init(&m->p, &m->d, m->y, &m->in);
+    if (!m->tol_defined) m->tol = m->val[VR_solver_tol];
+    for (j = 0; j < PLANT_NX; j++) {
+        int row = MODEL_VR_INDEX[MODEL_STATE_VR[j]];
+        (void)row;
+        atol[j] = m->tol * (j == PLANT_IX ? 1e-3 : (j == PLANT_IV ? 1e-3 : 1.0));
+    }
+    dp45_init(&m->solver, PLANT_NX, PLANT_NZ, m->tol, atol, m->p.Ts);
+    m->solver_restart = 1;
+    m->out_valid = 0;
+    fmu_check_stroke(c);
+    return fmi2OK;
+}
+
+fmi2Status fmi2ExitInitializationMode(fmi2Component comp) {
+    instance_t *c = fmu_cast(comp, "fmi2ExitInitializationMode");
+    if (!c || !fmu_allowed(c, "fmi2ExitInitializationMode", ST_INIT)) return fmi2Error;
+    if (initialize_plant(c) != fmi2OK) { c->m.fsm = ST_ERROR; return fmi2Error; }
+    c->m.fsm = c->type == fmi2ModelExchange ? ST_EVENT : ST_STEP_COMPLETE;
+    return fmi2OK;
+}
+
+fmi2Status fmi2Terminate(fmi2Component comp) {
+    instance_t *c = fmu_cast(comp, "fmi2Terminate");
+    if (!c || !fmu_allowed(c, "fmi2Terminate", ST_EVENT | ST_CONT | ST_STEP_COMPLETE | ST_STEP_FAILED))
+        return fmi2Error;
+    c->m.fsm = ST_TERMINATED;
+    return fmi2OK;
+}
+
+fmi2Status fmi2Reset(fmi2Component comp) {
+    instance_t *c = fmu_cast(comp, "fmi2Reset");
+    int j;
+    if (!c || !fmu_allowed(c, "fmi2Reset", ~ST_FATAL)) return fmi2Error;
+    memset(&c->m, 0, sizeof c->m);
+    c->m.magic = MODEL_MAGIC;
+    c->m.size = (unsigned)sizeof(model_t);
+    c->m.fsm = ST_INSTANTIATED;
+    for (j = 0; j < MODEL_NVARS; j++) c->m.val[MODEL_VARS[j].vr] = MODEL_VARS[j].start;
+    c->m.tol = c->m.val[VR_solver_tol];
+    return fmi2OK;
+}
+
+/* ---------------------------------------------------------------- get / set */
+
+static int lookup(instance_t *c, const char *fn, fmi2ValueReference vr, char type) {
+    int row;
+    static const char *const TN[] = {"Real", "Integer", "Boolean"};
+    if (vr >= MODEL_NVR || (row = MODEL_VR_INDEX[vr]) < 0) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: unknown value reference %u", fn, (unsigned)vr);
+        return -1;
+    }
+    if (MODEL_VARS[row].type != type) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s (value reference %u) is not of type %s", fn,
+                MODEL_VARS[row].name, (unsigned)vr, TN[type == 'R' ? 0 : (type == 'I' ? 1 : 2)]);
+        return -1;
+    }
+    return row;
+}
+
+static int args_ok(instance_t *c, const char *fn, const void *vr, size_t nvr, const void *value) {
+    if (nvr > 0 && (!vr || !value)) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: NULL array with nvr = %zu", fn, nvr);
+        return 0;
+    }
+    return 1;
+}
+
+static fmi2Status get_values(fmi2Component comp, const char *fn, const fmi2ValueReference vr[], size_t nvr,
+                             char type, void *value) {
+    instance_t *c = fmu_cast(comp, fn);
+    size_t k;
+    if (!c || !fmu_allowed(c, fn, ST_INIT | ST_AFTER_INIT)) return fmi2Error;
+    if (!args_ok(c, fn, vr, nvr, value)) return fmi2Error;
+    if (c->m.fsm == ST_INIT && !c->m.params_ok) {
+        /* initialization mode: compute with the values set so far */
+        if (initialize_plant(c) != fmi2OK) return fmi2Error;
+    }
+    if (c->m.params_ok) fmu_update_outputs(c);
+    for (k = 0; k < nvr; k++) {
+        int row = lookup(c, fn, vr[k], type);
+        double v;
+        if (row < 0) return fmi2Error;
+        v = c->m.val[vr[k]];
+        if (type == 'R') ((fmi2Real *)value)[k] = v;
+        else if (type == 'I') ((fmi2Integer *)value)[k] = (fmi2Integer)v;
+        else ((fmi2Boolean *)value)[k] = v != 0.0 ? fmi2True : fmi2False;
+    }
+    return fmi2OK;
+}
+
+fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[]) {
+    return get_values(c, "fmi2GetReal", vr, nvr, 'R', value);
+}
+fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Integer value[]) {
+    return get_values(c, "fmi2GetInteger", vr, nvr, 'I', value);
+}
+fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Boolean value[]) {
+    return get_values(c, "fmi2GetBoolean", vr, nvr, 'B', value);
+}
+fmi2Status fmi2GetString(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr, fmi2String value[]) {
+    instance_t *c = fmu_cast(comp, "fmi2GetString");
+    (void)vr; (void)value;
+    if (!c) return fmi2Error;
+    if (nvr == 0) return fmi2OK;
+    fmu_log(c, fmi2Error, LOG_ERROR, "fmi2GetString: this FMU has no String variables (value reference %u)",
+            vr ? (unsigned)vr[0] : 0u);
+    return fmi2Error;
+}
+
+/* May variable `row` be set in the current state? */
+static int settable(instance_t *c, const char *fn, int row) {
+    const model_var_t *v = &MODEL_VARS[row];
+    int st = c->m.fsm;
+    if (v->causality == 'i') {
+        if (st & (ST_INSTANTIATED | ST_INIT | ST_EVENT | ST_CONT | ST_STEP_COMPLETE)) return 1;
+    } else if (v->causality == 'p') {
+        if (st & (ST_INSTANTIATED | ST_INIT)) return 1;
+        if (v->variability == 't' && (st & (ST_EVENT | ST_STEP_COMPLETE))) return 1;
+    } else if (v->has_start && (v->variability == 'c')) {
+        /* states with initial="exact": before and during initialization */
+        if (st & (ST_INSTANTIATED | ST_INIT)) return 1;
+    }
+    fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s (causality %s, variability %s) cannot be set in this state%s", fn,
+            v->name, v->causality == 'p' ? "parameter" : (v->causality == 'i' ? "input" :
+            (v->causality == 'o' ? "output" : "local")),
+            v->variability == 'f' ? "fixed" : (v->variability == 't' ? "tunable" :
+            (v->variability == 'd' ? "discrete" : "continuous")),
+            v->causality == 'p' && v->variability == 'f' ? " (fixed parameters only before initialization ends)" : "");
+    return 0;
+}
+
+static fmi2Status set_values(fmi2Component comp, const char *fn, const fmi2ValueReference vr[], size_t nvr,
+                             char type, const void *value) {
+    instance_t *c = fmu_cast(comp, fn);
+    model_t *m;
+    size_t k;
+    int param_changed = 0;
+    char msg[512];
+    if (!c) return fmi2Error;
+    m = &c->m;
+    if (!fmu_allowed(c, fn, ST_INSTANTIATED | ST_INIT | ST_EVENT | ST_CONT | ST_STEP_COMPLETE)) return fmi2Error;
+    if (!args_ok(c, fn, vr, nvr, value)) return fmi2Error;
+    /* validate everything first, so a rejected call changes nothing */
+    for (k = 0; k < nvr; k++) {
+        int row = lookup(c, fn, vr[k], type);
+        double v;
+        if (row < 0 || !settable(c, fn, row)) return fmi2Error;
+        if (type == 'R') v = ((const fmi2Real *)value)[k];
+        else if (type == 'I') v = (double)((const fmi2Integer *)value)[k];
+        else {
+            fmi2Boolean b = ((const fmi2Boolean *)value)[k];
+            if (b != fmi2True && b != fmi2False) {
+                fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s = %d is not a Boolean: allowed 0 or 1", fn,
+                        MODEL_VARS[row].name, (int)b);
+                return fmi2Error;
+            }
+            v = b ? 1.0 : 0.0;
+        }
+        if (!plant_check_value(vr[k], v, msg, sizeof msg)) {
+            fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s", fn, msg);
+            return fmi2Error;
+        }
+        if (MODEL_VARS[row].causality == 'p' && (m->fsm & (ST_EVENT | ST_STEP_COMPLETE))) param_changed = 1;
+    }
+    if (param_changed) {
+        double *save = (double *)c->cb.allocateMemory(MODEL_NVR, sizeof(double));
+        fmi2Status st;
+        if (!save) { fmu_log(c, fmi2Error, LOG_ERROR, "%s: out of memory", fn); return fmi2Error; }
+        memcpy(save, m->val, sizeof m->val);
+        for (k = 0; k < nvr; k++)
+            m->val[vr[k]] = type == 'R' ? ((const fmi2Real *)value)[k]
+                          : type == 'I' ? (double)((const fmi2Integer *)value)[k]
+                                        : (((const fmi2Boolean *)value)[k] ? 1.0 : 0.0);
+        st = fmu_recompile(c, save);
+        c->cb.freeMemory(save);
+        return st;
+    }
+    for (k = 0; k < nvr; k++) {
+        m->val[vr[k]] = type == 'R' ? ((const fmi2Real *)value)[k]
+                      : type == 'I' ? (double)((const fmi2Integer *)value)[k]
+                                    : (((const fmi2Boolean *)value)[k] ? 1.0 : 0.0);
+    }
+    if (m->fsm & ST_INIT) m->params_ok = 0;
+    m->out_valid = 0;
+    if (m->fsm & (ST_EVENT | ST_CONT | ST_STEP_COMPLETE)) {
+        m->in.u = m->val[VR_u];
+        m->in.F_ext = m->val[VR_F_ext];
+        m->solver_restart = 1;
+    }
+    return fmi2OK;
+}
+
+fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Real value[]) {
+    return set_values(c, "fmi2SetReal", vr, nvr, 'R', value);
+}
+fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Integer value[]) {
+    return set_values(c, "fmi2SetInteger", vr, nvr, 'I', value);
+}
+fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Boolean value[]) {
+    return set_values(c, "fmi2SetBoolean", vr, nvr, 'B', value);
+}
+fmi2Status fmi2SetString(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr, const fmi2String value[]) {
+    instance_t *c = fmu_cast(comp, "fmi2SetString");
+    (void)value;
+    if (!c) return fmi2Error;
+    if (nvr == 0) return fmi2OK;
+    fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SetString: this FMU has no String variables (value reference %u)",
+            vr ? (unsigned)vr[0] : 0u);
+    return fmi2Error;
+}
+
+/* ---------------------------------------------------------------- FMU state */
+
+fmi2Status fmi2GetFMUstate(fmi2Component comp, fmi2FMUstate *state) {
+    instance_t *c = fmu_cast(comp, "fmi2GetFMUstate");
+    model_t *s;
+    if (!c || !fmu_allowed(c, "fmi2GetFMUstate", ~(ST_FATAL | ST_ERROR))) return fmi2Error;
+    if (!state) { fmu_log(c, fmi2Error, LOG_ERROR, "fmi2GetFMUstate: FMUstate pointer is NULL"); return fmi2Error; }
+    s = (model_t *)*state;
+    if (!s) {
+        s = (model_t *)c->cb.allocateMemory(1, sizeof(model_t));
+        if (!s) { fmu_log(c, fmi2Error, LOG_ERROR, "fmi2GetFMUstate: out of memory"); return fmi2Error; }
+    } else if (s->magic != MODEL_MAGIC || s->size != sizeof(model_t)) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2GetFMUstate: *FMUstate is not a state of this FMU");
+        return fmi2Error;
+    }
+    memcpy(s, &c->m, sizeof(model_t));
+    *state = s;
+    return fmi2OK;
+}
+
+fmi2Status fmi2SetFMUstate(fmi2Component comp, fmi2FMUstate state) {
+    instance_t *c = fmu_cast(comp, "fmi2SetFMUstate");
+    const model_t *s = (const model_t *)state;
+    if (!c || !fmu_allowed(c, "fmi2SetFMUstate", ~ST_FATAL)) return fmi2Error;
+    if (!s || s->magic != MODEL_MAGIC || s->size != sizeof(model_t)) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SetFMUstate: not a state of this FMU");
+        return fmi2Error;
+    }
+    memcpy(&c->m, s, sizeof(model_t));
+    c->m.solver_restart = 1;
+    return fmi2OK;
+}
+
+fmi2Status fmi2FreeFMUstate(fmi2Component comp, fmi2FMUstate *state) {
+    instance_t *c = fmu_cast(comp, "fmi2FreeFMUstate");
+    model_t *s;
+    if (!c) return fmi2Error;
+    if (!state || !*state) return fmi2OK;
+    s = (model_t *)*state;
+    if (s->magic != MODEL_MAGIC) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2FreeFMUstate: not a state of this FMU");
+        return fmi2Error;
+    }
+    s->magic = 0;
+    c->cb.freeMemory(s);
+    *state = NULL;
+    return fmi2OK;
+}
+
+fmi2Status fmi2SerializedFMUstateSize(fmi2Component comp, fmi2FMUstate state, size_t *size) {
+    instance_t *c = fmu_cast(comp, "fmi2SerializedFMUstateSize");
+    if (!c || !state || !size) return fmi2Error;
+    *size = sizeof(model_t);
+    return fmi2OK;
+}
+
+fmi2Status fmi2SerializeFMUstate(fmi2Component comp, fmi2FMUstate state, fmi2Byte serializedState[], size_t size) {
+    instance_t *c = fmu_cast(comp, "fmi2SerializeFMUstate");
+    const model_t *s = (const model_t *)state;
+    if (!c) return fmi2Error;
+    if (!s || s->magic != MODEL_MAGIC || !serializedState || size < sizeof(model_t)) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SerializeFMUstate: invalid state or buffer (size %zu, need %zu)",
+                size, sizeof(model_t));
+        return fmi2Error;
+    }
+    memcpy(serializedState, s, sizeof(model_t));
+    return fmi2OK;
+}
+
+fmi2Status fmi2DeSerializeFMUstate(fmi2Component comp, const fmi2Byte serializedState[], size_t size,
+                                   fmi2FMUstate *state) {
+    instance_t *c = fmu_cast(comp, "fmi2DeSerializeFMUstate");
+    model_t tmp;
+    if (!c) return fmi2Error;
+    if (!serializedState || !state || size != sizeof(model_t)) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DeSerializeFMUstate: size %zu, expected %zu", size, sizeof(model_t));
+        return fmi2Error;
+    }
+    memcpy(&tmp, serializedState, sizeof tmp);
+    if (tmp.magic != MODEL_MAGIC || tmp.size != sizeof(model_t)) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DeSerializeFMUstate: bytes are not a serialized state of this FMU");
+        return fmi2Error;
+    }
+    if (!*state) {
+        *state = c->cb.allocateMemory(1, sizeof(model_t));
+        if (!*state) { fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DeSerializeFMUstate: out of memory"); return fmi2Error; }
+    }
+    memcpy(*state, &tmp, sizeof tmp);
+    return fmi2OK;
+}
+
+fmi2Status fmi2GetDirectionalDerivative(fmi2Component comp, const fmi2ValueReference vUnknown_ref[], size_t nUnknown,
+                                        const fmi2ValueReference vKnown_ref[], size_t nKnown,
+                                        const fmi2Real dvKnown[], fmi2Real dvUnknown[]) {
+    instance_t *c = fmu_cast(comp, "fmi2GetDirectionalDerivative");
+    (void)vUnknown_ref; (void)nUnknown; (void)vKnown_ref; (void)nKnown; (void)dvKnown; (void)dvUnknown;
+    if (!c) return fmi2Error;
+    fmu_log(c, fmi2Error, LOG_ERROR, "fmi2GetDirectionalDerivative: not provided "
+            "(providesDirectionalDerivative is false)");
+    return fmi2Error;
+}

@@ -1,0 +1,77 @@
+/* FMI glue shared by model exchange and co-simulation: the instance, its call-sequence state
+ * machine, logging and the value table. Knows nothing of friction. */
+#ifndef FMI2_INSTANCE_H
+#define FMI2_INSTANCE_H
+
+#include "fmi2Functions.h"
+#include "model_vars.h"
+#include "plant.h"
+#include "solver_dp45.h"
+
+/* call-sequence states (bit masks, as in the Reference FMUs) */
+enum {
+    ST_INSTANTIATED = 1 << 0,
+    ST_INIT = 1 << 1,
+    ST_EVENT = 1 << 2,
+    ST_CONT = 1 << 3,
+    ST_STEP_COMPLETE = 1 << 4,
+    ST_STEP_FAILED = 1 << 5,
+    ST_TERMINATED = 1 << 6,
+    ST_ERROR = 1 << 7,
+    ST_FATAL = 1 << 8
+};
+#define ST_AFTER_INIT (ST_EVENT | ST_CONT | ST_STEP_COMPLETE | ST_STEP_FAILED | ST_TERMINATED | ST_ERROR)
+
+/* Everything an FMU state snapshot holds: plain data, no pointers. */
+typedef struct {
+    unsigned magic, size;
+    int fsm;
+    double time, t0, stop_time;
+    int stop_defined, tol_defined;
+    double tol;
+    double val[MODEL_NVR];          /* every variable by value reference */
+    double y[PLANT_NX];             /* continuous states */
+    plant_params_t p;
+    plant_disc_t d;
+    plant_in_t in;
+    int params_ok;                  /* p compiled from val */
+    int out_valid;
+    plant_out_t out;
+    double dydt[PLANT_NX];
+    int stroke_warned;
+    dp45_t solver;
+    int solver_restart;
+} model_t;
+
+typedef struct {
+    model_t m;
+    fmi2CallbackFunctions cb;
+    char *name;
+    fmi2Type type;
+    int logging_on;
+    unsigned log_mask;              /* bit 0 events, 1 warnings, 2 errors */
+} instance_t;
+
+#define LOG_EVENTS 1u
+#define LOG_WARNING 2u
+#define LOG_ERROR 4u
+
+void fmu_log(instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 4, 5)))
+#endif
+    ;
+/* check that the call is allowed in the current state; logs and returns 0 if not */
+int fmu_allowed(instance_t *c, const char *fn, int mask);
+instance_t *fmu_cast(fmi2Component c, const char *fn);
+/* outputs and derivatives up to date */
+void fmu_update_outputs(instance_t *c);
+/* process what is due at the current time: a current-loop sample, then friction switches */
+int fmu_event_update(instance_t *c, fmi2Boolean *states_changed);
+double fmu_next_sample(const model_t *m);
+int fmu_sample_due(const model_t *m);
+void fmu_check_stroke(instance_t *c);
+/* recompile parameters after a change; on failure logs, restores *backup and returns fmi2Error */
+fmi2Status fmu_recompile(instance_t *c, const double *backup_val);
+
+#endif

@@ -1,0 +1,158 @@
+/* FMI 2.0 model-exchange entry points over the plant. */
+#include <math.h>
+#include <string.h>
+
+#include "fmi2_instance.h"
+
+#define ME_ONLY(c, fn)                                                                         \
+    do {                                                                                       \
+        if ((c)->type != fmi2ModelExchange) {                                                  \
+            fmu_log((c), fmi2Error, LOG_ERROR, "%s: only for model exchange; this instance is " \
+                    "co-simulation", fn);                                                      \
+            return fmi2Error;                                                                  \
+        }                                                                                      \
+    } while (0)
+
+static int array_ok(instance_t *c, const char *fn, const void *p, size_t n, size_t expected) {
+    if (n != expected) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: size %zu, this FMU has %zu", fn, n, expected);
+        return 0;
+    }
+    if (n > 0 && !p) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: NULL array", fn);
+        return 0;
+    }
+    return 1;
+}
+
+fmi2Status fmi2EnterEventMode(fmi2Component comp) {
+    instance_t *c = fmu_cast(comp, "fmi2EnterEventMode");
+    if (!c) return fmi2Error;
+    ME_ONLY(c, "fmi2EnterEventMode");
+    if (!fmu_allowed(c, "fmi2EnterEventMode", ST_EVENT | ST_CONT)) return fmi2Error;
+    c->m.fsm = ST_EVENT;
+    return fmi2OK;
+}
+
+fmi2Status fmi2NewDiscreteStates(fmi2Component comp, fmi2EventInfo *info) {
+    instance_t *c = fmu_cast(comp, "fmi2NewDiscreteStates");
+    fmi2Boolean changed = fmi2False;
+    if (!c) return fmi2Error;
+    ME_ONLY(c, "fmi2NewDiscreteStates");
+    if (!fmu_allowed(c, "fmi2NewDiscreteStates", ST_EVENT)) return fmi2Error;
+    if (!info) { fmu_log(c, fmi2Error, LOG_ERROR, "fmi2NewDiscreteStates: eventInfo is NULL"); return fmi2Error; }
+    fmu_event_update(c, &changed);
+    info->newDiscreteStatesNeeded = fmi2False;
+    info->terminateSimulation = fmi2False;
+    info->nominalsOfContinuousStatesChanged = fmi2False;
+    info->valuesOfContinuousStatesChanged = changed;
+    info->nextEventTimeDefined = c->m.p.current_dynamics ? fmi2True : fmi2False;
+    info->nextEventTime = c->m.p.current_dynamics ? fmu_next_sample(&c->m) : 0.0;
+    return fmi2OK;
+}
+
+fmi2Status fmi2EnterContinuousTimeMode(fmi2Component comp) {
+    instance_t *c = fmu_cast(comp, "fmi2EnterContinuousTimeMode");
+    if (!c) return fmi2Error;
+    ME_ONLY(c, "fmi2EnterContinuousTimeMode");
+    if (!fmu_allowed(c, "fmi2EnterContinuousTimeMode", ST_EVENT)) return fmi2Error;
+    c->m.fsm = ST_CONT;
+    return fmi2OK;
+}
+
+fmi2Status fmi2CompletedIntegratorStep(fmi2Component comp, fmi2Boolean noSetFMUStatePriorToCurrentPoint,
+                                       fmi2Boolean *enterEventMode, fmi2Boolean *terminateSimulation) {
+    instance_t *c = fmu_cast(comp, "fmi2CompletedIntegratorStep");
+    (void)noSetFMUStatePriorToCurrentPoint;
+    if (!c) return fmi2Error;
+    ME_ONLY(c, "fmi2CompletedIntegratorStep");
+    if (!fmu_allowed(c, "fmi2CompletedIntegratorStep", ST_CONT)) return fmi2Error;
+    if (!enterEventMode || !terminateSimulation) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2CompletedIntegratorStep: NULL output argument");
+        return fmi2Error;
+    }
+    fmu_check_stroke(c);
+    *enterEventMode = fmi2False;
+    *terminateSimulation = fmi2False;
+    return fmi2OK;
+}
+
+fmi2Status fmi2SetTime(fmi2Component comp, fmi2Real time) {
+    instance_t *c = fmu_cast(comp, "fmi2SetTime");
+    if (!c) return fmi2Error;
+    ME_ONLY(c, "fmi2SetTime");
+    if (!fmu_allowed(c, "fmi2SetTime", ST_EVENT | ST_CONT)) return fmi2Error;
+    if (!isfinite(time)) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SetTime: time = %g is not finite", time);
+        return fmi2Error;
+    }
+    c->m.time = time;
+    c->m.out_valid = 0;
+    return fmi2OK;
+}
+
+fmi2Status fmi2SetContinuousStates(fmi2Component comp, const fmi2Real x[], size_t nx) {
+    instance_t *c = fmu_cast(comp, "fmi2SetContinuousStates");
+    size_t j;
+    if (!c) return fmi2Error;
+    ME_ONLY(c, "fmi2SetContinuousStates");
+    if (!fmu_allowed(c, "fmi2SetContinuousStates", ST_CONT)) return fmi2Error;
+    if (!array_ok(c, "fmi2SetContinuousStates", x, nx, PLANT_NX)) return fmi2Error;
+    for (j = 0; j < nx; j++) {
+        if (!isfinite(x[j])) {
+            fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SetContinuousStates: state %s = %g is not finite",
+                    MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]].name, x[j]);
+            return fmi2Error;
+        }
+    }
+    memcpy(c->m.y, x, nx * sizeof(double));
+    c->m.out_valid = 0;
+    return fmi2OK;
+}
+
+fmi2Status fmi2GetDerivatives(fmi2Component comp, fmi2Real derivatives[], size_t nx) {
+    instance_t *c = fmu_cast(comp, "fmi2GetDerivatives");
+    if (!c) return fmi2Error;
+    ME_ONLY(c, "fmi2GetDerivatives");
+    if (!fmu_allowed(c, "fmi2GetDerivatives", ST_EVENT | ST_CONT | ST_TERMINATED | ST_ERROR)) return fmi2Error;
+    if (!array_ok(c, "fmi2GetDerivatives", derivatives, nx, PLANT_NX)) return fmi2Error;
+    fmu_update_outputs(c);
+    memcpy(derivatives, c->m.dydt, nx * sizeof(double));
+    return fmi2OK;
+}
+
+fmi2Status fmi2GetEventIndicators(fmi2Component comp, fmi2Real z[], size_t nz) {
+    instance_t *c = fmu_cast(comp, "fmi2GetEventIndicators");
+    model_t *m;
+    if (!c) return fmi2Error;
+    ME_ONLY(c, "fmi2GetEventIndicators");
+    if (!fmu_allowed(c, "fmi2GetEventIndicators", ST_EVENT | ST_CONT | ST_TERMINATED | ST_ERROR)) return fmi2Error;
+    if (!array_ok(c, "fmi2GetEventIndicators", z, nz, PLANT_NZ)) return fmi2Error;
+    m = &c->m;
+    m->in.u = m->val[VR_u];
+    m->in.F_ext = m->val[VR_F_ext];
+    plant_indicators(&m->p, &m->d, m->y, &m->in, z);
+    return fmi2OK;
+}
+
+fmi2Status fmi2GetContinuousStates(fmi2Component comp, fmi2Real x[], size_t nx) {
+    instance_t *c = fmu_cast(comp, "fmi2GetContinuousStates");
+    if (!c) return fmi2Error;
+    ME_ONLY(c, "fmi2GetContinuousStates");
+    if (!fmu_allowed(c, "fmi2GetContinuousStates", ST_EVENT | ST_CONT | ST_TERMINATED | ST_ERROR)) return fmi2Error;
+    if (!array_ok(c, "fmi2GetContinuousStates", x, nx, PLANT_NX)) return fmi2Error;
+    memcpy(x, c->m.y, nx * sizeof(double));
+    return fmi2OK;
+}
+
+fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component comp, fmi2Real x_nominal[], size_t nx) {
+    instance_t *c = fmu_cast(comp, "fmi2GetNominalsOfContinuousStates");
+    size_t j;
+    if (!c) return fmi2Error;
+    ME_ONLY(c, "fmi2GetNominalsOfContinuousStates");
+    if (!fmu_allowed(c, "fmi2GetNominalsOfContinuousStates",
+                     ST_INSTANTIATED | ST_EVENT | ST_CONT | ST_TERMINATED | ST_ERROR)) return fmi2Error;
+    if (!array_ok(c, "fmi2GetNominalsOfContinuousStates", x_nominal, nx, PLANT_NX)) return fmi2Error;
+    for (j = 0; j < nx; j++) x_nominal[j] = j < 2 ? 1e-3 : 1.0;
+    return fmi2OK;
+}

@@ -1,0 +1,99 @@
+/* Generalized Maxwell-Slip friction (Eqs. 8-11), MODEL.md's statement:
+ *   stuck:   dF_i/dt = k_i v            until sgn(F_i) = sgn(v) and |F_i| >= nu_i S(|v|)
+ *   slipping dF_i/dt = (C/S)(nu_i s(v) - F_i)   until v crosses zero (then every slipping element sticks)
+ * Switching is hybrid: discrete stuck/slip flags changed only in event updates.
+ *   indicator of a stuck element i:   nu_i S(|v|) - sgn(v) F_i     (> 0 while it holds; sgn(0) = 0)
+ *   indicator of the slipping set:    dir v + PLANT_V_HYS           (> 0 while moving in dir)
+ * With every element stuck there is no velocity indicator, so the ~54 Hz ringing of a stage at
+ * rest causes no event. frictional_lag off: a slipping element's force is nu_i s(v) at once. */
+#include <math.h>
+
+#include "plant.h"
+
+int friction_sign(double v) { return (v > 0.0) - (v < 0.0); }
+
+double friction_level(const plant_params_t *p, double v, int side) {
+    double Fs = p->Fs[side], Fc = p->Fc[side];
+    if (Fs == Fc) return Fs;
+    return Fc + (Fs - Fc) * exp(-pow(fabs(v) / p->Vs, p->delta));
+}
+
+void gms_element_forces(const plant_params_t *p, const plant_disc_t *d, const double *y, double *Fe) {
+    int j;
+    double S = 0.0;
+    if (d->dir != 0 && !p->lag) S = friction_level(p, y[PLANT_IV], d->dir < 0);
+    for (j = 0; j < PLANT_NE_MAX; j++) {
+        if (!p->active[j]) Fe[j] = 0.0;
+        else if (d->stuck[j] || p->lag) Fe[j] = y[PLANT_IF + j];
+        else Fe[j] = p->nu[j] * d->dir * S;
+    }
+}
+
+void gms_derivatives(const plant_params_t *p, const plant_disc_t *d, const double *y, double *dF) {
+    int j;
+    double v = y[PLANT_IV], S = 1.0, rate = 0.0;
+    if (d->dir != 0 && p->lag) {
+        S = friction_level(p, v, d->dir < 0);
+        rate = p->C / S;
+    }
+    for (j = 0; j < PLANT_NE_MAX; j++) {
+        if (!p->active[j]) dF[j] = 0.0;
+        else if (d->stuck[j]) dF[j] = p->k[j] * v;
+        else if (p->lag) dF[j] = rate * (p->nu[j] * d->dir * S - y[PLANT_IF + j]);
+        else dF[j] = 0.0;
+    }
+}
+
+void gms_indicators(const plant_params_t *p, const plant_disc_t *d, const double *y, double *z) {
+    int j, sg = friction_sign(y[PLANT_IV]);
+    double S = -1.0;
+    for (j = 0; j < PLANT_NE_MAX; j++) {
+        if (!p->active[j] || !d->stuck[j]) { z[j] = 1.0; continue; }
+        if (S < 0.0) S = friction_level(p, y[PLANT_IV], sg < 0);
+        z[j] = p->nu[j] * S - sg * y[PLANT_IF + j];
+    }
+    z[PLANT_NE_MAX] = d->dir != 0 ? d->dir * y[PLANT_IV] + PLANT_V_HYS : 1.0;
+}
+
+void gms_init(const plant_params_t *p, plant_disc_t *d, const double *y) {
+    int j;
+    (void)y;
+    for (j = 0; j < PLANT_NE_MAX; j++) d->stuck[j] = p->active[j];
+    d->dir = 0;
+}
+
+int gms_update(const plant_params_t *p, plant_disc_t *d, double *y, bool *y_changed) {
+    int j, n = 0, sg;
+    double v = y[PLANT_IV], S;
+    if (d->dir != 0 && d->dir * v + PLANT_V_HYS <= 0.0) {
+        /* the velocity crossed zero: every slipping element sticks */
+        S = friction_level(p, v, d->dir < 0);
+        for (j = 0; j < PLANT_NE_MAX; j++) {
+            if (!p->active[j] || d->stuck[j]) continue;
+            d->stuck[j] = true;
+            d->n_stick++;
+            n++;
+            if (!p->lag) { y[PLANT_IF + j] = p->nu[j] * d->dir * S; *y_changed = true; }
+        }
+        d->dir = 0;
+    }
+    sg = friction_sign(v);
+    if (sg == 0) return n;
+    S = friction_level(p, v, sg < 0);
+    for (j = 0; j < PLANT_NE_MAX; j++) {
+        if (!p->active[j] || !d->stuck[j]) continue;
+        if (p->nu[j] * S - sg * y[PLANT_IF + j] > 0.0) continue;
+        if (d->dir != 0 && d->dir != sg) {
+            /* cannot happen with consistent states; keep the invariant "one slip direction" */
+            int q;
+            for (q = 0; q < PLANT_NE_MAX; q++)
+                if (p->active[q] && !d->stuck[q]) { d->stuck[q] = true; d->n_stick++; n++; }
+        }
+        d->stuck[j] = false;
+        d->dir = sg;
+        d->n_slip++;
+        n++;
+        if (!p->lag) { y[PLANT_IF + j] = p->nu[j] * sg * S; *y_changed = true; }
+    }
+    return n;
+}

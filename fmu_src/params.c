@@ -1,0 +1,170 @@
+/* Parameters: every check (one message per rule) and the compilation of the FMU's values
+ * into plant_params_t with the effect switches applied. Defaults live in modelDescription.xml. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "model_vars.h"
+#include "plant.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+#define SUM_NU_TOL 1e-3   /* |sum(nu_i) - 1| allowed; Eq. 12 needs sum(nu) = 1 */
+
+static const char *var_name(unsigned vr) {
+    return (vr < MODEL_NVR && MODEL_VR_INDEX[vr] >= 0) ? MODEL_VARS[MODEL_VR_INDEX[vr]].name : "?";
+}
+static const char *var_unit(unsigned vr) {
+    return (vr < MODEL_NVR && MODEL_VR_INDEX[vr] >= 0) ? MODEL_VARS[MODEL_VR_INDEX[vr]].unit : "";
+}
+
+/* Range rules for single values: lo/hi with open (1) or closed (0) ends. */
+typedef struct { double lo; int lo_open; double hi; int hi_open; } range_t;
+
+static bool range_of(unsigned vr, range_t *r) {
+    static const range_t POS = {0.0, 1, HUGE_VAL, 1}, NONNEG = {0.0, 0, HUGE_VAL, 1},
+                         UNIT = {0.0, 0, 1.0, 0}, NEL = {1.0, 0, (double)PLANT_NE_MAX, 0};
+    int j;
+    if (vr == VR_m || vr == VR_Ts || vr == VR_friction_F_s || vr == VR_friction_V_s ||
+        vr == VR_friction_delta || vr == VR_friction_C) { *r = POS; return true; }
+    if (vr == VR_friction_F_c || vr == VR_friction_sigma2) { *r = NONNEG; return true; }
+    if (vr == VR_friction_N) { *r = NEL; return true; }
+    for (j = 1; j <= PLANT_NE_MAX; j++) {
+        if (vr == VRA_friction_nu[j]) { *r = UNIT; return true; }
+        if (vr == VRA_friction_k[j]) { *r = POS; return true; }
+    }
+    for (j = 1; j <= PLANT_NH_MAX; j++)
+        if (vr == VRA_cogging_lambda[j] || vr == VRA_ripple_lambda[j]) { *r = POS; return true; }
+    return false;
+}
+
+static void fmt_range(char *buf, size_t n, const range_t *r) {
+    char lo[32], hi[32];
+    if (isinf(r->lo)) snprintf(lo, sizeof lo, "-inf"); else snprintf(lo, sizeof lo, "%.17g", r->lo);
+    if (isinf(r->hi)) snprintf(hi, sizeof hi, "inf"); else snprintf(hi, sizeof hi, "%.17g", r->hi);
+    snprintf(buf, n, "%s%s, %s%s", r->lo_open ? "(" : "[", lo, hi, r->hi_open ? ")" : "]");
+}
+
+bool plant_check_value(unsigned vr, double value, char *msg, size_t msglen) {
+    range_t r;
+    char rs[80];
+    if (!isfinite(value)) {
+        snprintf(msg, msglen, "%s = %g is not a finite number: allowed values are finite%s%s",
+                 var_name(vr), value, *var_unit(vr) ? " [" : "", *var_unit(vr) ? var_unit(vr) : "");
+        if (*var_unit(vr)) strncat(msg, "]", msglen - strlen(msg) - 1);
+        return false;
+    }
+    if (!range_of(vr, &r)) return true;
+    if ((r.lo_open ? value <= r.lo : value < r.lo) || (r.hi_open ? value >= r.hi : value > r.hi)) {
+        fmt_range(rs, sizeof rs, &r);
+        snprintf(msg, msglen, "%s = %.17g is out of range: allowed %s %s", var_name(vr), value, rs,
+                 var_unit(vr));
+        return false;
+    }
+    return true;
+}
+
+static void map_compile(const double *val, posmap_t *m, const unsigned *vc, int npoly,
+                        const unsigned *vl, const unsigned *va, const unsigned *vb,
+                        bool periodic, bool aperiodic, bool keep_c0) {
+    int k, j;
+    m->npoly = npoly;
+    for (k = 0; k < npoly; k++)
+        m->c[k] = (aperiodic || (keep_c0 && k == 0)) ? val[vc[k]] : 0.0;
+    m->nh = 0;
+    if (!periodic) { posmap_prepare(m); return; }
+    for (j = 1; j <= PLANT_NH_MAX; j++) {
+        double a = val[va[j]], b = val[vb[j]];
+        if (a == 0.0 && b == 0.0) continue;
+        m->kw[m->nh] = 2.0 * M_PI / val[vl[j]];
+        m->a[m->nh] = a;
+        m->b[m->nh] = b;
+        m->nh++;
+    }
+    posmap_prepare(m);
+}
+
+#define FAIL(...) do { snprintf(msg, msglen, __VA_ARGS__); return false; } while (0)
+
+bool plant_params_compile(const double *val, plant_params_t *p, char *msg, size_t msglen) {
+    unsigned vr;
+    int j;
+    double sa = 0.0, sb = 0.0, sum_nu = 0.0;
+    bool e_str, e_visc, e_asym;
+    /* every single-value rule, for every parameter */
+    for (j = 0; j < MODEL_NVARS; j++) {
+        if (MODEL_VARS[j].causality != 'p') continue;
+        vr = MODEL_VARS[j].vr;
+        if (!plant_check_value(vr, val[vr], msg, msglen)) return false;
+    }
+    memset(p, 0, sizeof *p);
+    p->m = val[VR_m];
+    p->Ts = val[VR_Ts];
+    /* current loop */
+    p->current_dynamics = val[VR_effects_current_dynamics] != 0.0;
+    p->na = PLANT_NA_MAX;
+    p->nb = PLANT_NB_MAX;
+    for (j = 1; j <= PLANT_NA_MAX; j++) { p->ca[j - 1] = val[VRA_current_a[j]]; sa += p->ca[j - 1]; }
+    for (j = 0; j < PLANT_NB_MAX; j++) { p->cb[j] = val[VRA_current_b[j]]; sb += p->cb[j]; }
+    if (fabs(1.0 - sa) < 1e-9)
+        FAIL("current.a[1..5] sum to %.17g: the current loop has a pole at z = 1 and no finite DC gain; "
+             "allowed: sum(current.a) != 1", sa);
+    p->G1 = sb / (1.0 - sa);
+    /* position maps */
+    map_compile(val, &p->cog, VRA_cogging_c, 4, VRA_cogging_lambda, VRA_cogging_a, VRA_cogging_b,
+                val[VR_effects_cogging_periodic] != 0.0, val[VR_effects_cogging_aperiodic] != 0.0, false);
+    map_compile(val, &p->rip, VRA_ripple_c, 3, VRA_ripple_lambda, VRA_ripple_a, VRA_ripple_b,
+                val[VR_effects_ripple_periodic] != 0.0, val[VR_effects_ripple_aperiodic] != 0.0, true);
+    p->x_min = val[VR_stroke_x_min];
+    p->x_max = val[VR_stroke_x_max];
+    if (!(p->x_max > p->x_min))
+        FAIL("stroke.x_max = %.17g must exceed stroke.x_min = %.17g: allowed stroke.x_max in (%.17g, inf) m",
+             p->x_max, p->x_min, p->x_min);
+    /* friction */
+    e_str = val[VR_effects_stribeck] != 0.0;
+    e_visc = val[VR_effects_viscous] != 0.0;
+    e_asym = val[VR_effects_asymmetric_friction] != 0.0;
+    p->prerolling = val[VR_effects_prerolling] != 0.0;
+    p->lag = val[VR_effects_frictional_lag] != 0.0;
+    p->stribeck = e_str;
+    if (val[VR_friction_F_c] > val[VR_friction_F_s])
+        FAIL("friction.F_c = %.17g exceeds friction.F_s = %.17g: allowed friction.F_c in [0, friction.F_s] N",
+             val[VR_friction_F_c], val[VR_friction_F_s]);
+    p->Fs[0] = val[VR_friction_F_s];
+    p->Fc[0] = e_str ? val[VR_friction_F_c] : val[VR_friction_F_s];
+    p->sigma2[0] = e_visc ? val[VR_friction_sigma2] : 0.0;
+    p->Fs[1] = p->Fs[0];
+    p->Fc[1] = p->Fc[0];
+    p->sigma2[1] = p->sigma2[0];
+    if (e_asym) {
+        double dF = val[VR_asymmetry_dF], ds = val[VR_asymmetry_dsigma2];
+        if (p->Fc[0] + dF < 0.0 || p->Fs[0] + dF <= 0.0)
+            FAIL("asymmetry.dF = %.17g makes the friction level for v < 0 negative: allowed [%.17g, inf) N",
+                 dF, -p->Fc[0]);
+        if (p->sigma2[0] + ds < 0.0)
+            FAIL("asymmetry.dsigma2 = %.17g makes the viscous coefficient for v < 0 negative: "
+                 "allowed [%.17g, inf) N.s/m", ds, -p->sigma2[0]);
+        p->Fs[1] += dF;
+        p->Fc[1] += dF;
+        p->sigma2[1] += e_visc ? ds : 0.0;
+    }
+    p->Vs = val[VR_friction_V_s];
+    p->delta = val[VR_friction_delta];
+    p->C = val[VR_friction_C];
+    p->N = (int)val[VR_friction_N];
+    if ((double)p->N != val[VR_friction_N])
+        FAIL("friction.N = %.17g is not an integer: allowed 1..%d", val[VR_friction_N], PLANT_NE_MAX);
+    for (j = 0; j < PLANT_NE_MAX; j++) {
+        p->nu[j] = val[VRA_friction_nu[j + 1]];
+        p->k[j] = val[VRA_friction_k[j + 1]];
+        p->active[j] = p->prerolling && j < p->N && p->nu[j] > 0.0;
+        if (j < p->N) sum_nu += p->nu[j];
+    }
+    if (p->prerolling && fabs(sum_nu - 1.0) > SUM_NU_TOL)
+        FAIL("friction.nu[1..%d] sum to %.17g: allowed 1 +- %g (Eq. 12 needs sum(nu) = 1; "
+             "set friction.nu[%d] = 1 - sum of the others)", p->N, sum_nu, SUM_NU_TOL, p->N);
+    p->F_off = val[VR_effects_offset_force] != 0.0 ? val[VR_offset_F] : 0.0;
+    return true;
+}

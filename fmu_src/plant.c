@@ -1,0 +1,106 @@
+/* Eq. 1 assembled:  m a = K_f(x) i - F_cg(x) - F_f - F_e - F_offset.
+ * The maps are evaluated at x clamped to [stroke.x_min, stroke.x_max] (the cubic of Eq. 6
+ * extrapolates badly); the motion itself is not limited. */
+#include <math.h>
+
+#include "plant.h"
+
+static double clamp(double x, double lo, double hi) { return x < lo ? lo : (x > hi ? hi : x); }
+
+/* applied force without friction */
+static double applied_force(const plant_params_t *p, const plant_out_t *o, const plant_in_t *in) {
+    return o->F_motor - o->F_cg - in->F_ext - p->F_off;
+}
+
+void plant_outputs(const plant_params_t *p, const plant_disc_t *d, const double *y,
+                   const plant_in_t *in, plant_out_t *o) {
+    double xc = clamp(y[PLANT_IX], p->x_min, p->x_max), v = y[PLANT_IV], F_app;
+    int j;
+    o->K_f = posmap_eval(&p->rip, xc);
+    o->F_cg = posmap_eval(&p->cog, xc);
+    o->i = current_loop_output(p, d, in->u);
+    o->F_motor = o->K_f * o->i;
+    F_app = applied_force(p, o, in);
+    if (p->prerolling) {
+        gms_element_forces(p, d, y, o->F_elem);
+        o->F_fric = p->sigma2[v < 0.0] * v;
+        o->n_stuck = 0;
+        for (j = 0; j < PLANT_NE_MAX; j++) {
+            o->F_fric += o->F_elem[j];
+            o->n_stuck += p->active[j] && d->stuck[j];
+        }
+        o->a = (F_app - o->F_fric) / p->m;
+    } else {
+        for (j = 0; j < PLANT_NE_MAX; j++) o->F_elem[j] = 0.0;
+        o->F_fric = static_friction(p, d, v, F_app);
+        o->n_stuck = d->st_stuck;
+        o->a = d->st_stuck ? 0.0 : (F_app - o->F_fric) / p->m;
+    }
+}
+
+void plant_derivatives(const plant_params_t *p, const plant_disc_t *d, const double *y,
+                       const plant_in_t *in, double *dydt) {
+    plant_out_t o;
+    int j;
+    plant_outputs(p, d, y, in, &o);
+    dydt[PLANT_IX] = y[PLANT_IV];
+    dydt[PLANT_IV] = o.a;
+    if (p->prerolling) gms_derivatives(p, d, y, dydt + PLANT_IF);
+    else for (j = 0; j < PLANT_NE_MAX; j++) dydt[PLANT_IF + j] = 0.0;
+}
+
+void plant_indicators(const plant_params_t *p, const plant_disc_t *d, const double *y,
+                      const plant_in_t *in, double *z) {
+    int j;
+    if (p->prerolling) { gms_indicators(p, d, y, z); return; }
+    for (j = 0; j < PLANT_NE_MAX; j++) z[j] = 1.0;
+    {
+        plant_out_t o;
+        plant_outputs(p, d, y, in, &o);
+        z[PLANT_NE_MAX] = static_indicator(p, d, y[PLANT_IV], applied_force(p, &o, in));
+    }
+}
+
+void plant_init(const plant_params_t *p, plant_disc_t *d, double *y, const plant_in_t *in) {
+    plant_out_t o;
+    bool changed = false;
+    int j;
+    current_loop_init(p, d, in->u);
+    d->n_stick = d->n_slip = d->n_time_events = d->n_state_events = 0;
+    d->st_stuck = false;
+    d->st_dir = 0;
+    for (j = 0; j < PLANT_NE_MAX; j++) if (!p->active[j]) y[PLANT_IF + j] = 0.0;
+    if (p->prerolling) {
+        gms_init(p, d, y);
+        gms_update(p, d, y, &changed);
+    } else {
+        for (j = 0; j < PLANT_NE_MAX; j++) d->stuck[j] = false;
+        d->dir = 0;
+        plant_outputs(p, d, y, in, &o);
+        static_init(p, d, y, applied_force(p, &o, in));
+    }
+    d->n_stick = d->n_slip = 0;
+}
+
+int plant_event_update(const plant_params_t *p, plant_disc_t *d, double *y, const plant_in_t *in,
+                       bool sample_due, bool *y_changed) {
+    int n = 0, pass;
+    if (sample_due) {
+        current_loop_sample(p, d, in->u);
+        d->n_time_events++;
+    }
+    for (pass = 0; pass < 4; pass++) {   /* a switch may enable another (stick then break away) */
+        int m;
+        if (p->prerolling) {
+            m = gms_update(p, d, y, y_changed);
+        } else {
+            plant_out_t o;
+            plant_outputs(p, d, y, in, &o);
+            m = static_update(p, d, y, applied_force(p, &o, in), y_changed);
+        }
+        if (m == 0) break;
+        n += m;
+    }
+    if (n > 0) d->n_state_events++;
+    return n;
+}

@@ -1,0 +1,126 @@
+/* The plant of MODEL.md (paper Eqs. 1-12): data and pure functions of state and parameters.
+ * Knows nothing of FMI and nothing of any solver. All quantities SI. */
+#ifndef PLANT_H
+#define PLANT_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#define PLANT_NE_MAX 10      /* GMS element slots */
+#define PLANT_NH_MAX 8       /* Fourier slots per position map */
+#define PLANT_NA_MAX 5       /* current loop: i[k-1..k-5] */
+#define PLANT_NB_MAX 6
+#define PLANT_NMULT 24      /* highest multiple of the fundamental evaluated by recurrence */       /* current loop: u[k..k-5] */
+#define PLANT_NX (2 + PLANT_NE_MAX)   /* x, v, F_1..F_10 */
+#define PLANT_NZ (PLANT_NE_MAX + 1)   /* one per element + one for the motion direction */
+#define PLANT_IX 0
+#define PLANT_IV 1
+#define PLANT_IF 2
+/* Hysteresis of the velocity zero-crossing indicator [m/s]: the crossing is taken at
+ * dir*v = -PLANT_V_HYS, so no indicator is left at exactly 0 after an event. */
+#define PLANT_V_HYS 1e-9
+
+/* A position map: polynomial (aperiodic) + Fourier terms each with its own wavelength. */
+typedef struct {
+    int npoly;                       /* number of polynomial coefficients */
+    double c[4];
+    int nh;                          /* Fourier terms in use (nonzero amplitude) */
+    double kw[PLANT_NH_MAX];         /* 2*pi/lambda [1/m] */
+    double a[PLANT_NH_MAX], b[PLANT_NH_MAX];
+    /* fast path: every term a harmonic of kw0 -> amplitudes summed per multiple (1..PLANT_NMULT) */
+    int harmonic, kmax;
+    double kw0, ha[PLANT_NMULT + 1], hb[PLANT_NMULT + 1];
+} posmap_t;
+
+/* Compiled parameters (from the FMU's values, effects applied). */
+typedef struct {
+    double m, Ts;
+    bool current_dynamics;
+    int na, nb;
+    double ca[PLANT_NA_MAX], cb[PLANT_NB_MAX];
+    double G1;                        /* DC gain of the current loop [A/V] */
+    posmap_t cog, rip;
+    double x_min, x_max;
+    /* friction */
+    bool prerolling, lag;
+    double Fs[2], Fc[2], sigma2[2];   /* [0]: v > 0 (and v = 0), [1]: v < 0 */
+    double Vs, delta, C;
+    bool stribeck;
+    int N;                            /* elements in use */
+    double nu[PLANT_NE_MAX], k[PLANT_NE_MAX];
+    bool active[PLANT_NE_MAX];        /* i < N and nu_i > 0 */
+    double F_off;
+} plant_params_t;
+
+/* Discrete state. */
+typedef struct {
+    /* current loop */
+    double i;                         /* held current [A] */
+    double ih[PLANT_NA_MAX];          /* i[k-1], i[k-2], ... */
+    double uh[PLANT_NB_MAX];          /* u[k-1], u[k-2], ... (uh[0] = u[k-1]) */
+    long k;                           /* index of the last processed sample */
+    /* GMS */
+    bool stuck[PLANT_NE_MAX];
+    int dir;                          /* direction of the slipping elements (+1/-1), 0: none slips */
+    /* static friction (prerolling off): Karnopp stick/slide */
+    bool st_stuck;
+    int st_dir;
+    /* statistics */
+    long n_stick, n_slip, n_time_events, n_state_events;
+} plant_disc_t;
+
+/* Inputs. */
+typedef struct { double u, F_ext; } plant_in_t;
+
+/* Everything derived from (params, discrete state, continuous state, inputs). */
+typedef struct {
+    double i, K_f, F_cg, F_motor, F_fric, F_elem[PLANT_NE_MAX], a;
+    int n_stuck;
+} plant_out_t;
+
+/* params.c */
+typedef struct { unsigned vr; const char *msg_fmt; } plant_rule_t;
+/* Compile the FMU values (indexed by value reference) into params. On error, returns false and
+ * writes a message naming the variable, its value and the allowed range into msg. */
+bool plant_params_compile(const double *val, plant_params_t *p, char *msg, size_t msglen);
+/* Check one value alone (called on fmi2Set*); true if acceptable. */
+bool plant_check_value(unsigned vr, double value, char *msg, size_t msglen);
+
+/* position_maps.c */
+double posmap_eval(const posmap_t *m, double x);
+void posmap_prepare(posmap_t *m);   /* fill the fast-path fields from kw, a, b */
+
+/* current_loop.c */
+void current_loop_init(const plant_params_t *p, plant_disc_t *d, double u0);
+void current_loop_sample(const plant_params_t *p, plant_disc_t *d, double u);
+double current_loop_output(const plant_params_t *p, const plant_disc_t *d, double u);
+
+/* friction_gms.c */
+double friction_level(const plant_params_t *p, double v, int side);  /* S(|v|) for side 0 (+) / 1 (-) */
+int friction_sign(double v);
+void gms_element_forces(const plant_params_t *p, const plant_disc_t *d, const double *y, double *Fe);
+void gms_derivatives(const plant_params_t *p, const plant_disc_t *d, const double *y, double *dF);
+void gms_indicators(const plant_params_t *p, const plant_disc_t *d, const double *y, double *z);
+void gms_init(const plant_params_t *p, plant_disc_t *d, const double *y);
+int gms_update(const plant_params_t *p, plant_disc_t *d, double *y, bool *y_changed);
+
+/* friction_static.c */
+double static_friction(const plant_params_t *p, const plant_disc_t *d, double v, double F_app);
+double static_indicator(const plant_params_t *p, const plant_disc_t *d, double v, double F_app);
+void static_init(const plant_params_t *p, plant_disc_t *d, double *y, double F_app);
+int static_update(const plant_params_t *p, plant_disc_t *d, double *y, double F_app, bool *y_changed);
+
+/* plant.c: Eq. 1 assembled */
+void plant_init(const plant_params_t *p, plant_disc_t *d, double *y, const plant_in_t *in);
+void plant_outputs(const plant_params_t *p, const plant_disc_t *d, const double *y,
+                   const plant_in_t *in, plant_out_t *o);
+void plant_derivatives(const plant_params_t *p, const plant_disc_t *d, const double *y,
+                       const plant_in_t *in, double *dydt);
+void plant_indicators(const plant_params_t *p, const plant_disc_t *d, const double *y,
+                      const plant_in_t *in, double *z);
+/* Event update at time t: processes the current-loop sample when sample_due, then every
+ * stick/slip switch the state calls for. Returns the number of friction switches. */
+int plant_event_update(const plant_params_t *p, plant_disc_t *d, double *y, const plant_in_t *in,
+                       bool sample_due, bool *y_changed);
+
+#endif

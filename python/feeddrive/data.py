@@ -1,0 +1,344 @@
+"""Measured-data runs: the loader and writer of ``shared/DATA.md``.
+
+A run is one CSV file with a header row (columns ``time, u, i, x, x_ref, F_load`` in SI,
+``time``, ``u``, ``x`` required; any other column is kept as it is) plus an optional JSON
+sidecar with the same stem (``run.csv`` + ``run.json``) that says how the experiment was run.
+
+The loader is strict: every rule of DATA.md that a file breaks raises :class:`DataError`
+naming the file, the 1-based line (the header is line 1) and the column.  Rows are never
+dropped or reordered.  The writer refuses a run the loader would reject and writes floats
+with ``repr`` (the shortest string that round-trips a float64 exactly).
+"""
+from __future__ import annotations
+
+import csv
+import io
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+#: Every column DATA.md defines, in the order the writer puts them.
+KNOWN_COLUMNS: tuple[str, ...] = ("time", "u", "i", "x", "x_ref", "F_load")
+#: Columns a run must have.
+REQUIRED_COLUMNS: tuple[str, ...] = ("time", "u", "x")
+_OPTIONAL_COLUMNS = tuple(c for c in KNOWN_COLUMNS if c not in REQUIRED_COLUMNS)
+
+
+class DataError(ValueError):
+    """A run file (or its JSON sidecar) that breaks DATA.md.
+
+    Attributes ``path``, ``line`` (1-based, header = 1; ``None`` when no line applies) and
+    ``column`` (``None`` for a sidecar) locate the problem; the message says all three.
+    """
+
+    def __init__(self, path: str | Path, line: int | None, column: str | None, problem: str):
+        self.path = Path(path)
+        self.line = line
+        self.column = column
+        self.problem = problem
+        where = [str(self.path)]
+        if line is not None:
+            where.append(f"line {line}")
+        if column is not None:
+            where.append(f"column {column!r}")
+        super().__init__(f"{', '.join(where)}: {problem}")
+
+
+@dataclass
+class Run:
+    """One experiment: sampled signals in SI, the sidecar metadata and unknown columns.
+
+    ``time``, ``u``, ``x`` are required; ``i``, ``x_ref``, ``F_load`` are ``None`` when the
+    file has no such column.  ``extra`` keeps every other column (float arrays, or string
+    arrays for non-numeric ones) in file order.  ``meta`` is the sidecar JSON ({} if none).
+    """
+
+    time: np.ndarray
+    u: np.ndarray
+    x: np.ndarray
+    i: np.ndarray | None = None
+    x_ref: np.ndarray | None = None
+    F_load: np.ndarray | None = None
+    meta: dict = field(default_factory=dict)
+    extra: dict[str, np.ndarray] = field(default_factory=dict)
+    path: Path | None = None
+
+    def __post_init__(self) -> None:
+        for name in KNOWN_COLUMNS:
+            value = getattr(self, name)
+            if value is None:
+                if name in REQUIRED_COLUMNS:
+                    raise ValueError(f"Run: column {name!r} is required")
+                continue
+            arr = np.asarray(value, dtype=float)
+            if arr.ndim != 1:
+                raise ValueError(f"Run: column {name!r} must be 1-D, got shape {arr.shape}")
+            setattr(self, name, arr)
+        self.extra = {str(k): np.asarray(v) for k, v in self.extra.items()}
+        for k, v in self.extra.items():
+            if k in KNOWN_COLUMNS:
+                raise ValueError(f"Run: extra column {k!r} clashes with a DATA.md column")
+            if v.ndim != 1:
+                raise ValueError(f"Run: extra column {k!r} must be 1-D, got shape {v.shape}")
+        n = len(self.time)
+        for name, arr in self.columns().items():
+            if len(arr) != n:
+                raise ValueError(f"Run: column {name!r} has {len(arr)} samples, time has {n}")
+        if self.path is not None:
+            self.path = Path(self.path)
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """Every present column, DATA.md columns first (in DATA.md order), then ``extra``."""
+        cols = {c: getattr(self, c) for c in KNOWN_COLUMNS if getattr(self, c) is not None}
+        cols.update(self.extra)
+        return cols
+
+    @property
+    def n(self) -> int:
+        """Number of rows (samples)."""
+        return len(self.time)
+
+    @property
+    def Ts(self) -> float:
+        """Median sample interval [s]."""
+        return float(np.median(np.diff(self.time)))
+
+    @property
+    def has_current(self) -> bool:
+        """True when the measured current ``i`` is present (else tools use G(1)*u)."""
+        return self.i is not None
+
+    @property
+    def name(self) -> str:
+        """The file's stem, or ``meta['name']`` / "" for a run not read from a file."""
+        if self.path is not None:
+            return self.path.stem
+        return str(self.meta.get("name", ""))
+
+
+def sidecar_path(path: str | Path) -> Path:
+    """The JSON sidecar that belongs to a run CSV (same stem, ``.json``)."""
+    return Path(path).with_suffix(".json")
+
+
+def _decode(path: Path, raw: bytes) -> str:
+    try:
+        return raw.decode("utf-8-sig")
+    except UnicodeDecodeError as e:
+        line = raw[: e.start].count(b"\n") + 1
+        raise DataError(path, line, None, f"not UTF-8 text (byte {e.start}: {e.reason})") from None
+
+
+def _read_rows(path: Path, text: str) -> tuple[list[str], list[list[str]], list[int]]:
+    """Header, data rows and each row's 1-based line number; trailing blank lines ignored."""
+    reader = csv.reader(io.StringIO(text, newline=""), strict=True)
+    rows: list[list[str]] = []
+    lines: list[int] = []
+    try:
+        for row in reader:
+            rows.append(row)
+            lines.append(reader.line_num)   # last physical line of the record
+    except csv.Error as e:
+        raise DataError(path, reader.line_num, None, f"malformed CSV: {e}") from None
+    while rows and not rows[-1]:
+        rows.pop()
+        lines.pop()
+    if not rows:
+        raise DataError(path, 1, None, "empty file: no header row")
+    return rows[0], rows[1:], lines[1:]
+
+
+def _check_header(path: Path, header: list[str]) -> list[str]:
+    names = [h.strip() for h in header]
+    seen: dict[str, int] = {}
+    for k, name in enumerate(names):
+        if not name:
+            raise DataError(path, 1, f"#{k + 1}", "empty column name in the header")
+        if name in seen:
+            raise DataError(path, 1, name,
+                            f"duplicate column name (fields {seen[name] + 1} and {k + 1})")
+        seen[name] = k
+    for req in REQUIRED_COLUMNS:
+        if req not in seen:
+            hint = [n for n in names if n.lower() == req.lower()]
+            extra = f" (found {hint[0]!r}: names are case-sensitive)" if hint else ""
+            raise DataError(path, 1, req,
+                            f"required column missing; header has {','.join(names)}{extra}")
+    return names
+
+
+def _to_float(path: Path, column: str, cells: tuple[str, ...] | list[str],
+              lines: list[int]) -> np.ndarray:
+    try:
+        return np.array(cells, dtype=float)
+    except ValueError:
+        for cell, line in zip(cells, lines):
+            try:
+                float(cell)
+            except ValueError:
+                raise DataError(path, line, column, f"not a number: {cell!r}") from None
+        raise  # numpy and float() disagree: let numpy's own message through
+
+
+def _check_values(path: Path, cols: dict[str, np.ndarray], lines: list[int] | None) -> None:
+    """Finite known columns, strictly increasing time, at least 2 rows."""
+    def line_of(k: int) -> int:
+        return lines[k] if lines is not None else k + 2
+    n = len(cols["time"])
+    if n < 2:
+        last = line_of(n - 1) if n else 1
+        raise DataError(path, last, "time", f"{n} data row(s); a run needs at least 2")
+    for name in KNOWN_COLUMNS:
+        if name not in cols:
+            continue
+        arr = cols[name]
+        bad = np.flatnonzero(~np.isfinite(arr))
+        if bad.size:
+            k = int(bad[0])
+            raise DataError(path, line_of(k), name, f"non-finite value {float(arr[k])!r}"
+                            + (f" ({bad.size} in this column)" if bad.size > 1 else ""))
+    t = cols["time"]
+    back = np.flatnonzero(np.diff(t) <= 0)
+    if back.size:
+        k = int(back[0]) + 1
+        what = "repeats" if t[k] == t[k - 1] else "goes backwards"
+        raise DataError(path, line_of(k), "time",
+                        f"time {what}: {float(t[k])!r} after {float(t[k - 1])!r} on line {line_of(k - 1)}; "
+                        "time must increase strictly")
+
+
+def _load_sidecar(csv_path: Path) -> dict:
+    jpath = sidecar_path(csv_path)
+    if not jpath.exists():
+        return {}
+    try:
+        text = jpath.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as e:
+        raise DataError(jpath, None, None, f"unreadable sidecar JSON: {e}") from None
+    try:
+        meta = json.loads(text)
+    except json.JSONDecodeError as e:
+        raise DataError(jpath, e.lineno, None,
+                        f"invalid sidecar JSON at column {e.colno}: {e.msg}") from None
+    if not isinstance(meta, dict):
+        raise DataError(jpath, 1, None,
+                        f"sidecar JSON must be an object, got {type(meta).__name__}")
+    return meta
+
+
+def load_run(path: str | Path) -> Run:
+    """Read one DATA.md run (CSV plus its optional JSON sidecar).
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV file.
+
+    Returns
+    -------
+    Run
+        Columns as float64 arrays; unknown columns in ``extra`` (float when every cell is a
+        number, else str); ``meta`` from the sidecar or {}.
+
+    Raises
+    ------
+    DataError
+        For every broken rule of DATA.md (missing required column, duplicate column name,
+        row with the wrong number of fields, non-numeric or non-finite value in a known
+        column, time not strictly increasing, fewer than 2 rows, invalid sidecar JSON),
+        naming the file, line and column.
+    """
+    path = Path(path)
+    text = _decode(path, path.read_bytes())
+    header, rows, lines = _read_rows(path, text)
+    names = _check_header(path, header)
+    width = len(names)
+    for row, line in zip(rows, lines):
+        if len(row) != width:
+            col = names[len(row)] if len(row) < width else f"#{width + 1} (beyond the header)"
+            if not row:
+                problem = "blank line inside the data"
+            else:
+                problem = f"{len(row)} fields, the header has {width}"
+            raise DataError(path, line, col, problem)
+    cells = list(zip(*rows)) if rows else [() for _ in names]
+    cols: dict[str, np.ndarray] = {}
+    extra: dict[str, np.ndarray] = {}
+    for name, col in zip(names, cells):
+        if name in KNOWN_COLUMNS:
+            cols[name] = _to_float(path, name, col, lines)
+        else:
+            try:
+                extra[name] = np.array(col, dtype=float)
+            except ValueError:
+                extra[name] = np.array(col, dtype=str)
+    _check_values(path, cols, lines)
+    meta = _load_sidecar(path)
+    return Run(**cols, meta=meta, extra=extra, path=path)
+
+
+def load_runs(folder: str | Path) -> list[Run]:
+    """Load every ``*.csv`` in ``folder`` (not recursive), sorted by file name.
+
+    Returns an empty list when the folder has no CSV file; raises ``NotADirectoryError``
+    when ``folder`` is not a directory.
+    """
+    folder = Path(folder)
+    if not folder.is_dir():
+        raise NotADirectoryError(f"{folder}: not a directory")
+    return [load_run(p) for p in sorted(folder.glob("*.csv"), key=lambda p: p.name)]
+
+
+def _json_default(obj: Any) -> Any:
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, Path):
+        return str(obj)
+    raise TypeError(f"{type(obj).__name__} is not JSON serialisable")
+
+
+def _cell(v: Any) -> str:
+    return repr(float(v)) if isinstance(v, (float, np.floating)) else str(v)
+
+
+def write_run(run: Run, path: str | Path) -> None:
+    """Write ``run`` as a DATA.md CSV, plus ``<stem>.json`` when ``run.meta`` is not empty.
+
+    DATA.md columns come first in DATA.md order, then ``run.extra`` in its order.  Floats are
+    written with ``repr`` so that :func:`load_run` gives back the same float64 bits.  A run
+    the loader would reject (non-finite values, time not strictly increasing, < 2 rows)
+    raises :class:`DataError` (line numbers are those the file would have) and nothing is
+    written.  When ``run.meta`` is empty an existing sidecar at the destination is removed,
+    so that the written pair describes ``run`` and nothing else.
+    """
+    path = Path(path)
+    cols = run.columns()
+    _check_values(path, {k: v for k, v in cols.items() if k in KNOWN_COLUMNS}, None)
+    for name in cols:
+        if not name.strip() or name != name.strip():
+            raise DataError(path, 1, name, "column names must be non-empty without "
+                            "surrounding spaces")
+    jpath = sidecar_path(path)
+    meta_text = None
+    if run.meta:
+        try:
+            meta_text = json.dumps(run.meta, indent=2, allow_nan=False, default=_json_default)
+        except (TypeError, ValueError) as e:
+            raise DataError(jpath, None, None, f"run.meta is not valid JSON: {e}") from None
+    names = list(cols)
+    data = [cols[c].tolist() for c in names]
+    buf = io.StringIO(newline="")
+    writer = csv.writer(buf, lineterminator="\n")
+    writer.writerow(names)
+    writer.writerows([[_cell(v) for v in row] for row in zip(*data)])
+    path.write_text(buf.getvalue(), encoding="utf-8", newline="")
+    if meta_text is not None:
+        jpath.write_text(meta_text + "\n", encoding="utf-8")
+    elif jpath.exists():
+        jpath.unlink()
+

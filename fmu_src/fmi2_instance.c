@@ -11,6 +11,35 @@
 
 static const char *const CAT_NAME[] = {"logEvents", "logStatusWarning", "logStatusError"};
 
+/* The logger's message is a printf format: pass the formatted text with every '%' doubled, so
+ * importers that cannot read variadic arguments (ctypes, JNI) still get the whole message. */
+static void emit(const fmi2CallbackFunctions *cb, const char *name, fmi2Status st, const char *cat,
+                 const char *text) {
+    char esc[2048];
+    size_t i = 0;
+    for (; *text && i + 2 < sizeof esc; text++) {
+        if (*text == '%') esc[i++] = '%';
+        esc[i++] = *text;
+    }
+    esc[i] = 0;
+    cb->logger(cb->componentEnvironment, name, st, cat, esc);
+}
+
+static void log_early(const fmi2CallbackFunctions *cb, const char *name, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+static void log_early(const fmi2CallbackFunctions *cb, const char *name, const char *fmt, ...) {
+    char buf[1024];
+    va_list ap;
+    if (!cb->logger) return;
+    va_start(ap, fmt);
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    va_end(ap);
+    emit(cb, name, fmi2Error, "logStatusError", buf);
+}
+
 void fmu_log(instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...) {
     char buf[1024];
     va_list ap;
@@ -21,7 +50,7 @@ void fmu_log(instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...) {
     va_start(ap, fmt);
     vsnprintf(buf, sizeof buf, fmt, ap);
     va_end(ap);
-    c->cb.logger(c->cb.componentEnvironment, c->name ? c->name : "?", st, CAT_NAME[idx], "%s", buf);
+    emit(&c->cb, c->name ? c->name : "?", st, CAT_NAME[idx], buf);
 }
 
 instance_t *fmu_cast(fmi2Component comp, const char *fn) {
@@ -165,23 +194,17 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     (void)visible;
     if (!functions || !functions->allocateMemory || !functions->freeMemory) return NULL;
     if (!instanceName || !*instanceName) {
-        if (functions->logger)
-            functions->logger(functions->componentEnvironment, "?", fmi2Error, "logStatusError",
-                              "fmi2Instantiate: instanceName must be a non-empty string");
+        log_early(functions, "?", "fmi2Instantiate: instanceName must be a non-empty string");
         return NULL;
     }
     if (!fmuGUID || strcmp(fmuGUID, MODEL_GUID) != 0) {
-        if (functions->logger)
-            functions->logger(functions->componentEnvironment, instanceName, fmi2Error, "logStatusError",
-                              "fmi2Instantiate: GUID %s does not match this FMU's %s",
-                              fmuGUID ? fmuGUID : "(null)", MODEL_GUID);
+        log_early(functions, instanceName, "fmi2Instantiate: GUID %s does not match this FMU's %s",
+                  fmuGUID ? fmuGUID : "(null)", MODEL_GUID);
         return NULL;
     }
     if (fmuType != fmi2ModelExchange && fmuType != fmi2CoSimulation) {
-        if (functions->logger)
-            functions->logger(functions->componentEnvironment, instanceName, fmi2Error, "logStatusError",
-                              "fmi2Instantiate: fmuType %d is neither fmi2ModelExchange (0) nor "
-                              "fmi2CoSimulation (1)", (int)fmuType);
+        log_early(functions, instanceName, "fmi2Instantiate: fmuType %d is neither fmi2ModelExchange (0) "
+                  "nor fmi2CoSimulation (1)", (int)fmuType);
         return NULL;
     }
     c = (instance_t *)functions->allocateMemory(1, sizeof(instance_t));

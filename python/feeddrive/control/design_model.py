@@ -144,7 +144,7 @@ def design_model(params: Mapping[str, float]) -> DesignModel:
     num_g = np.pad(num_g, (0, L - len(num_g)))
     den_g = np.pad(den, (0, L - len(den)))    # same length -> descending powers of z
     if L > 1:
-        Ag, Bg, Cg, Dg = signal.tf2ss(num_g, den_g)
+        Ag, Bg, Cg, Dg = signal.tf2ss(np.trim_zeros(num_g, "f"), den_g)
     else:
         Ag, Bg, Cg, Dg = (np.zeros((0, 0)), np.zeros((0, 1)), np.zeros((1, 0)),
                           np.array([[num_g[0] / den_g[0]]]))

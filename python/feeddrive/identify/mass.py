@@ -1,0 +1,106 @@
+"""Moving mass from an open-loop force experiment (Sec. 2.4.3, last paragraph; Eq. 1).
+
+    m a = K_f(x) i - F_cg(x) - F_f(v) - F_load
+
+v and a come from a Savitzky-Golay differentiator of the measured position; the force side
+is smoothed by the same filter (zero-phase, so both sides see the same averaging).  Samples
+slower than ``v_min`` are left out (there pre-rolling makes F_f a function of the history,
+not of v) and so are half a window at both ends.
+
+- ``friction='known'``: F_f = Eq. 12 with the given Stribeck parameters (plus the FMU's
+  asymmetry terms when present); one unknown, m (plus an optional constant force).
+- ``friction='coulomb_viscous'``: F_f = F_c sgn(v) + sigma2 v estimated jointly with m.
+"""
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..data import Run
+from ._signals import (MapSpec, derivatives, eval_map, lstsq_with_stderr, run_label,
+                       sample_time, signal, smooth)
+from ..friction_curves import steady_friction
+
+
+@dataclass
+class MassFit:
+    """Least-squares mass (and friction terms when estimated)."""
+    parameters: dict[str, float]    #: "m" [kg]; "friction.F_c", "friction.sigma2", "offset.F"
+    stderr: dict[str, float]
+    rms_residual: float             #: force residual [N]
+    n_used: int                     #: samples in the regression
+    window: int                     #: Savitzky-Golay window [samples]
+    force_rms: float                #: rms of m a over the used samples [N] (excitation level)
+
+
+def steady_friction_from(params: Mapping[str, float], v: np.ndarray) -> np.ndarray:
+    """Eq. 12 from FMU parameters, with asymmetry.dF / dsigma2 applied for v < 0."""
+    F_s, F_c = params["friction.F_s"], params["friction.F_c"]
+    V_s, d, s2 = params["friction.V_s"], params["friction.delta"], params["friction.sigma2"]
+    dF, ds2 = params.get("asymmetry.dF", 0.0), params.get("asymmetry.dsigma2", 0.0)
+    fwd = steady_friction(v, F_s, F_c, V_s, d, s2)
+    bwd = steady_friction(v, F_s + dF, F_c + dF, V_s, d, s2 + ds2)
+    return np.where(v < 0, bwd, fwd)
+
+
+def fit_mass(time: np.ndarray, x: np.ndarray, i: np.ndarray, force_constant: MapSpec,
+             cogging: MapSpec, F_load: np.ndarray | float = 0.0,
+             friction: str | Mapping[str, float] = "coulomb_viscous", window: int = 41,
+             v_min: float = 0.01, fit_offset: bool = False) -> MassFit:
+    """Least-squares m from sampled x [m], i [A] (see module docstring).
+
+    Parameters
+    ----------
+    force_constant, cogging : K_f and F_cg maps (FMU parameters or callables).
+    F_load : known external force [N] (array or constant).
+    friction : 'coulomb_viscous' (jointly estimated) or a mapping with friction.F_s, F_c,
+        V_s, delta, sigma2 (known, Eq. 12).
+    window : Savitzky-Golay window [samples] (41 = 20 ms at 0.5 ms).
+    v_min : samples with |v| < v_min [m/s] are excluded.
+    fit_offset : also estimate a constant force offset.F, taken to act like F_load
+        (m a = ... - F_load - offset.F).
+    """
+    t = np.asarray(time, dtype=float)
+    x, i = np.asarray(x, dtype=float), np.asarray(i, dtype=float)
+    Ts = sample_time(t)
+    _, v, a = derivatives(x, Ts, window)
+    force = eval_map(force_constant, "ripple", x) * i - eval_map(cogging, "cogging", x) \
+        - np.broadcast_to(np.asarray(F_load, dtype=float), x.shape)
+    cols, names = [a], ["m"]
+    if isinstance(friction, str):
+        if friction != "coulomb_viscous":
+            raise ValueError(f"mass: friction must be 'coulomb_viscous' or a parameter mapping, "
+                             f"got {friction!r}")
+        cols += [smooth(np.sign(v), window), smooth(v, window)]
+        names += ["friction.F_c", "friction.sigma2"]
+    else:
+        force = force - steady_friction_from(friction, v)
+    if fit_offset:
+        cols.append(np.ones_like(x))
+        names.append("offset.F")
+    y = smooth(force, window)
+    h = window // 2 + 1
+    use = np.abs(v) >= v_min
+    use[:h] = use[-h:] = False
+    if use.sum() < 3 * len(cols):
+        raise ValueError(f"mass: only {int(use.sum())} samples faster than v_min = {v_min:g} m/s")
+    A = np.column_stack(cols)[use]
+    theta, se, r = lstsq_with_stderr(A, y[use])
+    return MassFit(parameters={n: float(t_) for n, t_ in zip(names, theta)},
+                   stderr={n: float(s) for n, s in zip(names, se)},
+                   rms_residual=float(np.sqrt(np.mean(r**2))), n_used=int(use.sum()),
+                   window=window, force_rms=float(theta[0] * np.sqrt(np.mean(a[use] ** 2))))
+
+
+def identify_mass(run: Run, force_constant: MapSpec, cogging: MapSpec,
+                  friction: str | Mapping[str, float] = "coulomb_viscous", **kw) -> MassFit:
+    """:func:`fit_mass` on a run with columns time, x, i (F_load used when present)."""
+    label = run_label(run)
+    F = run.F_load if run.F_load is not None else 0.0
+    try:
+        return fit_mass(run.time, signal(run, "x"), signal(run, "i"), force_constant, cogging,
+                        F, friction, **kw)
+    except ValueError as e:
+        raise ValueError(f"{label}: {e}") from None

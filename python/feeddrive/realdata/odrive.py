@@ -1,20 +1,12 @@
 """Position-spectrum analysis of the measured ODrive cogging maps and slow runs (rotary BLDC).
 
-The data (``../shared/realdata/odrive-cogging``, see its README) are holding-current maps
-Iq(x) [A] over one revolution (8192 encoder counts) and slow velocity-controlled runs
-(time [s], position [counts], Iq [A]).  The analysis mirrors Sec. 2.3 of the paper:
-
-- full-revolution spectrum of the forward map: lines in orders (cycles per revolution), A;
-- short-time spectrum along the revolution (``scipy.signal.ShortTimeFFT``, rectangular window
-  like the paper's DSTFT).  A rectangular window shorter than the revolution leaks every line
-  into its neighbours, so each tracked line is compared with the same transform of the
-  *constant* line model (all lines above the noise floor, constant amplitude and phase):
-  what the model does not reproduce along position is not periodic;
-- crosstalk: the line that drops when the neighbouring motor is removed (``iso_16``);
-- repeatability of trials a, b, d, c; friction from forward minus reverse holding current;
-- slow runs: Iq against the static map at the run's position, velocity ripple.
-
-Units: position in encoder counts (8192 per revolution), current in A, time in s.
+Data (``../shared/realdata/odrive-cogging``): holding-current maps Iq(x) [A] over one revolution
+(8192 encoder counts) and slow runs (time [s], position [counts], Iq [A]).  As in Sec. 2.3 of
+the paper: full-revolution line spectrum; a rectangular-window DSTFT along the revolution
+(``scipy.signal.ShortTimeFFT``) whose tracks are compared with the same transform of the
+constant line model, so that window leakage is not mistaken for variation; the crosstalk line
+(drops without the neighbouring motor, ``iso_16``); repeatability; friction from forward minus
+reverse maps; slow runs: Iq against the map at the run's position, velocity ripple.
 """
 from __future__ import annotations
 
@@ -33,11 +25,14 @@ ISOLATED_MAP = "iso_16"         # forward map with the neighbouring motor moved 
 REPEAT_TRIALS = ("b_16", "d_16", "c_16")
 FORWARD_16 = ("a_16", "b_16", "c_16", "d_16")
 REVERSE_16 = ("e_16r", "rev_16")
-N_LINES = 5
-LINE_FLOOR = 5.0                # a line: amplitude >= LINE_FLOOR x median amplitude of all orders
+N_LINES = 5                     # lines reported (the README quotes five)
+N_TRACKED = 6                   # lines tracked along the revolution (adds 84/rev = lcm(12, 14))
+LINE_FLOOR = 10.0               # a line: amplitude >= LINE_FLOOR x median amplitude of all orders;
+                                # in a_16 this keeps only multiples of 7 or 12 (0.031 A floor)
 WINDOW_COUNTS = COUNTS_PER_REV // 2   # shortest window separating 12/rev from 14/rev (1/W = 2/rev)
 N_WINDOW_POSITIONS = 64
-PERIODIC_TOL = 0.25             # max |DSTFT - constant-line DSTFT| / line amplitude for "periodic"
+PERIODIC_TOL = 0.25             # max |DSTFT - constant-line DSTFT| / line amplitude for "periodic";
+                                # the repeatable sweeps a, b, c, d, e stay <= 0.14 on all tracked lines
 SETTLE_S = 0.5                  # slow runs: time dropped after the start transient's minimum
 RESAMPLE_S = 1e-3               # uniform grid for the Iq-lag filter (samples are ~2.3 ms apart)
 
@@ -58,7 +53,7 @@ class CoggingMap:
 
 @dataclass(frozen=True)
 class SlowRun:
-    """One slow velocity-controlled run: samples at non-uniform times."""
+    """One slow velocity-controlled run, sampled at non-uniform times."""
     name: str
     time: np.ndarray
     position: np.ndarray
@@ -82,17 +77,14 @@ def load_map(path: str | Path) -> CoggingMap:
     if m["interp"]:
         raise ValueError(f"{path}: an interpolated (filled-in) map, not a measurement")
     data = np.load(path, allow_pickle=False)
-    if data.shape != (COUNTS_PER_REV,) or not np.issubdtype(data.dtype, np.floating):
+    if data.shape != (COUNTS_PER_REV,) or data.dtype.kind != "f":
         raise ValueError(f"{path}: expected float array of shape ({COUNTS_PER_REV},), "
                          f"got {data.dtype} {data.shape}")
-    bad = np.flatnonzero(~np.isfinite(data))
-    if bad.size:
+    if (bad := np.flatnonzero(~np.isfinite(data))).size:
         raise ValueError(f"{path}: non-finite current at count {bad[0]}")
     step, reverse = int(m["step"]), bool(m["r"]) or m["trial"] == "rev"
     grid = map_grid(step, reverse)
-    off = np.ones(COUNTS_PER_REV, bool)
-    off[grid] = False
-    stray = np.flatnonzero(off & (data != 0))
+    stray = np.flatnonzero(np.isin(np.arange(COUNTS_PER_REV), grid, invert=True) & (data != 0))
     if stray.size:
         raise ValueError(f"{path}: {stray.size} non-zero entries off the {step}-count grid "
                          f"(first at count {stray[0]}); the step in the name does not fit")
@@ -109,26 +101,22 @@ def load_maps(folder: str | Path) -> dict[str, CoggingMap]:
     d = Path(folder) / MAP_FOLDER
     if not d.is_dir():
         raise FileNotFoundError(f"{d}: cogging-map folder not found")
-    maps = {}
-    for p in sorted(d.glob("cogging_measure_final_*.npy")):
-        if not p.name.endswith("_interp.npy"):
-            cm = load_map(p)
-            maps[cm.name] = cm
-    return maps
+    maps = [load_map(p) for p in sorted(d.glob("cogging_measure_final_*.npy"))
+            if not p.name.endswith("_interp.npy")]
+    return {m.name: m for m in maps}
 
 
 def load_slow_run(path: str | Path) -> SlowRun:
     """Load a slow run: float array (3, N), rows time [s], position [counts], Iq [A]."""
     path = Path(path)
     data = np.load(path, allow_pickle=False)
-    if data.ndim != 2 or data.shape[0] != 3 or data.shape[1] < 100:
-        raise ValueError(f"{path}: expected shape (3, N>=100), got {data.shape}")
+    if data.ndim != 2 or data.shape[0] != 3 or data.shape[1] < 100 or data.dtype.kind != "f":
+        raise ValueError(f"{path}: expected float array of shape (3, N>=100), "
+                         f"got {data.dtype} {data.shape}")
     for row, what in enumerate(("time", "position", "current")):
-        bad = np.flatnonzero(~np.isfinite(data[row]))
-        if bad.size:
+        if (bad := np.flatnonzero(~np.isfinite(data[row]))).size:
             raise ValueError(f"{path}: non-finite {what} at sample {bad[0]}")
-    back = np.flatnonzero(np.diff(data[0]) <= 0)
-    if back.size:
+    if (back := np.flatnonzero(np.diff(data[0]) <= 0)).size:
         raise ValueError(f"{path}: time not increasing at sample {back[0] + 1}")
     return SlowRun(f"{path.parent.name}/{path.stem}", *(data[i].copy() for i in range(3)))
 
@@ -202,6 +190,8 @@ def position_stft(values: np.ndarray, counts: np.ndarray,
     """
     n = values.size
     step = COUNTS_PER_REV // n
+    if counts.size != n or n * step != COUNTS_PER_REV or np.any(np.diff(counts) != step):
+        raise ValueError(f"map of {n} points on counts {counts[:2]}... is not a uniform revolution grid")
     width = window_counts // step
     sft = signal.ShortTimeFFT(np.ones(width), hop=max(n // N_WINDOW_POSITIONS, 1), fs=n, mfft=n)
     x = np.tile(values, 3)
@@ -217,9 +207,9 @@ def position_stft(values: np.ndarray, counts: np.ndarray,
 
 @dataclass(frozen=True)
 class LineTrack:
-    """One line along the revolution: full-revolution amplitude, range of the DSTFT magnitude,
-    range the constant line model gives through the same window (leakage), and the largest
-    departure from the constant model relative to the line amplitude."""
+    """One line along the revolution: DSTFT magnitude range, the range the constant line model
+    gives through the same window (leakage), and the largest departure from that model
+    relative to the full-revolution amplitude."""
     order: int
     amplitude: float
     dstft_range: tuple[float, float]
@@ -235,17 +225,21 @@ class LineTrack:
 class Stationarity:
     """Periodic / not periodic along the revolution for one map (window: half a revolution)."""
     map_name: str
-    line_orders: tuple[int, ...]
     tracks: tuple[LineTrack, ...]
     local_mean_range: tuple[float, float]   # zero-frequency term of the DSTFT [A]
     local_mean_drift: float                 # its peak-to-peak not reproduced by the line model [A]
     residual_rms: float                     # rms of map minus constant line model [A]
 
 
-def stationarity(m: CoggingMap, orders: tuple[int, ...]) -> Stationarity:
-    """Track ``orders`` and the zero-frequency term of map ``m`` along the revolution."""
+def stationarity(m: CoggingMap, lines: np.ndarray, orders: tuple[int, ...]) -> Stationarity:
+    """Track ``orders`` and the zero-frequency term of map ``m`` along the revolution.
+
+    The constant line model holds the orders ``lines`` (the reference map's lines) with this
+    map's own amplitudes and phases; it is passed through the same window, so its leakage is
+    not mistaken for variation.  A line whose amplitude or phase wanders along the revolution
+    spreads into neighbouring orders (sidebands) that the model does not hold.
+    """
     spec = revolution_spectrum(m)
-    lines = line_orders(spec)
     model = synthesise(spec, lines, m.counts)
     meas, mod = position_stft(m.current, m.counts), position_stft(model, m.counts)
     tracks = []
@@ -254,9 +248,8 @@ def stationarity(m: CoggingMap, orders: tuple[int, ...]) -> Stationarity:
         tracks.append(LineTrack(int(q), float(abs(spec[q])), _range(np.abs(a)),
                                 _range(np.abs(b)), float(np.max(np.abs(a - b)) / abs(spec[q]))))
     dc = meas.amplitude[0].real
-    drift = dc - mod.amplitude[0].real
-    return Stationarity(m.name, tuple(int(k) for k in lines), tuple(tracks), _range(dc),
-                        float(np.ptp(drift)), float(np.std(m.current - model)))
+    return Stationarity(m.name, tuple(tracks), _range(dc), float(np.ptp(dc - mod.amplitude[0].real)),
+                        float(np.std(m.current - model)))
 
 
 def _range(v: np.ndarray) -> tuple[float, float]:
@@ -282,11 +275,9 @@ def compare_trial(ref: CoggingMap, m: CoggingMap, crosstalk_order: int) -> Trial
         raise ValueError(f"{m.name}: grid differs from {ref.name}")
     half = np.roll(m.current, m.current.size // 2)
     r0, r1 = np.corrcoef(ref.current, m.current)[0, 1], np.corrcoef(ref.current, half)[0, 1]
-    best = m.current if r0 >= r1 else half
-    d = ref.current - best
+    d = ref.current - (m.current if r0 >= r1 else half)
     sr, sm = revolution_spectrum(ref), revolution_spectrum(m)
-    k = np.arange(1, sr.size - 1, 2)
-    k = k[k % crosstalk_order != 0]
+    k = np.array([j for j in range(1, sr.size - 1, 2) if j % crosstalk_order])
     coh = np.sum((sm[k] * np.conj(sr[k])).real) / np.sum(np.abs(sr[k]) ** 2)
     return TrialComparison(m.name, float(r0), float(r1), float(np.std(d - d.mean())),
                            _line(sm, crosstalk_order), float(coh))
@@ -304,7 +295,8 @@ class FrictionFindings:
     offset_counts: float            # fitted direction-dependent position offset (fwd - rev) [counts]
     offset_r2: float                # share of the difference variance it explains
     residual_std: float             # what is left [A]
-    repeat_std: float               # std of (reference - first repeat trial), measurement noise [A]
+    noise_std: float                # white point-to-point noise of the difference, from the
+                                    # orders above 1/4 of the grid rate (no lines there) [A]
 
 
 def friction(maps: dict[str, CoggingMap], crosstalk_order: int) -> FrictionFindings:
@@ -325,11 +317,12 @@ def friction(maps: dict[str, CoggingMap], crosstalk_order: int) -> FrictionFindi
     res = d - coef[0] - coef[1] * slope
     dspec = np.fft.rfft(d) / d.size
     dspec[1:] *= 2.0
-    rep = maps[REFERENCE_MAP].current - maps[REPEAT_TRIALS[0]].current
+    hi = np.abs(dspec[dspec.size // 2:-1])
     return FrictionFindings(fwd, rev, float(d.mean()),
                             (float(min(means)), float(np.mean(means)), float(max(means))),
                             float(d.std()), top_lines(dspec, 4), float(coef[1]),
-                            float(1.0 - res.var() / d.var()), float(res.std()), float(rep.std()))
+                            float(1.0 - res.var() / d.var()), float(res.std()),
+                            float(np.sqrt(np.sum(hi ** 2))))
 
 
 # ----------------------------------------------------------------------------- slow runs
@@ -348,9 +341,7 @@ class SlowRunFindings:
 def steady_part(run: SlowRun) -> np.ndarray:
     """Mask of the steady ramp: drop the start (some runs first swing back from the previous
     run's end, through a minimum) up to SETTLE_S after the minimum of the first quarter."""
-    first = run.time.size // 4
-    t0 = run.time[np.argmin(run.position[:first])] + SETTLE_S
-    return run.time >= t0
+    return run.time >= run.time[np.argmin(run.position[:run.time.size // 4])] + SETTLE_S
 
 
 def velocity(time: np.ndarray, position: np.ndarray) -> np.ndarray:
@@ -385,6 +376,14 @@ def slow_run(run: SlowRun, m: CoggingMap, crosstalk_order: int) -> SlowRunFindin
 
 
 # ----------------------------------------------------------------------------- findings
+def best_shift(ref: CoggingMap, m: CoggingMap) -> tuple[int, float]:
+    """Circular shift [counts] that best aligns ``m`` with ``ref`` (same grid), and its correlation."""
+    a, b = ref.current - ref.current.mean(), m.current - m.current.mean()
+    xc = np.fft.irfft(np.fft.rfft(a) * np.conj(np.fft.rfft(b)), a.size)   # xc[s] = a . roll(b, s)
+    s = int(np.argmax(xc))
+    return s * m.step, float(xc[s] / np.sqrt(a @ a * (b @ b)))
+
+
 @dataclass(frozen=True)
 class OdriveFindings:
     """Everything :func:`analyse` finds (counts, A, s)."""
@@ -392,6 +391,7 @@ class OdriveFindings:
     lines: tuple[Line, ...]              # top lines of the reference forward map
     grid_check: float                    # max rel. change of those amplitudes over steps 4..32
     isolated_lines: tuple[Line, ...]     # the same orders in iso_16
+    isolated_shift: tuple[int, float]    # iso_16 registration vs reference [counts], correlation
     crosstalk_order: int                 # the line that drops most without the neighbour
     stationarity: tuple[Stationarity, ...]
     trials: tuple[TrialComparison, ...]
@@ -416,7 +416,9 @@ def analyse(folder: str | Path) -> OdriveFindings:
     iso_spec = revolution_spectrum(maps[ISOLATED_MAP])
     iso = tuple(_line(iso_spec, q) for q in orders)
     xt = min(orders, key=lambda q: abs(iso_spec[q]) / abs(spec[q]))
-    stat = tuple(stationarity(maps[k], orders) for k in (REFERENCE_MAP, ISOLATED_MAP, *REVERSE_16))
+    tracked = tuple(ln.order for ln in top_lines(spec, N_TRACKED))
+    stat = tuple(stationarity(maps[k], line_orders(spec), tracked)
+                 for k in (REFERENCE_MAP, *REPEAT_TRIALS, ISOLATED_MAP, *REVERSE_16))
     trials = tuple(compare_trial(ref, maps[k], xt) for k in REPEAT_TRIALS)
     runs = []
     for sub in SLOW_FOLDERS:
@@ -424,8 +426,8 @@ def analyse(folder: str | Path) -> OdriveFindings:
         if not d.is_dir():
             raise FileNotFoundError(f"{d}: slow-run folder not found")
         runs += [slow_run(load_slow_run(p), ref, xt) for p in sorted(d.glob("*.npy"))]
-    return OdriveFindings(ref.name, lines, float(grid), iso, int(xt), stat, trials,
-                          friction(maps, xt), tuple(runs))
+    return OdriveFindings(ref.name, lines, float(grid), iso, best_shift(ref, maps[ISOLATED_MAP]),
+                          int(xt), stat, trials, friction(maps, xt), tuple(runs))
 
 
 def slow_summary(f: OdriveFindings) -> dict[str, dict[str, float]]:
@@ -441,43 +443,67 @@ def slow_summary(f: OdriveFindings) -> dict[str, dict[str, float]]:
 
 def findings_text(f: OdriveFindings) -> str:
     """Short human-readable report of :func:`analyse`'s findings."""
-    out = [f"ODrive BLDC cogging maps (forward map {f.reference}; 8192 counts/rev; Iq in A)"]
-    out.append("Lines [order/rev: amplitude A]: " + ", ".join(
-        f"{ln.order}: {ln.amplitude:.3f}" for ln in f.lines)
-        + f"  (same within {100 * f.grid_check:.1f} % for 4..32-count grids)")
-    out.append("Without the neighbouring motor (iso_16): " + ", ".join(
-        f"{ln.order}: {ln.amplitude:.3f}" for ln in f.isolated_lines))
-    a = {ln.order: ln.amplitude for ln in f.lines}[f.crosstalk_order]
-    b = {ln.order: ln.amplitude for ln in f.isolated_lines}[f.crosstalk_order]
-    out.append(f"Crosstalk: the {f.crosstalk_order}/rev line drops {a:.2f} -> {b:.2f} A; the other "
-               f"lines stay within {_stay(f):.0f} %. It is external, not slot cogging.")
+    q, fr = f.crosstalk_order, f.friction
+    amp = {ln.order: ln.amplitude for ln in f.lines}
+    iso = {ln.order: ln.amplitude for ln in f.isolated_lines}
+    stay = 100 * max(abs(iso[k] / a - 1) for k, a in amp.items() if k != q)
+    clean = [s for s in f.stationarity if all(t.periodic for t in s.tracks)]
+    odd = [s for s in f.stationarity if s not in clean]
+    out = [f"ODrive BLDC (rotary), 8192 counts/rev, holding current Iq [A]; forward map {f.reference}",
+           f"Summary: periodic (constant along the revolution in {', '.join(s.map_name for s in clean)}): "
+           + ", ".join(f"{t.order}/rev" for t in f.stationarity[0].tracks)
+           + f"; their zero-frequency term does not drift (<= {max(s.local_mean_drift for s in clean):.3f}"
+           f" A p-p). Not periodic: the {q}/rev line is crosstalk (changes with the neighbour); "
+           + "; ".join(f"{s.map_name}: lines " + ",".join(str(t.order) for t in s.tracks if not t.periodic)
+                       + f" wander, local mean drifts {s.local_mean_drift:.2f} A p-p" for s in odd) + ".",
+           "Periodic lines, full revolution [order/rev: A]: " + ", ".join(
+               f"{ln.order}: {ln.amplitude:.3f}" for ln in f.lines)
+           + f" (grids 4..32 counts agree within {100 * f.grid_check:.1f} %)",
+           f"Crosstalk: without the neighbouring motor (iso_16) the {q}/rev line drops "
+           f"{amp[q]:.2f} -> {iso[q]:.2f} A, the others change by {stay:.0f} % at most; across "
+           "sessions the same line reads " + ", ".join(
+               f"{t.name} {t.crosstalk.amplitude:.2f} A" for t in f.trials)
+           + f": an external force that a slot-harmonic cogging model would wrongly absorb "
+           f"(iso_16 is also registered {f.isolated_shift[0]} counts away, r = {f.isolated_shift[1]:.2f})"]
+    out.append("Along the revolution (DSTFT, rectangular window 1/2 rev, compared with the constant "
+               f"lines through the same window; periodic if deviation <= {PERIODIC_TOL}):")
     for s in f.stationarity:
-        per = [t.order for t in s.tracks if t.periodic]
-        non = [f"{t.order} ({t.deviation:.2f})" for t in s.tracks if not t.periodic]
-        out.append(f"DSTFT {s.map_name} (rect. window 1/2 rev): periodic {per}"
-                   + (f", NOT periodic {non}" if non else "")
-                   + f"; local mean {s.local_mean_range[0]:+.2f}..{s.local_mean_range[1]:+.2f} A, "
-                   f"drift beyond line leakage {s.local_mean_drift:.3f} A; "
-                   f"residual rms {s.residual_rms:.3f} A")
+        non = [t for t in s.tracks if not t.periodic]
+        out.append(f"  {s.map_name:7s} deviation " + " ".join(
+            f"{t.order}:{t.deviation:.2f}" for t in s.tracks)
+            + (" -> NOT periodic " + ",".join(str(t.order) for t in non) if non else " -> periodic")
+            + f"; local mean {s.local_mean_range[0]:+.2f}..{s.local_mean_range[1]:+.2f} A of which "
+            f"{s.local_mean_drift:.3f} A p-p is not line leakage; residual rms {s.residual_rms:.3f} A")
     for t in f.trials:
-        out.append(f"Trial {t.name}: r = {t.correlation:+.3f} (half-turn shifted {t.correlation_half_turn:+.3f}), "
-                   f"rms diff {t.rms_difference:.3f} A, {f.crosstalk_order}/rev "
-                   f"{t.crosstalk.amplitude:.2f} A at {t.crosstalk.phase_deg:+.0f} deg, "
-                   f"odd-order coherence {t.odd_coherence:+.2f}")
-    fr = f.friction
+        out.append(f"Repeat {t.name}: r = {t.correlation:+.3f} as measured, {t.correlation_half_turn:+.3f} "
+                   f"shifted 4096 counts; rms diff {t.rms_difference:.3f} A; odd non-{q}k orders "
+                   f"coherence {t.odd_coherence:+.2f} (-1 would mean a true half-turn shift)")
     out.append(f"Friction: forward - reverse = {fr.mean_difference:.3f} A ({fr.forward} - {fr.reverse}, "
-               f"same crosstalk line; all pairs {fr.pair_means[0]:.2f}..{fr.pair_means[2]:.2f}) "
-               f"= 2 F/Kt. Position-dependent part std {fr.difference_std:.3f} A: "
-               f"{100 * fr.offset_r2:.0f} % is a {fr.offset_counts:.1f}-count rest-position offset "
-               f"between directions, rest {fr.residual_std:.3f} A (repeat noise {fr.repeat_std:.3f} A)")
-    for k, s in slow_summary(f).items():
-        out.append(f"Slow {k} ({s['n']} run(s), {s['speed']:.3f} rev/s): velocity std "
-                   f"{s['velocity_std']:.0f} counts/s; r(Iq, map) {s['r_static']:.3f}, with a "
-                   f"{1000 * s['lag_s']:.0f} ms lag {s['r_lagged']:.3f}, map without "
-                   f"{f.crosstalk_order}k/rev crosstalk {s['r_lagged_no_crosstalk']:.3f}")
+               f"matched {q}/rev line; all 8 pairs {fr.pair_means[0]:.2f}..{fr.pair_means[2]:.2f}, "
+               f"mean {fr.pair_means[1]:.2f}) = 2 F/Kt. Position-dependent part std "
+               f"{fr.difference_std:.3f} A, lines " + ", ".join(
+                   f"{ln.order}: {ln.amplitude:.3f}" for ln in fr.difference_lines)
+               + f"; {100 * fr.offset_r2:.0f} % of its variance is a {fr.offset_counts:.1f}-count "
+               f"rest-position offset between directions; the rest {fr.residual_std:.3f} A vs white "
+               f"point noise {fr.noise_std:.3f} A (from orders > 128/rev): " + (
+                   "no position-dependent friction above the noise" if fr.residual_std
+                   < 1.2 * fr.noise_std else "a position-dependent remainder above the noise"))
+    summ = slow_summary(f)
+    for sub in SLOW_FOLDERS:
+        n, c = summ[f"{sub}/nocomp"], summ[f"{sub}/comp"]
+        out.append(f"Slow runs {sub} ({n['speed']:.3f} rev/s): velocity ripple std (np.gradient on "
+                   f"the non-uniform time stamps) {n['velocity_std']:.0f} -> {c['velocity_std']:.0f} "
+                   f"counts/s with the map as feed-forward (gap shrinks "
+                   f"x{n['velocity_std'] / c['velocity_std']:.1f})")
+        for k in ("nocomp", "comp", "crosstalk_nocomp", "crosstalk_comp"):
+            if (s := summ.get(f"{sub}/{k}")) is not None:
+                out.append(f"  {k:16s} ({s['n']} run(s)): r(Iq, map at position) {s['r_static']:.3f}; "
+                           f"behind a {1000 * s['lag_s']:.0f} ms first-order lag {s['r_lagged']:.3f}; "
+                           f"map without odd {q}k/rev {s['r_lagged_no_crosstalk']:.3f}"
+                           + (f"; velocity std {s['velocity_std']:.0f}" if "crosstalk" in k else ""))
+    lags = [summ[f"{sub}/{k}"]["lag_s"] for sub in SLOW_FOLDERS for k in ("nocomp", "comp")]
+    if max(lags) < 1.25 * min(lags):
+        out.append(f"The Iq lag is the same at both speeds ({1000 * min(lags):.0f}..{1000 * max(lags):.0f}"
+                   " ms): a filter on the reported Iq, so the lower r(Iq, map) at the higher speed is "
+                   "that filter, not motor dynamics.")
     return "\n".join(out)
-
-
-def _stay(f: OdriveFindings) -> float:
-    return 100 * max(abs(b.amplitude / a.amplitude - 1) for a, b in zip(f.lines, f.isolated_lines)
-                     if a.order != f.crosstalk_order)

@@ -9,6 +9,7 @@
 
 #include <float.h>
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 
 /* C99 has no _Static_assert: a negative array size fails the build. */
@@ -54,22 +55,56 @@ typedef char dp45_struct_fits_4kib[(sizeof(dp45_t) < 4096) ? 1 : -1];
 #define D6 (-1453857185.0 / 822651844.0)
 #define D7 (69997945.0 / 29380423.0)
 
-/* step-size controller (DOPRI5 defaults) */
-#define SAFE 0.9
-#define FAC_GROW_MAX 10.0  /* h_new <= 10 h */
-#define FAC_SHRINK_MIN 0.2 /* h_new >= 0.2 h */
-#define EXPO1 0.17         /* 1/5 - 0.75 * beta */
+/* step-size controller (DOPRI5 defaults), evaluated in the log2 domain */
+#define FAC_GROW_MAX 10.0                    /* h_new <= 10 h */
+#define EXPO1 0.17                           /* 1/5 - 0.75 * beta */
 #define BETA 0.04
-#define LN_FACOLD_MIN (-9.210340371976184) /* log(1e-4) */
-#define LN_SAFE (-0.10536051565782628)     /* log(0.9) */
-#define LN_GROW_MAX 2.302585092994046      /* log(10) */
-#define LN_SHRINK_MIN (-1.6094379124341003) /* log(0.2) */
+#define L2_FACOLD_MIN (-13.287712379549449)  /* log2(1e-4) */
+#define L2_SAFE (-0.15200309344504997)       /* log2(0.9) */
+#define L2_GROW_MAX 3.321928094887362        /* log2(10) */
+#define L2_SHRINK_MIN (-2.321928094887362)   /* log2(0.2): h_new >= 0.2 h */
 /* Below this squared error norm the growth factor saturates at 10 whatever
- * ln_facold in [log 1e-4, 0] is: 0.17 * ln(err) <= log(0.09) + 0.04 * log(1e-4). */
+ * log2_facold in [log2 1e-4, 0] is: 0.17 * ln(err) <= ln(0.09) + 0.04 * ln(1e-4). */
 #define ERR2_SATURATED 6.0e-15
 
 #define NONFINITE_SHRINK 0.2
 #define ROOT_MAX_ITER 200
+
+/* log2(x) for a positive normal x, absolute error < 1.1e-3 (monotone, exact at
+ * powers of 2). The step-size controller needs a few digits, not libm's 16. */
+static double log2_approx(double x)
+{
+    uint64_t b;
+    double m, u;
+    int e;
+    memcpy(&b, &x, sizeof b);
+    e = (int)(b >> 52) - 1023;
+    b = (b & 0x000FFFFFFFFFFFFFull) | 0x3FF0000000000000ull;
+    memcpy(&m, &b, sizeof m);
+    u = m - 1.0;
+    return (double)e + u + u * (1.0 - u) * (0.42086454 - 0.15638611 * u);
+}
+
+/* 2^y for |y| < 1000, relative error < 1.2e-4 (monotone, exact at integers). */
+static double exp2_approx(double y)
+{
+    int i = (int)y;
+    uint64_t b;
+    double scale, f;
+    if ((double)i > y) --i;
+    f = y - (double)i;
+    b = (uint64_t)(i + 1023) << 52;
+    memcpy(&scale, &b, sizeof scale);
+    return scale * (1.0 + f + f * (1.0 - f) * (-0.30449799 - 0.07822817 * f));
+}
+
+/* Element-wise copy. A plain loop: for the few doubles copied per step, gcc's
+ * inline expansion of a variable-size memcpy (rep movsq) costs more than the step. */
+static void copy_n(double *dst, const double *src, int n)
+{
+    int j;
+    for (j = 0; j < n; ++j) dst[j] = src[j];
+}
 
 static int crossed(double g_ref, double g_now)
 {
@@ -91,7 +126,7 @@ void dp45_init(dp45_t *s, int n, int ng, double rtol, const double *atol, double
     s->h_min = 0.0;
     s->root_tol = DP45_DEFAULT_ROOT_TOL;
     s->max_steps = DP45_DEFAULT_MAX_STEPS;
-    s->ln_facold = LN_FACOLD_MIN;
+    s->log2_facold = L2_FACOLD_MIN;
     s->i_k1 = 0;
 }
 
@@ -207,6 +242,25 @@ static int earliest_secant(const dp45_t *s, const double *glo, const double *ghi
     return imax;
 }
 
+/* Indicators exactly 0 at the start of the last accepted step but not at its
+ * end: take as reference the sign they have just after the start (dense output
+ * at t_old + min(root_tol * max(1, |t|), h / 2)). A zero at the start is thus
+ * never a crossing, but a later one in the same step is not missed (e.g. a ball
+ * released at height 0 that rises and falls back within one step). */
+static void probe_zero_start(dp45_t *s, void *ctx, dp45_ind_fn g)
+{
+    const double t0 = s->t_old;
+    double dt = s->root_tol * ((fabs(t0) > 1.0) ? fabs(t0) : 1.0);
+    int j;
+    if (dt > 0.5 * s->h_last) dt = 0.5 * s->h_last;
+    dense_eval(s, dt / s->h_last, s->y_stage);
+    g(ctx, t0 + dt, s->y_stage, s->g_mid);
+    s->n_ind++;
+    for (j = 0; j < s->ng; ++j) {
+        if (s->g_prev[j] == 0.0) s->g_prev[j] = s->g_mid[j];
+    }
+}
+
 /* Locate the earliest sign change in (t0, t1] of the last accepted step, g_hi
  * holding the indicators at t1 and g_prev those at t0. Returns the post-crossing
  * bracket end; writes the state there to y_out, the indicators there to g_prev
@@ -286,10 +340,19 @@ int dp45_advance(dp45_t *s, void *ctx, dp45_rhs_fn f, dp45_ind_fn g, double *t, 
         (ng > 0 && roots == NULL) || !(t_end >= tc) || !(t_end - tc < HUGE_VAL)) {
         return DP45_ERROR;
     }
+    if (!(rtol >= 0.0)) return DP45_ERROR;
+    for (j = 0; j < n; ++j) {
+        if (!(s->atol[j] > 0.0)) return DP45_ERROR;
+    }
     for (j = 0; j < ng; ++j) roots[j] = 0;
     if (t_end == tc) return DP45_REACHED;
 
-    if (!s->fsal_ok || s->t_fsal != tc) {
+    if (s->t_cur != tc) {
+        /* the caller moved time: nothing carried over is valid */
+        s->fsal_ok = 0;
+        s->g_ok = 0;
+    }
+    if (!s->fsal_ok) {
         double chk = 0.0;
         for (j = 0; j < n; ++j) chk += y[j] * 0.0; /* NaN iff some y_j is not finite */
         if (chk != 0.0) return DP45_ERROR;
@@ -298,12 +361,13 @@ int dp45_advance(dp45_t *s, void *ctx, dp45_rhs_fn f, dp45_ind_fn g, double *t, 
         for (j = 0; j < n; ++j) chk += s->k[s->i_k1][j] * 0.0;
         if (chk != 0.0) return DP45_ERROR;
         s->fsal_ok = 1;
-        s->t_fsal = tc;
+        s->t_cur = tc;
     }
     if (ng > 0 && !s->g_ok) {
         g(ctx, tc, y, s->g_prev);
         s->n_ind++;
         s->g_ok = 1;
+        s->t_cur = tc;
     }
     if (!(s->h > 0.0)) {
         s->h = initial_step(s, ctx, f, tc, y, t_end - tc);
@@ -375,12 +439,11 @@ int dp45_advance(dp45_t *s, void *ctx, dp45_rhs_fn f, dp45_ind_fn g, double *t, 
         }
 
         if (err2 > 1.0) {
-            const double ln_err = 0.5 * log(err2);
-            double lf = LN_SAFE - EXPO1 * ln_err; /* log of 0.9 / err^0.17 */
-            if (lf < LN_SHRINK_MIN) lf = LN_SHRINK_MIN;
+            double lf = L2_SAFE - EXPO1 * 0.5 * log2_approx(err2); /* log2(0.9 err^-0.17) */
+            if (lf < L2_SHRINK_MIN) lf = L2_SHRINK_MIN;
             s->n_rejected++;
             s->reject_prev = 1;
-            s->h = h * exp(lf);
+            s->h = h * exp2_approx(lf);
             if (s->h < s->h_min || s->h < tiny) break;
             continue;
         }
@@ -388,14 +451,14 @@ int dp45_advance(dp45_t *s, void *ctx, dp45_rhs_fn f, dp45_ind_fn g, double *t, 
         /* accepted: PI controller h_new = h * 0.9 * err^-0.17 * errold^0.04 */
         if (err2 < ERR2_SATURATED) {
             grow = FAC_GROW_MAX;
-            s->ln_facold = LN_FACOLD_MIN;
+            s->log2_facold = L2_FACOLD_MIN;
         } else {
-            const double ln_err = 0.5 * log(err2);
-            double lf = LN_SAFE - EXPO1 * ln_err + BETA * s->ln_facold;
-            if (lf > LN_GROW_MAX) lf = LN_GROW_MAX;
-            if (lf < LN_SHRINK_MIN) lf = LN_SHRINK_MIN;
-            grow = exp(lf);
-            s->ln_facold = (ln_err > LN_FACOLD_MIN) ? ln_err : LN_FACOLD_MIN;
+            const double l2_err = 0.5 * log2_approx(err2);
+            double lf = L2_SAFE - EXPO1 * l2_err + BETA * s->log2_facold;
+            if (lf > L2_GROW_MAX) lf = L2_GROW_MAX;
+            if (lf < L2_SHRINK_MIN) lf = L2_SHRINK_MIN;
+            grow = exp2_approx(lf);
+            s->log2_facold = (l2_err > L2_FACOLD_MIN) ? l2_err : L2_FACOLD_MIN;
         }
         if (s->reject_prev && grow > 1.0) grow = 1.0;
         s->reject_prev = 0;
@@ -407,9 +470,10 @@ int dp45_advance(dp45_t *s, void *ctx, dp45_rhs_fn f, dp45_ind_fn g, double *t, 
         } else {
             s->h = h * grow;
         }
+        if (s->h > s->h_max) s->h = s->h_max;
 
         s->n_steps++;
-        memcpy(s->y_old, y, (size_t)n * sizeof(double));
+        copy_n(s->y_old, y, n);
         s->t_old = tc;
         s->t_new = t1;
         s->h_last = h;
@@ -418,23 +482,30 @@ int dp45_advance(dp45_t *s, void *ctx, dp45_rhs_fn f, dp45_ind_fn g, double *t, 
         s->i_k1 = i7; /* FSAL: k7 of this step is k1 of the next */
 
         if (ng > 0) {
-            int any = 0;
+            int any = 0, zero_start = 0;
             g(ctx, t1, yn, s->g_hi);
             s->n_ind++;
-            for (j = 0; j < ng; ++j) any |= crossed(s->g_prev[j], s->g_hi[j]);
+            for (j = 0; j < ng; ++j) {
+                any |= crossed(s->g_prev[j], s->g_hi[j]);
+                zero_start |= (s->g_prev[j] == 0.0 && s->g_hi[j] != 0.0);
+            }
+            if (zero_start) {
+                probe_zero_start(s, ctx, g);
+                for (j = 0; j < ng; ++j) any |= crossed(s->g_prev[j], s->g_hi[j]);
+            }
             if (any) {
                 tc = locate_root(s, ctx, g, s->t_old, t1, y, roots);
                 s->fsal_ok = (tc == t1);
-                s->t_fsal = tc;
+                s->t_cur = tc;
                 s->n_roots++;
                 *t = tc;
                 return DP45_ROOT;
             }
-            memcpy(s->g_prev, s->g_hi, (size_t)ng * sizeof(double));
+            memcpy(s->g_prev, s->g_hi, sizeof s->g_prev); /* fixed size: inlined */
         }
-        memcpy(y, yn, (size_t)n * sizeof(double));
+        copy_n(y, yn, n);
         tc = t1;
-        s->t_fsal = tc;
+        s->t_cur = tc;
         if (last) {
             *t = t_end;
             return DP45_REACHED;

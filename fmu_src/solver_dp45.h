@@ -16,10 +16,16 @@
  *    the indicator functions, it calls dp45_restart(). If only the right-hand side
  *    changed (e.g. piecewise-constant inputs were updated at a communication
  *    point) it may call the cheaper dp45_drop_derivative(), which keeps the
- *    indicator memory. A change of *t is detected and forces a new derivative.
+ *    indicator memory. A change of *t between calls is detected and acts as a
+ *    restart.
  *  - Event semantics: indicator j "changes sign" over a step when
- *    g_prev > 0 && g_new <= 0, or g_prev < 0 && g_new >= 0. An indicator that is
- *    exactly 0 at the start is therefore never reported at the start.
+ *    g_prev > 0 && g_new <= 0, or g_prev < 0 && g_new >= 0, checked at the end
+ *    of every accepted step (two crossings within one step go unseen: bound the
+ *    step with h_max if that matters). An indicator exactly 0 at the start of a
+ *    step is never reported there; if it is nonzero at the step's end, the sign it
+ *    takes just after the start (dense output at t + root_tol * max(1, |t|)) is
+ *    its reference, so a later crossing in the same step is still found.
+ *  - Tolerances: rtol >= 0 and every atol_j > 0, else dp45_advance fails.
  */
 #ifndef FEEDDRIVE_SOLVER_DP45_H
 #define FEEDDRIVE_SOLVER_DP45_H
@@ -40,7 +46,7 @@ typedef struct {
     int n, ng;              /* number of states (1..DP45_MAX_N), indicators (0..DP45_MAX_G) */
     double rtol;            /* relative tolerance */
     double atol[DP45_MAX_N];/* absolute tolerance per state */
-    double h;               /* next step-size proposal; <= 0 means "estimate at next advance" */
+    double h;               /* next step-size proposal (<= h_max); <= 0: estimate at next advance */
     double h_max;           /* largest step (up to rounding); +inf when unlimited */
     double h_min;           /* a rejected step shrinking below this (or below 16 ulp(t)) is an error */
     double root_tol;        /* events are located to root_tol * max(1, |t|) seconds */
@@ -59,13 +65,13 @@ typedef struct {
     int dense_ok;           /* 1 while the data of the last accepted step are intact */
 
     /* ---- internal ---- */
-    int fsal_ok;            /* k[i_k1] holds f(t_fsal, y) */
-    int g_ok;               /* g_prev holds the indicators at the current point */
+    int fsal_ok;            /* k[i_k1] holds f(t_cur, y) */
+    int g_ok;               /* g_prev holds the indicators at t_cur */
     int i_k1;               /* slot (0 or 6) of the current k1; the other one takes k7 */
     int dense_k1;           /* slot of k1 of the last accepted step */
     int reject_prev;        /* previous attempt was rejected: no step growth */
-    double t_fsal;
-    double ln_facold;       /* log of the previous accepted error (PI controller) */
+    double t_cur;           /* time of the carried-over derivative and indicators */
+    double log2_facold;     /* log2 of the previous accepted error (PI controller) */
     double k[7][DP45_MAX_N];/* stage derivatives; slots 0 and 6 alternate as k1/k7 */
     double y_old[DP45_MAX_N];   /* state at t_old */
     double y_new[DP45_MAX_N];   /* state at t_new (5th-order solution) */
@@ -102,7 +108,8 @@ void dp45_drop_derivative(dp45_t *s);
 int dp45_advance(dp45_t *s, void *ctx, dp45_rhs_fn f, dp45_ind_fn g, double *t, double t_end,
                  double *y, int *roots);
 
-/* Dense output of the last accepted step at t in [s->t_old, s->t_new].
+/* Dense output (4th order, continuous, exact at both ends) of the last accepted
+ * step at t in [s->t_old, s->t_new]; after DP45_ROOT that step may extend past *t.
  * Returns 0, or -1 when no step data are available or t is outside the step. */
 int dp45_dense(const dp45_t *s, double t, double *y_out);
 

@@ -1,0 +1,4 @@
+"""Figures and the HTML report."""
+from .page import Page
+
+__all__ = ["Page"]

@@ -205,6 +205,12 @@ class RawIO:
         self._get = plant.fmu._functions["fmi2GetReal"]
         self._set = plant.fmu._functions["fmi2SetReal"]
         self._c = plant.fmu.component
+        # a second handle on fmi2GetReal taking the value array as an address (no ctypes
+        # pointer object per call): lets the caller write straight into a large buffer
+        f = plant.fmu.dll["fmi2GetReal"]
+        f.restype = ctypes.c_int
+        f.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t, ctypes.c_void_p]
+        self._get_to = f
 
     def get(self) -> np.ndarray:
         """Current values (a view on the buffer: copy it to keep it)."""

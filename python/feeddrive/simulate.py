@@ -7,6 +7,7 @@ given as the start value of ``u`` (the drive is taken to have been holding it).
 """
 from __future__ import annotations
 
+import ctypes
 import math
 import time as _time
 from collections.abc import Callable, Mapping, Sequence
@@ -167,28 +168,47 @@ def simulate_closed_loop(plant: Plant, controller: Controller, n: int, x0: float
     names = ["x"] + [r for r in record if r != "x"]
     inp = plant.raw(["u", "F_ext"])
     stepper = _Stepper(plant, Ts, 0.0)
-    out = np.empty((n + 1, len(names)))
-    out[0] = rec.get()
+    m = len(names)
+    big = (ctypes.c_double * ((n + 1) * m))()      # the FMU writes the outputs here directly
+    get, c_get, vr_out = rec._get_to, rec._c, ctypes.addressof(rec.vr)
+    base = ctypes.addressof(big)
+    if get(c_get, vr_out, m, base) > 1:
+        raise FMUError("fmi2GetReal failed: " + (plant.messages[-1] if plant.messages else ""))
     ubuf, set_in = inp.buf, inp._set
     c, vr_in = inp._c, inp.vr
     step = controller.step
     const_F = bool(np.all(F_ext == F_ext[0]))
-    ubuf[1] = F_ext[0]
+    F_list = F_ext.tolist()
+    ubuf[1] = F_list[0]
+    cs = plant.interface == "cs"
+    do_step = plant.fmu._functions["fmi2DoStep"] if cs else None
+    row_bytes = 8 * m
+    u_list = [0.0] * (n + 1)
+    xm_list = [0.0] * (n + 1)
     for k in range(n):
         if k > 0:
-            xk = out[k, 0]
+            xk = big[k * m]
             xq = round(xk / quantum) * quantum if quantum > 0 else xk
-            xm[k] = xq
+            xm_list[k] = xq
             uk = step(xq, k)
-            u[k] = uk
+            u_list[k] = uk
             ubuf[0] = uk
             if not const_F:
-                ubuf[1] = F_ext[k]
-            set_in(c, vr_in, 2, ubuf)
-        stepper.step(k)
-        out[k + 1] = rec.get()
+                ubuf[1] = F_list[k]
+            if set_in(c, vr_in, 2, ubuf) > 1:
+                raise FMUError(f"fmi2SetReal u = {uk} at t = {k * Ts}: "
+                               + (plant.messages[-1] if plant.messages else ""))
+        if cs:
+            if do_step(c, k * Ts, Ts, 1) > 1:
+                raise FMUError(f"fmi2DoStep at t = {k * Ts}: " + (plant.messages[-1] if plant.messages else ""))
+        else:
+            stepper.step(k)
+        get(c_get, vr_out, m, base + (k + 1) * row_bytes)
         if progress is not None and k % 1000 == 0:
             progress(k)
+    out = np.ctypeslib.as_array(big).reshape(n + 1, m)
+    u[1:] = u_list[1:]
+    xm[1:] = xm_list[1:]
     wall = _time.perf_counter() - wall0
     xm[n] = quantise(out[n, 0], quantum)
     u[n] = u[n - 1]

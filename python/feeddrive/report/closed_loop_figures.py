@@ -5,7 +5,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 
-def fig14(sec3, window: float = 0.4) -> plt.Figure:
+def fig14(sec3, window: float = 0.2) -> plt.Figure:
     """Top reversal of the 30 mm sinusoid: measured vs each simulated model (Fig. 14 a-c)."""
     run = sec3.measured
     top = sec3.top_reversal
@@ -15,13 +15,14 @@ def fig14(sec3, window: float = 0.4) -> plt.Figure:
     names = list(sec3.simulated)
     fig, axes = plt.subplots(1, len(names), figsize=(4.2 * len(names), 3.4), sharey=True)
     for ax, name, tag in zip(np.atleast_1d(axes), names, "abc"):
-        ax.plot(run.time[sl], run.x[sl] * 1e3, "k-", lw=1.6, label="measured")
-        ax.plot(sec3.simulated[name]["time"][sl], sec3.simulated[name]["x"][sl] * 1e3, "r--", lw=1.2,
-                label="simulated")
+        x_top = run.x[top]
+        ax.plot(run.time[sl], (run.x[sl] - x_top) * 1e6, "k-", lw=1.6, label="measured")
+        ax.plot(sec3.simulated[name]["time"][sl], (sec3.simulated[name]["x"][sl] - x_top) * 1e6, "r--",
+                lw=1.2, label="simulated")
         ax.set_title(f"({tag}) {name}", fontsize=9)
         ax.set_xlabel("t [s]")
         ax.grid(alpha=0.3)
-    np.atleast_1d(axes)[0].set_ylabel("x [mm]")
+    np.atleast_1d(axes)[0].set_ylabel("x - x(top) [um]")
     np.atleast_1d(axes)[0].legend(fontsize=8)
     fig.tight_layout()
     return fig

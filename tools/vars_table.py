@@ -30,7 +30,7 @@ def main() -> int:
     xml = ROOT / "modelDescription.xml"
     if len(sys.argv) == 3 and sys.argv[1] == "--check":
         text = Path(sys.argv[2]).read_text()
-        m = re.search(re.escape(BEGIN) + r"\n(.*?)\n" + re.escape(END), text, re.S)
+        m = re.search(re.escape(BEGIN) + r"(.*?)" + re.escape(END), text, re.S)
         if not m or m.group(1).strip() != table(xml).strip():
             print(f"{sys.argv[2]}: the variables table is not current; run tools/vars_table.py --update README.md")
             return 1
@@ -38,8 +38,8 @@ def main() -> int:
     if len(sys.argv) == 3 and sys.argv[1] == "--update":
         p = Path(sys.argv[2])
         text = p.read_text()
-        new = re.sub(re.escape(BEGIN) + r"\n.*?\n" + re.escape(END), BEGIN + "\n" + table(xml) + "\n" + END,
-                     text, flags=re.S)
+        new = re.sub(re.escape(BEGIN) + r".*?" + re.escape(END),
+                     lambda _: BEGIN + "\n" + table(xml) + "\n" + END, text, flags=re.S)
         p.write_text(new)
         return 0
     print(table(xml))

@@ -16,8 +16,7 @@ void plant_outputs(const plant_params_t *p, const plant_disc_t *d, const double 
                    const plant_in_t *in, plant_out_t *o) {
     double xc = clamp(y[PLANT_IX], p->x_min, p->x_max), v = y[PLANT_IV], F_app;
     int j;
-    o->K_f = posmap_eval(&p->rip, xc);
-    o->F_cg = posmap_eval(&p->cog, xc);
+    posmap_eval_pair(&p->rip, &p->cog, xc, &o->K_f, &o->F_cg);
     o->i = current_loop_output(p, d, in->u);
     o->F_motor = o->K_f * o->i;
     F_app = applied_force(p, o, in);

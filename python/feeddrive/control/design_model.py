@@ -75,6 +75,8 @@ class DesignModel:
     K_f0: float
     m: float
     G1: float
+    tf_num: np.ndarray
+    tf_den: np.ndarray
 
     @property
     def n(self) -> int:
@@ -100,6 +102,14 @@ class DesignModel:
             h[k] = (self.C @ Ak_B)[0, 0]
             Ak_B = self.A @ Ak_B
         return h
+
+    def tf(self) -> tuple[np.ndarray, np.ndarray]:
+        """Exact transfer function u -> x, (num, den) in descending powers of z.
+
+        num = (Ts^2/2)(K_f0/m)(z + 1) * B_G(z),  den = (z - 1)^2 * A_G(z): the ZOH double
+        integrator times G(z) written in positive powers of z.
+        """
+        return self.tf_num.copy(), self.tf_den.copy()
 
     def freqresp(self, f: np.ndarray) -> np.ndarray:
         """Complex frequency response u -> x at frequencies ``f`` [Hz]."""
@@ -168,8 +178,13 @@ def design_model(params: Mapping[str, float]) -> DesignModel:
             A[n_dyn + j, n_dyn + j - 1] = 1.0
     C = np.zeros((1, n))
     C[0, 0] = 1.0
+    Lg = max(len(num), len(den))
+    g_num = np.trim_zeros(np.pad(num, (0, Lg - len(num))), "f")
+    g_den = np.pad(den, (0, Lg - len(den)))
+    tf_num = np.convolve(0.5 * Ts**2 * K_f0 / m * np.array([1.0, 1.0]), g_num)
+    tf_den = np.convolve(np.array([1.0, -2.0, 1.0]), g_den)
     return DesignModel(A=A, B=B, C=C, D=np.zeros((1, 1)), Ts=Ts, n_dyn=n_dyn, n_delay=d,
-                       K_f0=K_f0, m=m, G1=G1)
+                       K_f0=K_f0, m=m, G1=G1, tf_num=tf_num, tf_den=tf_den)
 
 
 def simulate_linear(model: DesignModel, controller: object, n_steps: int, x0: float = 0.0,

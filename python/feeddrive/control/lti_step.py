@@ -24,7 +24,7 @@ StepFunction = Callable[[list[float], float, float, float], float]
 
 
 def _affine(terms: list[tuple[float, str]]) -> str:
-    parts = [f"{c!r}*{name}" for c, name in terms if c != 0.0]
+    parts = [f"{float(c)!r}*{name}" for c, name in terms if c != 0.0]
     return " + ".join(parts) if parts else "0.0"
 
 

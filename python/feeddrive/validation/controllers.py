@@ -20,7 +20,8 @@ def state_space_spec(design_params: Mapping[str, float] | None = None, prefilter
     p = dict(paper_parameters())
     p.update(design_params or {})
     return {"type": "state_space", "design": {k: float(p[k]) for k in DESIGN_KEYS},
-            "mech_hz": DEFAULT_MECH_HZ, "observer_hz": DEFAULT_OBS_HZ,
+            "mech_hz": DEFAULT_MECH_HZ, "mech_zeta": 0.8, "mech_real_hz": 15.0,
+            "observer_hz": DEFAULT_OBS_HZ, "observer_zeta": 0.7, "observer_current_poles": [0.2, 0.1],
             "prefilter": prefilter, "feedforward": feedforward, "quantum": 1e-7}
 
 
@@ -33,7 +34,11 @@ def make_controller(spec: Mapping[str, Any], x_ref: np.ndarray,
     p.update(spec.get("design", {}))
     model = design_model(p)
     from ..control.state_space import default_observer_poles, default_poles
-    poles = default_poles(model, f_hz=float(spec.get("mech_hz", DEFAULT_MECH_HZ)))
-    obs = default_observer_poles(model, f_hz=float(spec.get("observer_hz", DEFAULT_OBS_HZ)))
+    poles = default_poles(model, f_hz=float(spec.get("mech_hz", DEFAULT_MECH_HZ)),
+                          zeta=float(spec.get("mech_zeta", 0.8)),
+                          f_real_hz=float(spec.get("mech_real_hz", 15.0)))
+    obs = default_observer_poles(model, f_hz=float(spec.get("observer_hz", DEFAULT_OBS_HZ)),
+                                 zeta=float(spec.get("observer_zeta", 0.7)),
+                                 current_poles=tuple(spec.get("observer_current_poles", (0.2, 0.1))))
     return StateSpaceController(model, x_ref, poles=poles, observer_poles=obs, u_ff=u_ff,
                                 prefilter=spec.get("prefilter", "zpetc"))

@@ -41,9 +41,9 @@ def force_residual_summary(run: Run, model: ModelFile) -> tuple[dict[str, float]
     """rms/peak of the force residual along the measured trajectory, near reversals and elsewhere."""
     from ..diagnose.residual import force_residual
     fr = force_residual(run, model)
-    r = np.asarray(fr.residual)
-    notes = list(getattr(fr, "notes", []))
-    ok = np.isfinite(r)
+    r = np.asarray(fr.r)
+    notes = [] if run.has_current else [f"no measured current: motor force from {fr.force_source}"]
+    ok = np.isfinite(r) & np.asarray(fr.valid, bool)
     out = {"rms": float(np.sqrt(np.mean(r[ok] ** 2))), "peak": float(np.abs(r[ok]).max())}
     if run.x_ref is not None:
         from .metrics import reversal_mask

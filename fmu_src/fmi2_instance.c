@@ -435,6 +435,22 @@ static int settable(instance_t *c, const char *fn, int row) {
     return 0;
 }
 
+/* The min/max of modelDescription.xml bind every variable (plant_check_value knows only the
+ * physics' own ranges); solver.tol must in addition lie in (0, 1) like fmi2SetupExperiment's. */
+static int declared_range_ok(instance_t *c, const char *fn, int row, double v) {
+    const model_var_t *mv = &MODEL_VARS[row];
+    if (v < mv->min || v > mv->max) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s = %.17g is out of range: allowed [%.17g, %.17g] %s", fn, mv->name,
+                v, mv->min, mv->max, mv->unit);
+        return 0;
+    }
+    if (mv->vr == VR_solver_tol && !(v > 0.0 && v < 1.0)) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: solver.tol = %.17g is out of range: allowed (0, 1)", fn, v);
+        return 0;
+    }
+    return 1;
+}
+
 static fmi2Status set_values(fmi2Component comp, const char *fn, const fmi2ValueReference vr[], size_t nvr,
                              char type, const void *value) {
     instance_t *c = fmu_cast(comp, fn);
@@ -466,6 +482,7 @@ static fmi2Status set_values(fmi2Component comp, const char *fn, const fmi2Value
             fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s", fn, msg);
             return fmi2Error;
         }
+        if (!declared_range_ok(c, fn, row, v)) return fmi2Error;
         if (MODEL_VARS[row].causality == 'p' && (m->fsm & (ST_EVENT | ST_STEP_COMPLETE))) param_changed = 1;
     }
     if (param_changed) {
@@ -566,7 +583,12 @@ fmi2Status fmi2FreeFMUstate(fmi2Component comp, fmi2FMUstate *state) {
 
 fmi2Status fmi2SerializedFMUstateSize(fmi2Component comp, fmi2FMUstate state, size_t *size) {
     instance_t *c = fmu_cast(comp, "fmi2SerializedFMUstateSize");
-    if (!c || !state || !size) return fmi2Error;
+    if (!c) return fmi2Error;
+    if (!state || !size || ((const model_t *)state)->magic != MODEL_MAGIC) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SerializedFMUstateSize: %s", !size ? "size pointer is NULL"
+                : "FMUstate is not a state of this FMU");
+        return fmi2Error;
+    }
     *size = sizeof(model_t);
     return fmi2OK;
 }

@@ -4,20 +4,18 @@ Everything here works on plain arrays or on :class:`feeddrive.data.Run` objects 
 """
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable, Mapping
 from typing import Union
 
 import numpy as np
-from scipy.signal import savgol_filter
+from scipy.signal import savgol_coeffs, savgol_filter
 
 from .. import maps
 from ..data import Run
 
 #: A position map given either as FMU parameters (evaluated with feeddrive.maps) or a callable.
 MapSpec = Union[Mapping[str, float], Callable[[np.ndarray], np.ndarray]]
-
-#: Quantisation step of the paper's linear scale [m].
-SCALE_RESOLUTION = 1e-7
 
 
 def run_label(run: Run) -> str:
@@ -33,6 +31,22 @@ def signal(run: Run, name: str) -> np.ndarray:
     if value is None:
         raise ValueError(f"{run_label(run)}: column {name!r} is required here but absent")
     return np.asarray(value, dtype=float)
+
+
+def current(run: Run, dc_gain: float | None = None) -> np.ndarray:
+    """Measured current ``run.i``; without it, i = dc_gain * u when dc_gain is given.
+
+    DATA.md: a run without an ``i`` column (amplifier taken as ideal) is processed with the
+    current loop's static gain G(1) [A/V] on ``u``; this is announced with a warning.
+    """
+    if getattr(run, "i", None) is not None:
+        return np.asarray(run.i, dtype=float)
+    if dc_gain is None:
+        raise ValueError(f"{run_label(run)}: column 'i' is absent; pass dc_gain (the current "
+                         "loop's static gain G(1) [A/V]) to use i = G(1) u")
+    warnings.warn(f"{run_label(run)}: no measured current, using i = {dc_gain:g} A/V * u "
+                  "(static current-loop gain, current dynamics ignored)", stacklevel=3)
+    return dc_gain * signal(run, "u")
 
 
 def sample_time(time: np.ndarray, rel_tol: float = 0.01, label: str = "run") -> float:
@@ -84,10 +98,64 @@ def derivatives(x: np.ndarray, Ts: float, window: int, polyorder: int = 3
     return xs, v, a
 
 
-def smooth(y: np.ndarray, window: int, polyorder: int = 3) -> np.ndarray:
-    """Savitzky-Golay smoothing with the same window as :func:`derivatives`."""
-    w = odd_window(window, len(y))
-    return savgol_filter(np.asarray(y, dtype=float), w, min(polyorder, w - 1))
+def matched_acceleration(x: np.ndarray, Ts: float, window: int, polyorder: int = 3
+                         ) -> tuple[np.ndarray, np.ndarray]:
+    """Savitzky-Golay acceleration and the smoothing kernel it applies to the true acceleration.
+
+    The savgol second-derivative filter c equals the central second difference followed by
+    a smoothing kernel K (K = double cumulative sum of c, length window - 2, sum 1).  Filtering
+    the force side of Eq. 1 with the same K makes both sides see exactly the same averaging
+    (filtering the force with a deriv-0 savgol filter instead biases m by a few %).
+    Returns (a, K); a is NaN within half a window of the ends.
+    """
+    w = odd_window(window, len(x))
+    c = savgol_coeffs(w, min(max(polyorder, 2), w - 1), deriv=2, delta=Ts, use="conv")
+    K = np.cumsum(np.cumsum(c))[:-2] * Ts**2
+    a = savgol_filter(np.asarray(x, dtype=float), w, min(max(polyorder, 2), w - 1),
+                      deriv=2, delta=Ts)
+    h = w // 2
+    a[:h] = a[len(a) - h:] = np.nan
+    return a, K
+
+
+def apply_kernel(y: np.ndarray, K: np.ndarray) -> np.ndarray:
+    """Centred FIR smoothing of y with kernel K (odd length); NaN where it overhangs the ends."""
+    y = np.asarray(y, dtype=float)
+    out = np.convolve(y, K, mode="same")
+    h = len(K) // 2 + 1
+    out[:h] = out[len(out) - h:] = np.nan
+    return out
+
+
+def zoh_midpoint(f: np.ndarray) -> np.ndarray:
+    """(f[k-1] + f[k]) / 2: the force a central second difference of x sees at sample k when
+    f[k] is held over [t_k, t_k+1) (sampled current); f[0] kept."""
+    f = np.asarray(f, dtype=float)
+    out = f.copy()
+    out[1:] = 0.5 * (f[1:] + f[:-1])
+    return out
+
+
+def eq1_friction(time: np.ndarray, x: np.ndarray, i: np.ndarray, m: float,
+                 force_constant: MapSpec, cogging: MapSpec, F_load: np.ndarray | float = 0.0,
+                 window: int = 41, held_current: bool = True
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """Friction force from Eq. 1, F_f = K_f(x) i - F_cg(x) - F_e - m a, smoothed.
+
+    a is the Savitzky-Golay acceleration; the force side is filtered with the kernel that
+    differentiator applies (:func:`matched_acceleration`).  ``held_current``: i[k] is held
+    over [t_k, t_k+1), so (i[k-1] + i[k]) / 2 is used at sample k (see :func:`zoh_midpoint`).
+    Returns (F_f, v, K, Ts); F_f is NaN within half a window of the ends.
+    """
+    t = np.asarray(time, dtype=float)
+    x, i = np.asarray(x, dtype=float), np.asarray(i, dtype=float)
+    Ts = sample_time(t)
+    _, v, _ = derivatives(x, Ts, window)
+    a, K = matched_acceleration(x, Ts, window)
+    i_eff = zoh_midpoint(i) if held_current else i
+    force = eval_map(force_constant, "ripple", x) * i_eff - eval_map(cogging, "cogging", x) \
+        - np.broadcast_to(np.asarray(F_load, dtype=float), x.shape)
+    return apply_kernel(force, K) - m * a, v, K, Ts
 
 
 def eval_map(spec: MapSpec, name: str, x: np.ndarray) -> np.ndarray:
@@ -101,14 +169,17 @@ def steady_segment(x: np.ndarray, Ts: float, window: int = 201, rel_tol: float =
                    label: str = "run") -> tuple[slice, float]:
     """The longest stretch of constant velocity and its speed (signed, from a line fit).
 
-    Velocity from a Savitzky-Golay derivative; the reference speed is the median over
-    samples moving faster than half the 99th percentile of |v|; the segment is the longest
-    contiguous run with |v - v_ref| <= rel_tol |v_ref|, shortened by half a window at each
-    end (acceleration and deceleration transients are thereby dropped).
+    Velocity from a central difference over ``window`` samples; the reference speed is the
+    median over samples moving faster than half the 99th percentile of |v|; the segment is the
+    longest contiguous run with |v - v_ref| <= rel_tol |v_ref|, shortened by half a window at
+    each end (acceleration and deceleration transients are thereby dropped).
     """
     x = np.asarray(x, dtype=float)
     w = odd_window(window, len(x))
-    v = savgol_filter(x, w, 2, deriv=1, delta=Ts)
+    h = w // 2
+    v = np.empty_like(x)
+    v[h:len(x) - h] = (x[2 * h:] - x[:len(x) - 2 * h]) / (2 * h * Ts)
+    v[:h], v[len(x) - h:] = v[h], v[len(x) - h - 1]
     vmax = np.percentile(np.abs(v), 99)
     if vmax <= 0:
         raise ValueError(f"{label}: the position does not move")
@@ -124,7 +195,8 @@ def steady_segment(x: np.ndarray, Ts: float, window: int = 201, rel_tol: float =
         raise ValueError(f"{label}: no constant-speed segment found (v_ref = {v_ref:g} m/s)")
     seg = slice(int(lo), int(hi))
     t = np.arange(hi - lo) * Ts
-    speed = float(np.polyfit(t, x[seg], 1)[0])
+    t = t - t.mean()
+    speed = float(t @ (x[seg] - x[seg].mean()) / (t @ t))
     return seg, speed
 
 

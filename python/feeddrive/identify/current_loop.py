@@ -77,8 +77,8 @@ class CurrentLoopFit:
     stderr: dict[str, float]        #: standard errors of the estimated coefficients
     num: np.ndarray                 #: numerator of G(z), descending powers of z
     den: np.ndarray                 #: denominator of G(z), descending powers of z
-    poles: np.ndarray
-    zeros: np.ndarray
+    poles: np.ndarray               #: poles of G(z) other than the delay poles at z = 0
+    zeros: np.ndarray               #: finite zeros other than z = 0
     poles_s: np.ndarray             #: continuous equivalents ln(z)/Ts [rad/s]
     pole_hz: np.ndarray             #: |s|/(2 pi)
     pole_zeta: np.ndarray           #: -Re(s)/|s|
@@ -188,7 +188,8 @@ def _select(cands: list[OrderCandidate], criterion: str, tolerance: float) -> Or
                    key=lambda c: c.order)
     if criterion in ("aic", "fpe"):
         return min(cands, key=lambda c: getattr(c, criterion))
-    raise ValueError(f"current loop: criterion must be 'validation', 'aic' or 'fpe', got {criterion!r}")
+    raise ValueError("current loop: criterion must be 'validation', 'aic' or 'fpe', "
+                     f"got {criterion!r}")
 
 
 def fit_current_loop(u: np.ndarray, i: np.ndarray, Ts: float,
@@ -210,11 +211,13 @@ def fit_current_loop(u: np.ndarray, i: np.ndarray, Ts: float,
     u = np.asarray(u, dtype=float)
     i = np.asarray(i, dtype=float)
     if u.shape != i.shape or u.ndim != 1:
-        raise ValueError(f"current loop: u and i must be 1-D of equal length ({u.shape}, {i.shape})")
+        raise ValueError("current loop: u and i must be 1-D of equal length "
+                         f"({u.shape}, {i.shape})")
     if any(not 1 <= n <= MAX_ORDER for n in orders):
         raise ValueError(f"current loop: orders must lie in 1..{MAX_ORDER}, got {orders}")
     if not 0.05 <= validation_fraction <= 0.7:
-        raise ValueError(f"current loop: validation_fraction {validation_fraction} outside 0.05..0.7")
+        raise ValueError(f"current loop: validation_fraction {validation_fraction} "
+                         "outside 0.05..0.7")
     n_est = int(round(len(u) * (1 - validation_fraction)))
     if n_est < 50 or len(u) - n_est < 50:
         raise ValueError(f"current loop: record of {len(u)} samples too short")
@@ -248,7 +251,8 @@ def _assemble(a, b, se, n, d, Ts, u, i, criterion, cands) -> CurrentLoopFit:
     den[1:n + 1] = -a
     num_t, den_t = np.trim_zeros(num, "b"), np.trim_zeros(den, "b")
     poles = np.roots(den_t) if len(den_t) > 1 else np.zeros(0)
-    zeros = np.roots(np.trim_zeros(num_t, "f")) if len(np.trim_zeros(num_t, "f")) > 1 else np.zeros(0)
+    num_l = np.trim_zeros(num_t, "f")
+    zeros = np.roots(num_l) if len(num_l) > 1 else np.zeros(0)
     nz = poles[np.abs(poles) > 1e-12]
     s = np.log(nz.astype(complex)) / Ts
     hz = np.abs(s) / (2 * np.pi)

@@ -55,6 +55,12 @@ class DSTFT:
         X = self.spectrum[self.bin_of(wavelength)]
         return np.abs(X), np.unwrap(np.angle(X))
 
+    def components(self, wavelengths: tuple[float, ...] = (0.0375, 0.01875, 0.0125, 0.025)
+                   ) -> dict[float, tuple[np.ndarray, np.ndarray]]:
+        """:meth:`component` for several wavelengths (default: the paper's 37.5, 18.75,
+        12.5 mm and the 25 mm ripple term)."""
+        return {lam: self.component(lam) for lam in wavelengths}
+
     def zero_frequency(self) -> np.ndarray:
         """The zero-frequency term X(n, 0)/N (the local mean over one window) vs position."""
         return self.spectrum[0].real

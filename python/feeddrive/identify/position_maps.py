@@ -24,7 +24,7 @@ import numpy as np
 from .. import maps
 from ..data import Run
 from ..paper import MAGNET_PITCH_MM, MM, N_HARMONICS
-from ._signals import (common_grid, lstsq_with_stderr, run_label, run_load, sample_time,
+from ._signals import (common_grid, current, lstsq_with_stderr, run_label, run_load, sample_time,
                        signal, steady_segment, to_grid)
 
 PITCH = MAGNET_PITCH_MM * MM      #: magnet pitch, the fundamental wavelength [m]
@@ -73,12 +73,12 @@ class PositionMapsFit:
 
 
 def _group_runs(runs: Sequence[Run], grid_step: float, method: str, window: int, rel_tol: float,
-                trim: float, load_tol: float):
+                trim: float, load_tol: float, dc_gain: float | None):
     segs = []
     for k, run in enumerate(runs):
         label = f"[{k}] {run_label(run)}"
         Ts = sample_time(run.time, label=label)
-        x, i = signal(run, "x"), signal(run, "i")
+        x, i = signal(run, "x"), current(run, dc_gain)
         seg, v = steady_segment(x, Ts, window=window, rel_tol=rel_tol, label=label)
         xs, is_ = x[seg], i[seg]
         keep = (xs >= xs.min() + trim) & (xs <= xs.max() - trim)
@@ -94,7 +94,8 @@ def _group_runs(runs: Sequence[Run], grid_step: float, method: str, window: int,
     cur = {}
     for label, xs, is_, v, P, _ in segs:
         li = int(np.argmin([abs(P - q) for q in loads]))
-        cur.setdefault((li, np.sign(v)), []).append((label, to_grid(xs, is_, grid, method, grid_step), v))
+        resampled = to_grid(xs, is_, grid, method, grid_step)
+        cur.setdefault((li, np.sign(v)), []).append((label, resampled, v))
     mean = np.zeros((len(loads), len(grid)))
     for li, P in enumerate(loads):
         fw, bw = cur.get((li, 1.0)), cur.get((li, -1.0))
@@ -112,7 +113,8 @@ def _group_runs(runs: Sequence[Run], grid_step: float, method: str, window: int,
 
 def map_samples(runs: Sequence[Run], grid_step: float = GRID_STEP, kf_method: str = "lstsq",
                 resample: str = "interp", window: int = 201, rel_tol: float = 0.25,
-                trim: float = 0.5e-3, load_tol: float = 0.5) -> MapSamples:
+                trim: float = 0.5e-3, load_tol: float = 0.5,
+                dc_gain: float | None = None) -> MapSamples:
     """K_f(x) and F_cg(x) on the common grid from constant-speed runs (Eqs. 4 and 5).
 
     Parameters
@@ -124,9 +126,10 @@ def map_samples(runs: Sequence[Run], grid_step: float = GRID_STEP, kf_method: st
     window, rel_tol : constant-speed detection (see ``_signals.steady_segment``).
     trim : extra length dropped at both ends of each constant-speed segment [m].
     load_tol : loads closer than this [N] are the same load.
+    dc_gain : for runs without a current column, i = dc_gain * u (DATA.md).
     """
     grid, loads, mean, speeds, src = _group_runs(runs, grid_step, resample, window, rel_tol,
-                                                 trim, load_tol)
+                                                 trim, load_tol, dc_gain)
     if len(loads) < 2:
         raise ValueError(f"position maps: need at least two distinct loads, got {loads.tolist()}")
     if kf_method == "lstsq":

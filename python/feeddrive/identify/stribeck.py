@@ -24,7 +24,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from ..data import Run
-from ._signals import (MapSpec, common_grid, eval_map, jacobian_stderr, lstsq_with_stderr,
+from ._signals import (MapSpec, common_grid, current, eval_map, jacobian_stderr, lstsq_with_stderr,
                        run_label, run_load, sample_time, signal, steady_segment, to_grid)
 from .position_maps import GRID_STEP
 
@@ -65,12 +65,13 @@ def stribeck_model(v: np.ndarray, F_s: float, F_c: float, V_s: float, delta: flo
     return np.sign(v) * (F_c + (F_s - F_c) * np.exp(-np.abs(v / V_s) ** delta)) + sigma2 * v
 
 
-def _pair_runs(runs: Sequence[Run], window: int, rel_tol: float, speed_tol: float):
+def _pair_runs(runs: Sequence[Run], window: int, rel_tol: float, speed_tol: float,
+               dc_gain: float | None):
     items = []
     for k, run in enumerate(runs):
         label = f"[{k}] {run_label(run)}"
         Ts = sample_time(run.time, label=label)
-        x, i = signal(run, "x"), signal(run, "i")
+        x, i = signal(run, "x"), current(run, dc_gain)
         w = min(window, max(len(x) // 20, 5))
         seg, v = steady_segment(x, Ts, window=w, rel_tol=rel_tol, label=label)
         items.append((label, x[seg], i[seg], v, run_load(run)[0]))
@@ -94,15 +95,17 @@ def _pair_runs(runs: Sequence[Run], window: int, rel_tol: float, speed_tol: floa
 
 def stribeck_points(runs: Sequence[Run], force_constant: MapSpec, cogging: MapSpec | None = None,
                     grid_step: float = GRID_STEP, window: int = 201, rel_tol: float = 0.25,
-                    speed_tol: float = 0.1, resample: str = "bin") -> StribeckPoints:
+                    speed_tol: float = 0.1, resample: str = "bin",
+                    dc_gain: float | None = None) -> StribeckPoints:
     """Eq. 13 for every +-v pair of runs (K_f from ``force_constant``: FMU params or callable).
 
     ``cogging`` (params or callable), when given, adds the forward-backward asymmetry.
     Loads must be equal within a pair (they cancel in Eq. 13); they enter the asymmetry.
     ``resample='bin'`` (default) averages every sample of a 0.1 mm cell, so that the
     position mean uses all data; 'interp' is the paper's interpolation of Sec. 2.3.
+    ``dc_gain``: for runs without a current column, i = dc_gain * u (DATA.md).
     """
-    pairs = _pair_runs(runs, window, rel_tol, speed_tol)
+    pairs = _pair_runs(runs, window, rel_tol, speed_tol, dc_gain)
     if len(pairs) < 1:
         raise ValueError("Stribeck: no pair of runs")
     sp, fr, spread, asym, names = [], [], [], [], []
@@ -128,7 +131,8 @@ def stribeck_points(runs: Sequence[Run], force_constant: MapSpec, cogging: MapSp
 
 
 def fit_stribeck(speed: np.ndarray, friction: np.ndarray,
-                 weights: np.ndarray | None = None) -> tuple[dict[str, float], dict[str, float], np.ndarray]:
+                 weights: np.ndarray | None = None
+                 ) -> tuple[dict[str, float], dict[str, float], np.ndarray]:
     """Nonlinear least-squares fit of Eq. 12 (v > 0) to points (speed [m/s], friction [N]).
 
     Returns parameters, standard errors (FMU names) and the residual model - data.

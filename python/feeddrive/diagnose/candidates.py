@@ -1,0 +1,400 @@
+"""One regressor design (scorer) and identifier per effect of EFFECTS.md.
+
+Each candidate says how the force residual r would change if the effect were added to the
+model (or its value corrected): ``r_new = r - (Phi theta - base)``, with ``Phi`` the
+filtered regressors (force units), ``theta`` linear parameters and ``base`` the filtered
+contribution of the model's current version of the effect (0 when the effect is off).
+Non-linear parameters (Stribeck velocity and exponent, attraction C, extra wavelengths)
+are handled as *variants*: one design per value on a grid, each scored on held-out data.
+
+The identifier turns (variant, theta) into a new model file (``to_model``).
+"""
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .. import maps
+from ..control.gms import GMSParameters, gms_force
+from ..model_file import ModelFile
+from ..paper import N_ELEMENTS_MAX, N_HARMONICS
+from .context import Context
+from .localise import spatial_spectrum, spectral_peaks
+from .residual import model_current
+
+#: Maxwell-slip element travels tried by the pre-rolling candidate [m].
+PREROLL_DELTAS = tuple(np.geomspace(2e-6, 300e-6, 8).tolist())
+#: Stribeck velocity [m/s] and exponent grid.
+STRIBECK_VS = tuple(np.geomspace(3e-4, 3e-2, 21).tolist())
+STRIBECK_DELTA = (0.4, 0.5, 0.6, 0.75, 1.0, 1.25, 1.5, 2.0)
+#: Attraction parameter grid [N/s].
+STRIBECK_KEEP = 3
+LAG_C = tuple(np.geomspace(1e2, 1e6, 5).tolist())
+
+
+@dataclass
+class Variant:
+    """One design of a candidate: filtered regressors, base, constraints and the identifier."""
+
+    effect: str
+    label: str
+    Phi: np.ndarray                       #: (N, p) filtered regressors
+    names: list[str]                      #: what each theta is
+    to_model: Callable[[np.ndarray], ModelFile]
+    base: np.ndarray | None = None        #: filtered current contribution (N,) or None
+    nonneg: bool = False
+    sum_to_one: bool = False
+    refine: bool = False                  #: the effect is on; this corrects its values
+
+    @property
+    def n_params(self) -> int:
+        return self.Phi.shape[1]
+
+
+def _poly_basis(x: np.ndarray, centre: float, half: float, powers: range) -> np.ndarray:
+    xi = (x - centre) / half
+    return np.column_stack([xi**k for k in powers])
+
+
+def _poly_to_x(theta_xi: np.ndarray, powers: range, centre: float, half: float, order: int
+               ) -> np.ndarray:
+    """Coefficients in x (powers 0..order) of sum theta_k ((x - centre)/half)^k."""
+    full = np.zeros(order + 1)
+    for k, t in zip(powers, theta_xi):
+        full[k] = t
+    P = np.polynomial.Polynomial(full, domain=[centre - half, centre + half])
+    c = P.convert().coef
+    out = np.zeros(order + 1)
+    out[:len(c)] = c[:order + 1]
+    return out
+
+
+def _span(ctx: Context) -> tuple[float, float]:
+    x = ctx.all("x")
+    lo, hi = float(x.min()), float(x.max())
+    return 0.5 * (lo + hi), max(0.5 * (hi - lo), 1e-3)
+
+
+# --------------------------------------------------------------------------- simple forces
+def offset_force(ctx: Context) -> list[Variant]:
+    m = ctx.model
+    on = m.effects["offset_force"]
+    old = float(m.parameters["offset.F"]) if on else 0.0
+    Phi = ctx.stack(lambda q: np.ones(len(q.r)), mask_stuck=True)
+    return [Variant("offset_force", "constant", Phi, ["offset.F"], refine=on,
+                    to_model=lambda th: m.with_effect("offset_force", True,
+                                                      **{"offset.F": old + th[0]}))]
+
+
+def mass(ctx: Context) -> list[Variant]:
+    m = ctx.model
+    old = float(m.parameters["m"])
+    Phi = ctx.stack(lambda q: q.a, filtered=False)
+    return [Variant("mass", "acceleration", Phi, ["m"], refine=True,
+                    to_model=lambda th: m.with_effect("mass", True, m=old + th[0]))]
+
+
+def viscous(ctx: Context) -> list[Variant]:
+    m = ctx.model
+    on = m.effects["viscous"]
+    old = float(m.parameters["friction.sigma2"]) if on else 0.0
+    Phi = ctx.stack(lambda q: q.v, mask_stuck=True)
+    return [Variant("viscous", "v", Phi, ["friction.sigma2"], refine=on,
+                    to_model=lambda th: m.with_effect("viscous", True,
+                                                      **{"friction.sigma2": old + th[0]}))]
+
+
+def asymmetric_friction(ctx: Context) -> list[Variant]:
+    m = ctx.model
+    on = m.effects["asymmetric_friction"]
+    dF = float(m.parameters["asymmetry.dF"]) if on else 0.0
+    ds = float(m.parameters["asymmetry.dsigma2"]) if on else 0.0
+    Phi = ctx.stack(lambda q: np.column_stack([-(q.v < 0).astype(float), q.v * (q.v < 0)]),
+                    mask_stuck=True)
+    return [Variant("asymmetric_friction", "indicator(v<0), v*(v<0)", Phi,
+                    ["asymmetry.dF", "asymmetry.dsigma2"], refine=on,
+                    to_model=lambda th: m.with_effect(
+                        "asymmetric_friction", True,
+                        **{"asymmetry.dF": dF + th[0], "asymmetry.dsigma2": ds + th[1]}))]
+
+
+# --------------------------------------------------------------------------- friction curve
+def _sliding_fraction(ctx: Context, q) -> np.ndarray:
+    """Share of the friction that slides (sum of nu_i of slipping GMS elements); static
+    model: 1 except on stuck samples."""
+    m = ctx.model
+    if not m.effects["prerolling"]:
+        return (~q.stuck).astype(float)
+    prm = GMSParameters.from_params(m.fmu_parameters())
+    _, Fe = gms_force(q.x, q.v, q.Ts, prm, return_elements=True)
+    lim = np.outer(prm.level(q.v), np.asarray(prm.nu))
+    slipping = np.abs(Fe) >= 0.98 * lim
+    return (slipping * np.asarray(prm.nu)).sum(axis=1) / max(sum(prm.nu), 1e-12)
+
+
+def stribeck(ctx: Context) -> list[Variant]:
+    m = ctx.model
+    p = m.parameters
+    on = m.effects["stribeck"]
+    frac = [_sliding_fraction(ctx, q) for q in ctx.res]
+    F_c = float(p["friction.F_c"])
+    base = None
+    if on:
+        Vs0, d0, dS0 = float(p["friction.V_s"]), float(p["friction.delta"]), \
+            float(p["friction.F_s"]) - F_c
+        it = iter(frac)
+        base = ctx.stack(lambda q: next(it) * np.sign(q.v) * dS0
+                         * np.exp(-np.abs(q.v / Vs0) ** d0))[:, 0]
+    y = ctx.r + (base if base is not None else 0.0)
+
+    def column(Vs: float, d: float) -> np.ndarray:
+        it = iter(frac)
+        return ctx.stack(lambda q: next(it) * np.sign(q.v) * np.exp(-np.abs(q.v / Vs) ** d))
+
+    # grid by in-sample explained energy (one column each), then a local refinement of the
+    # best (log V_s, delta); the few best are scored on held-out blocks by the workflow
+    grid = sorted(((Vs, d) for Vs in STRIBECK_VS for d in STRIBECK_DELTA),
+                  key=lambda p: -_explained(column(*p), y))[:STRIBECK_KEEP]
+    from scipy.optimize import minimize
+
+    def neg(z):
+        return -_explained(column(float(np.exp(z[0])), float(np.clip(z[1], 0.2, 3.0))), y)
+    opt = minimize(neg, [np.log(grid[0][0]), grid[0][1]], method="Nelder-Mead",
+                   options={"xatol": 0.02, "fatol": 1e-6 * float(y @ y), "maxiter": 60})
+    refined = (float(np.exp(opt.x[0])), float(np.clip(opt.x[1], 0.2, 3.0)))
+    out = []
+    for Vs, d in [refined] + grid:
+        out.append(Variant(
+            "stribeck", f"V_s={Vs * 1e3:.3g} mm/s, delta={d:.3g}", column(Vs, d), ["F_s - F_c"],
+            base=base, refine=on,
+            to_model=lambda th, Vs=Vs, d=d: m.with_effect(
+                "stribeck", True, **{"friction.F_s": F_c + th[0], "friction.V_s": Vs,
+                                     "friction.delta": d})))
+    return out
+
+
+def _gms_unit_columns(ctx: Context, q, deltas) -> np.ndarray:
+    """Friction of one Maxwell-slip element (nu = 1, travel Delta) per Delta, no viscous."""
+    prm = GMSParameters.from_params(ctx.model.fmu_parameters())
+    cols = []
+    for D in deltas:
+        pe = replace(prm, nu=(1.0,), k=(prm.F_s / D,), sigma2=0.0, dsigma2=0.0)
+        cols.append(gms_force(q.x, q.v, q.Ts, pe))
+    return np.column_stack(cols)
+
+
+def prerolling(ctx: Context) -> list[Variant]:
+    m = ctx.model
+    on = m.effects["prerolling"]
+    prm = GMSParameters.from_params(m.fmu_parameters())
+    deltas = PREROLL_DELTAS
+    Phi = ctx.stack(lambda q: _gms_unit_columns(ctx, q, deltas))
+    base = ctx.stack(lambda q: q.F_f - prm.viscous(q.v))[:, 0]
+    F_s = prm.F_s
+
+    def to_model(th: np.ndarray) -> ModelFile:
+        th = np.clip(th, 0.0, None)
+        keep = np.flatnonzero(th > 1e-3 * th.max())[:N_ELEMENTS_MAX]
+        nu = th[keep] / th[keep].sum()
+        kk = nu * F_s / np.asarray(deltas)[keep]
+        upd: dict = {"friction.N": int(len(keep))}
+        for j in range(N_ELEMENTS_MAX):
+            upd[f"friction.nu[{j + 1}]"] = float(nu[j]) if j < len(keep) else 0.0
+            upd[f"friction.k[{j + 1}]"] = float(kk[j]) if j < len(keep) else 1.0e5
+        return m.with_effect("prerolling", True, **upd)
+
+    return [Variant("prerolling", f"Maxwell-slip, {len(deltas)} elements, "
+                    f"Delta {deltas[0] * 1e6:.3g}..{deltas[-1] * 1e6:.3g} um", Phi,
+                    [f"W/F_s at Delta={D * 1e6:.3g} um" for D in deltas], base=base,
+                    nonneg=True, sum_to_one=True, refine=on, to_model=to_model)]
+
+
+def frictional_lag(ctx: Context) -> list[Variant]:
+    m = ctx.model
+    if not m.effects["prerolling"]:
+        return []          # slip-phase attraction only exists in the GMS
+    on = m.effects["frictional_lag"]
+    P = m.fmu_parameters()
+    prm = GMSParameters.from_params(P)
+    base = ctx.stack(lambda q: q.F_f - prm.viscous(q.v))[:, 0]
+    out = []
+    for C in LAG_C:
+        if on and abs(np.log(C / float(m.parameters["friction.C"]))) < 0.2:
+            continue
+        pc = replace(prm, C=C)
+        Phi = ctx.stack(lambda q: gms_force(q.x, q.v, q.Ts, pc) - pc.viscous(q.v))
+        out.append(Variant("frictional_lag", f"C={C:.3g} N/s", Phi, ["scale"], base=base,
+                           refine=on, to_model=lambda th, C=C: m.with_effect(
+                               "frictional_lag", True, **{"friction.C": C})))
+    return out
+
+
+# --------------------------------------------------------------------------- position maps
+def cogging_aperiodic(ctx: Context) -> list[Variant]:
+    m = ctx.model
+    on = m.effects["cogging_aperiodic"]
+    c, h = _span(ctx)
+    powers = range(0, 4)
+    Phi = ctx.stack(lambda q: _poly_basis(q.x, c, h, powers), mask_stuck=True)
+    old = np.array([float(m.parameters[f"cogging.c[{k}]"]) for k in range(4)]) if on \
+        else np.zeros(4)
+
+    def to_model(th: np.ndarray) -> ModelFile:
+        new = old + _poly_to_x(th, powers, c, h, 3)
+        return m.with_effect("cogging_aperiodic", True,
+                             **{f"cogging.c[{k}]": float(new[k]) for k in range(4)})
+
+    return [Variant("cogging_aperiodic", "cubic in x", Phi,
+                    [f"xi^{k}" for k in powers], refine=on, to_model=to_model)]
+
+
+def ripple_aperiodic(ctx: Context) -> list[Variant]:
+    m = ctx.model
+    if any(q.i is None for q in ctx.res):
+        return []          # F = gain * u: no K_f(x) to refine
+    on = m.effects["ripple_aperiodic"]
+    c, h = _span(ctx)
+    powers = range(1, 3)
+    # more K_f means more motor force: r = -(dK_f) i
+    Phi = -ctx.stack(lambda q: q.i[:, None] * _poly_basis(q.x, c, h, powers), mask_stuck=True)
+    old = np.array([float(m.parameters[f"ripple.c[{k}]"]) for k in range(3)])
+    if not on:
+        old[1:] = 0.0
+
+    def to_model(th: np.ndarray) -> ModelFile:
+        new = old + _poly_to_x(th, powers, c, h, 2)
+        return m.with_effect("ripple_aperiodic", True,
+                             **{f"ripple.c[{k}]": float(new[k]) for k in range(3)})
+
+    return [Variant("ripple_aperiodic", "i * (x, x^2)", Phi, ["i*xi", "i*xi^2"], refine=on,
+                    to_model=to_model)]
+
+
+def _periodic(ctx: Context, name: str, effect: str) -> list[Variant]:
+    m = ctx.model
+    p = m.parameters
+    on = m.effects[effect]
+    weighted = name == "ripple"
+    if weighted and any(q.i is None for q in ctx.res):
+        return []
+    used = [j for j in range(1, N_HARMONICS + 1)
+            if float(p[f"{name}.a[{j}]"]) != 0.0 or float(p[f"{name}.b[{j}]"]) != 0.0]
+    free = [j for j in range(1, N_HARMONICS + 1) if j not in used]
+    lams_used = [float(p[f"{name}.lambda[{j}]"]) for j in used]
+    lams, amps = spatial_spectrum(ctx.res, weight="i" if weighted else None)
+    peaks = spectral_peaks(lams, amps, exclude=lams_used, n_peaks=min(2, len(free)))
+    w = (lambda q: q.i) if weighted else (lambda q: np.ones(len(q.r)))
+    peaks = _refine_wavelengths(ctx, w, lams_used, [lam for lam, _ in peaks])
+    out = []
+    for n_extra in range(0, len(peaks) + 1):
+        extra = [lam for lam, _ in peaks[:n_extra]]
+        slots = used + free[:n_extra]
+        wl = lams_used + extra
+        if not slots:
+            continue
+
+        def cols(q, wl=wl):
+            th = 2 * np.pi * q.x[:, None] / np.asarray(wl)[None, :]
+            ww = w(q)[:, None]
+            return np.column_stack([ww * np.cos(th), ww * np.sin(th)])
+
+        sign = -1.0 if weighted else 1.0   # more K_f is more motor force: r = -(dK_f) i
+        Phi = sign * ctx.stack(cols, mask_stuck=True)
+
+        def to_model(th, slots=slots, wl=wl):
+            n = len(slots)
+            upd = {}
+            for k, (j, lam) in enumerate(zip(slots, wl)):
+                a0 = float(p[f"{name}.a[{j}]"]) if on else 0.0
+                b0 = float(p[f"{name}.b[{j}]"]) if on else 0.0
+                upd[f"{name}.a[{j}]"] = a0 + float(th[k])
+                upd[f"{name}.b[{j}]"] = b0 + float(th[n + k])
+                upd[f"{name}.lambda[{j}]"] = float(lam)
+            return m.with_effect(effect, True, **upd)
+
+        label = "harmonics at " + ", ".join(f"{lam * 1e3:.4g}" for lam in wl) + " mm"
+        if extra:
+            label += f" (extra: {', '.join(f'{lam * 1e3:.4g}' for lam in extra)} mm)"
+        out.append(Variant(effect, label, Phi,
+                           [f"a@{lam * 1e3:.4g}mm" for lam in wl]
+                           + [f"b@{lam * 1e3:.4g}mm" for lam in wl],
+                           refine=on, to_model=to_model))
+    return out
+
+
+def _explained(A: np.ndarray, y: np.ndarray) -> float:
+    """Sum of squares of y explained by the columns of A (normal equations)."""
+    G = A.T @ A
+    c = A.T @ y
+    th = np.linalg.lstsq(G, c, rcond=None)[0]
+    return float(c @ th)
+
+
+def _fourier(ctx: Context, w, wl: list[float]) -> np.ndarray:
+    def cols(q):
+        th = 2 * np.pi * q.x[:, None] / np.asarray(wl)[None, :]
+        ww = w(q)[:, None]
+        return np.column_stack([ww * np.cos(th), ww * np.sin(th)])
+    return ctx.stack(cols, mask_stuck=True)
+
+
+def _refine_wavelengths(ctx: Context, w, fixed: list[float], extra: list[float]
+                        ) -> list[tuple[float, float]]:
+    """Extra wavelengths refined one at a time (bounded scalar search within +-8 %) by the
+    least-squares fit of all harmonics together (existing ones included)."""
+    from scipy.optimize import minimize_scalar
+
+    out: list[float] = []
+    for lam0 in extra:
+        def sse(lam):
+            A = _fourier(ctx, w, fixed + out + [lam])
+            return -_explained(A, ctx.r)
+        best = minimize_scalar(sse, bounds=(0.92 * lam0, 1.08 * lam0), method="bounded",
+                               options={"xatol": 2e-4 * lam0, "maxiter": 20})
+        out.append(float(best.x))
+    return [(lam, 0.0) for lam in out]
+
+
+def cogging_periodic(ctx: Context) -> list[Variant]:
+    return _periodic(ctx, "cogging", "cogging_periodic")
+
+
+def ripple_periodic(ctx: Context) -> list[Variant]:
+    return _periodic(ctx, "ripple", "ripple_periodic")
+
+
+# --------------------------------------------------------------------------- current loop
+def current_dynamics(ctx: Context) -> list[Variant]:
+    m = ctx.model
+    if m.effects["current_dynamics"]:
+        return []
+    if not all(q.i is not None and q.force_source.startswith("no current measured: i =")
+               for q in ctx.res):
+        return []          # measured current, or F = gain * u: the loop is not in the residual
+    P = m.fmu_parameters()
+    P["effects.current_dynamics"] = True
+    Pm = m.parameters
+
+    def col(q):
+        from ..identify._signals import zoh_midpoint
+        i_dyn = zoh_midpoint(model_current(P, q.u))
+        kf = maps.force_constant(q.x, Pm, periodic=m.effects["ripple_periodic"],
+                                 aperiodic=m.effects["ripple_aperiodic"])
+        return kf * (i_dyn - q.i)
+
+    Phi = -ctx.stack(col, mask_stuck=True)
+    return [Variant("current_dynamics", "G(z) of the model file instead of G(1)", Phi,
+                    ["scale"], to_model=lambda th: m.with_effect("current_dynamics", True))]
+
+
+#: Every candidate family, by EFFECTS.md id.
+CANDIDATES: dict[str, Callable[[Context], list[Variant]]] = {
+    "offset_force": offset_force, "mass": mass, "viscous": viscous,
+    "asymmetric_friction": asymmetric_friction, "stribeck": stribeck,
+    "prerolling": prerolling, "frictional_lag": frictional_lag,
+    "cogging_aperiodic": cogging_aperiodic, "cogging_periodic": cogging_periodic,
+    "ripple_aperiodic": ripple_aperiodic, "ripple_periodic": ripple_periodic,
+    "current_dynamics": current_dynamics,
+}

@@ -1,0 +1,96 @@
+"""The residuals of all runs stacked over their valid samples, with held-out blocks.
+
+Candidate regressors are built per run (unfiltered force columns), filtered with the run's
+acceleration kernel K (as the residual's force side is) and stacked like the residual.
+"""
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..model_file import ModelFile
+from .residual import RunResidual
+
+#: Held-out blocks over all runs (contiguous pieces of each run).
+DEFAULT_BLOCKS = 10
+
+
+@dataclass
+class Context:
+    """Stacked residual of every run (valid samples only) and the block of each sample."""
+
+    res: list[RunResidual]
+    model: ModelFile
+    n_blocks: int = DEFAULT_BLOCKS
+    r: np.ndarray = field(init=False)
+    block: np.ndarray = field(init=False)
+    run_id: np.ndarray = field(init=False)
+    guard: list[np.ndarray] = field(init=False)
+    block_bounds: list[tuple[int, int]] = field(init=False)
+
+    def __post_init__(self) -> None:
+        self.r = np.concatenate([q.r[q.valid] for q in self.res])
+        self.run_id = np.concatenate([np.full(int(q.valid.sum()), j)
+                                      for j, q in enumerate(self.res)])
+        per_run = max(2, int(np.ceil(self.n_blocks / len(self.res))))
+        blocks, guards = [], []
+        b0 = 0
+        for q in self.res:
+            n = int(q.valid.sum())
+            edges = np.linspace(0, n, per_run + 1).astype(int)
+            bid = np.searchsorted(edges, np.arange(n), side="right") - 1 + b0
+            blocks.append(bid)
+            b0 += per_run
+        self.block = np.concatenate(blocks)
+        # samples next to a block boundary (within a kernel length) are dropped from training
+        # when either neighbour is held out: the filtered residual is correlated across it
+        g = max(len(q.K) for q in self.res)
+        self.block_bounds = []
+        for b in range(b0):
+            idx = np.flatnonzero(self.block == b)
+            lo, hi = int(idx[0]), int(idx[-1]) + 1
+            self.block_bounds.append((lo, hi))
+            near = np.r_[max(lo - g, 0):lo, hi:min(hi + g, len(self.r))]
+            near = near[self.run_id[near] == self.run_id[lo]]
+            guards.append(near.astype(int))
+        self.guard = guards
+
+    @property
+    def blocks(self) -> int:
+        """Number of held-out blocks."""
+        return len(self.guard)
+
+    def stack(self, fn: Callable[[RunResidual], np.ndarray], filtered: bool = True,
+              mask_stuck: bool = False) -> np.ndarray:
+        """Columns ``fn(q)`` (shape (n,) or (n, p), unfiltered) of every run, filtered with K
+        (unless ``filtered`` is False: already an acceleration-like signal), zeroed on the
+        static model's stuck samples when ``mask_stuck``, stacked over the valid samples."""
+        out = []
+        for q in self.res:
+            c = np.asarray(fn(q), dtype=float)
+            c2 = c.reshape(len(q.r), -1)
+            if mask_stuck:
+                c2 = c2 * (~q.stuck)[:, None]
+            if filtered:
+                c2 = np.column_stack([q.filt(c2[:, j]) for j in range(c2.shape[1])])
+            out.append(np.nan_to_num(c2[q.valid]))
+        return np.concatenate(out, axis=0)
+
+    def unstack(self, vec: np.ndarray) -> list[np.ndarray]:
+        """A stacked vector back to per-run arrays (NaN on invalid samples)."""
+        out = []
+        k = 0
+        for q in self.res:
+            n = int(q.valid.sum())
+            a = np.full(len(q.r), np.nan)
+            a[q.valid] = vec[k:k + n]
+            out.append(a)
+            k += n
+        return out
+
+    def all(self, name: str) -> np.ndarray:
+        """A per-sample attribute of the residuals (``x``, ``v``, ...) stacked."""
+        return np.concatenate([np.asarray(getattr(q, name))[q.valid] for q in self.res])
+

@@ -1,0 +1,191 @@
+"""The force residual of a model along a measured run (no controller needed).
+
+Eq. 1 evaluated on the measured trajectory::
+
+    r = K * (F_motor - F_cg(x) - F_f - F_load - F_offset) - m a
+
+- ``a`` is the Savitzky-Golay second derivative of the measured (quantised) position, and
+  ``K`` the smoothing kernel that differentiator applies to the true acceleration
+  (``identify._signals.matched_acceleration``): the force side is filtered with the same K
+  so both sides see the same averaging.  r is NaN within half a window of the run's ends.
+- ``F_motor = K_f(x) i`` with the measured current (taken as held over each sample interval,
+  so the acceleration at t_k sees (i[k-1] + i[k]) / 2).  Without a measured current (DATA.md):
+  ``F_motor = force_gain * u`` when a gain [N/V] is given (CLI ``--force-gain`` or the
+  sidecar's ``force_gain``), else ``K_f(x) G(z) u`` with the model's current loop (static
+  gain G(1) when ``current_dynamics`` is off).  Which one was used is recorded.
+- ``F_f`` is the model's friction along the measured motion: with ``prerolling`` on, the GMS
+  of ``feeddrive.control.gms`` driven by the measured position (quantised, not smoothed:
+  smoothing moves x by fractions of a micrometre near reversals, which the 1.8e6 N/m
+  pre-rolling stiffness turns into newtons) and the Savitzky-Golay velocity; with it off,
+  Eq. 12 as a memoryless function of v plus Karnopp stiction: where |v| < ``v_stick`` and the
+  applied force is below the break-away level the stage is taken as stuck and friction
+  balances the applied force (the model then predicts a = 0 there).
+
+Positive r means the model leaves more net force than the measured acceleration shows: a
+resistive force is missing (a positive offset gives r = +offset).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.signal import lfilter, savgol_filter
+
+from .. import maps
+from ..control.design_model import current_loop_polynomials
+from ..control.gms import GMSParameters, gms_force
+from ..data import Run
+from ..identify._signals import (apply_kernel, matched_acceleration, odd_window, run_label,
+                                 sample_time, zoh_midpoint)
+from ..model_file import ModelFile
+
+#: Default Savitzky-Golay window [samples] (20 ms at 0.5 ms) and polynomial order.
+DEFAULT_WINDOW = 41
+DEFAULT_POLYORDER = 3
+#: Below this speed [m/s] a memoryless (static) friction model treats the stage as stuck.
+DEFAULT_V_STICK = 2e-5
+
+
+@dataclass
+class RunResidual:
+    """The force residual of one run and the signals it was computed from (all per sample).
+
+    ``r`` and the ``*_f`` fields are filtered with ``K``; the others are unfiltered.
+    """
+
+    name: str
+    Ts: float
+    K: np.ndarray                 #: smoothing kernel of the acceleration estimate
+    time: np.ndarray
+    x: np.ndarray                 #: measured position [m] (maps and friction use it as is)
+    v: np.ndarray                 #: velocity [m/s]
+    a: np.ndarray                 #: acceleration [m/s^2] (NaN near the ends)
+    i: np.ndarray | None          #: current used [A] (midpoint of the held samples) or None
+    F_motor: np.ndarray           #: K_f(x) i or gain u [N]
+    F_app: np.ndarray             #: F_motor - F_cg - F_load - offset [N]
+    F_f: np.ndarray               #: model friction along the motion [N]
+    stuck: np.ndarray             #: bool, static model's stuck samples
+    r: np.ndarray                 #: force residual [N] (NaN near the ends)
+    valid: np.ndarray             #: bool, samples where r is defined
+    force_source: str             #: where F_motor came from
+    F_load: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    u: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    x_meas: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    def filt(self, y: np.ndarray) -> np.ndarray:
+        """y filtered with K (NaN where the kernel overhangs the ends)."""
+        return apply_kernel(np.asarray(y, dtype=float), self.K)
+
+    @property
+    def rms(self) -> float:
+        """rms of r over the valid samples [N]."""
+        return float(np.sqrt(np.mean(self.r[self.valid] ** 2)))
+
+
+def run_force_gain(run: Run, force_gain: float | None) -> float | None:
+    """The force gain [N/V] for a run without current: the argument, else meta['force_gain']."""
+    if force_gain is not None:
+        return float(force_gain)
+    g = (run.meta or {}).get("force_gain")
+    if g is None:
+        return None
+    try:
+        return float(g)
+    except (TypeError, ValueError):
+        raise ValueError(f"{run_label(run)}: meta['force_gain'] = {g!r} is not a number") from None
+
+
+def model_current(params: dict, u: np.ndarray) -> np.ndarray:
+    """i[k] of the model's current loop (Eq. 2, or G(1) u when current_dynamics is off)."""
+    num, den = current_loop_polynomials(params)
+    return lfilter(num, den, np.asarray(u, dtype=float))
+
+
+def motor_force(run: Run, model: ModelFile, x: np.ndarray, force_gain: float | None
+                ) -> tuple[np.ndarray, np.ndarray | None, str]:
+    """F_motor at the samples (midpoint of held values), the current used, and its source."""
+    p = model.fmu_parameters()
+    kf = maps.force_constant(x, p, periodic=model.effects["ripple_periodic"],
+                             aperiodic=model.effects["ripple_aperiodic"])
+    if run.i is not None:
+        i = zoh_midpoint(run.i)
+        return kf * i, i, "measured current i, F = K_f(x) i"
+    gain = run_force_gain(run, force_gain)
+    if gain is not None:
+        return gain * zoh_midpoint(run.u), None, f"no current measured: F = {gain:g} N/V * u"
+    i = zoh_midpoint(model_current(p, run.u))
+    how = "G(z) u (model's current loop)" if model.effects["current_dynamics"] else \
+        "G(1) u (model's static current-loop gain)"
+    return kf * i, i, f"no current measured: i = {how}, F = K_f(x) i"
+
+
+def model_friction(model: ModelFile, x: np.ndarray, v: np.ndarray, F_app: np.ndarray, Ts: float,
+                   v_stick: float = DEFAULT_V_STICK) -> tuple[np.ndarray, np.ndarray]:
+    """The model's friction along a motion and the static model's stuck mask."""
+    p = model.fmu_parameters()
+    prm = GMSParameters.from_params(p)
+    if model.effects["prerolling"]:
+        return gms_force(x, v, Ts, prm), np.zeros(len(x), dtype=bool)
+    F = prm.steady(v)
+    F_break = np.where(F_app < 0, prm.F_s + prm.dF, prm.F_s)
+    stuck = (np.abs(v) < v_stick) & (np.abs(F_app) < F_break)
+    return np.where(stuck, F_app, F), stuck
+
+
+def run_load_force(run: Run) -> np.ndarray:
+    """The external load per sample [N]: column F_load, else meta F_load/load/P, else 0."""
+    if run.F_load is not None:
+        return np.asarray(run.F_load, dtype=float)
+    meta = run.meta or {}
+    for key in ("F_load", "load", "P"):
+        if key in meta:
+            return np.full(run.n, float(meta[key]))
+    return np.zeros(run.n)
+
+
+def force_residual(run: Run, model: ModelFile, window: int = DEFAULT_WINDOW,
+                   polyorder: int = DEFAULT_POLYORDER, force_gain: float | None = None,
+                   v_stick: float = DEFAULT_V_STICK) -> RunResidual:
+    """The force residual of ``model`` along ``run`` (see the module docstring).
+
+    Parameters
+    ----------
+    run : a DATA.md run (``i`` optional).
+    model : any model file.
+    window, polyorder : Savitzky-Golay differentiator [samples].
+    force_gain : N/V for runs without current (else the sidecar's, else the model's loop).
+    v_stick : stuck-speed threshold of the static friction model [m/s].
+    """
+    label = run_label(run)
+    Ts = sample_time(run.time, label=label)
+    w = odd_window(window, run.n)
+    x_meas = np.asarray(run.x, dtype=float)
+    po = min(polyorder, w - 1)
+    xs = x_meas
+    v = savgol_filter(x_meas, w, po, deriv=1, delta=Ts)
+    a, K = matched_acceleration(x_meas, Ts, w, po)
+    p = model.fmu_parameters()
+    F_motor, i, source = motor_force(run, model, xs, force_gain)
+    F_cg = maps.cogging(xs, p, periodic=model.effects["cogging_periodic"],
+                        aperiodic=model.effects["cogging_aperiodic"])
+    F_load = run_load_force(run)
+    offset = float(p["offset.F"]) if model.effects["offset_force"] else 0.0
+    F_app = F_motor - F_cg - F_load - offset
+    F_f, stuck = model_friction(model, xs, v, F_app, Ts, v_stick)
+    r = apply_kernel(F_app - F_f, K) - float(p["m"]) * a
+    valid = np.isfinite(r)
+    return RunResidual(name=run.name or label, Ts=Ts, K=K, time=np.asarray(run.time, float),
+                       x=xs, v=v, a=a, i=i, F_motor=F_motor, F_app=F_app, F_f=F_f, stuck=stuck,
+                       r=r, valid=valid, force_source=source, F_load=F_load,
+                       u=np.asarray(run.u, float), x_meas=x_meas)
+
+
+def residuals(runs: list[Run], model: ModelFile, **kw) -> list[RunResidual]:
+    """:func:`force_residual` of every run."""
+    return [force_residual(run, model, **kw) for run in runs]
+
+
+def gap(res: list[RunResidual]) -> float:
+    """The force gap: rms of r over every valid sample of every run [N]."""
+    r = np.concatenate([q.r[q.valid] for q in res])
+    return float(np.sqrt(np.mean(r**2)))

@@ -1,0 +1,128 @@
+"""Held-out scoring of a candidate variant and the ambiguity rule.
+
+The residual is coloured (friction, maps and the acceleration filter all act over many
+samples), so in-sample fit says little about significance.  Each variant is fitted with
+every block held out in turn (samples within a kernel length of the held-out block are left
+out of the fit too) and predicts the held-out block.  Statistics:
+
+- ``improvement``: 1 - SSE_heldout / SSE_before over all blocks (fraction of the residual's
+  energy the variant removes on data it was not fitted to);
+- ``t``: mean / standard error of the per-block relative SSE reductions
+  (SSE_before - SSE_heldout) / SSE_before (blocks, not samples, are the independent units;
+  relative, so that an effect that lives in a few regimes is not penalised for the blocks
+  that hold little of the residual).
+
+A candidate is *significant* when improvement >= ``I_MIN`` and t >= ``T_MIN``.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import nnls
+
+from .candidates import Variant
+from .context import Context
+
+I_MIN = 0.05      #: minimum held-out share of the residual energy a named effect must remove
+T_MIN = 2.0       #: minimum block t statistic
+AMBIGUITY = 0.10  #: candidates within this share of the best's improvement are not separated
+
+
+@dataclass
+class Score:
+    """Held-out statistics of one variant."""
+
+    variant: Variant
+    improvement: float          #: held-out fraction of residual energy removed
+    t: float                    #: t statistic of the per-block SSE reductions
+    sse_before: np.ndarray      #: per block
+    sse_after: np.ndarray       #: per block (held-out predictions)
+    improvement_in_sample: float
+    theta: np.ndarray           #: fitted on all data
+    r_fit: np.ndarray           #: residual after the all-data fit (stacked)
+    r_heldout: np.ndarray       #: residual of the held-out predictions (stacked)
+
+    @property
+    def significant(self) -> bool:
+        return self.improvement >= I_MIN and self.t >= T_MIN
+
+    @property
+    def blocks_improved(self) -> int:
+        return int(np.sum(self.sse_after < self.sse_before))
+
+
+def _solve_gram(var: Variant, G: np.ndarray, c: np.ndarray, yy: float, n: int) -> np.ndarray:
+    """Least squares from the normal equations G theta = c (column-scaled; NNLS when
+    ``nonneg``; sum(theta) = 1 enforced by a heavy extra row when ``sum_to_one``)."""
+    d = np.sqrt(np.clip(np.diag(G), 0.0, None))
+    live = d > 1e-12 * max(float(d.max()), 1e-300)
+    theta = np.zeros(len(c))
+    if not np.any(live):
+        return theta
+    Gs = G[np.ix_(live, live)] / np.outer(d[live], d[live])
+    cs = c[live] / d[live]
+    if var.sum_to_one:
+        w = 30.0 * np.sqrt(max(yy, 1e-18))
+        row = w / d[live]
+        Gs = Gs + np.outer(row, row)
+        cs = cs + row * w
+    if var.nonneg:
+        # ||A t - y||^2 = t' G t - 2 c' t + const = ||L' t - L^-1 c||^2 with G = L L'
+        L = np.linalg.cholesky(Gs + 1e-10 * np.eye(len(cs)))
+        th, _ = nnls(L.T, np.linalg.solve(L, cs), maxiter=50 * len(cs))
+    else:
+        th = np.linalg.lstsq(Gs, cs, rcond=None)[0]
+    theta[live] = th / d[live]
+    return theta
+
+
+def score(ctx: Context, var: Variant) -> Score:
+    """Held-out and in-sample statistics of ``var`` (see module docstring)."""
+    r = ctx.r
+    base = var.base if var.base is not None else 0.0
+    y = r + base
+    Phi = var.Phi
+    B = ctx.blocks
+    bounds = ctx.block_bounds
+    Gb = [Phi[lo:hi].T @ Phi[lo:hi] for lo, hi in bounds]
+    cb = [Phi[lo:hi].T @ y[lo:hi] for lo, hi in bounds]
+    yb = [float(y[lo:hi] @ y[lo:hi]) for lo, hi in bounds]
+    G, c, yy, n = sum(Gb), sum(cb), sum(yb), len(y)
+    r_ho = np.empty_like(r)
+    sb, sa = np.zeros(B), np.zeros(B)
+    for b, (lo, hi) in enumerate(bounds):
+        g = ctx.guard[b]
+        Gt, ct, yt = G - Gb[b], c - cb[b], yy - yb[b]
+        if g.size:
+            Gt = Gt - Phi[g].T @ Phi[g]
+            ct = ct - Phi[g].T @ y[g]
+            yt = yt - float(y[g] @ y[g])
+        th = _solve_gram(var, Gt, ct, yt, n)
+        e = y[lo:hi] - Phi[lo:hi] @ th
+        r_ho[lo:hi] = e
+        sb[b] = float(r[lo:hi] @ r[lo:hi])
+        sa[b] = float(e @ e)
+    theta = _solve_gram(var, G, c, yy, n)
+    r_fit = y - Phi @ theta
+    d = (sb - sa) / np.maximum(sb, 1e-300)
+    sd = float(np.std(d, ddof=1)) if B > 1 else 0.0
+    t = float(np.mean(d) / (sd / np.sqrt(B))) if sd > 0 else (np.inf if np.mean(d) > 0 else 0.0)
+    tot = float(sb.sum())
+    return Score(variant=var, improvement=1.0 - float(sa.sum()) / tot if tot > 0 else 0.0,
+                 t=t, sse_before=sb, sse_after=sa,
+                 improvement_in_sample=1.0 - float(r_fit @ r_fit) / float(r @ r),
+                 theta=theta, r_fit=r_fit, r_heldout=r_ho)
+
+
+def separable(best: Score, other: Score) -> bool:
+    """True when held-out data tell ``best`` from ``other`` apart: the improvements differ
+    by more than ``AMBIGUITY`` of the best's and the per-block differences are consistent
+    (t >= T_MIN)."""
+    gap = best.improvement - other.improvement
+    if gap <= AMBIGUITY * best.improvement:
+        return False
+    d = (other.sse_after - best.sse_after) / np.maximum(best.sse_before, 1e-300)
+    sd = float(np.std(d, ddof=1))
+    t = float(np.mean(d) / (sd / np.sqrt(len(d)))) if sd > 0 else np.inf
+    return t >= T_MIN or gap > 0.5 * best.improvement

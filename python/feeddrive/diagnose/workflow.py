@@ -1,0 +1,277 @@
+"""The discrepancy loop: residual -> localise -> score candidates -> add the best -> repeat.
+
+Each step computes the force residual of the current model along every run, scores every
+candidate of EFFECTS.md on held-out blocks (:mod:`scoring`), names the best significant one
+(or an ambiguous group, of which the most parsimonious is added), identifies its parameters
+on all data, re-computes the residual with the new model (the full model, not the linear
+prediction) and records the gap before and after, overall and where the candidate acted.
+The loop stops when nothing is significant, when the re-computed residual does not confirm
+the improvement, or after ``max_steps``.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..data import Run
+from ..model_file import ModelFile
+from .candidates import CANDIDATES
+from .closed_loop import PIDController, simulate_run
+from .context import DEFAULT_BLOCKS, Context
+from .localise import localise, where
+from .residual import DEFAULT_WINDOW, RunResidual, gap, residuals
+from .scoring import I_MIN, T_MIN, Score, score, separable
+
+#: A richer variant of the same effect must remove this much more held-out energy.
+PARSIMONY = 0.01
+#: A re-computed residual must shrink by at least this share of the gap to confirm a step.
+CONFIRM = 0.02
+
+_UNITS = {"m": "kg", "offset.F": "N", "friction.F_s": "N", "friction.F_c": "N",
+          "friction.V_s": "m/s", "friction.delta": "1", "friction.sigma2": "N s/m",
+          "friction.C": "N/s", "friction.N": "1", "asymmetry.dF": "N",
+          "asymmetry.dsigma2": "N s/m"}
+
+
+def unit(name: str) -> str:
+    """SI unit of an FMU parameter."""
+    if name in _UNITS:
+        return _UNITS[name]
+    if name.startswith("friction.nu"):
+        return "1"
+    if name.startswith("friction.k"):
+        return "N/m"
+    if name.endswith("]") and ".lambda[" in name:
+        return "m"
+    for mp, u in (("cogging", "N"), ("ripple", "N/A")):
+        if name.startswith(f"{mp}.c["):
+            k = int(name[len(mp) + 3:-1])
+            return u if k == 0 else f"{u}/m^{k}" if k > 1 else f"{u}/m"
+        if name.startswith(f"{mp}.a[") or name.startswith(f"{mp}.b["):
+            return u
+    return "?"
+
+
+def changed_parameters(before: ModelFile, after: ModelFile) -> dict:
+    """Parameters whose value changed (and effect switches), with units and old values."""
+    out: dict = {}
+    for k, v in after.parameters.items():
+        old = before.parameters[k]
+        if v != old:
+            out[k] = {"value": v, "unit": unit(k), "before": old}
+    return out
+
+
+@dataclass
+class Step:
+    """One named effect (or the stop record when ``effect`` is None)."""
+
+    effect: str | None
+    decision: str                      #: "named", "ambiguous" or "stop"
+    ambiguous_with: list[str]
+    evidence: dict
+    parameters: dict
+    gap_before: dict
+    gap_after: dict
+    model_after: ModelFile | None = None
+    residual_before: list[RunResidual] = field(default_factory=list, repr=False)
+    residual_after: list[RunResidual] = field(default_factory=list, repr=False)
+
+    def to_json(self) -> dict:
+        return {"effect": self.effect, "decision": self.decision,
+                "ambiguous_with": self.ambiguous_with, "evidence": self.evidence,
+                "parameters": self.parameters, "gap_before": self.gap_before,
+                "gap_after": self.gap_after}
+
+
+@dataclass
+class Diagnosis:
+    """The ordered steps, the stop record, the start and final models."""
+
+    steps: list[Step]
+    stop: dict
+    model_start: ModelFile
+    model: ModelFile
+    runs: list[str]
+    notes: list[str]
+    residual_start: list[RunResidual] = field(default_factory=list, repr=False)
+    residual_final: list[RunResidual] = field(default_factory=list, repr=False)
+
+    @property
+    def named(self) -> list[str]:
+        """Effects added, in order."""
+        return [s.effect for s in self.steps if s.effect is not None]
+
+    def to_json(self) -> dict:
+        return {"schema": "feeddrive.diagnosis/1", "runs": self.runs,
+                "model_start": self.model_start.name, "notes": self.notes,
+                "steps": [s.to_json() for s in self.steps], "stop": self.stop,
+                "final_model": self.model.name}
+
+
+def closed_loop_gap(runs: list[Run], model: ModelFile) -> dict | None:
+    """Closed-loop position error of ``model`` re-simulated with each run's controller.
+
+    Only runs whose sidecar describes a ``pid`` controller (see :mod:`closed_loop`) and that
+    have ``x_ref`` count; None when there is none.  Returns rms and max |x_sim - x_meas| [m].
+    """
+    errs = []
+    for run in runs:
+        spec = (run.meta or {}).get("controller")
+        if not isinstance(spec, dict) or spec.get("type") != "pid" or run.x_ref is None:
+            continue
+        ctl = PIDController.from_meta(spec, run.x_ref, run.Ts)
+        load = float(np.mean(run.F_load)) if run.F_load is not None else 0.0
+        sim = simulate_run(model, run.x_ref, controller=ctl, Ts=run.Ts,
+                           quantum=float(run.meta.get("quantum", 1e-7)), F_load=load)
+        errs.append(np.asarray(sim.x) - np.asarray(run.x))
+    if not errs:
+        return None
+    e = np.concatenate(errs)
+    return {"position_error_rms_m": float(np.sqrt(np.mean(e**2))),
+            "position_error_max_m": float(np.max(np.abs(e)))}
+
+
+def _gap_record(res: list[RunResidual], regimes: list[str], cl: dict | None) -> dict:
+    loc = localise(res)
+    out = {"force_rms_N": gap(res),
+           "where": {k: loc["regimes"][k]["rms"] for k in regimes if k in loc["regimes"]}}
+    if cl is not None:
+        out.update(cl)
+    return out
+
+
+def rank(ctx: Context, skip: set[str] = frozenset()) -> list[Score]:
+    """The best variant of every candidate family, best held-out improvement first."""
+    best: list[Score] = []
+    for eid, make in CANDIDATES.items():
+        if eid in skip:
+            continue
+        scores = [score(ctx, v) for v in make(ctx)]
+        if scores:
+            top = max(scores, key=lambda s: s.improvement)
+            # parsimony within a family: fewer parameters unless they cost > PARSIMONY
+            lean = [s for s in scores if s.variant.n_params < top.variant.n_params
+                    and s.improvement >= top.improvement - PARSIMONY]
+            if lean:
+                top = max(lean, key=lambda s: (-s.variant.n_params, s.improvement))
+            best.append(top)
+    best.sort(key=lambda s: -s.improvement)
+    return best
+
+
+def choose(ranking: list[Score]) -> tuple[Score | None, list[Score]]:
+    """The effect to add and the candidates the data cannot separate from it.
+
+    Among significant candidates the best held-out improvement leads; every significant
+    candidate not :func:`separable` from it joins its group; the group member with the
+    fewest parameters (then the best improvement) is added, the others are reported.
+    """
+    sig = [s for s in ranking if s.significant]
+    if not sig:
+        return None, []
+    lead = sig[0]
+    group = [lead] + [s for s in sig[1:] if not separable(lead, s)]
+    group.sort(key=lambda s: (s.variant.n_params, -s.improvement))
+    return group[0], group[1:]
+
+
+def _summary(s: Score) -> dict:
+    return {"effect": s.variant.effect, "variant": s.variant.label,
+            "heldout_improvement": s.improvement, "t_blocks": s.t,
+            "blocks_improved": s.blocks_improved, "significant": s.significant,
+            "refinement": s.variant.refine}
+
+
+def diagnose(runs: list[Run], model: ModelFile, out_dir: Path | None = None, max_steps: int = 4,
+             force_gain: float | None = None, window: int = DEFAULT_WINDOW,
+             n_blocks: int = DEFAULT_BLOCKS, closed_loop: bool = True) -> "Diagnosis":
+    """Diagnose what ``model`` lacks against measured ``runs`` (see module docstring).
+
+    Parameters
+    ----------
+    runs : measured runs (DATA.md); several runs are pooled, blocks are cut per run.
+    model : the starting model file.
+    out_dir : when given, diagnosis.json, model.json and report.html are written there.
+    max_steps : at most this many effects are added.
+    force_gain : N/V for runs without current (else the sidecar's, else the model's loop).
+    window : Savitzky-Golay window of the acceleration estimate [samples].
+    n_blocks : held-out blocks over all runs.
+    closed_loop : also re-simulate runs whose sidecar describes their controller.
+    """
+    if not runs:
+        raise ValueError("diagnose: no runs given")
+    kw = {"force_gain": force_gain, "window": window}
+    current = model
+    res = residuals(runs, current, **kw)
+    notes = sorted({q.force_source for q in res})
+    start_res = res
+    steps: list[Step] = []
+    stop: dict = {}
+    cl = closed_loop_gap(runs, current) if closed_loop else None
+    for _ in range(max_steps):
+        ctx = Context(res, current, n_blocks=n_blocks)
+        ranking = rank(ctx)
+        lead, others = choose(ranking)
+        if lead is None:
+            stop = {"reason": f"no candidate removes >= {I_MIN:.0%} of the residual energy on "
+                              f"held-out blocks with t >= {T_MIN:g}",
+                    "ranking": [_summary(s) for s in ranking[:6]], "gap": gap(res)}
+            break
+        tried = [lead] + [s for s in ranking if s.significant and s is not lead]
+        done = False
+        for cand in tried[:3]:
+            new_model = cand.variant.to_model(cand.theta)
+            new_model.name = f"{model.name}+{'+'.join([*(s.effect for s in steps), cand.variant.effect])}"
+            new_res = residuals(runs, new_model, **kw)
+            g0, g1 = gap(res), gap(new_res)
+            if g1 > (1.0 - CONFIRM) * g0:
+                continue
+            loc_b = localise(res)
+            loc_fit = localise(res, ctx.unstack(cand.r_fit))
+            wh = where(loc_b, loc_fit)
+            regimes = [w["regime"] for w in wh]
+            cl_after = closed_loop_gap(runs, new_model) if closed_loop and cl is not None else None
+            g_ho = float(np.sqrt(np.mean(cand.r_heldout**2)))
+            evidence = {
+                "statistic": "held-out share of force-residual energy removed (blocks)",
+                "heldout_improvement": cand.improvement, "t_blocks": cand.t,
+                "blocks_improved": f"{cand.blocks_improved}/{ctx.blocks}",
+                "in_sample_improvement": cand.improvement_in_sample,
+                "variant": cand.variant.label, "refinement": cand.variant.refine,
+                "where": wh, "ranking": [_summary(s) for s in ranking[:6]]}
+            gb = _gap_record(res, regimes, cl)
+            ga = _gap_record(new_res, regimes, cl_after)
+            ga["force_rms_heldout_N"] = g_ho
+            lead_group = [cand] + ([s for s in others] if cand is lead else [])
+            steps.append(Step(
+                effect=cand.variant.effect,
+                decision="ambiguous" if len(lead_group) > 1 else "named",
+                ambiguous_with=[s.variant.effect for s in lead_group[1:]],
+                evidence=evidence, parameters=changed_parameters(current, new_model),
+                gap_before=gb, gap_after=ga, model_after=new_model,
+                residual_before=res, residual_after=new_res))
+            current, res, cl = new_model, new_res, cl_after
+            done = True
+            break
+        if not done:
+            stop = {"reason": "the significant candidates did not shrink the re-computed "
+                              f"residual by {CONFIRM:.0%}",
+                    "ranking": [_summary(s) for s in ranking[:6]], "gap": gap(res)}
+            break
+    else:
+        stop = {"reason": f"max_steps = {max_steps} reached", "gap": gap(res)}
+    diag = Diagnosis(steps=steps, stop=stop, model_start=model, model=current,
+                     runs=[r.name or f"run{j}" for j, r in enumerate(runs)], notes=notes,
+                     residual_start=start_res, residual_final=res)
+    if out_dir is not None:
+        from .output import write_outputs
+        write_outputs(diag, Path(out_dir))
+    return diag
+
+
+def _finite(x: float) -> float | None:
+    return x if math.isfinite(x) else None

@@ -1,0 +1,129 @@
+"""The identification campaign: every virtual experiment of Secs. 2.2-2.4 on one plant.
+
+Groups (keys of :func:`campaign`) and file stems written by :func:`write_campaign`:
+
+- ``prbs``: ``prbs`` (current loop, Eq. 2);
+- ``cogging_ripple``: ``cv_{p|m}1mm_s_P{0,54.9,272.7}`` (Eqs. 4, 5);
+- ``stribeck``: ``cv_{p|m}<v>mm_s_P0`` at several speeds (Eq. 13; the unloaded 1 mm/s pair
+  of ``cogging_ripple`` is a Stribeck point too);
+- ``force_open_loop``: ``force_open_loop`` (mass);
+- ``variable_speed``: ``variable_speed`` (C, Eq. 14);
+- ``prerolling``: ``prerolling_A30um``, ``prerolling_A500um`` (Eqs. 15-18).
+
+The full campaign covers the whole stroke at 1 mm/s (six runs of ~5 min of simulated time
+each); ``quick=True`` shortens every run (segments of a few mm, fewer periods) for tests.
+Each job's noise seed is derived from the campaign seed and the job's label.
+"""
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import replace
+from functools import partial
+from pathlib import Path
+from typing import Any
+
+from tqdm import tqdm
+
+from ..data import Run, write_run
+from ..model_file import ModelFile, load_model, paper_model
+from .constant_speed import (PAPER_LOADS, PAPER_SPEED, STRIBECK_SPEEDS, constant_speed_runs,
+                             run_seed, stribeck_runs)
+from .force_open_loop import force_open_loop_runs
+from .measurement import Sensors
+from .prbs import prbs_runs
+from .prerolling_excitation import prerolling_runs
+from .variable_speed import variable_speed_runs
+
+#: The groups of the campaign, in the order they are run.
+GROUPS: tuple[str, ...] = ("prbs", "cogging_ripple", "stribeck", "force_open_loop",
+                           "variable_speed", "prerolling")
+
+Job = tuple[str, str, Callable[[Mapping[str, Any], Sensors], list[Run]]]
+
+
+def plan(quick: bool = False) -> list[Job]:
+    """The campaign's jobs: (group, label, experiment(params, sensors) -> runs).
+
+    One job per run where an experiment has several (so a progress bar counts runs).
+    """
+    jobs: list[Job] = []
+    if quick:
+        jobs.append(("prbs", "prbs", partial(prbs_runs, periods=1)))
+    else:
+        jobs.append(("prbs", "prbs", partial(prbs_runs, periods=4)))
+    cv_segment = (0.148, 0.152) if quick else None          # None: the whole stroke
+    for P in PAPER_LOADS:
+        for d in (1, -1):
+            jobs.append(("cogging_ripple", f"cogging_ripple_P{P:g}_d{d:+d}",
+                         partial(constant_speed_runs, speeds=(PAPER_SPEED,), loads=(P,),
+                                 directions=(d,), segment=cv_segment)))
+    speeds = (2e-3, 20e-3) if quick else STRIBECK_SPEEDS
+    kw = {"cruise_time": 2.0, "min_length": 4e-3} if quick else {}
+    for v in speeds:
+        for d in (1, -1):
+            jobs.append(("stribeck", f"stribeck_{v * 1e3:g}mm_s_d{d:+d}",
+                         partial(stribeck_runs, speeds=(v,), directions=(d,), **kw)))
+    jobs.append(("force_open_loop", "force_open_loop",
+                 partial(force_open_loop_runs, n_periods=5 if quick else 10)))
+    jobs.append(("variable_speed", "variable_speed",
+                 partial(variable_speed_runs, duration=2.0 if quick else None)))
+    pr = {"period": 2.0, "n_periods": 2.0} if quick else {"period": 4.0, "n_periods": 3.0}
+    for A in (30e-6, 0.5e-3):
+        jobs.append(("prerolling", f"prerolling_A{A * 1e6:g}um",
+                     partial(prerolling_runs, amplitudes=(A,), **pr)))
+    return jobs
+
+
+def campaign(params: Mapping[str, Any], sensors: Sensors, quick: bool = False
+             ) -> dict[str, list[Run]]:
+    """Run every experiment on the plant ``params`` (FMU parameters, SI).
+
+    Returns runs by group (:data:`GROUPS`); each run's ``meta['name']`` is its file stem.
+    A progress bar over the runs is shown unless ``quick``.
+    """
+    out: dict[str, list[Run]] = {g: [] for g in GROUPS}
+    jobs = plan(quick)
+    for group, label, fn in tqdm(jobs, desc="experiments", unit="run", disable=quick):
+        s = replace(sensors, seed=run_seed(sensors.seed, label))
+        out[group] += fn(params, s)
+    return out
+
+
+def _parameters(model: Path | str | ModelFile | Mapping[str, Any] | None) -> dict[str, Any]:
+    if model is None:
+        return paper_model().fmu_parameters()
+    if isinstance(model, ModelFile):
+        return model.fmu_parameters()
+    if isinstance(model, (str, Path)):
+        return load_model(model).fmu_parameters()
+    if isinstance(model, Mapping):
+        return dict(model)
+    raise TypeError(f"write_campaign: model must be a path, a ModelFile, a mapping of FMU "
+                    f"parameters or None, got {type(model).__name__}")
+
+
+def write_campaign(out_dir: Path, model: Path | ModelFile | Mapping[str, Any] | None = None,
+                   seed: int = 1, quick: bool = False) -> list[Path]:
+    """Run the campaign on ``model`` (default: the paper's) and write every run.
+
+    Parameters
+    ----------
+    out_dir : folder for ``<name>.csv`` + ``<name>.json`` (created if missing).
+    model : a model file path, a :class:`ModelFile`, FMU parameters, or None (paper).
+    seed : campaign seed (sensor noise); quick : short runs (tests).
+
+    Returns the CSV paths written, in campaign order.
+    """
+    params = _parameters(model)
+    runs = campaign(params, Sensors(seed=int(seed)), quick=quick)
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    paths = []
+    for group in GROUPS:
+        for run in runs[group]:
+            path = out_dir / f"{run.meta['name']}.csv"
+            if path in paths:
+                raise ValueError(f"write_campaign: two runs named {path.name}")
+            write_run(run, path)
+            paths.append(path)
+    return paths

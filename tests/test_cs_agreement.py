@@ -10,7 +10,7 @@ Why the agreement is asserted on an ideal scale (quantum 0): with the 100 nm lin
 closed loop is not continuous in the plant's trajectory.  Two integrations that differ by
 1e-3 µm read different scale counts at some sample, the controller's output jumps by
 Kp·100 nm / 78.7 N/V ≈ 0.8 mV, and the loop carries that on: two quantised closed loops — even CS
-at tolerances 1e-6 and 1e-9 — end up ≈ 2–5 µm and ≈ 1–2 N apart near the top reversal (measured
+at tolerances 1e-6 and 1e-9 — end up ≈ 2–7 µm and ≈ 1–3 N apart near the top reversal (measured
 and printed by ``test_quantised_loops_differ_only_through_the_scale``).  Replaying one loop's u
 open loop into the other interface does not help either: the open-loop plant is unstable (the
 cogging map's negative stiffness, up to ≈ 3e3 N/m, gives a growth rate ≈ 14 1/s), so 1e-12 m

@@ -27,6 +27,7 @@ from feeddrive.simulate import simulate_open_loop
 
 REPO = Path(__file__).resolve().parents[1]
 JAVA_DIR = REPO / "tests" / "java"
+TARGET = REPO / "build" / "fmi4j-target"   # Maven's build directory (pom.xml)
 SECONDS = 2.0
 TS = 5e-4
 COLUMNS = ("x", "v", "F_friction", "i")
@@ -36,12 +37,12 @@ pytestmark = pytest.mark.skipif(shutil.which("java") is None or shutil.which("mv
 
 
 def _maven_classpath() -> str:
-    goals = ["-q", "-B", "compile", "dependency:build-classpath", "-Dmdep.outputFile=target/classpath.txt"]
+    goals = ["-q", "-B", "compile", "dependency:build-classpath", "-Dmdep.outputFile=" + str(TARGET / "classpath.txt")]
     p = subprocess.run(["mvn", "-o", *goals], cwd=JAVA_DIR, capture_output=True, text=True, timeout=600)
     if p.returncode != 0:   # first run on this machine: resolve from Maven Central
         p = subprocess.run(["mvn", *goals], cwd=JAVA_DIR, capture_output=True, text=True, timeout=900)
     assert p.returncode == 0, f"maven failed in {JAVA_DIR}:\n{p.stdout[-3000:]}\n{p.stderr[-3000:]}"
-    return str(JAVA_DIR / "target" / "classes") + ":" + (JAVA_DIR / "target" / "classpath.txt").read_text().strip()
+    return str(TARGET / "classes") + ":" + (TARGET / "classpath.txt").read_text().strip()
 
 
 @pytest.fixture(scope="module")

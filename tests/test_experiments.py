@@ -41,7 +41,7 @@ def all_runs(runs):
 def test_campaign_has_every_experiment(runs):
     names = [r.meta["name"] for r in all_runs(runs)]
     assert len(names) == len(set(names)), "file stems must be unique"
-    assert {"prbs", "force_open_loop", "variable_speed", "prerolling_A30um",
+    assert {"prbs", "force_open_loop", "variable_speed", "prerolling_A60um",
             "prerolling_A500um"} <= set(names)
     assert {f"cv_{d}1mm_s_P{P:g}" for d in "pm" for P in PAPER_LOADS} <= set(names)
     assert len(runs["cogging_ripple"]) == 6
@@ -127,6 +127,24 @@ def test_prbs_is_in_u_with_its_amplitude(runs):
     assert np.ptp(r.i[k0:]) > 0.5 * 2 * A                 # the current follows (G(1) = 1.13 A/V)
 
 
+def test_current_is_sampled_with_eq2_delay(runs):
+    """Measured i[k] follows Eq. 2: impulse response h_0 = h_1 = 0, h_2 = b2, h_3 = a1 b2 + b3
+    (the DAQ samples the current the FMU computes at t_k, not the value held before t_k).
+
+    FIR least squares is unbiased here: the current noise at k is white and independent of
+    u up to k (the controller reads x(t_k), moved by noise before k only)."""
+    r = runs["prbs"][0]
+    L = 30
+    k = np.arange(r.meta["prbs_start"] + L, r.n)
+    A = np.column_stack([r.u[k - j] for j in range(L)] + [np.ones(k.size)])
+    h = np.linalg.lstsq(A, r.i[k], rcond=None)[0][:L]
+    b2, b3, a1 = 0.057909, 0.043206, 1.404
+    assert abs(h[0]) < 0.005 and abs(h[1]) < 0.005
+    assert h[2] == pytest.approx(b2, abs=0.005)
+    assert h[3] == pytest.approx(a1 * b2 + b3, abs=0.005)
+    assert np.sum(h) == pytest.approx(1.126, rel=0.05)     # G(1), Eq. 2's DC gain
+
+
 def test_variable_speed_never_reverses(runs):
     r = runs["variable_speed"][0]
     t0, t1 = r.meta["variable_phase"]
@@ -144,7 +162,7 @@ def test_variable_speed_never_reverses(runs):
 def test_prerolling_amplitudes(runs):
     small, large = sorted(runs["prerolling"], key=lambda r: r.meta["amplitude"])
     A, c = small.meta["amplitude"], small.meta["centre"]
-    assert A == pytest.approx(30e-6)
+    assert A == pytest.approx(60e-6)
     # within the amplitude (+1 um = 10 quanta of closed-loop overshoot at reversals)
     assert np.max(np.abs(small.x - c)) <= A + 1e-6
     assert np.ptp(small.x) > 1.8 * A                     # and it does move

@@ -324,8 +324,15 @@ def _periodic(ctx: Context, name: str, effect: str) -> list[Variant]:
     return out
 
 
+#: Stride of the samples used by hyper-parameter searches (filtered signals are smooth).
+SEARCH_STRIDE = 4
+
+
 def _explained(A: np.ndarray, y: np.ndarray) -> float:
-    """Sum of squares of y explained by the columns of A (normal equations)."""
+    """Sum of squares of y explained by the columns of A (normal equations), on every
+    ``SEARCH_STRIDE``-th sample."""
+    A = np.ascontiguousarray(A.reshape(len(y), -1)[::SEARCH_STRIDE])
+    y = y[::SEARCH_STRIDE]
     G = A.T @ A
     c = A.T @ y
     th = np.linalg.lstsq(G, c, rcond=None)[0]
@@ -352,7 +359,7 @@ def _refine_wavelengths(ctx: Context, w, fixed: list[float], extra: list[float]
             A = _fourier(ctx, w, fixed + out + [lam])
             return -_explained(A, ctx.r)
         best = minimize_scalar(sse, bounds=(0.92 * lam0, 1.08 * lam0), method="bounded",
-                               options={"xatol": 2e-4 * lam0, "maxiter": 20})
+                               options={"xatol": 5e-4 * lam0, "maxiter": 14})
         out.append(float(best.x))
     return [(lam, 0.0) for lam in out]
 
@@ -378,7 +385,7 @@ def current_dynamics(ctx: Context) -> list[Variant]:
     Pm = m.parameters
 
     def col(q):
-        from ..identify._signals import zoh_midpoint
+        from .signals import zoh_midpoint
         i_dyn = zoh_midpoint(model_current(P, q.u))
         kf = maps.force_constant(q.x, Pm, periodic=m.effects["ripple_periodic"],
                                  aperiodic=m.effects["ripple_aperiodic"])

@@ -6,7 +6,7 @@ Eq. 1 evaluated on the measured trajectory::
 
 - ``a`` is the Savitzky-Golay second derivative of the measured (quantised) position, and
   ``K`` the smoothing kernel that differentiator applies to the true acceleration
-  (``identify._signals.matched_acceleration``): the force side is filtered with the same K
+  (``signals.matched_acceleration``): the force side is filtered with the same K
   so both sides see the same averaging.  r is NaN within half a window of the run's ends.
 - ``F_motor = K_f(x) i`` with the measured current (taken as held over each sample interval,
   so the acceleration at t_k sees (i[k-1] + i[k]) / 2).  Without a measured current (DATA.md):
@@ -35,8 +35,8 @@ from .. import maps
 from ..control.design_model import current_loop_polynomials
 from ..control.gms import GMSParameters, gms_force
 from ..data import Run
-from ..identify._signals import (apply_kernel, matched_acceleration, odd_window, run_label,
-                                 sample_time, zoh_midpoint)
+from .signals import (apply_kernel, matched_acceleration, odd_window, run_label, sample_time,
+                      zoh_midpoint)
 from ..model_file import ModelFile
 
 #: Default Savitzky-Golay window [samples] (20 ms at 0.5 ms) and polynomial order.

@@ -7,10 +7,10 @@ out of the fit too) and predicts the held-out block.  Statistics:
 
 - ``improvement``: 1 - SSE_heldout / SSE_before over all blocks (fraction of the residual's
   energy the variant removes on data it was not fitted to);
-- ``t``: mean / standard error of the per-block relative SSE reductions
-  (SSE_before - SSE_heldout) / SSE_before (blocks, not samples, are the independent units;
-  relative, so that an effect that lives in a few regimes is not penalised for the blocks
-  that hold little of the residual).
+- ``t``: mean / standard error over blocks of the bounded per-block change
+  rho_b = (SSE_before - SSE_heldout) / (SSE_before + SSE_heldout), in [-1, 1] (blocks, not
+  samples, are the independent units; bounded, so that neither an effect that lives in a
+  few regimes nor a block that holds almost no residual dominates the statistic).
 
 A candidate is *significant* when improvement >= ``I_MIN`` and t >= ``T_MIN``.
 """
@@ -105,7 +105,7 @@ def score(ctx: Context, var: Variant) -> Score:
         sa[b] = float(e @ e)
     theta = _solve_gram(var, G, c, yy, n)
     r_fit = y - Phi @ theta
-    d = (sb - sa) / np.maximum(sb, 1e-300)
+    d = (sb - sa) / np.maximum(sb + sa, 1e-300)
     sd = float(np.std(d, ddof=1)) if B > 1 else 0.0
     t = float(np.mean(d) / (sd / np.sqrt(B))) if sd > 0 else (np.inf if np.mean(d) > 0 else 0.0)
     tot = float(sb.sum())
@@ -122,7 +122,7 @@ def separable(best: Score, other: Score) -> bool:
     gap = best.improvement - other.improvement
     if gap <= AMBIGUITY * best.improvement:
         return False
-    d = (other.sse_after - best.sse_after) / np.maximum(best.sse_before, 1e-300)
+    d = (other.sse_after - best.sse_after) / np.maximum(other.sse_after + best.sse_after, 1e-300)
     sd = float(np.std(d, ddof=1))
     t = float(np.mean(d) / (sd / np.sqrt(len(d)))) if sd > 0 else np.inf
     return t >= T_MIN or gap > 0.5 * best.improvement

@@ -8,7 +8,7 @@ Groups (keys of :func:`campaign`) and file stems written by :func:`write_campaig
   of ``cogging_ripple`` is a Stribeck point too);
 - ``force_open_loop``: ``force_open_loop`` (mass);
 - ``variable_speed``: ``variable_speed`` (C, Eq. 14);
-- ``prerolling``: ``prerolling_A30um``, ``prerolling_A500um`` (Eqs. 15-18).
+- ``prerolling``: ``prerolling_A60um``, ``prerolling_A500um`` (Eqs. 15-18).
 
 The full campaign covers the whole stroke at 1 mm/s (six runs of ~5 min of simulated time
 each); ``quick=True`` shortens every run (segments of a few mm, fewer periods) for tests.
@@ -31,7 +31,7 @@ from .constant_speed import (PAPER_LOADS, PAPER_SPEED, STRIBECK_SPEEDS, constant
 from .force_open_loop import force_open_loop_runs
 from .measurement import Sensors
 from .prbs import prbs_runs
-from .prerolling_excitation import prerolling_runs
+from .prerolling_excitation import AMPLITUDES as PREROLLING_AMPLITUDES, prerolling_runs
 from .variable_speed import variable_speed_runs
 
 #: The groups of the campaign, in the order they are run.
@@ -68,7 +68,7 @@ def plan(quick: bool = False) -> list[Job]:
     jobs.append(("variable_speed", "variable_speed",
                  partial(variable_speed_runs, duration=2.0 if quick else None)))
     pr = {"period": 2.0, "n_periods": 2.0} if quick else {"period": 4.0, "n_periods": 3.0}
-    for A in (30e-6, 0.5e-3):
+    for A in PREROLLING_AMPLITUDES:
         jobs.append(("prerolling", f"prerolling_A{A * 1e6:g}um",
                      partial(prerolling_runs, amplitudes=(A,), **pr)))
     return jobs

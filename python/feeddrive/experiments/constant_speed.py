@@ -63,6 +63,8 @@ def closed_loop_measurement(params: Mapping[str, Any], sensors: Sensors, ref: Re
     simulated but not recorded, as on a real machine where the recording starts on a settled
     stage: the start-up sag under load or cogging is not in the run.  Time starts at 0 at
     the first recorded sample (``meta['hold_before_record']`` says how long the hold was).
+    The loop runs one sample past the record so that the current is sampled as a DAQ
+    samples it (:func:`sampled_signals`).
 
     Parameters
     ----------
@@ -80,18 +82,36 @@ def closed_loop_measurement(params: Mapping[str, Any], sensors: Sensors, ref: Re
         raise ValueError(f"closed_loop_measurement: hold {hold!r} must be >= 0")
     spec = dict(state_space_spec() if spec is None else spec)
     k0 = int(round(hold / ref.Ts))
-    full = Reference(ref.Ts, np.concatenate([np.full(k0, ref.x[0]), ref.x]),
-                     np.concatenate([np.zeros(k0), ref.v]), np.concatenate([np.zeros(k0), ref.a]))
+    # hold, the recorded reference, and one sample more for the current (see sampled_signals)
+    x_full = np.concatenate([np.full(k0, ref.x[0]), ref.x, ref.x[-1:]])
+    v_full = np.concatenate([np.zeros(k0), ref.v, [0.0]])
+    a_full = np.concatenate([np.zeros(k0), ref.a, [0.0]])
+    full = Reference(ref.Ts, x_full, v_full, a_full)
     uff = None if u_ff is None else np.concatenate([np.zeros(k0), np.asarray(u_ff, float)])
     res = run_closed_loop(params, spec, full, u_ff=uff, sensors=sensors, F_ext=float(F_load))
     m: dict[str, Any] = dict(meta)
     m.update({"Ts": ref.Ts, "controller": spec, "hold_before_record": k0 * ref.Ts,
               "sensors": {"quantum": sensors.quantum, "current_noise": sensors.current_noise,
                           "seed": sensors.seed}})
-    run = to_run(res, sensors, x_ref=full.x, F_load=float(F_load), meta=m)
+    run = to_run(sampled_signals(res), sensors, x_ref=full.x[:-1], F_load=float(F_load), meta=m)
     cols = {c: a[k0:] for c, a in run.columns().items()}
     cols["time"] = cols["time"] - cols["time"][0]
     return Run(**cols, meta=run.meta)
+
+
+def sampled_signals(res: Mapping[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """What a DAQ records at t_k from a simulation recorded one sample beyond the run.
+
+    The FMU's current is a sampled signal: the value computed at the sample t_k (Eq. 2,
+    i[k] from u up to k-2) is held over [t_k, t_k+1).  ``simulate_*`` read the outputs at the
+    end of each step, i.e. at t_k just *before* that sample (i[k-1]); the measured current at
+    t_k is i[k] (Eq. 2's convention, with which the paper identified d = 2 and which the
+    force balance m a(t_k) = K_f i(t_k) - ... needs), i.e. the simulation's next row.  x is
+    continuous and u is set at t_k, so they are taken as recorded.  Returns rows 0..n-1 of
+    time, u, x and i (i from rows 1..n).
+    """
+    return {"time": np.asarray(res["time"])[:-1], "u": np.asarray(res["u"])[:-1],
+            "x": np.asarray(res["x"])[:-1], "i": np.asarray(res["i"])[1:]}
 
 
 def _tag(speed: float, direction: int, P: float) -> str:

@@ -127,24 +127,42 @@ def apply_kernel(y: np.ndarray, K: np.ndarray) -> np.ndarray:
     return out
 
 
-def zoh_midpoint(f: np.ndarray) -> np.ndarray:
-    """(f[k-1] + f[k]) / 2: the force a central second difference of x sees at sample k when
-    f[k] is held over [t_k, t_k+1) (sampled current); f[0] kept."""
-    f = np.asarray(f, dtype=float)
-    out = f.copy()
-    out[1:] = 0.5 * (f[1:] + f[:-1])
+#: How a recorded current sample relates to the current acting on the stage.
+CURRENT_TIMINGS = ("held", "held_previous", "sampled")
+
+
+def effective_current(i: np.ndarray, timing: str = "held") -> np.ndarray:
+    """The current a central second difference of x sees at sample k.
+
+    For a current constant over each sample interval, x[k+1] - 2 x[k] + x[k-1] is set by
+    the mean of the currents of the two intervals around t_k.
+
+    - 'held': i[k] acts over [t_k, t_k+1) (the sampled current loop of Eq. 2):
+      (i[k-1] + i[k]) / 2.
+    - 'held_previous': i[k] is the current that acted over [t_k-1, t_k) (recorded one
+      sample late): (i[k] + i[k+1]) / 2.
+    - 'sampled': i is a continuous current sampled at t_k: i[k].
+    """
+    i = np.asarray(i, dtype=float)
+    out = i.copy()
+    if timing == "held":
+        out[1:] = 0.5 * (i[1:] + i[:-1])
+    elif timing == "held_previous":
+        out[:-1] = 0.5 * (i[:-1] + i[1:])
+    elif timing != "sampled":
+        raise ValueError(f"current_timing must be one of {CURRENT_TIMINGS}, got {timing!r}")
     return out
 
 
 def eq1_friction(time: np.ndarray, x: np.ndarray, i: np.ndarray, m: float,
                  force_constant: MapSpec, cogging: MapSpec, F_load: np.ndarray | float = 0.0,
-                 window: int = 41, held_current: bool = True
+                 window: int = 41, current_timing: str = "held"
                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
     """Friction force from Eq. 1, F_f = K_f(x) i - F_cg(x) - F_e - m a, smoothed.
 
     a is the Savitzky-Golay acceleration; the force side is filtered with the kernel that
-    differentiator applies (:func:`matched_acceleration`).  ``held_current``: i[k] is held
-    over [t_k, t_k+1), so (i[k-1] + i[k]) / 2 is used at sample k (see :func:`zoh_midpoint`).
+    differentiator applies (:func:`matched_acceleration`); the current is taken as
+    :func:`effective_current` with ``current_timing``.
     Returns (F_f, v, K, Ts); F_f is NaN within half a window of the ends.
     """
     t = np.asarray(time, dtype=float)
@@ -152,7 +170,7 @@ def eq1_friction(time: np.ndarray, x: np.ndarray, i: np.ndarray, m: float,
     Ts = sample_time(t)
     _, v, _ = derivatives(x, Ts, window)
     a, K = matched_acceleration(x, Ts, window)
-    i_eff = zoh_midpoint(i) if held_current else i
+    i_eff = effective_current(i, current_timing)
     force = eval_map(force_constant, "ripple", x) * i_eff - eval_map(cogging, "cogging", x) \
         - np.broadcast_to(np.asarray(F_load, dtype=float), x.shape)
     return apply_kernel(force, K) - m * a, v, K, Ts

@@ -101,7 +101,7 @@ def fit_attraction(time: np.ndarray, x: np.ndarray, i: np.ndarray, params: Mappi
                    force_constant: MapSpec | None = None, cogging: MapSpec | None = None,
                    F_load: np.ndarray | float = 0.0, window: int = 41, v_min: float = 2e-4,
                    x_skip: float = 5e-4, z: float = 2.0,
-                   held_current: bool = True) -> AttractionFit:
+                   current_timing: str = "held") -> AttractionFit:
     """C from a non-reversing run; see the module docstring.
 
     Parameters
@@ -114,12 +114,13 @@ def fit_attraction(time: np.ndarray, x: np.ndarray, i: np.ndarray, params: Mappi
     x_skip : travel from the start of that stretch [m] left out (pre-rolling until every
         element slips; 2 Delta_N ~ 0.23 mm for Table 3).
     z : interval half-width in standard errors.
-    held_current : see :func:`feeddrive.identify.mass.fit_mass`.
+    current_timing : see :func:`feeddrive.identify.mass.fit_mass`.
     """
     Kf = force_constant if force_constant is not None else params
     Fcg = cogging if cogging is not None else params
     x = np.asarray(x, dtype=float)
-    F_f, v, K, Ts = eq1_friction(time, x, i, params["m"], Kf, Fcg, F_load, window, held_current)
+    F_f, v, K, Ts = eq1_friction(time, x, i, params["m"], Kf, Fcg, F_load, window,
+                                 current_timing)
     G = F_f - params["friction.sigma2"] * apply_kernel(v, K)
     ok = np.isfinite(G)
     # the longest stretch moving one way faster than v_min (standstill before/after is cut)

@@ -23,7 +23,7 @@ import numpy as np
 from ..data import Run
 from ..friction_curves import steady_friction
 from ._signals import (MapSpec, apply_kernel, current, derivatives, eval_map, lstsq_with_stderr,
-                       matched_acceleration, run_label, sample_time, signal, zoh_midpoint)
+                       matched_acceleration, run_label, sample_time, signal, effective_current)
 
 
 @dataclass
@@ -51,7 +51,7 @@ def fit_mass(time: np.ndarray, x: np.ndarray, i: np.ndarray, force_constant: Map
              cogging: MapSpec, F_load: np.ndarray | float = 0.0,
              friction: str | Mapping[str, float] = "coulomb_viscous", window: int = 41,
              v_min: float = 0.01, reversal_skip: float = 1e-3, fit_offset: bool = False,
-             held_current: bool = True) -> MassFit:
+             current_timing: str = "held") -> MassFit:
     """Least-squares m from sampled x [m], i [A] (see module docstring).
 
     Parameters
@@ -65,9 +65,10 @@ def fit_mass(time: np.ndarray, x: np.ndarray, i: np.ndarray, force_constant: Map
     reversal_skip : samples within this travel [m] after a velocity sign change (or the run
         start) are excluded: pre-rolling (up to 2 Delta_N ~ 0.23 mm) and the frictional lag
         make friction there a function of the history, not of v.
-    held_current : i[k] is held over [t_k, t_k+1) (sampled current loop, as the FMU):
-        the force at sample k is then taken with (i[k-1] + i[k]) / 2, which is what the
-        central second difference of x sees.
+    current_timing : 'held' (i[k] acts over [t_k, t_k+1), Eq. 2), 'held_previous' (i[k]
+        acted over [t_k-1, t_k): recorded one sample late) or 'sampled' (continuous current);
+        see ``_signals.effective_current``.  A one-sample error here biases m by ~1 % on a
+        square-wave run.
     fit_offset : also estimate a constant force offset.F, taken to act like F_load
         (m a = ... - F_load - offset.F).
     """
@@ -76,7 +77,7 @@ def fit_mass(time: np.ndarray, x: np.ndarray, i: np.ndarray, force_constant: Map
     Ts = sample_time(t)
     _, v, _ = derivatives(x, Ts, window)
     a, K = matched_acceleration(x, Ts, window)
-    i_eff = zoh_midpoint(i) if held_current else i
+    i_eff = effective_current(i, current_timing)
     force = eval_map(force_constant, "ripple", x) * i_eff - eval_map(cogging, "cogging", x) \
         - np.broadcast_to(np.asarray(F_load, dtype=float), x.shape)
     cols, names = [a], ["m"]

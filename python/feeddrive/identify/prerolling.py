@@ -9,7 +9,8 @@ Procedure (two low-frequency periodic runs, a large and a small amplitude):
 
 1. friction along each run from Eq. 1 with known maps and mass (``_signals.eq1_friction``);
 2. reversal points (scipy.signal.find_peaks on the position), displacement since reversal d,
-   and the force change sgn * F (one free offset per half cycle);
+   and the force change sgn * F (one free offset per half cycle), from the second reversal
+   on (the first half cycle starts from an unknown state);
 3. a continuous piecewise-linear fit of that force-displacement curve with free knots
    (knots placed greedily on a log grid, then refined jointly by scipy least_squares; the
    linear coefficients and per-half-cycle offsets by linear least squares).  After a reversal
@@ -20,7 +21,7 @@ Procedure (two low-frequency periodic runs, a large and a small amplitude):
 5. W_i from Eq. 17 (on the small amplitude by default) by non-negative least squares with
    sum W_i = F_s (Eq. 18) imposed as a heavily weighted extra row (so W_N = F_s - sum W_i
    >= 0 too; the paper's plain least squares gave negative W_i), the Maxwell-slip model
-   started at each run's first reversal, one constant force per run;
+   started at each run's second reversal, one constant force per run;
    nu_i = W_i / F_s, k_i = W_i / Delta_i (Eq. 16).
 """
 from __future__ import annotations
@@ -114,9 +115,11 @@ class PrerollingFit:
     #: 'large'/'small' -> (x, measured F_f, model F_f) on the fitted samples
 
 
-def half_cycles(x: np.ndarray, F: np.ndarray, min_fraction: float = 0.3) -> HalfCycles:
+def half_cycles(x: np.ndarray, F: np.ndarray, min_fraction: float = 0.3,
+                skip: int = 0) -> HalfCycles:
     """Split a periodic run at its reversals (extrema of x with prominence >= min_fraction
-    of the total travel); samples before the first reversal and NaN forces are dropped."""
+    of the total travel); samples before reversal number ``skip`` (0-based) and NaN forces
+    are dropped (``reversals`` keeps every reversal found)."""
     x, F = np.asarray(x, dtype=float), np.asarray(F, dtype=float)
     span = np.nanmax(x) - np.nanmin(x)
     if span <= 0:
@@ -124,10 +127,10 @@ def half_cycles(x: np.ndarray, F: np.ndarray, min_fraction: float = 0.3) -> Half
     hi, _ = find_peaks(x, prominence=min_fraction * span, plateau_size=1)
     lo, _ = find_peaks(-x, prominence=min_fraction * span, plateau_size=1)
     rev = np.sort(np.concatenate((hi, lo)))
-    if len(rev) < 2:
-        raise ValueError(f"pre-rolling: fewer than two reversals found ({len(rev)})")
+    if len(rev) < skip + 2:
+        raise ValueError(f"pre-rolling: {len(rev)} reversals found, need at least {skip + 2}")
     ds, ys, cs = [], [], []
-    for j, (r0, r1) in enumerate(zip(rev, np.append(rev[1:], len(x)))):
+    for j, (r0, r1) in enumerate(zip(rev[skip:], np.append(rev[skip + 1:], len(x)))):
         seg = slice(r0, r1)
         sgn = np.sign(x[min(r1, len(x)) - 1] - x[r0]) or 1.0
         d = sgn * (x[seg] - x[r0])
@@ -152,7 +155,16 @@ def _demean(A: np.ndarray, cyc: np.ndarray, counts: np.ndarray) -> np.ndarray:
 
 def _pl_residual(knots, d, yc, cyc, counts):
     A = _demean(_basis(d, knots), cyc, counts)
-    beta, *_ = np.linalg.lstsq(A, yc, rcond=None)
+    # normal equations on norm-scaled columns (fast; the search calls this hundreds of
+    # times), least squares when they are ill-conditioned (knots nearly coinciding)
+    sc = np.linalg.norm(A, axis=0)
+    sc[sc == 0] = 1.0
+    As = A / sc
+    G = As.T @ As
+    if np.linalg.cond(G) < 1e10:
+        beta = np.linalg.solve(G, As.T @ yc) / sc
+    else:
+        beta = np.linalg.lstsq(A, yc, rcond=None)[0]
     return yc - A @ beta, beta
 
 
@@ -242,8 +254,9 @@ def fit_weights(segments: Sequence[tuple[np.ndarray, np.ndarray, float | Sequenc
 
 def identify_prerolling(large: Run, small: Run, params: Mapping[str, float], N: int = 5,
                         force_constant: MapSpec | None = None, cogging: MapSpec | None = None,
-                        window: int = 41, held_current: bool = True,
-                        start: str = "first_reversal", phi0: float | Sequence[float] = 0.0,
+                        window: int = 41, current_timing: str = "held",
+                        start: str = "reversal", skip_reversals: int = 1,
+                        phi0: float | Sequence[float] = 0.0,
                         fit_offset: bool = True,
                         fit_runs: str = "small", decimate: int = 2, flat_fraction: float = 0.02,
                         dc_gain: float | None = None) -> PrerollingFit:
@@ -255,13 +268,15 @@ def identify_prerolling(large: Run, small: Run, params: Mapping[str, float], N: 
         The small amplitude must exceed Delta_{N-1} and stay below Delta_N.
     params : FMU parameters: m, friction.F_s (and the maps unless given separately).
     N : number of elements (2..10).
-    window, held_current : Eq. 1 friction (see ``_signals.eq1_friction``).
-    start : 'first_reversal' (default): the model starts at each run's first reversal with
-        every element strained in the direction of the motion before it (true for elements
-        with Delta_i below the travel; the others stay in their linear range, where their
-        unknown state is a constant force taken up by the offset).  The state before a
-        recording (e.g. after a hold against cogging) is thus never needed.
-        'record': from the first sample with ``phi0``.
+    window, current_timing : Eq. 1 friction (see ``_signals.eq1_friction``).
+    start : 'reversal' (default): the model starts at reversal number ``skip_reversals``
+        with every element strained in the direction of the motion before it.  After a full
+        half cycle (travel 2A) that holds for every element with Delta_i <= A; the others
+        stay in their linear range, where their unknown state is a constant force taken up
+        by the offset.  The state before a recording (e.g. after a hold against cogging) is
+        thus never needed.  'record': from the first sample with ``phi0``.
+    skip_reversals : reversals skipped (by the model start and by the knot fits) - 1 skips
+        the first half cycle, whose start state depends on the unknown history.
     phi0 : initial Phi_i for start='record' (0: virgin).
     fit_offset : one constant force per run (see :func:`fit_weights`).
     fit_runs : 'small' (default), 'both' or 'large' - runs used for the W_i least squares.
@@ -285,9 +300,9 @@ def identify_prerolling(large: Run, small: Run, params: Mapping[str, float], N: 
         x = signal(run, "x")
         F_load = run.F_load if run.F_load is not None else 0.0
         F, _, _, _ = eq1_friction(run.time, x, current(run, dc_gain), params["m"], Kf, Fcg, F_load,
-                                  window, held_current)
+                                  window, current_timing)
         try:
-            hc = half_cycles(x, F)
+            hc = half_cycles(x, F, skip=skip_reversals)
         except ValueError as e:
             raise ValueError(f"{run_label(run)} ({tag} amplitude): {e}") from None
         data[tag] = (run_label(run), x, F, hc)
@@ -314,11 +329,11 @@ def identify_prerolling(large: Run, small: Run, params: Mapping[str, float], N: 
         _, x, F, hc = data[tag]
         if start == "record":
             segs[tag] = (x, F, phi0)
-        elif start == "first_reversal":
-            r0 = int(hc.reversals[0])
+        elif start == "reversal":
+            r0 = int(hc.reversals[skip_reversals])
             segs[tag] = (x[r0:], F[r0:], float(np.sign(x[r0] - x[0]) or 1.0))
         else:
-            raise ValueError("pre-rolling: start must be 'first_reversal' or 'record', "
+            raise ValueError("pre-rolling: start must be 'reversal' or 'record', "
                              f"got {start!r}")
     W, offs = fit_weights([segs[t] for t in use], Delta, F_s, fit_offset=fit_offset)
     nu, k = W / F_s, W / Delta

@@ -12,7 +12,7 @@ GEN        := $(BUILD)/gen
 FMU        := $(BUILD)/$(MODEL).fmu
 SO         := $(BUILD)/binaries/linux64/$(MODEL).so
 CC         ?= cc
-CFLAGS     ?= -std=c99 -O2 -fPIC -Wall -Wextra -Werror -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE
+CFLAGS     ?= -std=c99 -O3 -fno-math-errno -fPIC -Wall -Wextra -Werror -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE
 SRC_C      := $(filter-out %gen_vars.py,$(wildcard fmu_src/*.c))
 SRC_H      := $(wildcard fmu_src/*.h)
 STAMP      := $(VENV)/.installed

@@ -93,11 +93,18 @@ def test_inner_loop_closes_on_outer_loop(loop: dict) -> None:
     assert abs(F_after - F_before) < 0.02 * loop["F_s"]
     # the inner loop is a real excursion: the force at its bottom is far from F_before
     assert abs(F_at(loop["knots"][4]) - F_before) > 0.2 * loop["F_s"]
-    # outer ascending branch from the reversal at -A, without the inner loop
-    FmA = maxwell_slip(np.array([0.0, A, -A]), loop["k"], loop["L_Fs"])  # checks the helper
+    # outer ascending branch from the reversal at -A (element forces F_i(-A)), no inner loop
     d, F = _leg(loop, 5)
     F_i_mA = np.clip(np.minimum(loop["k"] * A, loop["L_Fs"]) - loop["k"] * 2 * A,
                      -loop["L_Fs"], loop["L_Fs"])
-    assert F_i_mA.sum() == pytest.approx(FmA[-1], abs=1e-12)
     outer = np.clip(F_i_mA + np.outer(d + A, loop["k"]), -loop["L_Fs"], loop["L_Fs"]).sum(axis=1)
     assert np.max(np.abs(F - outer)) < 0.02 * loop["F_s"]
+
+
+def test_maxwell_slip_helper_closed_forms() -> None:
+    """The reference model of these tests against hand-derived values (two elements)."""
+    k, L = np.array([1e6, 1e5]), np.array([2.0, 3.0])     # Delta = 2 um, 30 um
+    path = np.array([0.0, 1e-6, 10e-6, 40e-6, 35e-6, 0.0, -40e-6])
+    F = maxwell_slip(path, k, L)
+    assert F == pytest.approx([0.0, 1.0 + 0.1, 2.0 + 1.0, 2.0 + 3.0, -2.0 + 2.5, -2.0 - 1.0,
+                               -2.0 - 3.0], abs=1e-12)

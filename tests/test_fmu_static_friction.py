@@ -72,3 +72,22 @@ def test_slides_above_static_friction(paper: dict, fraction: float) -> None:
     assert run["n_stuck"][0] == 0
     assert np.sign(fraction) * (run["x"][-1] - x0) > 1e-3
     assert run.stats["stats.n_stick"] == 0
+
+
+def test_breaks_loose_exactly_at_static_friction(paper: dict) -> None:
+    """Karnopp: a force ramp (held per 1 ms sample) from 0.9 F_s at 20 N/s leaves the stage
+    exactly in place up to the first sample with F_app >= F_s and moves it from then on."""
+    Fs, dt, x0 = paper["friction.F_s"], 1e-3, 0.0
+    F_app = lambda t: 0.9 * Fs + 20.0 * t
+    plant = me_plant(dict(FRICTION_ONLY, **STATIC))
+    try:
+        run = run_law(plant, dt, 250, lambda k, t, y: (0.0, -F_app(t)),
+                      {"x": x0, "F_ext": -F_app(0.0)})
+    finally:
+        plant.close()
+    kb = int(np.argmax(-run["F_ext"] >= Fs))        # first sample pushing with F_s or more
+    assert 0 < kb < 240
+    assert np.all(run["x"][: kb + 1] == x0) and np.all(run["v"][: kb + 1] == 0.0)
+    assert np.all(run["x"][kb + 1:] > x0)
+    assert run["n_stuck"][kb] == 1 and run["n_stuck"][kb + 1] == 0
+    assert run.stats["stats.n_slip"] == 1 and run.stats["stats.n_stick"] == 0

@@ -137,6 +137,7 @@ int main(int argc, char **argv) {
         ok ? n_pass++ : n_fail++;
     }
     fmi_api_unload(&api);
+    printf("peak bytes held through the callbacks at once: %ld\n", host_peak_bytes());
     printf("%d passed, %d failed\n", n_pass, n_fail);
     return n_fail == 0 ? 0 : 1;
 }

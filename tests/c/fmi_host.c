@@ -12,21 +12,37 @@
 #include <dlfcn.h>
 #endif
 
-static long g_live, g_total;
+static long g_live, g_total, g_live_bytes, g_peak_bytes;
 
+/* each block carries its size in a 16-byte header, so live and peak bytes can be counted */
 static void *count_calloc(size_t n, size_t size) {
-    void *p = calloc(n, size);
-    if (p) {
-        __atomic_add_fetch(&g_live, 1, __ATOMIC_RELAXED);
-        __atomic_add_fetch(&g_total, 1, __ATOMIC_RELAXED);
+    size_t bytes = n * size;
+    unsigned char *p = (unsigned char *)calloc(1, bytes + 16);
+    long live, peak;
+    if (!p) return NULL;
+    memcpy(p, &bytes, sizeof bytes);
+    __atomic_add_fetch(&g_live, 1, __ATOMIC_RELAXED);
+    __atomic_add_fetch(&g_total, 1, __ATOMIC_RELAXED);
+    live = __atomic_add_fetch(&g_live_bytes, (long)bytes, __ATOMIC_RELAXED);
+    peak = __atomic_load_n(&g_peak_bytes, __ATOMIC_RELAXED);
+    while (live > peak && !__atomic_compare_exchange_n(&g_peak_bytes, &peak, live, 0, __ATOMIC_RELAXED,
+                                                       __ATOMIC_RELAXED)) {
     }
-    return p;
+    return p + 16;
 }
 
-static void count_free(void *p) {
-    if (p) __atomic_sub_fetch(&g_live, 1, __ATOMIC_RELAXED);
+static void count_free(void *q) {
+    unsigned char *p = (unsigned char *)q;
+    size_t bytes;
+    if (!p) return;
+    p -= 16;
+    memcpy(&bytes, p, sizeof bytes);
+    __atomic_sub_fetch(&g_live, 1, __ATOMIC_RELAXED);
+    __atomic_sub_fetch(&g_live_bytes, (long)bytes, __ATOMIC_RELAXED);
     free(p);
 }
+
+long host_peak_bytes(void) { return __atomic_load_n(&g_peak_bytes, __ATOMIC_RELAXED); }
 
 long host_live_allocations(void) { return __atomic_load_n(&g_live, __ATOMIC_RELAXED); }
 long host_total_allocations(void) { return __atomic_load_n(&g_total, __ATOMIC_RELAXED); }

@@ -80,6 +80,7 @@ fmi2CallbackFunctions host_callbacks(host_env_t *env);
 /* counting allocator used by host_callbacks (atomic, across threads) */
 long host_live_allocations(void);
 long host_total_allocations(void);
+long host_peak_bytes(void);   /* most bytes held through the callbacks at once */
 
 /* seconds from a monotonic clock */
 double host_now(void);

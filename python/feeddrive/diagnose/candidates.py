@@ -27,8 +27,8 @@ from .residual import model_current
 #: Maxwell-slip element travels tried by the pre-rolling candidate [m].
 PREROLL_DELTAS = tuple(np.geomspace(2e-6, 300e-6, 8).tolist())
 #: Stribeck velocity [m/s] and exponent grid.
-STRIBECK_VS = tuple(np.geomspace(3e-4, 3e-2, 21).tolist())
-STRIBECK_DELTA = (0.4, 0.5, 0.6, 0.75, 1.0, 1.25, 1.5, 2.0)
+STRIBECK_VS = tuple(np.geomspace(3e-4, 3e-2, 11).tolist())
+STRIBECK_DELTA = (0.4, 0.6, 1.0, 1.5, 2.0)
 #: Attraction parameter grid [N/s].
 STRIBECK_KEEP = 3
 LAG_C = tuple(np.geomspace(1e2, 1e6, 5).tolist())
@@ -111,7 +111,9 @@ def asymmetric_friction(ctx: Context) -> list[Variant]:
     on = m.effects["asymmetric_friction"]
     dF = float(m.parameters["asymmetry.dF"]) if on else 0.0
     ds = float(m.parameters["asymmetry.dsigma2"]) if on else 0.0
-    Phi = ctx.stack(lambda q: np.column_stack([-(q.v < 0).astype(float), q.v * (q.v < 0)]),
+    # the level shift acts through the sliding elements only (stuck ones ignore it)
+    frac = iter([_sliding_fraction(ctx, q) for q in ctx.res])
+    Phi = ctx.stack(lambda q: np.column_stack([-(q.v < 0).astype(float) * next(frac), q.v * (q.v < 0)]),
                     mask_stuck=True)
     return [Variant("asymmetric_friction", "indicator(v<0), v*(v<0)", Phi,
                     ["asymmetry.dF", "asymmetry.dsigma2"], refine=on,

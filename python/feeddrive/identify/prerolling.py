@@ -28,6 +28,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from itertools import groupby
 
 import numpy as np
 from scipy.optimize import least_squares, nnls
@@ -126,7 +127,20 @@ def half_cycles(x: np.ndarray, F: np.ndarray, min_fraction: float = 0.3,
         raise ValueError("pre-rolling: the position does not move")
     hi, _ = find_peaks(x, prominence=min_fraction * span, plateau_size=1)
     lo, _ = find_peaks(-x, prominence=min_fraction * span, plateau_size=1)
-    rev = np.sort(np.concatenate((hi, lo)))
+    # maxima and minima must alternate: a dwell at a reversal with +-1 count of jitter gives
+    # several equal extrema in a row - keep the middle one of each run
+    kind = np.concatenate((np.ones(len(hi)), -np.ones(len(lo))))
+    idx = np.concatenate((hi, lo))
+    order = np.argsort(idx)
+    idx, kind = idx[order], kind[order]
+    rev_list: list[int] = []
+    for sign, grp in groupby(zip(idx.tolist(), kind.tolist()), key=lambda t: t[1]):
+        members = [g[0] for g in grp]
+        vals = [float(x[m]) for m in members]
+        best = max(vals) if sign > 0 else min(vals)
+        ext = [m for m, v in zip(members, vals) if v == best]
+        rev_list.append(ext[len(ext) // 2])
+    rev = np.array(rev_list, dtype=int)
     if len(rev) < skip + 2:
         raise ValueError(f"pre-rolling: {len(rev)} reversals found, need at least {skip + 2}")
     ds, ys, cs = [], [], []
@@ -299,8 +313,8 @@ def identify_prerolling(large: Run, small: Run, params: Mapping[str, float], N: 
     for tag, run in (("large", large), ("small", small)):
         x = signal(run, "x")
         F_load = run.F_load if run.F_load is not None else 0.0
-        F, _, _, _ = eq1_friction(run.time, x, current(run, dc_gain), params["m"], Kf, Fcg, F_load,
-                                  window, current_timing)
+        F, _, _, _ = eq1_friction(run.time, x, current(run, dc_gain), params["m"], Kf, Fcg,
+                                  F_load, window, current_timing)
         try:
             hc = half_cycles(x, F, skip=skip_reversals)
         except ValueError as e:
@@ -331,7 +345,12 @@ def identify_prerolling(large: Run, small: Run, params: Mapping[str, float], N: 
             segs[tag] = (x, F, phi0)
         elif start == "reversal":
             r0 = int(hc.reversals[skip_reversals])
-            segs[tag] = (x[r0:], F[r0:], float(np.sign(x[r0] - x[0]) or 1.0))
+            before = int(hc.reversals[skip_reversals - 1]) if skip_reversals > 0 else 0
+            direction = float(np.sign(x[r0] - x[before]))     # of the motion into r0
+            if direction == 0:
+                raise ValueError(f"pre-rolling: no motion before reversal {skip_reversals} "
+                                 f"of the {tag} run")
+            segs[tag] = (x[r0:], F[r0:], direction)
         else:
             raise ValueError("pre-rolling: start must be 'reversal' or 'record', "
                              f"got {start!r}")

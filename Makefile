@@ -12,7 +12,7 @@ GEN        := $(BUILD)/gen
 FMU        := $(BUILD)/$(MODEL).fmu
 SO         := $(BUILD)/binaries/linux64/$(MODEL).so
 CC         ?= cc
-CFLAGS     ?= -std=c99 -O3 -fno-math-errno -fPIC -Wall -Wextra -Werror -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE
+FMU_CFLAGS := -std=c99 -O3 -fno-math-errno -fPIC -Wall -Wextra -Werror -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE
 SRC_C      := $(filter-out %gen_vars.py,$(wildcard fmu_src/*.c))
 SRC_H      := $(wildcard fmu_src/*.h)
 STAMP      := $(VENV)/.installed
@@ -37,7 +37,7 @@ $(GEN)/model_vars.h $(GEN)/model_vars.c: modelDescription.xml fmu_src/gen_vars.p
 
 $(SO): $(SRC_C) $(SRC_H) $(GEN)/model_vars.h $(GEN)/model_vars.c $(BUILD)/fmi_include
 	mkdir -p $(dir $@)
-	$(CC) $(CFLAGS) -shared -fvisibility=default -I fmu_src -I $(GEN) -I "$$(cat $(BUILD)/fmi_include)" \
+	$(CC) $(FMU_CFLAGS) $(CFLAGS) -shared -fvisibility=default -I fmu_src -I $(GEN) -I "$$(cat $(BUILD)/fmi_include)" \
 	    -o $@ $(SRC_C) $(GEN)/model_vars.c -lm
 	@! (ldd $@ | grep -v -E 'linux-vdso|libc\.so|libm\.so|ld-linux|not a dynamic' | grep -q .) || \
 	    (echo "error: $@ links more than libc/libm:"; ldd $@; exit 1)

@@ -147,9 +147,13 @@ int fmu_event_update(instance_t *c, fmi2Boolean *states_changed) {
     if (samples > 1)
         fmu_log(c, fmi2Warning, LOG_WARNING, "t = %.9g s: %d current-loop samples were overdue (the importer "
                 "stepped past nextEventTime)", m->time, samples);
-    if (n > 0)
-        fmu_log(c, fmi2OK, LOG_EVENTS, "t = %.9g s: %d friction switch(es), v = %.6g m/s, stuck %d",
-                m->time, n, m->y[PLANT_IV], (int)0);
+    if (n > 0) {
+        int j, stuck = m->d.st_stuck;
+        if (m->p.prerolling)
+            for (j = 0, stuck = 0; j < PLANT_NE_MAX; j++) stuck += m->p.active[j] && m->d.stuck[j];
+        fmu_log(c, fmi2OK, LOG_EVENTS, "t = %.9g s: %d friction switch(es), v = %.6g m/s, %d element(s) stuck",
+                m->time, n, m->y[PLANT_IV], stuck);
+    }
     fmu_check_stroke(c);
     m->out_valid = 0;
     *states_changed = changed ? fmi2True : fmi2False;

@@ -2,6 +2,7 @@
  * into plant_params_t with the effect switches applied. Defaults live in modelDescription.xml. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "model_vars.h"
@@ -12,6 +13,13 @@
 #endif
 
 #define SUM_NU_TOL 1e-3   /* |sum(nu_i) - 1| allowed; Eq. 12 needs sum(nu) = 1 */
+
+/* the shortest decimal form that reads back exactly (%.15g when enough, else %.17g) */
+static const char *num(char *buf, size_t n, double v) {
+    snprintf(buf, n, "%.15g", v);
+    if (strtod(buf, NULL) != v) snprintf(buf, n, "%.17g", v);
+    return buf;
+}
 
 static const char *var_name(unsigned vr) {
     return (vr < MODEL_NVR && MODEL_VR_INDEX[vr] >= 0) ? MODEL_VARS[MODEL_VR_INDEX[vr]].name : "?";
@@ -42,8 +50,8 @@ static bool range_of(unsigned vr, range_t *r) {
 
 static void fmt_range(char *buf, size_t n, const range_t *r) {
     char lo[32], hi[32];
-    if (isinf(r->lo)) snprintf(lo, sizeof lo, "-inf"); else snprintf(lo, sizeof lo, "%.17g", r->lo);
-    if (isinf(r->hi)) snprintf(hi, sizeof hi, "inf"); else snprintf(hi, sizeof hi, "%.17g", r->hi);
+    if (isinf(r->lo)) snprintf(lo, sizeof lo, "-inf"); else num(lo, sizeof lo, r->lo);
+    if (isinf(r->hi)) snprintf(hi, sizeof hi, "inf"); else num(hi, sizeof hi, r->hi);
     snprintf(buf, n, "%s%s, %s%s", r->lo_open ? "(" : "[", lo, hi, r->hi_open ? ")" : "]");
 }
 
@@ -59,8 +67,9 @@ bool plant_check_value(unsigned vr, double value, char *msg, size_t msglen) {
     if (!range_of(vr, &r)) return true;
     if ((r.lo_open ? value <= r.lo : value < r.lo) || (r.hi_open ? value >= r.hi : value > r.hi)) {
         fmt_range(rs, sizeof rs, &r);
-        snprintf(msg, msglen, "%s = %.17g is out of range: allowed %s %s", var_name(vr), value, rs,
-                 var_unit(vr));
+        char vb[40];
+        snprintf(msg, msglen, "%s = %s is out of range: allowed %s %s", var_name(vr), num(vb, sizeof vb, value),
+                 rs, var_unit(vr));
         return false;
     }
     return true;

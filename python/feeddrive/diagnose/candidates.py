@@ -170,7 +170,7 @@ def stribeck(ctx: Context) -> list[Variant]:
     for Vs, d in [refined] + grid:
         out.append(Variant(
             "stribeck", f"V_s={Vs * 1e3:.3g} mm/s, delta={d:.3g}", column(Vs, d), ["F_s - F_c"],
-            base=base, refine=on,
+            base=base, refine=on, nonneg=True,
             to_model=lambda th, Vs=Vs, d=d: m.with_effect(
                 "stribeck", True, **{"friction.F_s": F_c + th[0], "friction.V_s": Vs,
                                      "friction.delta": d})))

@@ -4,6 +4,10 @@ Both interfaces of the FMU follow the same sample convention: the controller's o
 u[k] is set at t_k = t0 + k Ts, before the FMU takes that instant's current-loop sample, and
 is held until t_{k+1}.  u[0] is computed from the initial position before initialisation and
 given as the start value of ``u`` (the drive is taken to have been holding it).
+
+Recorded signals at row k are the FMU's values at t_k, except the sampled current: ``i[k]``
+is Eq. 2's i[k], the current held over [t_k, t_{k+1}) (what the amplifier reports at sample
+k), and ``F_motor[k] = K_f(x_k) i[k]``.
 """
 from __future__ import annotations
 
@@ -104,6 +108,15 @@ class _Stepper:
                 self.solver.reset(t)
 
 
+def _align_current(sig: dict) -> None:
+    """Rows come from the end of each step (left limit at t_{k+1}): move i back one row."""
+    if "i" in sig and len(sig["i"]) > 1:
+        i = sig["i"]
+        sig["i"] = np.concatenate((i[1:], i[-1:]))
+        if "F_motor" in sig and "K_f" in sig:
+            sig["F_motor"] = sig["K_f"] * sig["i"]
+
+
 def simulate_open_loop(plant: Plant, t: np.ndarray, u: np.ndarray | float = 0.0,
                        F_ext: np.ndarray | float = 0.0,
                        start_values: Mapping[str, float] | None = None,
@@ -136,6 +149,7 @@ def simulate_open_loop(plant: Plant, t: np.ndarray, u: np.ndarray | float = 0.0,
         out[k + 1] = rec.get()
     sig = {"time": t.copy(), "u": np.array(u), "F_ext": np.array(F_ext)}
     sig.update({name: out[:, j].copy() for j, name in enumerate(record)})
+    _align_current(sig)
     return Result(sig)
 
 
@@ -214,6 +228,7 @@ def simulate_closed_loop(plant: Plant, controller: Controller, n: int, x0: float
     u[n] = u[n - 1]
     sig = {"time": np.arange(n + 1) * Ts, "u": u, "x_meas": xm, "F_ext": np.array(F_ext)}
     sig.update({name: out[:, j].copy() for j, name in enumerate(names)})
+    _align_current(sig)
     sig["wall"] = np.array(wall)
     st = plant.get(["stats.n_state_events", "stats.n_slip", "stats.n_stick", "stats.n_steps", "stats.n_rhs"])
     sig["state_events"] = np.array(st["stats.n_state_events"] if plant.interface == "cs"

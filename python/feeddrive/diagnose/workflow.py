@@ -21,10 +21,12 @@ from ..model_file import ModelFile
 from .candidates import CANDIDATES
 from .closed_loop import PIDController, simulate_run
 from .context import DEFAULT_BLOCKS, Context
-from .localise import localise, where
+from .localise import displacement_since_reversal, localise, where
 from .residual import DEFAULT_WINDOW, RunResidual, gap, residuals
 from .scoring import I_MIN, T_MIN, Score, score, separable
 
+#: Travel after a reversal [m] within which the closed-loop error counts as reversal error.
+REVERSAL_ZONE = 1e-3
 #: Polishing: at most this many re-identifications of the added effect, each only when the
 #: refit removes at least POLISH_MIN of the re-computed residual's energy in sample.
 POLISH_ITER = 2
@@ -120,9 +122,10 @@ def closed_loop_gap(runs: list[Run], model: ModelFile) -> dict | None:
     """Closed-loop position error of ``model`` re-simulated with each run's controller.
 
     Only runs whose sidecar describes a ``pid`` controller (see :mod:`closed_loop`) and that
-    have ``x_ref`` count; None when there is none.  Returns rms and max |x_sim - x_meas| [m].
+    have ``x_ref`` count; None when there is none.  Returns rms and max |x_sim - x_meas| [m],
+    and the max within ``REVERSAL_ZONE`` of travel after a reversal (the reversal error).
     """
-    errs = []
+    errs, near = [], []
     for run in runs:
         spec = (run.meta or {}).get("controller")
         if not isinstance(spec, dict) or spec.get("type") != "pid" or run.x_ref is None:
@@ -132,11 +135,14 @@ def closed_loop_gap(runs: list[Run], model: ModelFile) -> dict | None:
         sim = simulate_run(model, run.x_ref, controller=ctl, Ts=run.Ts,
                            quantum=float(run.meta.get("quantum", 1e-7)), F_load=load)
         errs.append(np.asarray(sim.x) - np.asarray(run.x))
+        near.append(displacement_since_reversal(np.asarray(run.x)) < REVERSAL_ZONE)
     if not errs:
         return None
     e = np.concatenate(errs)
+    nz = np.concatenate(near)
     return {"position_error_rms_m": float(np.sqrt(np.mean(e**2))),
-            "position_error_max_m": float(np.max(np.abs(e)))}
+            "position_error_max_m": float(np.max(np.abs(e))),
+            "reversal_error_max_m": float(np.max(np.abs(e[nz]))) if nz.any() else None}
 
 
 def _gap_record(res: list[RunResidual], regimes: list[str], cl: dict | None) -> dict:

@@ -100,18 +100,14 @@ def closed_loop_measurement(params: Mapping[str, Any], sensors: Sensors, ref: Re
 
 
 def sampled_signals(res: Mapping[str, np.ndarray]) -> dict[str, np.ndarray]:
-    """What a DAQ records at t_k from a simulation recorded one sample beyond the run.
+    """What a DAQ records at t_k, from a simulation that ran one sample beyond the run.
 
-    The FMU's current is a sampled signal: the value computed at the sample t_k (Eq. 2,
-    i[k] from u up to k-2) is held over [t_k, t_k+1).  ``simulate_*`` read the outputs at the
-    end of each step, i.e. at t_k just *before* that sample (i[k-1]); the measured current at
-    t_k is i[k] (Eq. 2's convention, with which the paper identified d = 2 and which the
-    force balance m a(t_k) = K_f i(t_k) - ... needs), i.e. the simulation's next row.  x is
-    continuous and u is set at t_k, so they are taken as recorded.  Returns rows 0..n-1 of
-    time, u, x and i (i from rows 1..n).
+    ``simulate_*`` already give Eq. 2's i[k] (held over [t_k, t_k+1)) at row k; the last row's
+    current is only a repeat of the one before (its sample lies beyond the simulation), so
+    the run keeps rows 0..n-1 of time, u, x and i.
     """
     return {"time": np.asarray(res["time"])[:-1], "u": np.asarray(res["u"])[:-1],
-            "x": np.asarray(res["x"])[:-1], "i": np.asarray(res["i"])[1:]}
+            "x": np.asarray(res["x"])[:-1], "i": np.asarray(res["i"])[:-1]}
 
 
 def _tag(speed: float, direction: int, P: float) -> str:

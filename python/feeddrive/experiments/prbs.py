@@ -1,8 +1,9 @@
 """Current-loop identification run (Sec. 2.2): a maximum-length PRBS added to u.
 
 The stage is held at a position (mid-stroke by default) by the closed loop; once the loop
-has settled (an unrecorded hold, then ``settle`` recorded), a maximum-length sequence of order 11 (2047 samples, one bit per sample, levels
-+-amplitude) is added to the controller's output for ``periods`` full periods.  The recorded
+has settled (an unrecorded hold, then ``settle`` recorded), a maximum-length sequence of
+order 11 (2047 samples, one bit per sample, levels +-amplitude) is added to the
+controller's output for ``periods`` full periods.  The recorded
 ``u`` is the total voltage applied to the amplifier (controller + PRBS), ``i`` the measured
 current; the current loop's response to the PRBS is what Eq. 2 is fitted to.
 """
@@ -52,7 +53,7 @@ def prbs_runs(params: Mapping[str, Any], sensors: Sensors, order: int = 11,
     x0 = 0.5 * (x_min + x_max) if position is None else float(position)
     seq = prbs_sequence(order, amplitude, periods)
     k0 = int(round(settle / Ts))
-    u_ff = np.concatenate([np.zeros(k0), seq, [0.0]])     # one sample more: u[n] = u[n-1]
+    u_ff = np.concatenate([np.zeros(k0), seq, [0.0]])     # row n: the PRBS has ended
     n = len(u_ff) - 1
     ref = Reference(Ts, np.full(n + 1, x0), np.zeros(n + 1), np.zeros(n + 1))
     meta = {"name": "prbs", "kind": "prbs", "position": x0, "order": int(order),

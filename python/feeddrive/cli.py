@@ -24,7 +24,7 @@ def _cmd_model(a: argparse.Namespace) -> int:
 
 def _cmd_report(a: argparse.Namespace) -> int:
     from .validation.workflow import main_job
-    main_job(Path(a.out), print_tables=a.command == "run")
+    main_job(Path(a.out), print_tables=a.command == "run", runs_dir=Path(a.runs) if a.runs else None)
     return 0
 
 
@@ -59,9 +59,11 @@ def build_parser() -> argparse.ArgumentParser:
     sub = ap.add_subparsers(dest="command", required=True)
     p = sub.add_parser("run", help="the main job: Secs. 3 and 4 reproduced, report written, tables printed")
     p.add_argument("--out", default=str(BUILD / "report"))
+    p.add_argument("--runs", default=None, help="folder of identification runs to add to the report")
     p.set_defaults(func=_cmd_report)
     p = sub.add_parser("report", help="write build/report/index.html (figures and tables)")
     p.add_argument("--out", default=str(BUILD / "report"))
+    p.add_argument("--runs", default=None, help="folder of identification runs to add to the report")
     p.set_defaults(func=_cmd_report)
     p = sub.add_parser("model", help="write a model file")
     p.add_argument("--paper", action="store_true", help="the paper's full model")

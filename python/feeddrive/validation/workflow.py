@@ -13,8 +13,15 @@ from . import sec3, sec4
 from .controllers import make_controller, state_space_spec
 
 
-def main_job(out_dir: Path, print_tables: bool = True) -> dict:
-    """Run Secs. 3 and 4, write ``out_dir/index.html``; return the tables' rows."""
+ODRIVE = Path(__file__).resolve().parents[3].parent / "shared" / "realdata" / "odrive-cogging"
+
+
+def main_job(out_dir: Path, print_tables: bool = True, runs_dir: Path | None = None) -> dict:
+    """Run Secs. 3 and 4, write ``out_dir/index.html``; return the tables' rows.
+
+    With ``runs_dir`` (a folder of identification runs, e.g. from ``feeddrive experiments``)
+    the page also gets the identification figures (Figs. 5-13 analogues); when the ODrive
+    measured data sit in ../shared/realdata, their position-spectrum findings are added."""
     out_dir = Path(out_dir)
     page = Page(out_dir, "feeddrive: the linear-motor feed drive of Villegas et al. (2014)")
     t0 = time.perf_counter()
@@ -51,6 +58,14 @@ def main_job(out_dir: Path, print_tables: bool = True) -> dict:
     page.table(r4.rows, "tracking error e = x_ref - x [um] beside the paper's values")
     page.figure(figs.fig16(r4), "fig16_feedforward", "Analogue of Fig. 16: tracking error for each feedforward")
     page.figure(figs.reversal_closeups(r4), "sec4_reversals", "Error at each reference reversal")
+    if runs_dir is not None:
+        from ..identify.figures import identification_section
+        page.heading("Identification (Secs. 2.2-2.4) from " + str(runs_dir))
+        identification_section(page, Path(runs_dir))
+    if ODRIVE.is_dir():
+        from ..realdata.odrive import analyse, findings_text
+        page.heading("Real data: ODrive BLDC cogging maps (position spectrum)")
+        page.pre(findings_text(analyse(ODRIVE)))
     path = page.write()
     wall = time.perf_counter() - t0
     if print_tables:

@@ -135,10 +135,8 @@ def simulate_run(model: ModelFile, x_ref: np.ndarray, controller: PIDController 
         if own:
             p.close()
     rng = np.random.default_rng(seed)
-    # the FMU reports i at t_{k+1} after the step over [t_k, t_k+1): that is the current held
-    # over the interval that starts at t_k+1 only after the next sample; shift to "held from t_k"
-    i = np.asarray(res["i"], dtype=float)
-    i_held = np.concatenate((i[1:], i[-1:]))
+    # feeddrive.simulate records i[k] as Eq. 2's i[k], the current held over [t_k, t_k+1)
+    i_held = np.asarray(res["i"], dtype=float)
     i_meas = i_held + current_noise * rng.standard_normal(len(i_held))
     meta = {"kind": "closed_loop", "Ts": Ts, "controller": ctl.to_meta(), "seed": seed,
             "quantum": quantum, "current_noise_rms": current_noise, "name": name}

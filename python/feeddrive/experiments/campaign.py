@@ -8,7 +8,7 @@ Groups (keys of :func:`campaign`) and file stems written by :func:`write_campaig
   of ``cogging_ripple`` is a Stribeck point too);
 - ``force_open_loop``: ``force_open_loop`` (mass);
 - ``variable_speed``: ``variable_speed`` (C, Eq. 14);
-- ``prerolling``: ``prerolling_A60um``, ``prerolling_A500um`` (Eqs. 15-18).
+- ``prerolling``: ``prerolling_A80um``, ``prerolling_A500um`` (Eqs. 15-18).
 
 The full campaign covers the whole stroke at 1 mm/s (six runs of ~5 min of simulated time
 each); ``quick=True`` shortens every run (segments of a few mm, fewer periods) for tests.

@@ -4,10 +4,11 @@ Closed-loop sinusoidal position reference x_ref = centre - A cos(2 pi t / T) (st
 at a reversal).  The large amplitude (default 0.5 mm) reaches gross sliding and gives the end
 of pre-rolling, 2 Delta_N (~0.23 mm with the paper's Table 3).  The small one gives the slope
 changes of the force-position curve at 2 Delta_1..2 Delta_N-1, so its travel 2A must pass
-2 Delta_N-1 (95 um for Table 3) while staying below 2 Delta_N: the default 60 um (about
-Delta_N / 2, which an experimenter reads off the large run) does both.  With 30 um the knots
-at 73 and 95 um are never reached: ``identify.prerolling`` then returned Delta = 3.8, 4.9,
-8.9, 22.5, 110 um instead of 3.8, 8.9, 34, 36, 110 um with 60 um (paper: 3.85, 8.99, 36.4,
+2 Delta_N-1 (95 um for Table 3) while staying below 2 Delta_N (228 um), i.e.
+Delta_N-1 < A < Delta_N (47 ... 114 um).  The default 80 um sits well inside: 60 um, only
+just above Delta_4, gave Delta_4 = 36 um (the last small-amplitude knot, at 2 Delta_4 = 95 um,
+lies too close to the end of the 120 um travel to be placed), and with 30 um the knots at 73
+and 95 um are never reached (Delta = 3.8, 4.9, 8.9, 22.5, 110 um; paper: 3.85, 8.99, 36.4,
 47.3, 113 um).
 """
 from __future__ import annotations
@@ -22,7 +23,7 @@ from .measurement import Sensors
 from .references import sinusoid
 
 #: Default amplitudes [m]: mostly pre-rolling, and gross sliding.
-AMPLITUDES: tuple[float, ...] = (60e-6, 0.5e-3)
+AMPLITUDES: tuple[float, ...] = (80e-6, 0.5e-3)
 
 
 def prerolling_runs(params: Mapping[str, Any], sensors: Sensors,

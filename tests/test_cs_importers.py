@@ -52,7 +52,12 @@ def fmi4j_runs(fmu_path: Path, tmp_path_factory) -> dict[str, np.ndarray]:
                         str(SECONDS)], capture_output=True, text=True, timeout=600)
     assert p.returncode == 0, p.stdout[-3000:] + p.stderr[-3000:]
     print(p.stdout)
-    return {k: np.genfromtxt(out / f"{k}.csv", delimiter=",", names=True) for k in ("cs", "me")}
+    runs = {k: np.genfromtxt(out / f"{k}.csv", delimiter=",", names=True) for k in ("cs", "me")}
+    # the Java host records every output at the end of each step (the left limit at t_k+1);
+    # feeddrive.simulate records the sampled current as Eq. 2's i[k] at row k: align it
+    for d in runs.values():
+        d["i"] = np.concatenate((d["i"][1:], d["i"][-1:]))
+    return runs
 
 
 @pytest.fixture(scope="module")

@@ -37,8 +37,8 @@ def test_eq2_coefficients_and_dc_gain(paper: dict) -> None:
 def test_current_equals_difference_equation_at_samples(paper: dict) -> None:
     """i at the sample instants is lfilter(Eq. 2) of the same u samples to 1e-9 A.
 
-    Convention (feeddrive.simulate): u[k] is set at t_k before the FMU's sample at t_k, so
-    the value recorded at t_{k+1} (held over [t_k, t_{k+1})) is i[k].  F_ext balances
+    Convention (feeddrive.simulate): u[k] is set at t_k before the FMU's sample at t_k, and
+    the recorded row k holds i[k], the current held over [t_k, t_{k+1}).  F_ext balances
     K_f(x0) i - F_cg(x0), so the stage stays put (i does not depend on motion anyway)."""
     n = 400
     u = _u_step(n)
@@ -53,10 +53,10 @@ def test_current_equals_difference_equation_at_samples(paper: dict) -> None:
                                  start_values={"x": X0})
     finally:
         plant.close()
-    assert np.max(np.abs(res["i"][1:] - i_ref)) < 1e-9
+    assert np.max(np.abs(res["i"][:n] - i_ref)) < 1e-9
     # independently of the FMU parameters: the printed Eq. 2 gives the same currents (5e-7
     # rounding of b3 = 0.057909 * 0.7461 on |u| <= 0.25 V, gain ~1.1: < 1e-5 A)
-    assert np.max(np.abs(res["i"][1:] - lfilter(B_EQ2, A_EQ2, u))) < 1e-5
+    assert np.max(np.abs(res["i"][:n] - lfilter(B_EQ2, A_EQ2, u))) < 1e-5
     # the stage did not move (force balanced): < 1 um
     assert np.max(np.abs(res["x"] - X0)) < 1e-6
 
@@ -73,9 +73,9 @@ def test_step_settles_at_dc_gain() -> None:
     finally:
         plant.close()
     i = res["i"]
-    # recorded i[k+1] is i[k]; i[k] = 0.057909 u[k-2] + ...: zero up to i[2], then the b2 tap
-    assert np.all(i[:4] == 0.0)
-    assert i[4] == pytest.approx(0.1 * 0.057909, abs=1e-12)
+    # row k is i[k] = 0.057909 u[k-2] + ...: zero up to i[2], then the b2 tap
+    assert np.all(i[:3] == 0.0)
+    assert i[3] == pytest.approx(0.1 * 0.057909, abs=1e-12)
     assert np.max(np.abs(i[150:] - 1.1260 * 0.1)) < 1e-5
     assert np.max(np.abs(i[150:] - i[-1])) < 1e-12
 
@@ -97,5 +97,5 @@ def test_current_dynamics_off_is_dc_gain_instantly(paper: dict) -> None:
         plant.close()
     assert g1 == pytest.approx(1.1260, abs=5e-5)
     assert res["i"][0] == pytest.approx(g1 * u[0], rel=1e-12)
-    assert np.max(np.abs(res["i"][1:] - g1 * u[:-1])) < 1e-12
+    assert np.max(np.abs(res["i"][:-1] - g1 * u[:-1])) < 1e-12
     assert i0 == pytest.approx(g1 * u[-2], rel=1e-12)

@@ -134,3 +134,26 @@ def test_pid_sidecar_round_trip():
 def test_diagnose_rejects_no_runs():
     with pytest.raises(ValueError, match="no runs"):
         diagnose([], PAPER)
+
+
+def test_too_short_run_is_rejected_with_its_name():
+    run = simulate_run(PAPER, sinusoid_reference(0.1), seed=1, name="tiny")
+    with pytest.raises(ValueError, match="tiny.*usable samples"):
+        diagnose([run], PAPER, closed_loop=False)
+
+
+def test_run_cli_accepts_the_package_cli_namespace(tmp_path, capsys):
+    import argparse
+    run = simulate_run(PAPER, sinusoid_reference(3.0, period=3.0), current_noise=0.005,
+                       seed=61, name="short")
+    write_run(run, tmp_path / "short.csv")
+    save_model(PAPER, tmp_path / "paper.json")
+    ns = argparse.Namespace(measured=[str(tmp_path / "short.csv")],
+                            model=str(tmp_path / "paper.json"), out=str(tmp_path / "o"),
+                            max_steps=1)
+    assert run_cli(ns) == 0
+    assert "stopped: no candidate" in capsys.readouterr().out
+    assert json.loads((tmp_path / "o" / "diagnosis.json").read_text())["steps"] == []
+    bad = argparse.Namespace(measured=[str(tmp_path / "missing.csv")],
+                             model=str(tmp_path / "paper.json"), out=str(tmp_path / "o2"))
+    assert run_cli(bad) == 2

@@ -84,6 +84,7 @@ def test_asymmetric_friction_is_named():
                     closed_loop=False)
     s = check_first(diag, "asymmetric_friction")
     assert s.effect == "asymmetric_friction"
+    assert "backward" in [w["regime"] for w in s.evidence["where"]]
     p = diag.model.parameters
     assert abs(p["asymmetry.dF"] - 4.0) < 0.3          # 7 % of the level shift
     assert abs(p["asymmetry.dsigma2"] - 30.0) < 6.0    # speeds <= 50 mm/s: 0.3 N of force
@@ -148,6 +149,7 @@ def test_prerolling_is_named():
                     max_steps=2, closed_loop=False)
     s = check_first(diag, "prerolling", shrink=0.9)
     assert s.effect == "prerolling"
+    assert s.evidence["where"][0]["regime"].startswith("since_reversal")
     # the pre-rolling curve (force against travel since reversal) within 10 % of F_s
     for d in (5e-6, 20e-6, 50e-6, 150e-6):
         assert abs(_virgin(diag.model.parameters, d) - _virgin(PAPER.parameters, d)) < 2.6, d
@@ -158,6 +160,7 @@ def test_missing_viscous_is_named():
                     max_steps=2, closed_loop=False)
     s = check_first(diag, "viscous")
     assert s.effect == "viscous"
+    assert s.evidence["where"][0]["regime"] == "high_speed"
     assert abs(diag.model.parameters["friction.sigma2"] - 54.0) < 3.0
 
 
@@ -180,3 +183,27 @@ def test_missing_current_dynamics_without_measured_current():
     s = check_first(diag, "current_dynamics")
     assert s.effect == "current_dynamics"
     assert any("G(1) u" in n for n in diag.notes)
+
+
+@pytest.mark.parametrize("C_true, noise, seed", [(1.08e4, 0.002, 21), (10.8, 0.005, 22)])
+def test_missing_frictional_lag_is_named(C_true, noise, seed):
+    # MODEL.md's default C (2 ms slip relaxation) and the literal 10.8 N/s (2 s) reading
+    truth = PAPER.with_effect("frictional_lag", True, **{"friction.C": C_true})
+    diag = diagnose(make_runs(truth, seed=seed, noise=noise),
+                    truth.with_effect("frictional_lag", False), max_steps=2, closed_loop=False)
+    s = check_first(diag, "frictional_lag")
+    assert s.effect == "frictional_lag"
+    # C within 25 % (the relaxation time S/C is what the data see)
+    assert abs(np.log(diag.model.parameters["friction.C"] / C_true)) < np.log(1.25)
+
+
+def test_missing_aperiodic_ripple_is_named():
+    diag = diagnose(make_runs(PAPER, seed=23, noise=0.003),
+                    PAPER.with_effect("ripple_aperiodic", False), max_steps=2,
+                    closed_loop=False)
+    s = check_first(diag, "ripple_aperiodic")
+    assert s.effect == "ripple_aperiodic"
+    # K_f where the runs went within 0.15 N/A (the drift is 0.5 N/A there)
+    x = np.linspace(0.121, 0.179, 50)
+    err = force_constant(x, diag.model.parameters) - force_constant(x, PAPER.parameters)
+    assert np.max(np.abs(err)) < 0.15

@@ -41,7 +41,7 @@ def all_runs(runs):
 def test_campaign_has_every_experiment(runs):
     names = [r.meta["name"] for r in all_runs(runs)]
     assert len(names) == len(set(names)), "file stems must be unique"
-    assert {"prbs", "force_open_loop", "variable_speed", "prerolling_A60um",
+    assert {"prbs", "force_open_loop", "variable_speed", "prerolling_A80um",
             "prerolling_A500um"} <= set(names)
     assert {f"cv_{d}1mm_s_P{P:g}" for d in "pm" for P in PAPER_LOADS} <= set(names)
     assert len(runs["cogging_ripple"]) == 6
@@ -162,7 +162,7 @@ def test_variable_speed_never_reverses(runs):
 def test_prerolling_amplitudes(runs):
     small, large = sorted(runs["prerolling"], key=lambda r: r.meta["amplitude"])
     A, c = small.meta["amplitude"], small.meta["centre"]
-    assert A == pytest.approx(60e-6)
+    assert A == pytest.approx(80e-6)
     # within the amplitude (+1 um = 10 quanta of closed-loop overshoot at reversals)
     assert np.max(np.abs(small.x - c)) <= A + 1e-6
     assert np.ptp(small.x) > 1.8 * A                     # and it does move

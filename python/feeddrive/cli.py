@@ -44,7 +44,13 @@ def _cmd_experiments(a: argparse.Namespace) -> int:
 
 def _cmd_identify(a: argparse.Namespace) -> int:
     from .identify.pipeline import identify_folder
-    res = identify_folder(Path(a.runs), Path(a.out))
+    from .model_file import load_model
+    truth = load_model(Path(a.truth)).fmu_parameters() if a.truth else None
+    try:
+        res = identify_folder(Path(a.runs), Path(a.out), truth=truth)
+    except (ValueError, FileNotFoundError) as e:
+        print(f"feeddrive identify: {e}", file=sys.stderr)
+        return 2
     print(res.text())
     return 0
 
@@ -81,6 +87,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("identify", help="identify a model file from a folder of runs")
     p.add_argument("runs")
     p.add_argument("--out", required=True)
+    p.add_argument("--truth", default=None, help="model file of the truth (virtual runs): print true vs identified")
     p.set_defaults(func=_cmd_identify)
     p = sub.add_parser("diagnose", help="find the effects the model lacks")
     p.add_argument("measured", nargs="+")

@@ -5,7 +5,10 @@ model (or its value corrected): ``r_new = r - (Phi theta - base)``, with ``Phi``
 filtered regressors (force units), ``theta`` linear parameters and ``base`` the filtered
 contribution of the model's current version of the effect (0 when the effect is off).
 Non-linear parameters (Stribeck velocity and exponent, attraction C, extra wavelengths)
-are handled as *variants*: one design per value on a grid, each scored on held-out data.
+are handled as *variants*: a grid searched in sample, the best point refined (Nelder-Mead /
+bounded scalar search), and the refined and best grid designs each scored on held-out data
+by the workflow.  The frictional-lag scale and the linear Stribeck drop are fitted; C,
+V_s, delta and the wavelengths are the variant's.
 
 The identifier turns (variant, theta) into a new model file (``to_model``).
 """
@@ -15,6 +18,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
+from scipy.optimize import minimize, minimize_scalar
 
 from .. import maps
 from ..control.gms import GMSParameters, gms_force
@@ -29,9 +33,10 @@ PREROLL_DELTAS = tuple(np.geomspace(2e-6, 300e-6, 8).tolist())
 #: Stribeck velocity [m/s] and exponent grid.
 STRIBECK_VS = tuple(np.geomspace(3e-4, 3e-2, 11).tolist())
 STRIBECK_DELTA = (0.4, 0.6, 1.0, 1.5, 2.0)
-#: Attraction parameter grid [N/s].
+#: Stribeck grid points (best in-sample) kept as variants beside the refined one.
 STRIBECK_KEEP = 3
-LAG_C = tuple(np.geomspace(1e2, 1e6, 5).tolist())
+#: Attraction parameter grid [N/s] (the best point is refined between its neighbours).
+LAG_C = tuple(np.geomspace(3.0, 3e5, 11).tolist())
 
 
 @dataclass
@@ -125,7 +130,14 @@ def asymmetric_friction(ctx: Context) -> list[Variant]:
 # --------------------------------------------------------------------------- friction curve
 def _sliding_fraction(ctx: Context, q) -> np.ndarray:
     """Share of the friction that slides (sum of nu_i of slipping GMS elements); static
-    model: 1 except on stuck samples."""
+    model: 1 except on stuck samples.  Memoised per context and run."""
+    key = ("sliding", id(q))
+    if key not in ctx.cache:
+        ctx.cache[key] = _sliding(ctx, q)
+    return ctx.cache[key]
+
+
+def _sliding(ctx: Context, q) -> np.ndarray:
     m = ctx.model
     if not m.effects["prerolling"]:
         return (~q.stuck).astype(float)
@@ -159,7 +171,6 @@ def stribeck(ctx: Context) -> list[Variant]:
     # best (log V_s, delta); the few best are scored on held-out blocks by the workflow
     grid = sorted(((Vs, d) for Vs in STRIBECK_VS for d in STRIBECK_DELTA),
                   key=lambda p: -_explained(column(*p), y))[:STRIBECK_KEEP]
-    from scipy.optimize import minimize
 
     def neg(z):
         return -_explained(column(float(np.exp(z[0])), float(np.clip(z[1], 0.2, 3.0))), y)
@@ -221,12 +232,30 @@ def frictional_lag(ctx: Context) -> list[Variant]:
     P = m.fmu_parameters()
     prm = GMSParameters.from_params(P)
     base = ctx.stack(lambda q: q.F_f - prm.viscous(q.v))[:, 0]
-    out = []
-    for C in LAG_C:
-        if on and abs(np.log(C / float(m.parameters["friction.C"]))) < 0.2:
-            continue
+    y = ctx.r + base
+    C_now = float(m.parameters["friction.C"]) if on else np.inf
+
+    def column(C: float) -> np.ndarray:
         pc = replace(prm, C=C)
-        Phi = ctx.stack(lambda q: gms_force(q.x, q.v, q.Ts, pc) - pc.viscous(q.v))
+        return ctx.stack(lambda q: gms_force(q.x, q.v, q.Ts, pc) - pc.viscous(q.v))
+
+    cols = {C: column(C) for C in LAG_C if not (on and abs(np.log(C / C_now)) < 0.2)}
+    if not cols:
+        return []
+    expl = {C: _explained(A, y) for C, A in cols.items()}
+    Cb = max(expl, key=expl.get)
+    # refine log C between the neighbours of the best grid point
+    k = LAG_C.index(Cb)
+    lo, hi = np.log(LAG_C[max(k - 1, 0)]), np.log(LAG_C[min(k + 1, len(LAG_C) - 1)])
+    if hi > lo:
+        opt = minimize_scalar(lambda z: -_explained(column(float(np.exp(z))), y),
+                              bounds=(lo, hi), method="bounded",
+                              options={"xatol": 0.05, "maxiter": 8})
+        Cr = float(np.exp(opt.x))
+        if -opt.fun > expl[Cb]:
+            cols = {Cr: column(Cr), **cols}
+    out = []
+    for C, Phi in cols.items():
         out.append(Variant("frictional_lag", f"C={C:.3g} N/s", Phi, ["scale"], base=base,
                            refine=on, to_model=lambda th, C=C: m.with_effect(
                                "frictional_lag", True, **{"friction.C": C})))
@@ -258,19 +287,23 @@ def ripple_aperiodic(ctx: Context) -> list[Variant]:
         return []          # F = gain * u: no K_f(x) to refine
     on = m.effects["ripple_aperiodic"]
     c, h = _span(ctx)
-    powers = range(1, 3)
+    # the constant is included: with the polynomial off the model's K_f is c0 alone, and the
+    # truth's drift over a short stretch of stroke is mostly a change of level (which trades
+    # off with the mass only when friction and cogging leave i proportional to a)
+    powers = range(0, 3)
     # more K_f means more motor force: r = -(dK_f) i
     Phi = -ctx.stack(lambda q: q.i[:, None] * _poly_basis(q.x, c, h, powers), mask_stuck=True)
     old = np.array([float(m.parameters[f"ripple.c[{k}]"]) for k in range(3)])
     if not on:
-        old[1:] = 0.0
+        old[1:] = 0.0          # off: K_f = c0 on the stroke
 
     def to_model(th: np.ndarray) -> ModelFile:
         new = old + _poly_to_x(th, powers, c, h, 2)
         return m.with_effect("ripple_aperiodic", True,
                              **{f"ripple.c[{k}]": float(new[k]) for k in range(3)})
 
-    return [Variant("ripple_aperiodic", "i * (x, x^2)", Phi, ["i*xi", "i*xi^2"], refine=on,
+    return [Variant("ripple_aperiodic", "i * (1, x, x^2)", Phi, ["i", "i*xi", "i*xi^2"],
+                    refine=on,
                     to_model=to_model)]
 
 
@@ -353,8 +386,6 @@ def _refine_wavelengths(ctx: Context, w, fixed: list[float], extra: list[float]
                         ) -> list[tuple[float, float]]:
     """Extra wavelengths refined one at a time (bounded scalar search within +-8 %) by the
     least-squares fit of all harmonics together (existing ones included)."""
-    from scipy.optimize import minimize_scalar
-
     out: list[float] = []
     for lam0 in extra:
         def sse(lam):

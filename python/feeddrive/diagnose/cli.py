@@ -3,12 +3,12 @@ CLI calls :func:`run_cli`)."""
 from __future__ import annotations
 
 import argparse
+import sys
 from collections.abc import Sequence
 from pathlib import Path
 
 from ..data import load_run
 from ..model_file import load_model
-from .residual import DEFAULT_WINDOW
 from .workflow import diagnose
 
 
@@ -23,23 +23,42 @@ def parser(prog: str = "feeddrive diagnose") -> argparse.ArgumentParser:
     p.add_argument("--force-gain", type=float, default=None,
                    help="N/V for runs without a current column (else the sidecar's "
                         "'force_gain', else the model's current loop)")
-    p.add_argument("--window", type=int, default=DEFAULT_WINDOW,
-                   help="Savitzky-Golay window of the acceleration [samples]")
+    p.add_argument("--window", type=int, default=None,
+                   help="Savitzky-Golay window of the acceleration [samples] (default 20 ms)")
     p.add_argument("--blocks", type=int, default=10, help="held-out blocks over all runs")
     p.add_argument("--no-closed-loop", action="store_true",
                    help="skip the closed-loop re-simulation of runs with a known controller")
     return p
 
 
-def run_cli(argv: Sequence[str] | None = None) -> int:
-    """Parse ``argv``, run the diagnosis, write DIR/{diagnosis.json,model.json,report.html},
-    print a summary; returns the exit status."""
-    args = parser().parse_args(argv)
-    runs = [load_run(p) for p in args.runs]
-    model = load_model(args.model)
-    diag = diagnose(runs, model, out_dir=args.out, max_steps=args.max_steps,
-                    force_gain=args.force_gain, window=args.window, n_blocks=args.blocks,
-                    closed_loop=not args.no_closed_loop)
+def _from_namespace(a: argparse.Namespace) -> argparse.Namespace:
+    """Fill what another parser (the package CLI's ``diagnose`` sub-command) left out."""
+    runs = getattr(a, "runs", None) or getattr(a, "measured", None)
+    if not runs:
+        raise ValueError("feeddrive diagnose: no measured runs given")
+    return argparse.Namespace(
+        runs=[Path(p) for p in runs], model=Path(a.model), out=Path(a.out),
+        max_steps=int(getattr(a, "max_steps", 4)), force_gain=getattr(a, "force_gain", None),
+        window=getattr(a, "window", None), blocks=int(getattr(a, "blocks", 10)),
+        no_closed_loop=bool(getattr(a, "no_closed_loop", False)))
+
+
+def run_cli(argv: Sequence[str] | argparse.Namespace | None = None) -> int:
+    """Run the diagnosis from an argv list (parsed by :func:`parser`) or an argparse
+    namespace with ``measured``/``runs``, ``model``, ``out`` (and optionally the other
+    options); write DIR/{diagnosis.json, model.json, report.html}; print a summary; returns
+    the exit status (2 for bad input, with the message on stderr)."""
+    args = _from_namespace(argv) if isinstance(argv, argparse.Namespace) \
+        else parser().parse_args(argv)
+    try:
+        runs = [load_run(p) for p in args.runs]
+        model = load_model(args.model)
+        diag = diagnose(runs, model, out_dir=args.out, max_steps=args.max_steps,
+                        force_gain=args.force_gain, window=args.window, n_blocks=args.blocks,
+                        closed_loop=not args.no_closed_loop)
+    except (ValueError, OSError) as e:
+        print(f"feeddrive diagnose: {e}", file=sys.stderr)
+        return 2
     for note in diag.notes:
         print(note)
     for k, s in enumerate(diag.steps, 1):

@@ -8,8 +8,9 @@ position-error gap).  The controller is described in the sidecar as::
     "controller": {"type": "pid", "Kp": 6e5, "Kv": 6.7e3, "Ki": 2e7, "force_per_volt": 78.7}
 
 (force-equivalent gains in N/m, N s/m, N/(m s); u = F / force_per_volt), and the reference
-as the run's ``x_ref`` column.  Other controller types are not re-simulated (the gap is then
-the force residual alone, and the diagnosis says so).
+as the run's ``x_ref`` column.  The validation package's ``state_space`` specs are accepted
+too (:func:`controller_from_meta`); other types are not re-simulated (the gap is then the
+force residual alone, and the diagnosis says so).
 """
 from __future__ import annotations
 
@@ -78,6 +79,18 @@ class PIDController:
                 "force_per_volt": self.force_per_volt, "u_limit": self.u_limit}
 
 
+def controller_from_meta(spec: Mapping, x_ref: np.ndarray, Ts: float):
+    """The controller a run's sidecar ``controller`` object describes: ``pid`` (this module)
+    or any type ``feeddrive.validation.controllers.make_controller`` knows (``state_space``).
+    ValueError when the type is unknown or the spec incomplete."""
+    if not isinstance(spec, Mapping):
+        raise ValueError(f"controller spec must be an object, got {type(spec).__name__}")
+    if spec.get("type") == "pid":
+        return PIDController.from_meta(spec, x_ref, Ts)
+    from ..validation.controllers import make_controller
+    return make_controller(spec, np.asarray(x_ref, dtype=float))
+
+
 def sinusoid_reference(duration: float, Ts: float = 5e-4, amplitude: float = 0.03,
                        period: float = 6.0, centre: float = 0.15) -> np.ndarray:
     """x_ref = centre - amplitude cos(2 pi t / period): starts at rest at the lower end."""
@@ -114,13 +127,14 @@ def constant_speed_reference(speeds: list[float], stroke: float = 0.04, x0: floa
     return np.concatenate(pieces)
 
 
-def simulate_run(model: ModelFile, x_ref: np.ndarray, controller: PIDController | None = None,
+def simulate_run(model: ModelFile, x_ref: np.ndarray, controller=None,
                  Ts: float = 5e-4, quantum: float = 1e-7, current_noise: float = 0.0,
                  seed: int = 0, F_load: float = 0.0, name: str = "sim",
                  plant: Plant | None = None) -> Run:
     """Run ``model`` in the FMU in closed loop on ``x_ref`` and return a DATA.md run.
 
-    Columns: time, u, i (the FMU's current held over [t_k, t_k+1), plus white noise of
+    ``controller``: anything with ``reset()`` and ``step(x_meas, k)`` (default: the PID on
+    ``x_ref``).  Columns: time, u, i (the FMU's current held over [t_k, t_k+1), plus noise of
     rms ``current_noise`` [A]), x (quantised to ``quantum``), x_ref, F_load.  The sidecar
     meta records the controller, the sample time and the seed.
     """
@@ -138,7 +152,8 @@ def simulate_run(model: ModelFile, x_ref: np.ndarray, controller: PIDController 
     # feeddrive.simulate records i[k] as Eq. 2's i[k], the current held over [t_k, t_k+1)
     i_held = np.asarray(res["i"], dtype=float)
     i_meas = i_held + current_noise * rng.standard_normal(len(i_held))
-    meta = {"kind": "closed_loop", "Ts": Ts, "controller": ctl.to_meta(), "seed": seed,
+    spec = ctl.to_meta() if hasattr(ctl, "to_meta") else {"type": type(ctl).__name__}
+    meta = {"kind": "closed_loop", "Ts": Ts, "controller": spec, "seed": seed,
             "quantum": quantum, "current_noise_rms": current_noise, "name": name}
     return Run(time=np.asarray(res["time"]), u=np.asarray(res["u"]), x=np.asarray(res["x_meas"]),
                i=i_meas, x_ref=np.asarray(x_ref, dtype=float),

@@ -15,6 +15,8 @@ from .residual import RunResidual
 
 #: Held-out blocks over all runs (contiguous pieces of each run).
 DEFAULT_BLOCKS = 10
+#: Fewest samples in a held-out block.
+MIN_BLOCK = 100
 
 
 @dataclass
@@ -29,6 +31,8 @@ class Context:
     run_id: np.ndarray = field(init=False)
     guard: list[np.ndarray] = field(init=False)
     block_bounds: list[tuple[int, int]] = field(init=False)
+    #: per-context memo of expensive per-run signals (e.g. the GMS sliding share)
+    cache: dict = field(init=False, default_factory=dict)
 
     def __post_init__(self) -> None:
         self.r = np.concatenate([q.r[q.valid] for q in self.res])
@@ -39,10 +43,14 @@ class Context:
         b0 = 0
         for q in self.res:
             n = int(q.valid.sum())
-            edges = np.linspace(0, n, per_run + 1).astype(int)
+            if n < 2 * MIN_BLOCK:
+                raise ValueError(f"run {q.name!r}: {n} usable samples; the diagnosis needs at "
+                                 f"least {2 * MIN_BLOCK} per run (two held-out blocks)")
+            nb = min(per_run, n // MIN_BLOCK)
+            edges = np.linspace(0, n, nb + 1).astype(int)
             bid = np.searchsorted(edges, np.arange(n), side="right") - 1 + b0
             blocks.append(bid)
-            b0 += per_run
+            b0 += nb
         self.block = np.concatenate(blocks)
         # samples next to a block boundary (within a kernel length) are dropped from training
         # when either neighbour is held out: the filtered residual is correlated across it

@@ -22,6 +22,12 @@ def emps_baseline_model() -> ModelFile:
     effects = {e: False for e in base.effects}
     effects.update({"mass": True, "viscous": True, "offset_force": True})
     params = dict(base.parameters)
+    # no linear-motor maps on a ball screw: clear them so that a candidate switching one on
+    # starts from nothing (wavelengths only from the residual's spectrum)
+    for k in params:
+        if k.startswith(("cogging.c", "cogging.a", "cogging.b", "ripple.a", "ripple.b")) \
+                or k in ("ripple.c[1]", "ripple.c[2]"):
+            params[k] = 0.0
     params.update({"m": 95.1, "friction.sigma2": 203.5, "friction.F_c": 20.4,
                    "friction.F_s": 20.4, "offset.F": -3.16,
                    "stroke.x_min": -0.01, "stroke.x_max": 0.3})

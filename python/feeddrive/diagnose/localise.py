@@ -154,7 +154,7 @@ def where(loc_before: dict, loc_after: dict, top: int = 3) -> list[dict]:
 
 
 def spatial_spectrum(res: Sequence[RunResidual], r: Sequence[np.ndarray] | None = None,
-                     weight: str | None = None, lam_min: float = 4e-3,
+                     weight: str | None = None, lam_min: float = 2e-3,
                      lam_max: float | None = None, n: int = 400, v_min: float = 1e-3
                      ) -> tuple[np.ndarray, np.ndarray]:
     """Amplitude of the best-fitting sinusoid in x (optionally times the current) per wavelength.

@@ -112,6 +112,9 @@ def write_outputs(diag: "Diagnosis", out_dir: Path) -> None:
     (out_dir / "diagnosis.json").write_text(json.dumps(doc, indent=2, allow_nan=False) + "\n",
                                             encoding="utf-8")
     save_model(diag.model, out_dir / "model.json")
+    for k, st in enumerate(diag.steps, 1):
+        if st.model_after is not None:
+            save_model(st.model_after, out_dir / f"model_step{k}.json")
     figs: list[tuple[str, str]] = []
     r0, r1 = diag.residual_start, diag.residual_final
     for name, fn, xl, title in (

@@ -39,8 +39,8 @@ from .signals import (apply_kernel, matched_acceleration, odd_window, run_label,
                       zoh_midpoint)
 from ..model_file import ModelFile
 
-#: Default Savitzky-Golay window [samples] (20 ms at 0.5 ms) and polynomial order.
-DEFAULT_WINDOW = 41
+#: Default Savitzky-Golay window [s] (41 samples at 0.5 ms) and polynomial order.
+DEFAULT_WINDOW_S = 0.02
 DEFAULT_POLYORDER = 3
 #: Below this speed [m/s] a memoryless (static) friction model treats the stage as stuck.
 DEFAULT_V_STICK = 2e-5
@@ -143,7 +143,7 @@ def run_load_force(run: Run) -> np.ndarray:
     return np.zeros(run.n)
 
 
-def force_residual(run: Run, model: ModelFile, window: int = DEFAULT_WINDOW,
+def force_residual(run: Run, model: ModelFile, window: int | None = None,
                    polyorder: int = DEFAULT_POLYORDER, force_gain: float | None = None,
                    v_stick: float = DEFAULT_V_STICK) -> RunResidual:
     """The force residual of ``model`` along ``run`` (see the module docstring).
@@ -152,12 +152,15 @@ def force_residual(run: Run, model: ModelFile, window: int = DEFAULT_WINDOW,
     ----------
     run : a DATA.md run (``i`` optional).
     model : any model file.
-    window, polyorder : Savitzky-Golay differentiator [samples].
+    window, polyorder : Savitzky-Golay differentiator [samples]; None: ``DEFAULT_WINDOW_S``
+        (20 ms) in samples of the run.
     force_gain : N/V for runs without current (else the sidecar's, else the model's loop).
     v_stick : stuck-speed threshold of the static friction model [m/s].
     """
     label = run_label(run)
     Ts = sample_time(run.time, label=label)
+    if window is None:
+        window = int(round(DEFAULT_WINDOW_S / Ts))
     w = odd_window(window, run.n)
     x_meas = np.asarray(run.x, dtype=float)
     po = min(polyorder, w - 1)

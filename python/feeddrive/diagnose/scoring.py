@@ -25,7 +25,7 @@ from .candidates import Variant
 from .context import Context
 
 I_MIN = 0.05      #: minimum held-out share of the residual energy a named effect must remove
-T_MIN = 2.0       #: minimum block t statistic
+T_MIN = 2.5       #: minimum block t statistic (10 blocks: one-sided p ~ 0.017)
 AMBIGUITY = 0.10  #: candidates within this share of the best's improvement are not separated
 
 

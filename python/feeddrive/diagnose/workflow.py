@@ -10,7 +10,6 @@ the improvement, or after ``max_steps``.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -19,10 +18,11 @@ import numpy as np
 from ..data import Run
 from ..model_file import ModelFile
 from .candidates import CANDIDATES
-from .closed_loop import PIDController, simulate_run
+from .closed_loop import controller_from_meta, simulate_run
 from .context import DEFAULT_BLOCKS, Context
-from .localise import displacement_since_reversal, localise, where
-from .residual import DEFAULT_WINDOW, RunResidual, gap, residuals
+from .localise import (displacement_since_reversal, localise, spatial_spectrum, spectral_peaks,
+                       where)
+from .residual import RunResidual, gap, residuals
 from .scoring import I_MIN, T_MIN, Score, score, separable
 
 #: Travel after a reversal [m] within which the closed-loop error counts as reversal error.
@@ -73,22 +73,24 @@ def changed_parameters(before: ModelFile, after: ModelFile) -> dict:
 
 @dataclass
 class Step:
-    """One named effect (or the stop record when ``effect`` is None)."""
+    """One named effect: evidence, identified parameters, gap before and after."""
 
     effect: str | None
-    decision: str                      #: "named", "ambiguous" or "stop"
+    decision: str                      #: "named" or "ambiguous"
     ambiguous_with: list[str]
     evidence: dict
     parameters: dict
     gap_before: dict
     gap_after: dict
+    effect_was_on: bool = False        #: the step corrected values of an effect already on
     model_after: ModelFile | None = None
     residual_before: list[RunResidual] = field(default_factory=list, repr=False)
     residual_after: list[RunResidual] = field(default_factory=list, repr=False)
 
     def to_json(self) -> dict:
         return {"effect": self.effect, "decision": self.decision,
-                "ambiguous_with": self.ambiguous_with, "evidence": self.evidence,
+                "ambiguous_with": self.ambiguous_with, "effect_was_on": self.effect_was_on,
+                "evidence": self.evidence,
                 "parameters": self.parameters, "gap_before": self.gap_before,
                 "gap_after": self.gap_after}
 
@@ -114,23 +116,44 @@ class Diagnosis:
     def to_json(self) -> dict:
         return {"schema": "feeddrive.diagnosis/1", "runs": self.runs,
                 "model_start": self.model_start.name, "notes": self.notes,
+                "localisation_start": localisation_summary(self.residual_start),
                 "steps": [s.to_json() for s in self.steps], "stop": self.stop,
-                "final_model": self.model.name}
+                "final_model": self.model.name,
+                "localisation_final": localisation_summary(self.residual_final)}
+
+
+def localisation_summary(res: list[RunResidual]) -> dict:
+    """Regime and position table of a residual plus the peaks of its spatial spectra."""
+    if not res:
+        return {}
+    loc = localise(res)
+    peaks = {}
+    for weight, key in ((None, "cogging_like_N"), ("i", "ripple_like_N_per_A")):
+        if weight == "i" and any(q.i is None for q in res):
+            continue
+        lams, amps = spatial_spectrum(res, weight=weight)
+        peaks[key] = [{"wavelength_m": lam, "amplitude": a}
+                      for lam, a in spectral_peaks(lams, amps, n_peaks=3)]
+    loc["spectrum_peaks"] = peaks
+    return loc
 
 
 def closed_loop_gap(runs: list[Run], model: ModelFile) -> dict | None:
     """Closed-loop position error of ``model`` re-simulated with each run's controller.
 
-    Only runs whose sidecar describes a ``pid`` controller (see :mod:`closed_loop`) and that
-    have ``x_ref`` count; None when there is none.  Returns rms and max |x_sim - x_meas| [m],
+    Only runs whose sidecar describes a controller :func:`closed_loop.controller_from_meta`
+    knows (``pid``, ``state_space``) and that have ``x_ref`` count; None when there is none.  Returns rms and max |x_sim - x_meas| [m],
     and the max within ``REVERSAL_ZONE`` of travel after a reversal (the reversal error).
     """
     errs, near = [], []
     for run in runs:
         spec = (run.meta or {}).get("controller")
-        if not isinstance(spec, dict) or spec.get("type") != "pid" or run.x_ref is None:
+        if spec is None or run.x_ref is None:
             continue
-        ctl = PIDController.from_meta(spec, run.x_ref, run.Ts)
+        try:
+            ctl = controller_from_meta(spec, run.x_ref, run.Ts)
+        except ValueError:
+            continue
         load = float(np.mean(run.F_load)) if run.F_load is not None else 0.0
         sim = simulate_run(model, run.x_ref, controller=ctl, Ts=run.Ts,
                            quantum=float(run.meta.get("quantum", 1e-7)), F_load=load)
@@ -214,6 +237,13 @@ def polish(runs: list[Run], effect: str, model: ModelFile, res: list[RunResidual
     return model, res, n
 
 
+def run_cli(args) -> int:
+    """The ``feeddrive diagnose`` command: ``args`` is an argv list or the lead CLI's
+    argparse namespace (see :func:`feeddrive.diagnose.cli.run_cli`)."""
+    from .cli import run_cli as _run_cli
+    return _run_cli(args)
+
+
 def _summary(s: Score) -> dict:
     return {"effect": s.variant.effect, "variant": s.variant.label,
             "heldout_improvement": s.improvement, "t_blocks": s.t,
@@ -222,7 +252,7 @@ def _summary(s: Score) -> dict:
 
 
 def diagnose(runs: list[Run], model: ModelFile, out_dir: Path | None = None, max_steps: int = 4,
-             force_gain: float | None = None, window: int = DEFAULT_WINDOW,
+             force_gain: float | None = None, window: int | None = None,
              n_blocks: int = DEFAULT_BLOCKS, closed_loop: bool = True) -> "Diagnosis":
     """Diagnose what ``model`` lacks against measured ``runs`` (see module docstring).
 
@@ -233,7 +263,7 @@ def diagnose(runs: list[Run], model: ModelFile, out_dir: Path | None = None, max
     out_dir : when given, diagnosis.json, model.json and report.html are written there.
     max_steps : at most this many effects are added.
     force_gain : N/V for runs without current (else the sidecar's, else the model's loop).
-    window : Savitzky-Golay window of the acceleration estimate [samples].
+    window : Savitzky-Golay window of the acceleration estimate [samples] (None: 20 ms).
     n_blocks : held-out blocks over all runs.
     closed_loop : also re-simulate runs whose sidecar describes their controller.
     """
@@ -247,6 +277,9 @@ def diagnose(runs: list[Run], model: ModelFile, out_dir: Path | None = None, max
     steps: list[Step] = []
     stop: dict = {}
     cl = closed_loop_gap(runs, current) if closed_loop else None
+    if closed_loop and cl is None:
+        notes.append("closed-loop gap not computed: no run has x_ref and a sidecar 'controller' "
+                     "of a known type ('pid', 'state_space')")
     for _ in range(max_steps):
         ctx = Context(res, current, n_blocks=n_blocks)
         ranking = rank(ctx)
@@ -260,7 +293,8 @@ def diagnose(runs: list[Run], model: ModelFile, out_dir: Path | None = None, max
         done = False
         for cand in tried[:3]:
             new_model = cand.variant.to_model(cand.theta)
-            new_model.name = f"{model.name}+{'+'.join([*(s.effect for s in steps), cand.variant.effect])}"
+            added = [*(s.effect for s in steps), cand.variant.effect]
+            new_model.name = f"{model.name}+{'+'.join(added)}"
             new_res = residuals(runs, new_model, **kw)
             new_model, new_res, n_polish = polish(runs, cand.variant.effect, new_model, new_res,
                                                   n_blocks, kw)
@@ -291,6 +325,7 @@ def diagnose(runs: list[Run], model: ModelFile, out_dir: Path | None = None, max
                 ambiguous_with=[s.variant.effect for s in lead_group[1:]],
                 evidence=evidence, parameters=changed_parameters(current, new_model),
                 gap_before=gb, gap_after=ga, model_after=new_model,
+                effect_was_on=bool(current.effects[cand.variant.effect]),
                 residual_before=res, residual_after=new_res))
             current, res, cl = new_model, new_res, cl_after
             done = True
@@ -310,6 +345,3 @@ def diagnose(runs: list[Run], model: ModelFile, out_dir: Path | None = None, max
         write_outputs(diag, Path(out_dir))
     return diag
 
-
-def _finite(x: float) -> float | None:
-    return x if math.isfinite(x) else None

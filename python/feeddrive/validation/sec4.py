@@ -5,7 +5,9 @@ paper's nominal parameters; the simulated plant differs from them by PERTURBATIO
 machine is never the model), so GMS feedforward cannot cancel friction exactly."""
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -45,6 +47,8 @@ class Sec4Result:
     rows: list[dict[str, float | str]] = field(default_factory=list)
     reversal_indices: list[int] = field(default_factory=list)
     walls: dict[str, float] = field(default_factory=dict)
+    #: whether the plant was ``perturbed_plant(nominal)`` (the default of :func:`reproduce`)
+    perturbed: bool = True
 
     def table(self) -> str:
         lines = ["Sec. 4 (Fig. 16): 5 mm / 6 s sinusoid, tracking error e = x_ref - x",
@@ -53,18 +57,33 @@ class Sec4Result:
         for r in self.rows:
             lines.append(f"{r['case']:30s} {r['reversal_peak_um']:19.1f} {r['paper_reversal_um']:6.0f} "
                          f"{'+-%.1f' % r['band_um']:>20s} {'+-%.0f' % r['paper_band_um']:>6s} {r['rms_um']:9.2f}")
+        if not self.perturbed:
+            lines.append("plant and nominal parameters given by the caller")
+            return "\n".join(lines)
         lines.append("plant perturbation vs feedforward nominal: " +
                      ", ".join(f"{k} x{v:g}" for k, v in PERTURBATION.items() if not k.startswith("cogging"))
                      + ", cogging a/b x1.05")
         return "\n".join(lines)
 
 
-def reproduce(v_eps: float | None = None) -> Sec4Result:
-    """Run the three cases and summarise their errors at reversals and elsewhere."""
+def reproduce(v_eps: float | None = None, plant: Mapping[str, Any] | None = None,
+              nominal: Mapping[str, Any] | None = None) -> Sec4Result:
+    """Run the three cases and summarise their errors at reversals and elsewhere.
+
+    Parameters
+    ----------
+    v_eps : velocity threshold of the friction feedforward [m/s] (its default when None).
+    plant : FMU parameters of the simulated machine (default: ``perturbed_plant(nominal)``).
+    nominal : parameters the controller and the feedforward are designed on (default: the
+        paper's).  E.g. an identified model as ``nominal`` with the true model, then the
+        identified one, as ``plant`` compares the identified model's prediction with the truth.
+    """
     ref = sinusoid(AMPLITUDE, PERIOD, CENTRE, DURATION)
-    nominal = paper_parameters()
-    plant = perturbed_plant(nominal)
-    out = Sec4Result(time=ref.time, reversal_indices=[int(r) for r in reversals(ref.x)])
+    nominal = dict(paper_parameters() if nominal is None else nominal)
+    perturbed = plant is None
+    plant = perturbed_plant(nominal) if plant is None else dict(plant)
+    out = Sec4Result(time=ref.time, reversal_indices=[int(r) for r in reversals(ref.x)],
+                     perturbed=perturbed)
     for case, friction in CASES.items():
         u_ff = None
         if friction is not None:

@@ -1,0 +1,380 @@
+"""Figures of the identification (analogues of the paper's Figs. 5-13) and its report section.
+
+Every ``fig*`` function takes an :class:`~feeddrive.identify.pipeline.IdentificationResult`
+and returns a matplotlib Figure (ValueError when the step it shows was not run):
+
+- :func:`fig5_maps`: K_f(x) and F_cg(x) sampled by Eqs. 4-5 (Fig. 5);
+- :func:`fig6_dstft_cogging`, :func:`fig8_dstft_ripple`: DSTFT magnitude over position and
+  wavelength and its position average (Figs. 6, 8);
+- :func:`fig7_cogging_components`, :func:`fig9_ripple_components`: magnitude and unwrapped
+  phase along the stroke at 37.5, 18.75, 12.5 (and 25) mm (Figs. 7, 9);
+- :func:`fig10_map_fits`: sampled versus fitted curves (Fig. 10);
+- :func:`fig11_elements`: the identified GMS elements, W_i against Delta_i (Fig. 11 draws the
+  model's elements; here their identified values, with the truth when known);
+- :func:`fig12_stribeck`: Eq. 13 points and the fitted Eq. 12 (Fig. 12);
+- :func:`fig13_prerolling`: friction against position in pre-rolling, measured and
+  identified model, both amplitudes (Fig. 13);
+
+and, beyond the paper's figures, :func:`fig_current_loop` (PRBS response, Eq. 2) and
+:func:`fig_attraction` (frictional lag of the variable-speed run, Eq. 14).
+:func:`add_to_page` puts the text, the truth table and every figure on a report page;
+:func:`identification_section` first identifies a folder (or list) of runs and, when the
+true model is known, adds the Sec. 4 scenario simulated with the identified versus the true
+plant (:func:`fig_sec4_comparison`).
+"""
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.ticker import NullFormatter, ScalarFormatter  # noqa: E402
+
+from .. import maps  # noqa: E402
+from ..data import Run  # noqa: E402
+from ..friction_curves import stribeck_level  # noqa: E402
+from ..model_file import save_model  # noqa: E402
+from ._signals import eq1_friction  # noqa: E402
+from .attraction import _level, simulate_lag  # noqa: E402
+from .current_loop import simulate  # noqa: E402
+from .dstft import DSTFT, dstft  # noqa: E402
+from .pipeline import IdentificationResult, identify_folder, identify_runs  # noqa: E402
+from .sec4_check import REVERSAL_TOL, Sec4Comparison, compare_sec4  # noqa: E402
+from .truth_table import elements  # noqa: E402
+
+MM = 1e3            #: m -> mm for axes
+WAVELENGTHS_COGGING = (0.0375, 0.01875, 0.0125)
+WAVELENGTHS_RIPPLE = (0.0375, 0.01875, 0.0125, 0.025)
+
+
+def _need(res: IdentificationResult, attr: str, what: str) -> Any:
+    value = getattr(res, attr)
+    if value is None:
+        raise ValueError(f"figure of {what}: that step was not run "
+                         f"({res.skipped.get(what, 'no result')})")
+    return value
+
+
+def _truth(res: IdentificationResult) -> dict[str, Any] | None:
+    return res.truth.fmu_parameters() if res.truth is not None else None
+
+
+def fig5_maps(res: IdentificationResult) -> plt.Figure:
+    """K_f(x) and F_cg(x) from Eqs. 4-5 along the stroke (Fig. 5)."""
+    s = _need(res, "maps", "position maps").samples
+    fig, ax = plt.subplots(2, 1, figsize=(8, 5.5), sharex=True)
+    ax[0].plot(s.x * MM, s.K_f, lw=0.8)
+    ax[0].set_ylabel("K_f [N/A]")
+    ax[1].plot(s.x * MM, s.F_cg, lw=0.8)
+    ax[1].set_ylabel("F_cg [N]")
+    ax[1].set_xlabel("x [mm]")
+    ax[0].set_title(f"Force ripple and cogging (Eqs. 4-5, loads {', '.join(f'{P:g}' for P in np.round(s.loads, 2))} N)")
+    for a in ax:
+        a.grid(alpha=0.3)
+    return fig
+
+
+def _dstft(res: IdentificationResult, which: str) -> DSTFT:
+    s = _need(res, "maps", "position maps").samples
+    y = s.F_cg if which == "cogging" else s.K_f
+    return dstft(y, x0=float(s.x[0]), step=float(np.median(np.diff(s.x))))
+
+
+def _dstft_figure(D: DSTFT, label: str, unit: str, marks: Sequence[float]) -> plt.Figure:
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4.2), gridspec_kw={"width_ratios": [1.6, 1]})
+    k = np.arange(1, len(D.wavelengths))
+    keep = D.wavelengths[k] >= 4e-3                    # wavelengths down to 4 mm
+    k = k[keep]
+    mag = D.magnitude[k]
+    im = ax[0].pcolormesh(D.positions * MM, D.wavelengths[k] * MM, mag, shading="nearest",
+                          cmap="viridis")
+    ax[0].set_yscale("log")
+    ax[0].set_xlabel("window centre x [mm]")
+    ax[0].set_ylabel("wavelength [mm]")
+    ax[0].set_title(f"|X|/N of {label}")
+    fig.colorbar(im, ax=ax[0], label=f"|X|/N [{unit}]")
+    ax[1].semilogx(D.wavelengths[k] * MM, mag.mean(axis=1), ".-", ms=3)
+    ax[1].xaxis.set_major_formatter(ScalarFormatter())
+    ax[1].xaxis.set_minor_formatter(NullFormatter())
+    for lam in marks:
+        ax[1].axvline(lam * MM, color="r", ls=":", lw=0.8)
+    ax[1].set_xlabel("wavelength [mm]")
+    ax[1].set_ylabel(f"mean |X|/N [{unit}]")
+    ax[1].set_title("position average (dotted: modelled wavelengths)")
+    ax[1].grid(alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
+def fig6_dstft_cogging(res: IdentificationResult) -> plt.Figure:
+    """DSTFT of F_cg(x), 750-sample rectangular window (Fig. 6)."""
+    return _dstft_figure(_dstft(res, "cogging"), "F_cg", "N", WAVELENGTHS_COGGING)
+
+
+def fig8_dstft_ripple(res: IdentificationResult) -> plt.Figure:
+    """DSTFT of K_f(x) (Fig. 8)."""
+    return _dstft_figure(_dstft(res, "ripple"), "K_f", "N/A", WAVELENGTHS_RIPPLE)
+
+
+def _components_figure(D: DSTFT, label: str, unit: str, lams: Sequence[float]) -> plt.Figure:
+    fig, ax = plt.subplots(2, 1, figsize=(8, 5.5), sharex=True)
+    for lam in lams:
+        mag, ph = D.component(lam)
+        ax[0].plot(D.positions * MM, mag, label=f"{lam * MM:g} mm")
+        ax[1].plot(D.positions * MM, ph, label=f"{lam * MM:g} mm")
+    ax[0].set_ylabel(f"|X|/N [{unit}]")
+    ax[1].set_ylabel("unwrapped phase [rad]")
+    ax[1].set_xlabel("window centre x [mm]")
+    ax[0].set_title(f"Magnitude and phase (re x = 0) of the DSTFT of {label}")
+    ax[0].legend(fontsize=8, ncol=len(lams))
+    for a in ax:
+        a.grid(alpha=0.3)
+    return fig
+
+
+def fig7_cogging_components(res: IdentificationResult) -> plt.Figure:
+    """Magnitude and phase of X_F at 37.5, 18.75, 12.5 mm along the stroke (Fig. 7)."""
+    return _components_figure(_dstft(res, "cogging"), "F_cg", "N", WAVELENGTHS_COGGING)
+
+
+def fig9_ripple_components(res: IdentificationResult) -> plt.Figure:
+    """Magnitude and phase of X_K at 37.5, 18.75, 12.5 and 25 mm (Fig. 9)."""
+    return _components_figure(_dstft(res, "ripple"), "K_f", "N/A", WAVELENGTHS_RIPPLE)
+
+
+def fig10_map_fits(res: IdentificationResult) -> plt.Figure:
+    """Sampled and fitted K_f(x), F_cg(x) (and the true maps when known) (Fig. 10)."""
+    m = _need(res, "maps", "position maps")
+    s, truth = m.samples, _truth(res)
+    fig, ax = plt.subplots(2, 1, figsize=(8, 5.5), sharex=True)
+    for a, fit, y, unit in ((ax[0], m.ripple, s.K_f, "K_f [N/A]"),
+                            (ax[1], m.cogging, s.F_cg, "F_cg [N]")):
+        a.plot(s.x * MM, y, lw=0.6, color="0.5", label="Eqs. 4-5")
+        a.plot(s.x * MM, fit(s.x), lw=1.2, label=f"fit (rms {fit.rms_full:.3g})")
+        if truth is not None:
+            a.plot(s.x * MM, maps.evaluate(fit.name, s.x, truth), "k--", lw=0.8, label="true")
+        a.set_ylabel(unit)
+        a.legend(fontsize=8)
+        a.grid(alpha=0.3)
+    ax[1].set_xlabel("x [mm]")
+    ax[0].set_title("Sampled and fitted maps (Eqs. 6-7)")
+    return fig
+
+
+def fig11_elements(res: IdentificationResult) -> plt.Figure:
+    """Identified GMS elements: break-away force W_i against spring extension Delta_i."""
+    pr = _need(res, "prerolling", "pre-rolling")
+    fig, ax = plt.subplots(figsize=(6.5, 4))
+    ax.stem(pr.Delta * 1e6, pr.W, basefmt=" ", label="identified")
+    truth = _truth(res)
+    if truth is not None:
+        D, W = elements(truth)
+        ax.plot(D * 1e6, W, "rx", ms=9, label="true")
+    ax.set_xscale("log")
+    ax.set_xlabel("Delta_i [um]")
+    ax.set_ylabel("W_i = nu_i F_s [N]")
+    ax.set_title(f"GMS elements (N = {len(pr.W)}, sum W_i = {pr.W.sum():.2f} N)")
+    ax.legend()
+    ax.grid(alpha=0.3, which="both")
+    return fig
+
+
+def fig12_stribeck(res: IdentificationResult) -> plt.Figure:
+    """Eq. 13 points and fitted Stribeck curve, log speed axis (Fig. 12)."""
+    s = _need(res, "stribeck", "Stribeck")
+    pts = s.points
+    fig, ax = plt.subplots(figsize=(7, 4.2))
+    ax.errorbar(pts.speed * MM, pts.friction, yerr=pts.spread, fmt="o", ms=4, capsize=2,
+                label="Eq. 13 (mean +- std over position)")
+    v = np.geomspace(pts.speed.min() / 2, pts.speed.max() * 1.5, 300)
+    ax.plot(v * MM, s.curve(v), label="fit of Eq. 12")
+    truth = _truth(res)
+    if truth is not None:
+        F = stribeck_level(v, truth["friction.F_s"], truth["friction.F_c"], truth["friction.V_s"],
+                           truth["friction.delta"]) + truth["friction.sigma2"] * v
+        ax.plot(v * MM, F, "k--", lw=0.8, label="true")
+    ax.set_xscale("log")
+    ax.set_xlabel("v [mm/s]")
+    ax.set_ylabel("F_f [N]")
+    ax.set_title("Stribeck curve")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3, which="both")
+    return fig
+
+
+def fig13_prerolling(res: IdentificationResult) -> plt.Figure:
+    """Friction against position in pre-rolling: measured (Eq. 1) and the identified
+    Maxwell-slip model, for both amplitudes (Fig. 13)."""
+    pr = _need(res, "prerolling", "pre-rolling")
+    fig, ax = plt.subplots(1, len(pr.curves), figsize=(11, 4.2))
+    ax = np.atleast_1d(ax)
+    for a, (tag, (x, F, model)) in zip(ax, pr.curves.items()):
+        a.plot((x - x.mean()) * 1e6, F, lw=0.6, color="0.5", label="measured (Eq. 1)")
+        a.plot((x - x.mean()) * 1e6, model, lw=1.0, label="identified model")
+        a.set_xlabel("x - mean [um]")
+        a.set_ylabel("F_f [N]")
+        a.set_title(f"{tag} amplitude: rms {pr.rms[tag]:.3g} N")
+        a.legend(fontsize=8)
+        a.grid(alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
+def fig_current_loop(res: IdentificationResult, seconds: float = 0.1) -> plt.Figure:
+    """Measured current of the PRBS run and the identified G(z)'s simulation."""
+    c = _need(res, "current_loop", "current loop")
+    run = max(res.groups["prbs"], key=lambda r: len(r.time))
+    u, i = np.asarray(run.u, float), np.asarray(run.i, float)
+    i_sim = simulate(c.a, c.b, u)
+    t = np.asarray(run.time, float)
+    k0 = int((run.meta or {}).get("prbs_start", 0))
+    sl = slice(k0, min(len(t), k0 + int(seconds / c.Ts)))
+    fig, ax = plt.subplots(figsize=(8, 3.8))
+    ax.plot(t[sl], i[sl], lw=0.7, color="0.5", label="measured i")
+    ax.plot(t[sl], i_sim[sl], lw=1.0, label=f"G(z), order {c.order}, delay {c.delay}")
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("i [A]")
+    ax.set_title(f"Current loop (Eq. 2): fit {c.fit_percent:.1f} %")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    return fig
+
+
+def fig_attraction(res: IdentificationResult) -> plt.Figure:
+    """Friction of the variable-speed run (Eq. 1, viscous part removed), the Stribeck level
+    s(v) and the lagged friction of Eq. 14 with the identified C."""
+    at = _need(res, "attraction", "attraction")
+    run = max(res.groups["variable_speed"], key=lambda r: len(r.time))
+    p = res.model.parameters
+    F, v, K, Ts = eq1_friction(run.time, run.x, run.i, p["m"], p, p,
+                               run.F_load if run.F_load is not None else 0.0)
+    G = F - p["friction.sigma2"] * v
+    s = _level(v, p)
+    t = np.asarray(run.time, float)
+    x = np.asarray(run.x, float)
+    ok = np.isfinite(G) & (v > 2e-4)
+    ok &= np.abs(x - x[np.argmax(ok)]) >= 5e-4          # after the break-away (as the fit)
+    idx = np.flatnonzero(ok)
+    fig, ax = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    ax[0].plot(t[ok], G[ok], lw=0.5, color="0.5", label="F_f - sigma2 v (Eq. 1)")
+    ax[0].plot(t[ok], s[ok], lw=0.8, label="s(v) (no lag)")
+    ax[1].plot(t[ok], (G - s)[ok], lw=0.5, color="0.5", label="measured lag G - s(v)")
+    if at.resolved and np.isfinite(at.C) and idx.size:
+        seg = slice(idx[0], idx[-1] + 1)
+        Gs = simulate_lag(s[seg], 1.0 / at.C, float(s[idx[0]]), Ts)
+        ax[0].plot(t[seg], Gs, lw=1.0, label=f"Eq. 14, C = {at.C:.4g} N/s")
+        ax[1].plot(t[seg], Gs - s[seg], lw=1.0, label="Eq. 14 lag")
+    ax[1].set_xlabel("t [s]")
+    ax[0].set_ylabel("force [N]")
+    ax[1].set_ylabel("lag [N]")
+    ax[0].set_title(f"Frictional lag (Eq. 14): {at.message}", fontsize=9)
+    for a in ax:
+        a.legend(fontsize=8)
+        a.grid(alpha=0.3)
+    return fig
+
+
+#: (function, file stem, caption, step attribute) in page order.
+FIGURES: tuple[tuple[Callable[[IdentificationResult], plt.Figure], str, str, str], ...] = (
+    (fig_current_loop, "id_current_loop", "Current loop: PRBS response and identified G(z)",
+     "current_loop"),
+    (fig5_maps, "id_fig05_maps", "Analogue of Fig. 5: force ripple K_f(x) and cogging F_cg(x)",
+     "maps"),
+    (fig6_dstft_cogging, "id_fig06_dstft_cogging", "Analogue of Fig. 6: DSTFT of F_cg(x)", "maps"),
+    (fig7_cogging_components, "id_fig07_cogging_components",
+     "Analogue of Fig. 7: magnitude and unwrapped phase of X_F", "maps"),
+    (fig8_dstft_ripple, "id_fig08_dstft_ripple", "Analogue of Fig. 8: DSTFT of K_f(x)", "maps"),
+    (fig9_ripple_components, "id_fig09_ripple_components",
+     "Analogue of Fig. 9: magnitude and unwrapped phase of X_K", "maps"),
+    (fig10_map_fits, "id_fig10_map_fits", "Analogue of Fig. 10: sampled and fitted curves",
+     "maps"),
+    (fig11_elements, "id_fig11_elements", "GMS elements identified (model of Fig. 11)",
+     "prerolling"),
+    (fig12_stribeck, "id_fig12_stribeck", "Analogue of Fig. 12: Stribeck points and fit",
+     "stribeck"),
+    (fig_attraction, "id_attraction", "Attraction parameter C: frictional lag", "attraction"),
+    (fig13_prerolling, "id_fig13_prerolling", "Analogue of Fig. 13: pre-rolling, measured and model",
+     "prerolling"),
+)
+
+
+def add_to_page(page: Any, results: IdentificationResult, level: int = 2) -> list[Path]:
+    """Add the identification (summary text, truth table, every figure) to a report Page.
+
+    Figures of steps that did not run are left out (the text says why).  Returns the PNGs.
+    """
+    page.heading("Identification (Secs. 2.2-2.4) from a folder of runs", level)
+    page.pre(results.text() if not results.table else results.text().split("\n\n")[0])
+    if results.table:
+        page.table([r.as_dict() for r in results.table],
+                   f"true ({results.truth.name if results.truth else 'truth'}) vs identified "
+                   "(error: relative, rms/range, or factor for C; see tolerance)", digits=5)
+    paths = []
+    for fn, stem, caption, attr in FIGURES:
+        if getattr(results, attr) is None:
+            continue
+        if fn in (fig6_dstft_cogging, fig8_dstft_ripple, fig7_cogging_components,
+                  fig9_ripple_components) and len(results.maps.samples.x) < 750:
+            continue                    # the DSTFT needs a 75 mm stretch of map
+        paths.append(page.figure(fn(results), stem, caption))
+    return paths
+
+
+def fig_sec4_comparison(cmp: Sec4Comparison) -> plt.Figure:
+    """Tracking error of the Sec. 4 cases: true plant versus identified plant (same
+    controller and feedforward, designed on the identified model)."""
+    cases = list(cmp.truth.errors)
+    fig, ax = plt.subplots(len(cases), 1, figsize=(9, 2.3 * len(cases)), sharex=True)
+    t = cmp.truth.time
+    for a, case in zip(np.atleast_1d(ax), cases):
+        a.plot(t, cmp.truth.errors[case] * 1e6, lw=0.8, label="true plant")
+        a.plot(t, cmp.predicted.errors[case] * 1e6, "--", lw=0.8, label="identified plant")
+        a.set_ylabel("e [um]")
+        a.set_title(case, fontsize=9)
+        a.grid(alpha=0.3)
+    np.atleast_1d(ax)[0].legend(fontsize=8)
+    np.atleast_1d(ax)[-1].set_xlabel("t [s]")
+    fig.tight_layout()
+    return fig
+
+
+def identification_section(page: Any, runs: str | Path | Sequence[Run] | IdentificationResult,
+                           truth: Any = None, out: str | Path | None = None,
+                           sec4: bool = True) -> IdentificationResult:
+    """Identify a folder (or list) of runs and add the section to ``page``.
+
+    Parameters
+    ----------
+    page : a :class:`feeddrive.report.Page`.
+    runs : a folder of runs, a list of Runs, or an already computed result.
+    truth : the model the runs came from, when known (adds the truth table and, with
+        ``sec4``, the Sec. 4 scenario simulated with the identified versus the true plant).
+    out : where to write the identified model file (optional).
+    """
+    if isinstance(runs, IdentificationResult):
+        res = runs
+    elif isinstance(runs, (str, Path)):
+        res = identify_folder(runs, out, truth=truth)
+    else:
+        res = identify_runs(list(runs), truth=truth)
+        if out is not None:
+            save_model(res.model, out)
+            res.out_path = Path(out)
+    add_to_page(page, res)
+    if sec4 and res.truth is not None:
+        cmp = compare_sec4(res.model.fmu_parameters(), res.truth.fmu_parameters())
+        page.heading("Sec. 4 scenario: identified model versus truth", 3)
+        page.text("Controller and feedforward designed on the identified model; the same loop "
+                  "simulated with the true model as plant (the machine) and with the identified "
+                  f"one (the prediction). Criterion: reversal peaks within {REVERSAL_TOL * 1e6:g} "
+                  f"um in every case: {'met' if cmp.ok else 'NOT met'}.")
+        page.table(cmp.rows, "reversal peaks of the tracking error [um]")
+        page.figure(fig_sec4_comparison(cmp), "id_sec4_comparison",
+                    "Sec. 4 tracking error: true plant vs identified plant")
+    return res
+

@@ -1,0 +1,348 @@
+"""The whole identification (Secs. 2.2-2.4) on a folder of runs -> a model file.
+
+``identify_folder(runs_dir, out)`` loads every run (``feeddrive.data.load_runs``), sorts
+them into experiments (:func:`classify`: the sidecar's ``kind``, else the file stem, else
+the signals), and runs the procedures in the order their inputs require:
+
+1. current loop G(z) from the PRBS run (Eq. 2);
+2. K_f(x), F_cg(x) from the constant-speed runs at the speed of the loaded runs
+   (Eqs. 3-7; the unloaded runs at that speed are the P = 0 pair);
+3. Stribeck curve from every unloaded constant-speed pair (Eqs. 12-13, K_f of step 2);
+4. mass from the open-loop force run (Eq. 1, maps of step 2, friction of step 3);
+5. C from the variable-speed run (Eq. 14, everything above known);
+6. pre-rolling from the two periodic runs (Eqs. 15-18).
+
+The model file keeps the paper's model structure (its effect switches); every parameter a
+step identifies replaces the paper's value, the others (sample time aside, which comes from
+the runs) keep the paper's defaults and are listed in the result and in the model's
+description.  A step whose runs are absent is skipped and says so; a step that fails raises
+a ValueError naming the step.  With ``truth`` (a model the runs were generated from), the
+result holds the table of true versus identified parameters (:mod:`.truth_table`).
+"""
+from __future__ import annotations
+
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..data import Run, load_runs
+from ..model_file import ModelFile, load_model, paper_model, save_model
+from ..paper import PAPER_EFFECTS
+from ._signals import run_label, run_load, sample_time, steady_segment
+from .attraction import AttractionFit, identify_attraction
+from .current_loop import CurrentLoopFit, identify_current_loop
+from .mass import MassFit, identify_mass
+from .position_maps import PositionMapsFit, identify_position_maps
+from .prerolling import PrerollingFit, identify_prerolling
+from .stribeck import StribeckFit, identify_stribeck
+from .truth_table import TruthRow, format_rows, truth_rows
+
+#: Experiment kinds (the sidecar's ``kind``) and what each is used for.
+KINDS: dict[str, str] = {
+    "prbs": "current loop (Eq. 2)",
+    "constant_speed": "K_f, F_cg (Eqs. 3-7) and Stribeck curve (Eqs. 12-13)",
+    "force_open_loop": "mass (Eq. 1)",
+    "variable_speed": "attraction parameter C (Eq. 14)",
+    "prerolling": "pre-rolling W_i, Delta_i (Eqs. 15-18)",
+}
+_STEMS = (("prbs", r"prbs"), ("constant_speed", r"cv_|constant_speed"),
+          ("force_open_loop", r"force_open_loop|open_loop"),
+          ("variable_speed", r"variable_speed"), ("prerolling", r"prerolling"))
+MIN_MAP_SPAN = 0.075   #: shortest stroke [m] the map runs must share: two magnet pitches
+LOAD_TOL = 0.5          #: loads closer than this [N] are the same load (as position_maps)
+SPEED_TOL = 0.1         #: relative speed difference within which runs share a speed
+
+
+def classify(run: Run) -> str:
+    """The experiment kind of a run: ``meta['kind']``, else from the file stem, else from
+    the signals (position nearly constant: 'prbs'; no x_ref: 'force_open_loop'; reversing:
+    'prerolling'; monotonic with a steady speed: 'constant_speed', else 'variable_speed')."""
+    kind = (run.meta or {}).get("kind")
+    if kind is not None:
+        if kind not in KINDS:
+            raise ValueError(f"{run_label(run)}: meta['kind'] = {kind!r} is not one of "
+                             f"{', '.join(KINDS)}")
+        return str(kind)
+    stem = Path(run.path).stem if getattr(run, "path", None) is not None \
+        else str((run.meta or {}).get("name", ""))
+    for k, pattern in _STEMS:
+        if re.match(pattern, stem):
+            return k
+    x = np.asarray(run.x, dtype=float)
+    if np.ptp(x) < 1e-4:
+        return "prbs"
+    if run.x_ref is None:
+        return "force_open_loop"
+    dx = np.diff(x)
+    if min(np.sum(dx[dx > 0]), -np.sum(dx[dx < 0])) > 0.3 * np.ptp(x):
+        return "prerolling"
+    Ts = sample_time(run.time, label=run_label(run))
+    seg, _ = steady_segment(x, Ts, label=run_label(run))
+    return "constant_speed" if (seg.stop - seg.start) > 0.3 * len(x) else "variable_speed"
+
+
+def group_runs(runs: Sequence[Run]) -> dict[str, list[Run]]:
+    """Runs by kind (every key of :data:`KINDS`, possibly empty), in the given order."""
+    out: dict[str, list[Run]] = {k: [] for k in KINDS}
+    for r in runs:
+        out[classify(r)].append(r)
+    return out
+
+
+def _speed(run: Run) -> float:
+    """|cruise speed| [m/s] of a constant-speed run, from its position."""
+    Ts = sample_time(run.time, label=run_label(run))
+    return abs(steady_segment(np.asarray(run.x, float), Ts, label=run_label(run))[1])
+
+
+def map_and_stribeck_runs(runs: Sequence[Run]) -> tuple[list[Run], list[Run]]:
+    """Split constant-speed runs: those for the maps (every run at the speed of a loaded
+    run, loaded or not) and those for the Stribeck curve (every unloaded run)."""
+    loads = [run_load(r)[0] for r in runs]
+    speeds = [_speed(r) for r in runs]
+    loaded = [s for s, P in zip(speeds, loads) if abs(P) > LOAD_TOL]
+    maps_runs = [r for r, s in zip(runs, speeds)
+                 if any(abs(s - q) <= SPEED_TOL * q for q in loaded)]
+    return maps_runs, [r for r, P in zip(runs, loads) if abs(P) <= LOAD_TOL]
+
+
+@dataclass
+class IdentificationResult:
+    """Every step's fit, the model file they make, and (with a truth) the comparison."""
+    model: ModelFile
+    groups: dict[str, list[Run]]
+    current_loop: CurrentLoopFit | None = None
+    maps: PositionMapsFit | None = None
+    stribeck: StribeckFit | None = None
+    mass: MassFit | None = None
+    attraction: AttractionFit | None = None
+    prerolling: PrerollingFit | None = None
+    #: step -> why it was skipped
+    skipped: dict[str, str] = field(default_factory=dict)
+    #: FMU parameters that kept the paper's value (not identified)
+    defaulted: tuple[str, ...] = ()
+    notes: list[str] = field(default_factory=list)
+    truth: ModelFile | None = None
+    table: list[TruthRow] = field(default_factory=list)
+    out_path: Path | None = None
+
+    def text(self) -> str:
+        """A plain-text account: runs used, each step's result, the truth table if any."""
+        L = [f"identification from {sum(len(v) for v in self.groups.values())} runs: "
+             + ", ".join(f"{k} {len(v)}" for k, v in self.groups.items())]
+        p = self.model.parameters
+        if self.current_loop is not None:
+            c = self.current_loop
+            L.append(f"current loop: order {c.order}, delay {c.delay}, G(1) = {c.dc_gain:.4f} A/V, "
+                     f"poles {', '.join(f'{h:.0f} Hz/zeta {z:.2f}' for h, z in zip(c.pole_hz, c.pole_zeta))}, "
+                     f"fit {c.fit_percent:.1f} %")
+        if self.maps is not None:
+            m = self.maps
+            L.append(f"maps: {len(m.samples.loads)} loads "
+                     f"{', '.join(f'{P:.4g}' for P in m.samples.loads)} N over "
+                     f"x = {m.samples.x[0]:.4f} .. {m.samples.x[-1]:.4f} m; fit rms K_f "
+                     f"{m.ripple.rms_full:.3g} N/A, F_cg {m.cogging.rms_full:.3g} N; periodic-only "
+                     f"fits +{m.ripple.increase_percent:.0f} % / +{m.cogging.increase_percent:.0f} %")
+        if self.stribeck is not None:
+            s = self.stribeck
+            L.append(f"Stribeck: {len(s.points.speed)} speeds {s.points.speed.min() * 1e3:.3g} .. "
+                     f"{s.points.speed.max() * 1e3:.3g} mm/s, F_s = {p['friction.F_s']:.3f} N, "
+                     f"F_c = {p['friction.F_c']:.3f} N, V_s = {p['friction.V_s'] * 1e3:.3f} mm/s, "
+                     f"delta = {p['friction.delta']:.3f}, sigma2 = {p['friction.sigma2']:.2f} N s/m "
+                     f"(rms residual {s.rms_residual:.3g} N)")
+            if s.asymmetry is not None:
+                L.append(f"  direction asymmetry (diagnostic, not in the model): dF = "
+                         f"{s.asymmetry['asymmetry.dF']:.3f} +- {s.asymmetry['stderr.asymmetry.dF']:.3f} N, "
+                         f"dsigma2 = {s.asymmetry['asymmetry.dsigma2']:.2f} +- "
+                         f"{s.asymmetry['stderr.asymmetry.dsigma2']:.2f} N s/m")
+        if self.mass is not None:
+            L.append(f"mass: m = {p['m']:.4f} +- {self.mass.stderr['m']:.4f} kg "
+                     f"({self.mass.n_used} samples, force residual {self.mass.rms_residual:.3g} N)")
+        if self.attraction is not None:
+            L.append(f"attraction: {self.attraction.message}; model C = {p['friction.C']:.4g} N/s")
+        if self.prerolling is not None:
+            r = self.prerolling
+            L.append(f"pre-rolling: N = {len(r.W)}, Delta = "
+                     + ", ".join(f"{d * 1e6:.1f}" for d in r.Delta) + " um, W = "
+                     + ", ".join(f"{w:.2f}" for w in r.W) + f" N; fit rms {100 * r.rms_relative:.2f} % "
+                     "of F_s")
+        for step, why in self.skipped.items():
+            L.append(f"SKIPPED {step}: {why}")
+        L.extend(self.notes)
+        if self.defaulted:
+            L.append("kept at the paper's value (not identified): " + _compress(self.defaulted))
+        if self.out_path is not None:
+            L.append(f"model file: {self.out_path}")
+        if self.table:
+            L.append("")
+            L.append(f"true ({self.truth.name if self.truth else 'truth'}) vs identified:")
+            L.append(format_rows(self.table))
+        return "\n".join(L)
+
+
+def _compress(names: Sequence[str]) -> str:
+    """'friction.nu[6..10]' style listing of parameter names."""
+    out: list[str] = []
+    groups: dict[str, list[int]] = {}
+    order: list[str] = []
+    for n in names:
+        m = re.fullmatch(r"(.+)\[(\d+)\]", n)
+        if m:
+            if m.group(1) not in groups:
+                order.append(m.group(1))
+                groups[m.group(1)] = []
+            groups[m.group(1)].append(int(m.group(2)))
+        else:
+            order.append(n)
+    for n in order:
+        if n in groups:
+            idx = groups[n]
+            out.append(f"{n}[{idx[0]}]" if len(idx) == 1 else f"{n}[{idx[0]}..{idx[-1]}]")
+        else:
+            out.append(n)
+    return ", ".join(out)
+
+
+def _as_model(truth: ModelFile | Mapping[str, Any] | str | Path | None) -> ModelFile | None:
+    if truth is None or isinstance(truth, ModelFile):
+        return truth
+    if isinstance(truth, (str, Path)):
+        return load_model(truth)
+    params = {k: v for k, v in truth.items() if not k.startswith("effects.")}
+    effects = {"mass": True}
+    effects.update({e: bool(truth.get(f"effects.{e}", on)) for e, on in PAPER_EFFECTS.items()})
+    return ModelFile(name="truth", effects=effects, parameters=params)
+
+
+def _step(name: str, fn, *args, **kw):
+    try:
+        return fn(*args, **kw)
+    except ValueError as e:
+        raise ValueError(f"identify ({name}): {e}") from None
+
+
+def identify_runs(runs: Sequence[Run], truth: ModelFile | Mapping[str, Any] | str | Path | None = None,
+                  name: str = "identified", current_timing: str = "held",
+                  prerolling_elements: int = 5,
+                  min_map_span: float = MIN_MAP_SPAN) -> IdentificationResult:
+    """Identify a model from runs (see the module docstring).
+
+    Parameters
+    ----------
+    runs : the runs of an identification campaign (any order).
+    truth : the model the runs came from (file, ModelFile or FMU parameters), for the table.
+    name : the model's name.
+    current_timing : how a recorded current sample relates to the force (see
+        ``_signals.effective_current``); 'held' is Eq. 2's i[k] at row k, as recorded by
+        ``feeddrive.experiments``.
+    prerolling_elements : N of the Maxwell-slip model.
+    min_map_span : the maps are refused (ValueError) when the runs share a shorter stroke
+        [m]: a cubic fitted over a few mm is meaningless over the whole stroke.
+    """
+    groups = group_runs(runs)
+    base = paper_model()
+    params: dict[str, Any] = dict(base.parameters)
+    identified: set[str] = set()
+    res = IdentificationResult(model=base, groups=groups)
+
+    def take(p: Mapping[str, float]) -> None:
+        for k, v in p.items():
+            if k in params:
+                params[k] = v
+                identified.add(k)
+
+    all_runs = [r for g in groups.values() for r in g]
+    if not all_runs:
+        raise ValueError("identify: no runs")
+    Ts = sample_time(all_runs[0].time, label=run_label(all_runs[0]))
+    params["Ts"] = Ts
+    identified.add("Ts")
+    dc_gain = None
+    if groups["prbs"]:
+        prbs = max(groups["prbs"], key=lambda r: len(r.time))
+        res.current_loop = _step("current loop", identify_current_loop, prbs)
+        take(res.current_loop.parameters)
+        dc_gain = res.current_loop.dc_gain
+    else:
+        res.skipped["current loop"] = "no PRBS run"
+    if any(r.i is None for r in all_runs):
+        if dc_gain is None:
+            dc_gain = float(sum(params[f"current.b[{j}]"] for j in range(6))
+                            / (1 - sum(params[f"current.a[{j}]"] for j in range(1, 6))))
+        res.notes.append(f"runs without a current column use i = G(1) u, G(1) = {dc_gain:.4f} A/V")
+    map_runs, strib_runs = map_and_stribeck_runs(groups["constant_speed"])
+    if map_runs:
+        res.maps = _step("position maps", identify_position_maps, map_runs, dc_gain=dc_gain)
+        span = float(res.maps.samples.x[-1] - res.maps.samples.x[0])
+        if span < min_map_span:
+            raise ValueError(
+                f"identify (position maps): the loaded constant-speed runs share only "
+                f"{span * 1e3:.1f} mm of stroke; Eqs. 6-7 (a cubic and three harmonics of the "
+                f"37.5 mm pitch) need at least {min_map_span * 1e3:g} mm (min_map_span), "
+                "better the whole stroke")
+        take(res.maps.parameters)
+    else:
+        res.skipped["position maps"] = "no loaded constant-speed runs"
+    if len(strib_runs) >= 12:
+        res.stribeck = _step("Stribeck", identify_stribeck, strib_runs, params, params,
+                             dc_gain=dc_gain)
+        take(res.stribeck.parameters)
+    else:
+        res.skipped["Stribeck"] = (f"{len(strib_runs)} unloaded constant-speed runs "
+                                   "(Eq. 12 needs >= 6 speeds in both directions)")
+    if groups["force_open_loop"]:
+        run = groups["force_open_loop"][0]
+        res.mass = _step("mass", identify_mass, run, params, params, friction=params,
+                         dc_gain=dc_gain, current_timing=current_timing)
+        take({"m": res.mass.parameters["m"]})
+    else:
+        res.skipped["mass"] = "no open-loop force run"
+    if groups["variable_speed"]:
+        run = max(groups["variable_speed"], key=lambda r: len(r.time))
+        res.attraction = _step("attraction", identify_attraction, run, params, dc_gain=dc_gain,
+                               current_timing=current_timing)
+        take(res.attraction.parameters)
+    else:
+        res.skipped["attraction"] = "no variable-speed run"
+    pr = sorted(groups["prerolling"], key=lambda r: np.ptp(r.x))
+    if len(pr) >= 2:
+        res.prerolling = _step("pre-rolling", identify_prerolling, pr[-1], pr[0], params,
+                               N=prerolling_elements, current_timing=current_timing,
+                               dc_gain=dc_gain)
+        take(res.prerolling.parameters)
+        if len(pr) > 2:
+            res.notes.append(f"pre-rolling: used the smallest and largest of {len(pr)} runs")
+    else:
+        res.skipped["pre-rolling"] = f"{len(pr)} periodic runs (a small and a large amplitude needed)"
+    res.defaulted = tuple(k for k in params if k not in identified)
+    desc = ("identified by feeddrive.identify.pipeline from " + ", ".join(
+        sorted({run_label(r) for r in all_runs})[:3]) + (" ..." if len(all_runs) > 3 else "")
+        + "; not identified (paper values): " + (_compress(res.defaulted) or "none"))
+    effects = dict(base.effects)
+    res.model = ModelFile(name=name, effects=effects, parameters=params, description=desc)
+    res.truth = _as_model(truth)
+    if res.truth is not None:
+        res.table = truth_rows(res, res.truth)
+    return res
+
+
+def identify_folder(runs_dir: str | Path, out: str | Path | None = None,
+                    truth: ModelFile | Mapping[str, Any] | str | Path | None = None,
+                    **kw) -> IdentificationResult:
+    """Load every run of ``runs_dir``, identify, and write the model file to ``out``.
+
+    ``truth``: optional model the runs were generated from (adds the comparison table).
+    Other keywords go to :func:`identify_runs`.
+    """
+    runs = load_runs(runs_dir)
+    if not runs:
+        raise ValueError(f"identify: {runs_dir} holds no *.csv run")
+    res = identify_runs(runs, truth=truth, **kw)
+    if out is not None:
+        save_model(res.model, out)
+        res.out_path = Path(out)
+    return res

@@ -1,0 +1,194 @@
+"""True versus identified parameters: the round-trip table of an identification.
+
+Each row compares one quantity with the tolerance the identification issue sets:
+G(z) coefficients 2 %; K_f(x) and F_cg(x) rms error over the stroke below 2 % of the true
+curve's range; F_s, F_c 3 %; V_s, delta 15 %; sigma2 10 %; m 1 %; C within
+:func:`c_factor`; the pre-rolling force along the periodic runs (identified versus true
+Maxwell-slip model, from the run's second reversal, offset removed) rms below 3 % of F_s
+with every W_i >= 0.  Rows without a tolerance (Delta_i, nu_i, the asymmetry) are shown
+for information.
+
+C is compared as a factor max(C/C_true, C_true/C), with tolerance :func:`c_factor`.  The
+information on C is the frictional lag tau |dS/dt|, tau = S/C; the estimate of kappa = 1/C
+has a standard error set by the force noise after the differentiator
+(``identify.attraction``).  Measured on the FMU (5 mA current noise, 100 nm quantum):
+
+- C = 1.08e4 N/s (tau ~ 2 ms): a 2 s sweep of 1-20 mm/s at 0.5 s period gives
+  se(kappa) ~ 3.5e-6 s/N, 3.8 % of kappa; the estimates came out 1.3-2.3 % high.  Stated
+  factor 1.15 (about four standard errors).
+- C = 10.8 N/s (tau ~ 2.4 s): the lag is a force of several N and se(kappa) ~ 1.4e-4 s/N
+  is 0.15 % of kappa, but the run must last a few tau (6-8 s of 1-20 mm/s at 2 s period);
+  the estimates came out 0.2-0.5 % low (4 s at 1 s period: 1.3 % low).  Stated factor
+  1.05: the discretisation and filtering of the lag model, not noise, dominate.
+
+So :func:`c_factor` gives 1.05 when tau = F_s / C_true exceeds 0.1 s, else 1.15.
+"""
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import asdict, dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from .. import maps
+from .prerolling import maxwell_slip
+
+if TYPE_CHECKING:
+    from ..model_file import ModelFile
+    from .pipeline import IdentificationResult
+
+#: Relative tolerances of the issue (fraction).
+REL_TOL: dict[str, float] = {
+    "current": 0.02, "friction.F_s": 0.03, "friction.F_c": 0.03, "friction.V_s": 0.15,
+    "friction.delta": 0.15, "friction.sigma2": 0.10, "m": 0.01,
+}
+MAP_TOL = 0.02              #: map rms error / range of the true map
+
+
+def c_factor(C_true: float, F_s: float) -> float:
+    """Stated tolerance factor on C (module docstring): 1.05 for a slow lag (F_s/C > 0.1 s),
+    1.15 for a fast one."""
+    return 1.05 if F_s / C_true > 0.1 else 1.15
+
+PREROLLING_TOL = 0.03       #: force rms / F_s
+
+
+@dataclass
+class TruthRow:
+    """One comparison."""
+    quantity: str
+    unit: str
+    true: float
+    identified: float
+    error: float            #: relative error, rms/range, or factor (see ``measure``)
+    measure: str            #: how ``error`` is defined
+    tolerance: float        #: NaN: no tolerance (information)
+    ok: bool | None         #: None: no tolerance
+
+    def as_dict(self) -> dict[str, Any]:
+        d = asdict(self)
+        d["ok"] = "" if self.ok is None else ("yes" if self.ok else "NO")
+        return d
+
+
+def _rel(q: str, unit: str, t: float, i: float, tol: float | None) -> TruthRow:
+    err = (i - t) / t if t != 0 else (np.inf if i != 0 else 0.0)
+    if tol is None:
+        return TruthRow(q, unit, t, i, float(err), "relative", float("nan"), None)
+    return TruthRow(q, unit, t, i, float(err), "relative", tol, bool(abs(err) <= tol))
+
+
+def map_error(name: str, identified: Mapping[str, Any], true: Mapping[str, Any],
+              x_min: float = 0.0, x_max: float = 0.3, step: float = 1e-4) -> tuple[float, float]:
+    """rms of identified - true map over the stroke, and the true map's range (ptp)."""
+    x = np.arange(x_min, x_max + step / 2, step)
+    t = maps.evaluate(name, x, true)
+    e = maps.evaluate(name, x, identified) - t
+    return float(np.sqrt(np.mean(e**2))), float(np.ptp(t))
+
+
+def elements(p: Mapping[str, Any]) -> tuple[np.ndarray, np.ndarray]:
+    """Delta_i [m] and W_i [N] of the N GMS elements of FMU parameters p."""
+    N = int(p["friction.N"])
+    nu = np.array([p[f"friction.nu[{j}]"] for j in range(1, N + 1)], float)
+    k = np.array([p[f"friction.k[{j}]"] for j in range(1, N + 1)], float)
+    W = nu * p["friction.F_s"]
+    keep = W > 0
+    return W[keep] / k[keep], W[keep]
+
+
+def prerolling_force_error(x: np.ndarray, identified: Mapping[str, Any],
+                           true: Mapping[str, Any]) -> float:
+    """rms of identified - true Maxwell-slip force along x (started at a reversal, both fully
+    strained against the first motion), its mean removed [N]."""
+    x = np.asarray(x, float)
+    moved = np.flatnonzero(x != x[0])
+    phi0 = -float(np.sign(x[moved[0]] - x[0])) if moved.size else 0.0
+    D_i, W_i = elements(identified)
+    D_t, W_t = elements(true)
+    e = maxwell_slip(x, D_i, W_i, phi0=phi0)[0] - maxwell_slip(x, D_t, W_t, phi0=phi0)[0]
+    return float(np.sqrt(np.mean((e - e.mean()) ** 2)))
+
+
+def truth_rows(res: IdentificationResult, truth: ModelFile) -> list[TruthRow]:
+    """The comparison rows for every step that ran."""
+    t = truth.fmu_parameters()
+    p = res.model.fmu_parameters()
+    rows: list[TruthRow] = []
+    if res.current_loop is not None:
+        c = res.current_loop
+        true_order = max([j for j in range(1, 6) if t[f"current.a[{j}]"] != 0] or [0])
+        true_delay = min([j for j in range(6) if t[f"current.b[{j}]"] != 0] or [0])
+        rows.append(TruthRow("current loop order, delay", "", float(10 * true_order + true_delay),
+                             float(10 * c.order + c.delay), 0.0, "10 n + d", 0.0,
+                             (c.order, c.delay) == (true_order, true_delay)))
+        for k in [f"current.a[{j}]" for j in range(1, 6)] + [f"current.b[{j}]" for j in range(6)]:
+            if t[k] != 0 or p[k] != 0:
+                rows.append(_rel(k, "", t[k], p[k], REL_TOL["current"]))
+    if res.maps is not None:
+        x0, x1 = float(t["stroke.x_min"]), float(t["stroke.x_max"])
+        for name, q, unit in (("ripple", "K_f(x) rms / range", "N/A"),
+                              ("cogging", "F_cg(x) rms / range", "N")):
+            rms, rng = map_error(name, p, t, x0, x1)
+            rows.append(TruthRow(q, unit, rng, rms, rms / rng, "rms / range of true map",
+                                 MAP_TOL, bool(rms / rng <= MAP_TOL)))
+    if res.stribeck is not None:
+        for k in ("friction.F_s", "friction.F_c", "friction.V_s", "friction.delta",
+                  "friction.sigma2"):
+            unit = {"friction.V_s": "m/s", "friction.delta": "", "friction.sigma2": "N s/m"}.get(k, "N")
+            rows.append(_rel(k, unit, t[k], p[k], REL_TOL[k]))
+        if res.stribeck.asymmetry is not None:
+            a = res.stribeck.asymmetry
+            t_dF = t["asymmetry.dF"] if truth.effects.get("asymmetric_friction") else 0.0
+            rows.append(TruthRow("asymmetry.dF (diagnostic)", "N", t_dF, a["asymmetry.dF"],
+                                 a["asymmetry.dF"] - t_dF, "absolute", float("nan"), None))
+    if res.mass is not None:
+        rows.append(_rel("m", "kg", t["m"], p["m"], REL_TOL["m"]))
+    if res.attraction is not None:
+        C_t, C_i = float(t["friction.C"]), float(p["friction.C"])
+        f = max(C_i / C_t, C_t / C_i)
+        tol = c_factor(C_t, float(t["friction.F_s"]))
+        rows.append(TruthRow("friction.C" + ("" if res.attraction.resolved else " (lower bound)"),
+                             "N/s", C_t, C_i, f, "factor max(C/C_true, C_true/C)", tol,
+                             bool(f <= tol)))
+    if res.prerolling is not None:
+        pr = res.prerolling
+        F_s = float(t["friction.F_s"])
+        rows.append(TruthRow("min W_i", "N", float("nan"), float(pr.W.min()), float(pr.W.min()),
+                             "every W_i >= 0", 0.0, bool(pr.W.min() >= 0)))
+        for tag, (x, _, _) in pr.curves.items():
+            e = prerolling_force_error(x, p, t)
+            rows.append(TruthRow(f"pre-rolling force, {tag} run: rms(id - true) / F_s", "N", F_s,
+                                 e, e / F_s, "rms / F_s", PREROLLING_TOL,
+                                 bool(e / F_s <= PREROLLING_TOL)))
+        rows.append(TruthRow("pre-rolling fit to data: rms / F_s", "N", F_s,
+                             pr.rms_relative * F_s, pr.rms_relative, "rms / F_s",
+                             PREROLLING_TOL, bool(pr.rms_relative <= PREROLLING_TOL)))
+        D_t, W_t = elements(t)
+        if len(D_t) == len(pr.Delta):
+            for j, order in enumerate(np.argsort(D_t)):
+                rows.append(_rel(f"Delta_{j + 1}", "m", float(D_t[order]), float(pr.Delta[j]), None))
+            for j, order in enumerate(np.argsort(D_t)):
+                rows.append(_rel(f"W_{j + 1}", "N", float(W_t[order]), float(pr.W[j]), None))
+    return rows
+
+
+def format_rows(rows: list[TruthRow]) -> str:
+    """The rows as a fixed-width text table."""
+    out = [f"{'quantity':52s} {'true':>12s} {'identified':>12s} {'error':>10s} {'tol':>8s}  ok"]
+    for r in rows:
+        if r.measure == "relative":
+            err, tol = f"{100 * r.error:+.2f} %", f"{100 * r.tolerance:.0f} %"
+        elif r.measure.startswith("factor"):
+            err, tol = f"x{r.error:.3f}", f"x{r.tolerance:g}"
+        elif r.measure.startswith("rms"):
+            err, tol = f"{100 * r.error:.2f} %", f"{100 * r.tolerance:.0f} %"
+        else:
+            err, tol = f"{r.error:.3g}", f"{r.tolerance:g}"
+        if r.tolerance != r.tolerance:          # NaN
+            tol = "-"
+        ok = "" if r.ok is None else ("ok" if r.ok else "FAIL")
+        out.append(f"{r.quantity + (' [' + r.unit + ']' if r.unit else ''):52s} "
+                   f"{r.true:12.5g} {r.identified:12.5g} {err:>10s} {tol:>8s}  {ok}")
+    return "\n".join(out)

@@ -1,0 +1,63 @@
+"""Discrepancy workflow on measured data: the EMPS ball-screw drive (shared/realdata/emps).
+
+No current is measured: force = 35.15 N/V * u (DATA.md's rule for a missing i).  Start model:
+the authors' rigid IDIM-LS baseline (M 95.1 kg, Fv 203.5 N s/m, Fc 20.4 N, offset -3.16 N).
+The numbers pinned here are what the workflow finds on the estimation run, judged on
+held-out blocks of it.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from feeddrive.data import load_run
+from feeddrive.diagnose.emps import EMPS_FORCE_GAIN, emps_baseline_model
+from feeddrive.diagnose.residual import force_residual
+from feeddrive.diagnose.workflow import diagnose
+
+EMPS = Path(__file__).resolve().parents[2] / "shared" / "realdata" / "emps" / "emps_train.csv"
+pytestmark = pytest.mark.skipif(not EMPS.exists(), reason=f"{EMPS} not present")
+
+
+@pytest.fixture(scope="module")
+def run():
+    return load_run(EMPS)
+
+
+def test_baseline_residual_matches_the_authors_error(run):
+    # the authors report a relative force error of 4.08 % for their baseline (20 ms window)
+    q = force_residual(run, emps_baseline_model(), force_gain=EMPS_FORCE_GAIN)
+    F = q.filt(q.F_motor)
+    rel = q.rms / float(np.sqrt(np.nanmean(F**2)))
+    assert 0.03 < rel < 0.045
+    assert "35.15 N/V" in q.force_source
+
+
+def test_emps_diagnosis(run, tmp_path):
+    diag = diagnose([run], emps_baseline_model(), out_dir=tmp_path,
+                    force_gain=EMPS_FORCE_GAIN, max_steps=4)
+    assert diag.steps
+    s = diag.steps[0]
+    # direction-dependent friction first: Coulomb level lower and viscous higher for v < 0;
+    # position-dependent forces (polynomial / periodic in x) explain a similar share and
+    # cannot be separated from it on this run
+    assert s.effect == "asymmetric_friction"
+    assert "cogging_aperiodic" in s.ambiguous_with
+    assert s.evidence["heldout_improvement"] > 0.2
+    assert s.parameters["asymmetry.dF"]["value"] < -1.0
+    g0 = s.gap_before["force_rms_N"]
+    assert 1.9 < g0 < 2.2
+    # then a force periodic in position (a ~2.5 mm component: one screw turn) and pre-rolling
+    # at reversals, each a few % of the residual energy on held-out blocks
+    assert diag.named == ["asymmetric_friction", "cogging_periodic", "prerolling"]
+    lams = [diag.model.parameters[f"cogging.lambda[{j}]"] for j in range(1, 9)
+            if diag.model.parameters[f"cogging.a[{j}]"] != 0.0]
+    assert any(2.4e-3 < lam < 2.7e-3 for lam in lams), lams
+    assert diag.steps[2].gap_after["where"]["since_reversal_0-20um"] < \
+        0.6 * diag.steps[2].gap_before["where"]["since_reversal_0-20um"]
+    g_end = diag.steps[-1].gap_after
+    assert g_end["force_rms_N"] < 0.8 * g0
+    assert g_end["force_rms_heldout_N"] < 0.8 * g0
+    assert (tmp_path / "report.html").exists()

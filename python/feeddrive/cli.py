@@ -13,12 +13,18 @@ BUILD = REPO / "build"
 
 def _cmd_model(a: argparse.Namespace) -> int:
     from .model_file import paper_model, save_model
-    if not a.paper:
-        print("feeddrive model: only --paper is available (the paper's full model)", file=sys.stderr)
-        return 2
     out = Path(a.out)
-    save_model(paper_model(), out)
-    print(f"wrote {out}: the paper's full model; edit its \"effects\" map for reduced models")
+    if a.paper:
+        save_model(paper_model(), out)
+        print(f"wrote {out}: the paper's full model; edit its \"effects\" map for reduced models")
+    elif a.emps:
+        from .diagnose.emps import emps_baseline_model
+        save_model(emps_baseline_model(), out)
+        print(f"wrote {out}: the EMPS authors' rigid baseline (use --force-gain 35.15 with its runs)")
+    else:
+        print("feeddrive model: give --paper (the paper's full model) or --emps (EMPS baseline)",
+              file=sys.stderr)
+        return 2
     return 0
 
 
@@ -56,7 +62,7 @@ def _cmd_identify(a: argparse.Namespace) -> int:
 
 
 def _cmd_diagnose(a: argparse.Namespace) -> int:
-    from .diagnose.workflow import run_cli
+    from .diagnose.cli import run_cli
     return int(run_cli(a) or 0)
 
 
@@ -73,6 +79,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_report)
     p = sub.add_parser("model", help="write a model file")
     p.add_argument("--paper", action="store_true", help="the paper's full model")
+    p.add_argument("--emps", action="store_true", help="the EMPS benchmark authors' rigid baseline")
     p.add_argument("--out", default="model.json")
     p.set_defaults(func=_cmd_model)
     p = sub.add_parser("validate", help="replay a measured run through model and controller")
@@ -94,6 +101,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--model", required=True)
     p.add_argument("--out", required=True)
     p.add_argument("--max-steps", type=int, default=4)
+    p.add_argument("--force-gain", type=float, default=None,
+                   help="N/V for runs without a measured current (else the sidecar's 'force_gain', "
+                        "else the model's current loop)")
+    p.add_argument("--window", type=int, default=None,
+                   help="Savitzky-Golay window of the acceleration [samples] (default 20 ms)")
+    p.add_argument("--blocks", type=int, default=10, help="held-out blocks over all runs")
+    p.add_argument("--no-closed-loop", action="store_true",
+                   help="skip the closed-loop re-simulation of runs with a known controller")
     p.set_defaults(func=_cmd_diagnose)
     return ap
 

@@ -1,6 +1,6 @@
 """Files of a diagnosis: diagnosis.json, model.json and report.html with PNG plots.
 
-Schema of diagnosis.json: see SCHEMA.md beside this module.
+Schema of diagnosis.json: see the README, section "Discrepancy diagnosis".
 """
 from __future__ import annotations
 
@@ -36,7 +36,7 @@ def _clean(obj: Any) -> Any:
 
 
 def diagnosis_json(diag: "Diagnosis") -> dict:
-    """The JSON document of a diagnosis (SCHEMA.md)."""
+    """The JSON document of a diagnosis (README, "Discrepancy diagnosis")."""
     return _clean(diag.to_json())
 
 

@@ -8,6 +8,8 @@
 #include "plant.h"
 #include "solver_dp45.h"
 
+#define MODEL_MAGIC 0x46445256u   /* "FDRV": marks instances and FMU states */
+
 /* call-sequence states (bit masks, as in the Reference FMUs) */
 enum {
     ST_INSTANTIATED = 1 << 0,
@@ -71,6 +73,8 @@ int fmu_event_update(instance_t *c, fmi2Boolean *states_changed);
 double fmu_next_sample(const model_t *m);
 int fmu_sample_due(const model_t *m);
 void fmu_check_stroke(instance_t *c);
+/* compile parameters and initialise the plant from the current values (logs on error) */
+fmi2Status fmu_initialize_plant(instance_t *c);
 /* recompile parameters after a change; on failure logs, restores *backup and returns fmi2Error */
 fmi2Status fmu_recompile(instance_t *c, const double *backup_val);
 

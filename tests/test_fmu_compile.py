@@ -28,3 +28,17 @@ def test_fmpy_compile_rebuilds_from_sources(fmu_path, tmp_path):
     b = simulate_fmu(str(copy), stop_time=0.2, start_values=sv, output=["x", "F_friction"])
     assert np.allclose(a["x"], b["x"], rtol=0, atol=1e-12)
     assert np.allclose(a["F_friction"], b["F_friction"], rtol=0, atol=1e-9)
+
+
+def test_source_files_listed_in_the_model_description_are_the_sources(fmu_path):
+    """modelDescription.xml's <SourceFiles> (ME and CS) name exactly the C files of fmu_src/
+    plus the generated model_vars.c, and the FMU ships each of them in sources/."""
+    import xml.etree.ElementTree as ET
+    root_dir = Path(__file__).resolve().parents[1]
+    md = ET.parse(root_dir / "modelDescription.xml").getroot()
+    expected = {p.name for p in (root_dir / "fmu_src").glob("*.c")} | {"model_vars.c"}
+    shipped = set(zipfile.ZipFile(fmu_path).namelist())
+    for kind in ("ModelExchange", "CoSimulation"):
+        listed = {f.get("name") for f in md.find(kind).find("SourceFiles").findall("File")}
+        assert listed == expected, kind
+        assert {f"sources/{n}" for n in listed} <= shipped

@@ -97,18 +97,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--truth", default=None, help="model file of the truth (virtual runs): print true vs identified")
     p.set_defaults(func=_cmd_identify)
     p = sub.add_parser("diagnose", help="find the effects the model lacks")
-    p.add_argument("measured", nargs="+")
-    p.add_argument("--model", required=True)
-    p.add_argument("--out", required=True)
-    p.add_argument("--max-steps", type=int, default=4)
-    p.add_argument("--force-gain", type=float, default=None,
-                   help="N/V for runs without a measured current (else the sidecar's 'force_gain', "
-                        "else the model's current loop)")
-    p.add_argument("--window", type=int, default=None,
-                   help="Savitzky-Golay window of the acceleration [samples] (default 20 ms)")
-    p.add_argument("--blocks", type=int, default=10, help="held-out blocks over all runs")
-    p.add_argument("--no-closed-loop", action="store_true",
-                   help="skip the closed-loop re-simulation of runs with a known controller")
+    from .diagnose.cli import add_arguments
+    add_arguments(p)
     p.set_defaults(func=_cmd_diagnose)
     return ap
 

@@ -16,6 +16,12 @@ def parser(prog: str = "feeddrive diagnose") -> argparse.ArgumentParser:
     """The argument parser of the diagnose command."""
     p = argparse.ArgumentParser(prog=prog, description="Find which effects a model lacks "
                                 "against measured runs (force residual, held-out blocks).")
+    add_arguments(p)
+    return p
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The diagnose command's arguments (also used by the package CLI's sub-command)."""
     p.add_argument("runs", nargs="+", type=Path, help="measured runs (DATA.md CSV files)")
     p.add_argument("--model", required=True, type=Path, help="starting model file (JSON)")
     p.add_argument("--out", required=True, type=Path, help="output directory")
@@ -28,7 +34,6 @@ def parser(prog: str = "feeddrive diagnose") -> argparse.ArgumentParser:
     p.add_argument("--blocks", type=int, default=10, help="held-out blocks over all runs")
     p.add_argument("--no-closed-loop", action="store_true",
                    help="skip the closed-loop re-simulation of runs with a known controller")
-    return p
 
 
 def _from_namespace(a: argparse.Namespace) -> argparse.Namespace:

@@ -99,17 +99,14 @@ def effective_current(i: np.ndarray, timing: str = "held") -> np.ndarray:
     return out
 
 
-def eq1_friction(time: np.ndarray, x: np.ndarray, i: np.ndarray, m: float,
-                 force_constant: MapSpec, cogging: MapSpec, F_load: np.ndarray | float = 0.0,
-                 window: int = 41, current_timing: str = "held"
-                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
-    """Friction force from Eq. 1, F_f = K_f(x) i - F_cg(x) - F_e - m a, smoothed.
-
-    a is the Savitzky-Golay acceleration; the force side is filtered with the kernel that
-    differentiator applies (:func:`matched_acceleration`); the current is taken as
-    :func:`effective_current` with ``current_timing``.
-    Returns (F_f, v, K, Ts); F_f is NaN within half a window of the ends.
-    """
+def eq1_terms(time: np.ndarray, x: np.ndarray, i: np.ndarray, force_constant: MapSpec,
+              cogging: MapSpec, F_load: np.ndarray | float = 0.0, window: int = 41,
+              current_timing: str = "held"
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, float]:
+    """The known terms of Eq. 1 along a run: (force, a, v, K, Ts) with
+    force = K_f(x) i - F_cg(x) - F_e (unsmoothed), a the Savitzky-Golay acceleration, K the
+    kernel that differentiator applies (:func:`matched_acceleration`); the current taken as
+    :func:`effective_current` with ``current_timing``."""
     t = np.asarray(time, dtype=float)
     x, i = np.asarray(x, dtype=float), np.asarray(i, dtype=float)
     Ts = sample_time(t)
@@ -118,6 +115,18 @@ def eq1_friction(time: np.ndarray, x: np.ndarray, i: np.ndarray, m: float,
     i_eff = effective_current(i, current_timing)
     force = eval_map(force_constant, "ripple", x) * i_eff - eval_map(cogging, "cogging", x) \
         - np.broadcast_to(np.asarray(F_load, dtype=float), x.shape)
+    return force, a, v, K, Ts
+
+
+def eq1_friction(time: np.ndarray, x: np.ndarray, i: np.ndarray, m: float,
+                 force_constant: MapSpec, cogging: MapSpec, F_load: np.ndarray | float = 0.0,
+                 window: int = 41, current_timing: str = "held"
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """Friction force from Eq. 1, F_f = K_f(x) i - F_cg(x) - F_e - m a, smoothed with the
+    kernel of the acceleration estimate (:func:`eq1_terms`).
+    Returns (F_f, v, K, Ts); F_f is NaN within half a window of the ends.
+    """
+    force, a, v, K, Ts = eq1_terms(time, x, i, force_constant, cogging, F_load, window, current_timing)
     return apply_kernel(force, K) - m * a, v, K, Ts
 
 

@@ -22,8 +22,8 @@ import numpy as np
 
 from ..data import Run
 from ..friction_curves import steady_friction
-from ._signals import (MapSpec, apply_kernel, current, derivatives, eval_map, lstsq_with_stderr,
-                       matched_acceleration, run_label, sample_time, signal, effective_current)
+from ._signals import (MapSpec, apply_kernel, current, eq1_terms, lstsq_with_stderr, run_label,
+                       signal)
 
 
 @dataclass
@@ -73,13 +73,8 @@ def fit_mass(time: np.ndarray, x: np.ndarray, i: np.ndarray, force_constant: Map
         (m a = ... - F_load - offset.F).
     """
     t = np.asarray(time, dtype=float)
-    x, i = np.asarray(x, dtype=float), np.asarray(i, dtype=float)
-    Ts = sample_time(t)
-    _, v, _ = derivatives(x, Ts, window)
-    a, K = matched_acceleration(x, Ts, window)
-    i_eff = effective_current(i, current_timing)
-    force = eval_map(force_constant, "ripple", x) * i_eff - eval_map(cogging, "cogging", x) \
-        - np.broadcast_to(np.asarray(F_load, dtype=float), x.shape)
+    x = np.asarray(x, dtype=float)
+    force, a, v, K, Ts = eq1_terms(t, x, i, force_constant, cogging, F_load, window, current_timing)
     cols, names = [a], ["m"]
     if isinstance(friction, str):
         if friction != "coulomb_viscous":

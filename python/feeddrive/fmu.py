@@ -198,6 +198,8 @@ class RawIO:
 
     def __init__(self, plant: Plant, names: Sequence[str]) -> None:
         n = len(names)
+        self.plant = plant
+        self.names = list(names)
         self.n = n
         self.vr = (fmi2ValueReference * n)(*[plant.vr(s) for s in names])
         self.buf = (fmi2Real * n)()
@@ -212,12 +214,20 @@ class RawIO:
         f.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t, ctypes.c_void_p]
         self._get_to = f
 
+    def _fail(self, what: str) -> None:
+        msgs = self.plant.messages
+        raise FMUError(f"{what} {', '.join(self.names)}: " + (msgs[-1] if msgs else "no message"))
+
     def get(self) -> np.ndarray:
         """Current values (a view on the buffer: copy it to keep it)."""
-        self._get(self._c, self.vr, self.n, self.buf)
+        if self._get(self._c, self.vr, self.n, self.buf) > 1:
+            self._fail("fmi2GetReal")
         return self.np
 
     def set(self, values: Sequence[float]) -> None:
+        """Set the values; FMUError (with the FMU's message naming variable, value and range)
+        when the FMU rejects them."""
         for k, v in enumerate(values):
             self.buf[k] = v
-        self._set(self._c, self.vr, self.n, self.buf)
+        if self._set(self._c, self.vr, self.n, self.buf) > 1:
+            self._fail("fmi2SetReal")

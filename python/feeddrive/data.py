@@ -331,11 +331,13 @@ def write_run(run: Run, path: str | Path) -> None:
         except (TypeError, ValueError) as e:
             raise DataError(jpath, None, None, f"run.meta is not valid JSON: {e}") from None
     names = list(cols)
-    data = [cols[c].tolist() for c in names]
+    # each column to text once (repr of a Python float round-trips float64 exactly)
+    text_cols = [list(map(repr, cols[c].tolist())) if np.asarray(cols[c]).dtype.kind == "f"
+                 else [_cell(v) for v in cols[c].tolist()] for c in names]
     buf = io.StringIO(newline="")
     writer = csv.writer(buf, lineterminator="\n")
     writer.writerow(names)
-    writer.writerows([[_cell(v) for v in row] for row in zip(*data)])
+    writer.writerows(zip(*text_cols))
     path.write_text(buf.getvalue(), encoding="utf-8", newline="")
     if meta_text is not None:
         jpath.write_text(meta_text + "\n", encoding="utf-8")

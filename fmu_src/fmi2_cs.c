@@ -7,15 +7,6 @@
 
 #include "fmi2_instance.h"
 
-#define CS_ONLY(c, fn)                                                                          \
-    do {                                                                                        \
-        if ((c)->type != fmi2CoSimulation) {                                                    \
-            fmu_log((c), fmi2Error, LOG_ERROR, "%s: only for co-simulation; this instance is "   \
-                    "model exchange", fn);                                                      \
-            return fmi2Error;                                                                   \
-        }                                                                                       \
-    } while (0)
-
 static void rhs(void *ctx, double t, const double *y, double *dydt) {
     const model_t *m = (const model_t *)ctx;
     (void)t;
@@ -29,15 +20,13 @@ static void indicators(void *ctx, double t, const double *y, double *z) {
 }
 
 fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h, fmi2Boolean noSetFMUStatePriorToCurrentPoint) {
-    instance_t *c = fmu_cast(comp, "fmi2DoStep");
+    instance_t *c = fmu_enter(comp, "fmi2DoStep", fmi2CoSimulation, ST_STEP_COMPLETE);
     model_t *m;
     double t_end, eps, t_target;
     int roots[PLANT_NZ], guard = 0;
     fmi2Boolean changed;
     (void)noSetFMUStatePriorToCurrentPoint;
     if (!c) return fmi2Error;
-    CS_ONLY(c, "fmi2DoStep");
-    if (!fmu_allowed(c, "fmi2DoStep", ST_STEP_COMPLETE)) return fmi2Error;
     m = &c->m;
     eps = 1e-9 * (fabs(t) > 1.0 ? fabs(t) : 1.0);
     if (!isfinite(t) || !isfinite(h) || h <= 0.0) {
@@ -112,12 +101,10 @@ fmi2Status fmi2SetRealInputDerivatives(fmi2Component comp, const fmi2ValueRefere
 
 fmi2Status fmi2GetRealOutputDerivatives(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr,
                                         const fmi2Integer order[], fmi2Real value[]) {
-    instance_t *c = fmu_cast(comp, "fmi2GetRealOutputDerivatives");
+    instance_t *c = fmu_enter(comp, "fmi2GetRealOutputDerivatives",
+                            fmi2CoSimulation, ST_STEP_COMPLETE | ST_STEP_FAILED | ST_TERMINATED);
     size_t k;
     if (!c) return fmi2Error;
-    CS_ONLY(c, "fmi2GetRealOutputDerivatives");
-    if (!fmu_allowed(c, "fmi2GetRealOutputDerivatives", ST_STEP_COMPLETE | ST_STEP_FAILED | ST_TERMINATED))
-        return fmi2Error;
     if (nvr > 0 && (!vr || !order || !value)) {
         fmu_log(c, fmi2Error, LOG_ERROR, "fmi2GetRealOutputDerivatives: NULL array with nvr = %zu", nvr);
         return fmi2Error;

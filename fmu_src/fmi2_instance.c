@@ -52,6 +52,18 @@ void fmu_log(instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...) {
     emit(&c->cb, c->name ? c->name : "?", st, CAT_NAME[idx], buf);
 }
 
+instance_t *fmu_enter(fmi2Component comp, const char *fn, fmi2Type type, int mask) {
+    instance_t *c = fmu_cast(comp, fn);
+    if (!c) return NULL;
+    if (c->type != type) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: only for %s; this instance is %s", fn,
+                type == fmi2ModelExchange ? "model exchange" : "co-simulation",
+                type == fmi2ModelExchange ? "co-simulation" : "model exchange");
+        return NULL;
+    }
+    return fmu_allowed(c, fn, mask) ? c : NULL;
+}
+
 instance_t *fmu_cast(fmi2Component comp, const char *fn) {
     instance_t *c = (instance_t *)comp;
     (void)fn;
@@ -182,6 +194,17 @@ fmi2Status fmu_recompile(instance_t *c, const double *backup_val) {
     return fmi2OK;
 }
 
+/* A freshly instantiated model: every variable at its start value, state Instantiated. */
+static void model_defaults(model_t *m) {
+    int j;
+    memset(m, 0, sizeof *m);
+    m->magic = MODEL_MAGIC;
+    m->size = (unsigned)sizeof(model_t);
+    m->fsm = ST_INSTANTIATED;
+    for (j = 0; j < MODEL_NVARS; j++) m->val[MODEL_VARS[j].vr] = MODEL_VARS[j].start;
+    m->tol = m->val[VR_solver_tol];
+}
+
 /* ---------------------------------------------------------------- life cycle */
 
 const char *fmi2GetTypesPlatform(void) { return fmi2TypesPlatform; }
@@ -192,7 +215,6 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
                               fmi2Boolean visible, fmi2Boolean loggingOn) {
     instance_t *c;
     size_t len;
-    int j;
     (void)fmuResourceLocation;
     (void)visible;
     if (!functions || !functions->allocateMemory || !functions->freeMemory) return NULL;
@@ -221,11 +243,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     c->type = fmuType;
     c->logging_on = loggingOn != 0;
     c->log_mask = LOG_EVENTS | LOG_WARNING | LOG_ERROR;
-    c->m.magic = MODEL_MAGIC;
-    c->m.size = (unsigned)sizeof(model_t);
-    c->m.fsm = ST_INSTANTIATED;
-    for (j = 0; j < MODEL_NVARS; j++) c->m.val[MODEL_VARS[j].vr] = MODEL_VARS[j].start;
-    c->m.tol = c->m.val[VR_solver_tol];
+    model_defaults(&c->m);
     return c;
 }
 
@@ -338,14 +356,8 @@ fmi2Status fmi2Terminate(fmi2Component comp) {
 
 fmi2Status fmi2Reset(fmi2Component comp) {
     instance_t *c = fmu_cast(comp, "fmi2Reset");
-    int j;
     if (!c || !fmu_allowed(c, "fmi2Reset", ~ST_FATAL)) return fmi2Error;
-    memset(&c->m, 0, sizeof c->m);
-    c->m.magic = MODEL_MAGIC;
-    c->m.size = (unsigned)sizeof(model_t);
-    c->m.fsm = ST_INSTANTIATED;
-    for (j = 0; j < MODEL_NVARS; j++) c->m.val[MODEL_VARS[j].vr] = MODEL_VARS[j].start;
-    c->m.tol = c->m.val[VR_solver_tol];
+    model_defaults(&c->m);
     return fmi2OK;
 }
 

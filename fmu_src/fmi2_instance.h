@@ -66,6 +66,9 @@ void fmu_log(instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...)
 /* check that the call is allowed in the current state; logs and returns 0 if not */
 int fmu_allowed(instance_t *c, const char *fn, int mask);
 instance_t *fmu_cast(fmi2Component c, const char *fn);
+/* entry of an interface-specific call: the instance when it is of `type` and in a state of
+ * `mask`, else NULL (with a logged message) */
+instance_t *fmu_enter(fmi2Component c, const char *fn, fmi2Type type, int mask);
 /* outputs and derivatives up to date */
 void fmu_update_outputs(instance_t *c);
 /* process what is due at the current time: a current-loop sample, then friction switches */

@@ -4,15 +4,6 @@
 
 #include "fmi2_instance.h"
 
-#define ME_ONLY(c, fn)                                                                         \
-    do {                                                                                       \
-        if ((c)->type != fmi2ModelExchange) {                                                  \
-            fmu_log((c), fmi2Error, LOG_ERROR, "%s: only for model exchange; this instance is " \
-                    "co-simulation", fn);                                                      \
-            return fmi2Error;                                                                  \
-        }                                                                                      \
-    } while (0)
-
 static int array_ok(instance_t *c, const char *fn, const void *p, size_t n, size_t expected) {
     if (n != expected) {
         fmu_log(c, fmi2Error, LOG_ERROR, "%s: size %zu, this FMU has %zu", fn, n, expected);
@@ -26,20 +17,16 @@ static int array_ok(instance_t *c, const char *fn, const void *p, size_t n, size
 }
 
 fmi2Status fmi2EnterEventMode(fmi2Component comp) {
-    instance_t *c = fmu_cast(comp, "fmi2EnterEventMode");
+    instance_t *c = fmu_enter(comp, "fmi2EnterEventMode", fmi2ModelExchange, ST_EVENT | ST_CONT);
     if (!c) return fmi2Error;
-    ME_ONLY(c, "fmi2EnterEventMode");
-    if (!fmu_allowed(c, "fmi2EnterEventMode", ST_EVENT | ST_CONT)) return fmi2Error;
     c->m.fsm = ST_EVENT;
     return fmi2OK;
 }
 
 fmi2Status fmi2NewDiscreteStates(fmi2Component comp, fmi2EventInfo *info) {
-    instance_t *c = fmu_cast(comp, "fmi2NewDiscreteStates");
+    instance_t *c = fmu_enter(comp, "fmi2NewDiscreteStates", fmi2ModelExchange, ST_EVENT);
     fmi2Boolean changed = fmi2False;
     if (!c) return fmi2Error;
-    ME_ONLY(c, "fmi2NewDiscreteStates");
-    if (!fmu_allowed(c, "fmi2NewDiscreteStates", ST_EVENT)) return fmi2Error;
     if (!info) { fmu_log(c, fmi2Error, LOG_ERROR, "fmi2NewDiscreteStates: eventInfo is NULL"); return fmi2Error; }
     fmu_event_update(c, &changed);
     info->newDiscreteStatesNeeded = fmi2False;
@@ -52,21 +39,17 @@ fmi2Status fmi2NewDiscreteStates(fmi2Component comp, fmi2EventInfo *info) {
 }
 
 fmi2Status fmi2EnterContinuousTimeMode(fmi2Component comp) {
-    instance_t *c = fmu_cast(comp, "fmi2EnterContinuousTimeMode");
+    instance_t *c = fmu_enter(comp, "fmi2EnterContinuousTimeMode", fmi2ModelExchange, ST_EVENT);
     if (!c) return fmi2Error;
-    ME_ONLY(c, "fmi2EnterContinuousTimeMode");
-    if (!fmu_allowed(c, "fmi2EnterContinuousTimeMode", ST_EVENT)) return fmi2Error;
     c->m.fsm = ST_CONT;
     return fmi2OK;
 }
 
 fmi2Status fmi2CompletedIntegratorStep(fmi2Component comp, fmi2Boolean noSetFMUStatePriorToCurrentPoint,
                                        fmi2Boolean *enterEventMode, fmi2Boolean *terminateSimulation) {
-    instance_t *c = fmu_cast(comp, "fmi2CompletedIntegratorStep");
+    instance_t *c = fmu_enter(comp, "fmi2CompletedIntegratorStep", fmi2ModelExchange, ST_CONT);
     (void)noSetFMUStatePriorToCurrentPoint;
     if (!c) return fmi2Error;
-    ME_ONLY(c, "fmi2CompletedIntegratorStep");
-    if (!fmu_allowed(c, "fmi2CompletedIntegratorStep", ST_CONT)) return fmi2Error;
     if (!enterEventMode || !terminateSimulation) {
         fmu_log(c, fmi2Error, LOG_ERROR, "fmi2CompletedIntegratorStep: NULL output argument");
         return fmi2Error;
@@ -78,10 +61,8 @@ fmi2Status fmi2CompletedIntegratorStep(fmi2Component comp, fmi2Boolean noSetFMUS
 }
 
 fmi2Status fmi2SetTime(fmi2Component comp, fmi2Real time) {
-    instance_t *c = fmu_cast(comp, "fmi2SetTime");
+    instance_t *c = fmu_enter(comp, "fmi2SetTime", fmi2ModelExchange, ST_EVENT | ST_CONT);
     if (!c) return fmi2Error;
-    ME_ONLY(c, "fmi2SetTime");
-    if (!fmu_allowed(c, "fmi2SetTime", ST_EVENT | ST_CONT)) return fmi2Error;
     if (!isfinite(time)) {
         fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SetTime: time = %g is not finite", time);
         return fmi2Error;
@@ -92,11 +73,9 @@ fmi2Status fmi2SetTime(fmi2Component comp, fmi2Real time) {
 }
 
 fmi2Status fmi2SetContinuousStates(fmi2Component comp, const fmi2Real x[], size_t nx) {
-    instance_t *c = fmu_cast(comp, "fmi2SetContinuousStates");
+    instance_t *c = fmu_enter(comp, "fmi2SetContinuousStates", fmi2ModelExchange, ST_CONT);
     size_t j;
     if (!c) return fmi2Error;
-    ME_ONLY(c, "fmi2SetContinuousStates");
-    if (!fmu_allowed(c, "fmi2SetContinuousStates", ST_CONT)) return fmi2Error;
     if (!array_ok(c, "fmi2SetContinuousStates", x, nx, PLANT_NX)) return fmi2Error;
     for (j = 0; j < nx; j++) {
         if (!isfinite(x[j])) {
@@ -111,10 +90,9 @@ fmi2Status fmi2SetContinuousStates(fmi2Component comp, const fmi2Real x[], size_
 }
 
 fmi2Status fmi2GetDerivatives(fmi2Component comp, fmi2Real derivatives[], size_t nx) {
-    instance_t *c = fmu_cast(comp, "fmi2GetDerivatives");
+    instance_t *c = fmu_enter(comp, "fmi2GetDerivatives",
+                            fmi2ModelExchange, ST_EVENT | ST_CONT | ST_TERMINATED | ST_ERROR);
     if (!c) return fmi2Error;
-    ME_ONLY(c, "fmi2GetDerivatives");
-    if (!fmu_allowed(c, "fmi2GetDerivatives", ST_EVENT | ST_CONT | ST_TERMINATED | ST_ERROR)) return fmi2Error;
     if (!array_ok(c, "fmi2GetDerivatives", derivatives, nx, PLANT_NX)) return fmi2Error;
     fmu_update_outputs(c);
     memcpy(derivatives, c->m.dydt, nx * sizeof(double));
@@ -122,11 +100,10 @@ fmi2Status fmi2GetDerivatives(fmi2Component comp, fmi2Real derivatives[], size_t
 }
 
 fmi2Status fmi2GetEventIndicators(fmi2Component comp, fmi2Real z[], size_t nz) {
-    instance_t *c = fmu_cast(comp, "fmi2GetEventIndicators");
+    instance_t *c = fmu_enter(comp, "fmi2GetEventIndicators",
+                            fmi2ModelExchange, ST_EVENT | ST_CONT | ST_TERMINATED | ST_ERROR);
     model_t *m;
     if (!c) return fmi2Error;
-    ME_ONLY(c, "fmi2GetEventIndicators");
-    if (!fmu_allowed(c, "fmi2GetEventIndicators", ST_EVENT | ST_CONT | ST_TERMINATED | ST_ERROR)) return fmi2Error;
     if (!array_ok(c, "fmi2GetEventIndicators", z, nz, PLANT_NZ)) return fmi2Error;
     m = &c->m;
     m->in.u = m->val[VR_u];
@@ -136,22 +113,19 @@ fmi2Status fmi2GetEventIndicators(fmi2Component comp, fmi2Real z[], size_t nz) {
 }
 
 fmi2Status fmi2GetContinuousStates(fmi2Component comp, fmi2Real x[], size_t nx) {
-    instance_t *c = fmu_cast(comp, "fmi2GetContinuousStates");
+    instance_t *c = fmu_enter(comp, "fmi2GetContinuousStates",
+                            fmi2ModelExchange, ST_EVENT | ST_CONT | ST_TERMINATED | ST_ERROR);
     if (!c) return fmi2Error;
-    ME_ONLY(c, "fmi2GetContinuousStates");
-    if (!fmu_allowed(c, "fmi2GetContinuousStates", ST_EVENT | ST_CONT | ST_TERMINATED | ST_ERROR)) return fmi2Error;
     if (!array_ok(c, "fmi2GetContinuousStates", x, nx, PLANT_NX)) return fmi2Error;
     memcpy(x, c->m.y, nx * sizeof(double));
     return fmi2OK;
 }
 
 fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component comp, fmi2Real x_nominal[], size_t nx) {
-    instance_t *c = fmu_cast(comp, "fmi2GetNominalsOfContinuousStates");
+    instance_t *c = fmu_enter(comp, "fmi2GetNominalsOfContinuousStates",
+                            fmi2ModelExchange, ST_INSTANTIATED | ST_EVENT | ST_CONT | ST_TERMINATED | ST_ERROR);
     size_t j;
     if (!c) return fmi2Error;
-    ME_ONLY(c, "fmi2GetNominalsOfContinuousStates");
-    if (!fmu_allowed(c, "fmi2GetNominalsOfContinuousStates",
-                     ST_INSTANTIATED | ST_EVENT | ST_CONT | ST_TERMINATED | ST_ERROR)) return fmi2Error;
     if (!array_ok(c, "fmi2GetNominalsOfContinuousStates", x_nominal, nx, PLANT_NX)) return fmi2Error;
     for (j = 0; j < nx; j++) x_nominal[j] = j < 2 ? 1e-3 : 1.0;
     return fmi2OK;

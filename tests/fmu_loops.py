@@ -109,6 +109,18 @@ class VelocityLoop:
         return 0.0, -(y["F_friction"] + self.kp * e + self.ki * self.integral)
 
 
+def run_at_speed(parameters: Mapping[str, float | int | bool], v_ref: float, m: float,
+                 dt: float = 2e-3, n: int = 300, ramp: float = 0.02) -> Run:
+    """Model exchange at tolerance 1e-8 from x = 0, speed ramped to ``v_ref`` in ``ramp``
+    seconds and held by a :class:`VelocityLoop` (friction-only parameters)."""
+    plant = me_plant(parameters)
+    try:
+        return run_law(plant, dt, n, VelocityLoop(lambda t: v_ref * min(t / ramp, 1.0), m, dt),
+                       {"x": 0.0})
+    finally:
+        plant.close()
+
+
 class PositionLoop:
     """Follow ``x_ref(t)`` (with ``v_ref``, ``a_ref``) with F_ext: friction and cogging
     feedforward from the FMU's outputs, motor force included, plus PD with poles at

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from feeddrive.friction_curves import steady_friction
-from fmu_loops import (FRICTION_ONLY, PositionLoop, VelocityLoop, me_plant, run_law,
+from fmu_loops import (FRICTION_ONLY, PositionLoop, me_plant, run_at_speed, run_law,
                        triangle)
 
 pytestmark = pytest.mark.usefixtures("fmu_path")
@@ -48,13 +48,7 @@ def test_ringing_uses_all_N_springs(paper: dict, N: int) -> None:
 @pytest.mark.parametrize("N", [1, 10])
 def test_steady_sliding_with_N_elements(paper: dict, N: int, direction: int) -> None:
     """Sum nu = 1 with any N: steady sliding at 10 mm/s is s(v) + sigma2 v (0.5 %)."""
-    v_ref, dt = direction * 10e-3, 2e-3
-    plant = me_plant(_params(N))
-    try:
-        run = run_law(plant, dt, 300, VelocityLoop(lambda t: v_ref * min(t / 0.02, 1.0),
-                                                   paper["m"], dt), {"x": 0.0})
-    finally:
-        plant.close()
+    run = run_at_speed(_params(N), direction * 10e-3, paper["m"])
     w = slice(-50, None)
     exp = steady_friction(run["v"][w], paper["friction.F_s"], paper["friction.F_c"],
                           paper["friction.V_s"], paper["friction.delta"], paper["friction.sigma2"])

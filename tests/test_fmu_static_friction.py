@@ -10,7 +10,7 @@ import pytest
 
 from feeddrive.friction_curves import steady_friction
 from feeddrive.maps import cogging
-from fmu_loops import FRICTION_ONLY, VelocityLoop, me_plant, run_law
+from fmu_loops import FRICTION_ONLY, me_plant, run_at_speed, run_law
 
 pytestmark = pytest.mark.usefixtures("fmu_path")
 
@@ -20,13 +20,9 @@ STATIC = {"effects.prerolling": False}
 @pytest.mark.parametrize("direction", [1, -1])
 @pytest.mark.parametrize("speed", [0.5e-3, 10e-3, 200e-3])
 def test_steady_sliding(paper: dict, speed: float, direction: int) -> None:
-    v_ref, dt = direction * speed, 2e-3
-    plant = me_plant(dict(FRICTION_ONLY, **STATIC, **{"stroke.x_min": -1.0, "stroke.x_max": 1.0}))
-    try:
-        run = run_law(plant, dt, 300, VelocityLoop(lambda t: v_ref * min(t / 0.02, 1.0),
-                                                   paper["m"], dt), {"x": 0.0})
-    finally:
-        plant.close()
+    v_ref = direction * speed
+    run = run_at_speed(dict(FRICTION_ONLY, **STATIC, **{"stroke.x_min": -1.0, "stroke.x_max": 1.0}),
+                       v_ref, paper["m"])
     w = slice(-50, None)
     v = run["v"][w]
     assert np.all(np.abs(v / v_ref - 1.0) < 0.01)

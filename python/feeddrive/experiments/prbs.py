@@ -13,22 +13,18 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
-from scipy.signal import max_len_seq
 
 from ..data import Run
+from ..identify.current_loop import prbs
 from .constant_speed import closed_loop_measurement, stroke
 from .measurement import Sensors
 from .references import Reference
 
 
 def prbs_sequence(order: int = 11, amplitude: float = 0.3, periods: int = 1) -> np.ndarray:
-    """``periods`` periods of the maximum-length sequence of ``order``, levels +-amplitude [V]."""
-    if order < 2:
-        raise ValueError(f"prbs_sequence: order {order} must be >= 2")
-    if periods < 1:
-        raise ValueError(f"prbs_sequence: periods {periods} must be >= 1")
-    bits = max_len_seq(order)[0].astype(float)
-    return np.tile(amplitude * (2.0 * bits - 1.0), periods)
+    """``periods`` periods of the maximum-length sequence of ``order``, levels +-amplitude [V]
+    (one bit per sample; :func:`feeddrive.identify.current_loop.prbs`)."""
+    return prbs(order, amplitude=amplitude, periods=periods)
 
 
 def prbs_runs(params: Mapping[str, Any], sensors: Sensors, order: int = 11,

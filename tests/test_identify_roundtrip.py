@@ -19,9 +19,10 @@ import pytest
 
 from feeddrive import cli
 from feeddrive.data import load_runs, write_run
-from feeddrive.experiments.constant_speed import (PAPER_LOADS, constant_speed_runs, run_seed,
+from feeddrive.experiments.constant_speed import (PAPER_LOADS, constant_speed_runs,
                                                   stribeck_runs)
 from feeddrive.experiments.force_open_loop import force_open_loop_runs
+from feeddrive.experiments.recording import run_seed
 from feeddrive.experiments.measurement import Sensors
 from feeddrive.experiments.prbs import prbs_runs
 from feeddrive.experiments.prerolling_excitation import AMPLITUDES, prerolling_runs

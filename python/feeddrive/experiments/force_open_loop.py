@@ -17,7 +17,7 @@ import numpy as np
 from ..data import Run
 from ..fmu import Plant
 from ..simulate import simulate_open_loop
-from .constant_speed import sampled_signals, stroke
+from .recording import sampled_signals, stroke
 from .measurement import Sensors, to_run
 
 

@@ -16,7 +16,7 @@ import numpy as np
 
 from ..data import Run
 from ..identify.current_loop import prbs
-from .constant_speed import closed_loop_measurement, stroke
+from .recording import closed_loop_measurement, stroke
 from .measurement import Sensors
 from .references import Reference
 

@@ -18,7 +18,7 @@ from dataclasses import replace
 from typing import Any
 
 from ..data import Run
-from .constant_speed import closed_loop_measurement, run_seed, stroke
+from .recording import closed_loop_measurement, run_seed, stroke
 from .measurement import Sensors
 from .references import sinusoid
 

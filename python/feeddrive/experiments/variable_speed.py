@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from ..data import Run
-from .constant_speed import STROKE_MARGIN, closed_loop_measurement, stroke
+from .recording import STROKE_MARGIN, closed_loop_measurement, stroke
 from .measurement import Sensors
 from .references import Reference
 

@@ -326,11 +326,7 @@ fmi2Status fmu_initialize_plant(instance_t *c) {
     set_inputs(m);
     plant_init(&m->p, &m->d, m->y, &m->in);
     if (!m->tol_defined) m->tol = m->val[VR_solver_tol];
-    for (j = 0; j < PLANT_NX; j++) {
-        int row = MODEL_VR_INDEX[MODEL_STATE_VR[j]];
-        (void)row;
-        atol[j] = m->tol * (j == PLANT_IX ? 1e-3 : (j == PLANT_IV ? 1e-3 : 1.0));
-    }
+    for (j = 0; j < PLANT_NX; j++) atol[j] = m->tol * MODEL_STATE_NOMINAL(j);   /* XML nominals */
     dp45_init(&m->solver, PLANT_NX, PLANT_NZ, m->tol, atol, m->p.Ts);
     m->solver_restart = 1;
     m->out_valid = 0;

@@ -127,6 +127,6 @@ fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component comp, fmi2Real x_nomi
     size_t j;
     if (!c) return fmi2Error;
     if (!array_ok(c, "fmi2GetNominalsOfContinuousStates", x_nominal, nx, PLANT_NX)) return fmi2Error;
-    for (j = 0; j < nx; j++) x_nominal[j] = j < 2 ? 1e-3 : 1.0;
+    for (j = 0; j < nx; j++) x_nominal[j] = MODEL_STATE_NOMINAL(j);
     return fmi2OK;
 }

@@ -47,7 +47,7 @@ def main(xml_path: str, outdir: str) -> None:
                      c_double(start, typ) if start is not None else "0.0", 1 if start is not None else 0,
                      c_double(mn, typ) if mn is not None else "-HUGE_VAL",
                      c_double(mx, typ) if mx is not None else "HUGE_VAL",
-                     typ_el.get("unit", "")))
+                     typ_el.get("unit", ""), repr(float(typ_el.get("nominal", "1")))))
         defines.append(f"#define VR_{c_ident(name)} {vr}u")
         m = re.fullmatch(r"(.*)\[(\d+)\]", name)
         if m and not name.startswith("der("):
@@ -73,11 +73,14 @@ def main(xml_path: str, outdir: str) -> None:
          "    char causality;     /* 'p' parameter, 'i' input, 'o' output, 'l' local */",
          "    char variability;   /* 'f' fixed, 't' tunable, 'd' discrete, 'c' continuous */",
          "    double start; int has_start; double min, max; const char *unit;",
+         "    double nominal;     /* the XML's nominal attribute (1 when absent) */",
          "} model_var_t;", "",
          "extern const model_var_t MODEL_VARS[MODEL_NVARS];",
          "extern const short MODEL_VR_INDEX[MODEL_NVR];   /* vr -> row of MODEL_VARS, -1 if none */",
          "extern const unsigned MODEL_STATE_VR[MODEL_NX];  /* continuous states in order */",
-         "extern const unsigned MODEL_DER_VR[MODEL_NX];    /* their derivatives */", ""]
+         "extern const unsigned MODEL_DER_VR[MODEL_NX];    /* their derivatives */",
+         "/* nominal value of continuous state j (from the XML) */",
+         "#define MODEL_STATE_NOMINAL(j) (MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]].nominal)", ""]
     h += defines
     h.append("")
     for g, members in groups.items():
@@ -93,7 +96,7 @@ def main(xml_path: str, outdir: str) -> None:
          "#include <math.h>", '#include "model_vars.h"', "",
          "const model_var_t MODEL_VARS[MODEL_NVARS] = {"]
     for r in rows:
-        c.append(f'    {{{r[0]}u, "{r[1]}", \'{r[2]}\', \'{r[3]}\', \'{r[4]}\', {r[5]}, {r[6]}, {r[7]}, {r[8]}, "{r[9]}"}},')
+        c.append(f'    {{{r[0]}u, "{r[1]}", \'{r[2]}\', \'{r[3]}\', \'{r[4]}\', {r[5]}, {r[6]}, {r[7]}, {r[8]}, "{r[9]}", {r[10]}}},')
     c += ["};", "", "const short MODEL_VR_INDEX[MODEL_NVR] = {" + ", ".join(map(str, idx)) + "};",
           "const unsigned MODEL_STATE_VR[MODEL_NX] = {" + ", ".join(f"{v}u" for v in states) + "};",
           "const unsigned MODEL_DER_VR[MODEL_NX] = {" + ", ".join(f"{v}u" for v in der_vrs) + "};", ""]

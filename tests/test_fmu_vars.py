@@ -28,7 +28,8 @@ def _xml_vars() -> list[dict]:
         out.append({"name": sv.get("name"), "vr": int(sv.get("valueReference")), "type": t.tag,
                     "causality": sv.get("causality", "local"),
                     "variability": sv.get("variability", "continuous"),
-                    "start": t.get("start"), "unit": t.get("unit", "")})
+                    "start": t.get("start"), "unit": t.get("unit", ""),
+                    "nominal": float(t.get("nominal", "1"))})
     return out
 
 
@@ -68,7 +69,7 @@ def test_header_value_references_match_xml(gen_files: tuple[str, str]) -> None:
             assert vals[int(n.rsplit("[", 1)[1][:-1])] == vr, n
 
 
-ROW = re.compile(r'\{(\d+)u, "([^"]+)", \'(\w)\', \'(\w)\', \'(\w)\', ([^,]+), (\d), ([^,]+), ([^,]+), "([^"]*)"\}')
+ROW = re.compile(r'\{(\d+)u, "([^"]+)", \'(\w)\', \'(\w)\', \'(\w)\', ([^,]+), (\d), ([^,]+), ([^,]+), "([^"]*)", ([^}]+)\}')
 
 
 def test_c_table_rows_match_xml(gen_files: tuple[str, str]) -> None:
@@ -84,6 +85,7 @@ def test_c_table_rows_match_xml(gen_files: tuple[str, str]) -> None:
         assert r.group(4) == caus, v["name"]
         assert r.group(5) == v["variability"][0], v["name"]
         assert r.group(10) == v["unit"], v["name"]
+        assert float(r.group(11)) == v["nominal"], v["name"]
         if v["start"] is None:
             assert r.group(7) == "0", v["name"]
         else:
@@ -114,3 +116,22 @@ def test_fmu_binary_holds_the_paper_parameters(fmu_path: Path, paper: dict) -> N
         got = plant.get(list(paper))
     for name, value in paper.items():
         assert math.isclose(float(got[name]), float(value), rel_tol=1e-12, abs_tol=1e-300), name
+
+
+def test_state_nominals_come_from_the_model_description(fmu_path):
+    """fmi2GetNominalsOfContinuousStates reports the XML's nominal attributes of the states
+    (the co-simulation solver scales its absolute tolerances by the same numbers)."""
+    import ctypes
+
+    from fmpy import read_model_description
+
+    from feeddrive.fmu import Plant
+    md = read_model_description(str(fmu_path))
+    states = [d.variable.derivative for d in md.derivatives]
+    expected = [float(s.nominal) if s.nominal is not None else 1.0 for s in states]
+    with Plant(interface="me", path=fmu_path) as p:
+        p.start()
+        buf = (ctypes.c_double * len(expected))()
+        p.fmu.getNominalsOfContinuousStates(buf, len(expected))
+        assert list(buf) == expected
+    assert expected[:2] == [1e-3, 1e-3] and expected[2:] == [1.0] * 10

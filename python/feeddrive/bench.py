@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .bench_c import run_bench_cs, run_cycles
 from .experiments.references import sinusoid
 from .fmu import Plant
 from .paper import paper_parameters
@@ -60,10 +61,10 @@ def python_rows(repeats: int = 5) -> tuple[list[tuple[str, str, str]], dict]:
     return rows, {"wall_cs": w_cs, "dx": dx}
 
 
-def c_rows(repeats: int = 5) -> list[tuple[str, str, str]]:
-    """Figures of the C drivers: co-simulation from C, doStep latency, memory."""
-    from .bench_c import run_bench_cs
-    f = run_bench_cs(repeats)
+def c_rows(bench_cs: Path, cycles: Path | None, library: Path,
+           repeats: int = 5) -> list[tuple[str, str, str]]:
+    """Figures of the C hosts (built by `make bench`): co-simulation from C, doStep latency, memory."""
+    f = run_bench_cs(bench_cs, library, repeats)
     wall = f["wall_s_best"]
     rows = [
         ("6 s closed loop from C through fmi2DoStep (best of %d)" % repeats,
@@ -76,33 +77,18 @@ def c_rows(repeats: int = 5) -> list[tuple[str, str, str]]:
         ("one 0.5 ms fmi2DoStep: 99th percentile", f"{f['dostep_us_p99']:.2f} us", "< 20 us"),
         ("one 0.5 ms fmi2DoStep: maximum (includes scheduler preemption)", f"{f['dostep_us_max']:.1f} us", ""),
     ]
-    mem = _memory()
-    if mem:
-        rows += mem
-    return rows
-
-
-def _memory() -> list[tuple[str, str, str]]:
-    """Bytes one instance holds and memory growth over 10 000 instances (tests/c/cycles)."""
-    import re
-    import subprocess
-    from .bench_c import REPO, SO
-    exe = REPO / "build" / "tests_c" / "cycles"
+    if cycles is None:
+        return rows + [("memory", "not measured (no --cycles host given)", "")]
     try:
-        subprocess.run(["make", "-s", "-C", str(REPO / "tests" / "c"), str(exe)], check=True,
-                       capture_output=True, text=True)
-        out = subprocess.run([str(exe), str(SO), "10000"], capture_output=True, text=True, check=True).stdout
-    except (subprocess.CalledProcessError, FileNotFoundError) as e:
-        return [("memory", f"not measured ({e})", "")]
-    rows = []
-    m = re.search(r"peak bytes held through the callbacks at once: (\d+)", out)
-    if m:
+        m = run_cycles(cycles, library, 10_000)
+    except (RuntimeError, FileNotFoundError) as e:
+        return rows + [("memory", f"not measured ({e})", "")]
+    if "peak_bytes" in m:
         rows.append(("memory of one instance (peak held through the FMI callbacks, incl. an FMU state copy)",
-                     f"{int(m.group(1)) / 1024:.1f} KiB", "< 64 KiB"))
-    m = re.search(r"resident memory growth (-?\d+) KiB", out)
-    if m:
+                     f"{m['peak_bytes'] / 1024:.1f} KiB", "< 64 KiB"))
+    if "rss_growth_kib" in m:
         rows.append(("resident memory growth over 10 000 instantiate/simulate/free cycles",
-                     f"{m.group(1)} KiB", "no growth"))
+                     f"{m['rss_growth_kib']} KiB", "no growth"))
     return rows
 
 
@@ -110,9 +96,17 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--out", default="build/bench.md")
     ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--bench-cs", default=None, help="the built tests/c bench_cs host (`make bench` passes it)")
+    ap.add_argument("--cycles", default=None, help="the built tests/c cycles host (memory figures)")
+    ap.add_argument("--library", default=None, help="the FMU's shared library the C hosts load")
     a = ap.parse_args(argv)
+    if a.bench_cs and not a.library:
+        ap.error("--bench-cs needs --library (the FMU's .so)")
     rows, _ = python_rows(a.repeats)
-    rows += c_rows(a.repeats)
+    if a.bench_cs:
+        rows += c_rows(Path(a.bench_cs), Path(a.cycles) if a.cycles else None, Path(a.library), a.repeats)
+    else:
+        rows.append(("C benchmark hosts", "not measured (no --bench-cs given; `make bench` builds and passes it)", ""))
     lines = [f"# feeddrive benchmark ({platform.node()}, {platform.machine()}, {os.cpu_count()} cores, "
              f"{time.strftime('%Y-%m-%d %H:%M')}, load average {os.getloadavg()[0]:.1f})", "",
              "| what | measured | target |", "|---|---|---|"]

@@ -1,35 +1,59 @@
-"""Co-simulation benchmark from C: builds and runs tests/c/bench_cs on the FMU's shared library.
+"""Figures of the C benchmark hosts (test code in ``tests/c``, built by `make bench`).
 
-``run_bench_cs()`` returns the figures of the 30 mm / 6 s closed-loop sinusoid (2 kHz PID, 100 nm
-scale, one 0.5 ms ``fmi2DoStep`` per sample): real-time factor, friction events per simulated and
-per wall-clock second, and the wall time of one ``fmi2DoStep`` (median, 99th percentile, max) in µs.
+``run_bench_cs(exe, library)`` runs ``bench_cs`` on the FMU's shared library and returns the
+figures of the 30 mm / 6 s closed-loop sinusoid (2 kHz PID, 100 nm scale, one 0.5 ms
+``fmi2DoStep`` per sample): real-time factor, friction events per simulated and per
+wall-clock second, and the wall time of one ``fmi2DoStep`` (median, 99th percentile, max) in µs.
+``run_cycles(exe, library)`` runs ``cycles``: bytes one instance holds and memory growth over
+many instantiate/simulate/free cycles.  Both take the paths of the built executables; nothing
+here builds or locates them.
 """
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 from pathlib import Path
 
-REPO = Path(__file__).resolve().parents[2]
-BENCH = REPO / "build" / "tests_c" / "bench_cs"
-SO = REPO / "build" / "binaries" / "linux64" / "LinearMotorFeedDrive.so"
 
-
-def run_bench_cs(repetitions: int = 5) -> dict[str, float]:
-    """Build ``bench_cs`` (needs ``make fmu`` first) and run it; the JSON figures as a dict."""
-    if not SO.is_file():
-        raise FileNotFoundError(f"{SO}: no FMU library; build it with `make fmu`")
-    subprocess.run(["make", "-s", "-C", str(REPO / "tests" / "c"), str(BENCH)], check=True,
-                   capture_output=True, text=True)
-    p = subprocess.run([str(BENCH), str(SO), str(int(repetitions))], capture_output=True, text=True,
-                       check=False)
+def _run(exe: Path, library: Path, *args: str) -> str:
+    """Stdout of ``exe library args...``; one-line errors naming the missing file or the failure."""
+    for p, what in ((exe, "C benchmark host (`make bench` builds it)"), (library, "FMU shared library")):
+        if not Path(p).is_file():
+            raise FileNotFoundError(f"{p}: no {what} there")
+    p = subprocess.run([str(exe), str(library), *args], capture_output=True, text=True, check=False)
     if p.returncode != 0:
-        raise RuntimeError(f"{BENCH} failed (exit {p.returncode}): {p.stderr.strip()}")
-    return json.loads(p.stdout.strip().splitlines()[-1])
+        raise RuntimeError(f"{exe} failed (exit {p.returncode}): {p.stderr.strip()}")
+    return p.stdout
+
+
+def run_bench_cs(exe: str | Path, library: str | Path, repetitions: int = 5) -> dict[str, float]:
+    """Run the ``bench_cs`` host ``exe`` on ``library`` (the FMU's .so); its JSON figures as a dict."""
+    out = _run(Path(exe), Path(library), str(int(repetitions)))
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def run_cycles(exe: str | Path, library: str | Path, cycles: int = 10_000) -> dict[str, int]:
+    """Run the ``cycles`` host ``exe`` on ``library``.
+
+    Returns
+    -------
+    dict with ``peak_bytes`` (held through the FMI callbacks at once) and ``rss_growth_kib``
+    (resident memory growth over ``cycles`` instantiate/simulate/free cycles), where printed.
+    """
+    out = _run(Path(exe), Path(library), str(int(cycles)))
+    fig = {}
+    m = re.search(r"peak bytes held through the callbacks at once: (\d+)", out)
+    if m:
+        fig["peak_bytes"] = int(m.group(1))
+    m = re.search(r"resident memory growth (-?\d+) KiB", out)
+    if m:
+        fig["rss_growth_kib"] = int(m.group(1))
+    return fig
 
 
 def markdown(fig: dict[str, float]) -> str:
-    """The figures as a markdown table."""
+    """The ``bench_cs`` figures as a markdown table."""
     rows = [("CS real-time factor, 30 mm / 6 s closed loop from C", f"{fig['real_time_factor']:.0f}x"),
             ("friction state events per simulated second", f"{fig['state_events_per_sim_s']:.1f}"),
             ("friction state events per wall-clock second", f"{fig['state_events_per_wall_s']:.0f}"),
@@ -39,7 +63,3 @@ def markdown(fig: dict[str, float]) -> str:
             ("fmi2DoStep of 0.5 ms, 99th percentile", f"{fig['dostep_us_p99']:.2f} µs"),
             ("fmi2DoStep of 0.5 ms, maximum", f"{fig['dostep_us_max']:.1f} µs")]
     return "| quantity | value |\n|---|---|\n" + "\n".join(f"| {a} | {b} |" for a, b in rows) + "\n"
-
-
-if __name__ == "__main__":
-    print(markdown(run_bench_cs()))

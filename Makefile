@@ -1,8 +1,10 @@
 # feeddrive — build the FMU, run the main job, test, benchmark.
-#   make / make fmu   build build/LinearMotorFeedDrive.fmu
+#   make / make fmu   build build/LinearMotorFeedDrive.fmu (and its copy inside the package,
+#                     python/feeddrive/, git-ignored: the package data of installs and wheels)
 #   make run          set-up, FMU, the paper's closed-loop reproductions, report (prints the tables)
 #   make test         set-up, FMU, every test
 #   make bench        benchmark table (build/bench.md)
+#   make wheel        build/feeddrive-*.whl carrying the FMU
 MODEL      := LinearMotorFeedDrive
 PYTHON     ?= python3
 VENV       := .venv
@@ -10,6 +12,9 @@ PY         := $(VENV)/bin/python
 BUILD      := build
 GEN        := $(BUILD)/gen
 FMU        := $(BUILD)/$(MODEL).fmu
+PKG_FMU    := python/feeddrive/$(MODEL).fmu
+SHARED     ?= ../shared
+TESTS_C    := $(CURDIR)/$(BUILD)/tests_c
 SO         := $(BUILD)/binaries/linux64/$(MODEL).so
 CC         ?= cc
 FMU_CFLAGS := -std=c99 -O3 -fno-math-errno -fPIC -Wall -Wextra -Werror -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE
@@ -17,9 +22,9 @@ SRC_C      := $(filter-out %gen_vars.py,$(wildcard fmu_src/*.c))
 SRC_H      := $(wildcard fmu_src/*.h)
 STAMP      := $(VENV)/.installed
 
-.PHONY: all fmu run test bench clean venv
+.PHONY: all fmu run test bench wheel clean venv
 all: fmu
-fmu: $(FMU)
+fmu: $(FMU) $(PKG_FMU)
 venv: $(STAMP)
 
 $(STAMP): python/pyproject.toml
@@ -46,14 +51,24 @@ $(FMU): $(SO) modelDescription.xml
 	$(PY) tools/package_fmu.py --xml modelDescription.xml --so $(SO) \
 	    --sources fmu_src $(GEN) --out $@
 
-run: $(FMU)
-	$(PY) -m feeddrive.cli run
+$(PKG_FMU): $(FMU)
+	cp $< $@
 
-test: $(FMU)
+run: fmu
+	$(PY) -m feeddrive.cli run --shared $(SHARED)
+
+test: fmu
 	$(PY) -m pytest -q tests
 
-bench: $(FMU)
-	$(PY) -m feeddrive.bench --out $(BUILD)/bench.md
+# the C benchmark hosts are test code (tests/c); built here and handed to the benchmark
+bench: fmu
+	$(MAKE) -s -C tests/c $(TESTS_C)/bench_cs $(TESTS_C)/cycles
+	$(PY) -m feeddrive.bench --out $(BUILD)/bench.md --bench-cs $(TESTS_C)/bench_cs \
+	    --cycles $(TESTS_C)/cycles --library $(SO)
+
+wheel: $(PKG_FMU)
+	rm -rf $(BUILD)/feeddrive-*.whl python/build
+	$(PY) -m pip wheel -q --no-deps -w $(BUILD) ./python
 
 clean:
-	rm -rf $(BUILD)
+	rm -rf $(BUILD) $(PKG_FMU)

@@ -10,6 +10,7 @@ from feeddrive.paper import paper_parameters
 
 REPO = Path(__file__).resolve().parents[1]
 FMU = REPO / "build" / "LinearMotorFeedDrive.fmu"
+PKG_FMU = REPO / "python" / "feeddrive" / FMU.name     # the package's copy (make fmu), Plant's default
 
 
 def pytest_configure(config: pytest.Config) -> None:
@@ -18,10 +19,10 @@ def pytest_configure(config: pytest.Config) -> None:
 
 @pytest.fixture(scope="session")
 def fmu_path() -> Path:
-    """build/LinearMotorFeedDrive.fmu, built with `make fmu` when it is missing."""
-    if not FMU.is_file():
+    """build/LinearMotorFeedDrive.fmu, built with `make fmu` when it or the package's copy is missing."""
+    if not (FMU.is_file() and PKG_FMU.is_file()):
         subprocess.run(["make", "fmu"], cwd=REPO, check=True)
-    assert FMU.is_file(), f"`make fmu` did not produce {FMU}"
+    assert FMU.is_file() and PKG_FMU.is_file(), f"`make fmu` did not produce {FMU} and {PKG_FMU}"
     return FMU
 
 

@@ -10,7 +10,8 @@ import pytest
 
 from feeddrive.data import DataError, Run, load_run, load_runs, write_run
 
-EMPS = Path("/work/shared/realdata/emps/emps_train.csv")
+SHARED = Path(__file__).resolve().parents[2] / "shared"      # ../shared beside the checkout
+EMPS = SHARED / "realdata" / "emps" / "emps_train.csv"
 
 GOOD = """time,u,i,x,x_ref,F_load
 0.0,0.1,0.11,0.0,0.0,0.0

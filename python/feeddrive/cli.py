@@ -3,12 +3,14 @@ validation, diagnosis, report)."""
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
-from .fmu import REPO
+from .fmu import FMUNotFoundError, fmu_path
 
-BUILD = REPO / "build"
+BUILD = Path("build")           # relative to the working directory
+SHARED_ENV = "FEEDDRIVE_SHARED"
 
 
 def _cmd_model(a: argparse.Namespace) -> int:
@@ -30,7 +32,9 @@ def _cmd_model(a: argparse.Namespace) -> int:
 
 def _cmd_report(a: argparse.Namespace) -> int:
     from .validation.workflow import main_job
-    main_job(Path(a.out), print_tables=a.command == "run", runs_dir=Path(a.runs) if a.runs else None)
+    fmu_path()      # no FMU: one line before the job starts
+    main_job(Path(a.out), print_tables=a.command == "run", runs_dir=Path(a.runs) if a.runs else None,
+             shared_dir=Path(a.shared) if a.shared else None)
     return 0
 
 
@@ -69,14 +73,14 @@ def _cmd_diagnose(a: argparse.Namespace) -> int:
 def build_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(prog="feeddrive", description=__doc__)
     sub = ap.add_subparsers(dest="command", required=True)
-    p = sub.add_parser("run", help="the main job: Secs. 3 and 4 reproduced, report written, tables printed")
-    p.add_argument("--out", default=str(BUILD / "report"))
-    p.add_argument("--runs", default=None, help="folder of identification runs to add to the report")
-    p.set_defaults(func=_cmd_report)
-    p = sub.add_parser("report", help="write build/report/index.html (figures and tables)")
-    p.add_argument("--out", default=str(BUILD / "report"))
-    p.add_argument("--runs", default=None, help="folder of identification runs to add to the report")
-    p.set_defaults(func=_cmd_report)
+    for name, text in (("run", "the main job: Secs. 3 and 4 reproduced, report written, tables printed"),
+                       ("report", "write build/report/index.html (figures and tables)")):
+        p = sub.add_parser(name, help=text)
+        p.add_argument("--out", default=str(BUILD / "report"))
+        p.add_argument("--runs", default=None, help="folder of identification runs to add to the report")
+        p.add_argument("--shared", default=os.environ.get(SHARED_ENV) or None,
+                       help=f"the shared data folder (holds realdata/odrive-cogging); default ${SHARED_ENV}")
+        p.set_defaults(func=_cmd_report)
     p = sub.add_parser("model", help="write a model file")
     p.add_argument("--paper", action="store_true", help="the paper's full model")
     p.add_argument("--emps", action="store_true", help="the EMPS benchmark authors' rigid baseline")
@@ -105,7 +109,11 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     a = build_parser().parse_args(argv)
-    return a.func(a)
+    try:
+        return a.func(a)
+    except FMUNotFoundError as e:
+        print(f"feeddrive {a.command}: {e}", file=sys.stderr)
+        return 2
 
 
 if __name__ == "__main__":

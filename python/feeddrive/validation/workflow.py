@@ -12,16 +12,17 @@ from ..report import closed_loop_figures as figs
 from . import sec3, sec4
 from .controllers import make_controller, state_space_spec
 
+ODRIVE = Path("realdata") / "odrive-cogging"     # inside the shared data folder
 
-ODRIVE = Path(__file__).resolve().parents[3].parent / "shared" / "realdata" / "odrive-cogging"
 
-
-def main_job(out_dir: Path, print_tables: bool = True, runs_dir: Path | None = None) -> dict:
+def main_job(out_dir: Path, print_tables: bool = True, runs_dir: Path | None = None,
+             shared_dir: Path | None = None) -> dict:
     """Run Secs. 3 and 4, write ``out_dir/index.html``; return the tables' rows.
 
     With ``runs_dir`` (a folder of identification runs, e.g. from ``feeddrive experiments``)
     the page also gets the identification figures (Figs. 5-13 analogues); when the ODrive
-    measured data sit in ../shared/realdata, their position-spectrum findings are added."""
+    measured data sit in ``shared_dir/realdata/odrive-cogging``, their position-spectrum findings
+    are added (else the page says why the section was skipped)."""
     out_dir = Path(out_dir)
     page = Page(out_dir, "feeddrive: the linear-motor feed drive of Villegas et al. (2014)")
     t0 = time.perf_counter()
@@ -62,10 +63,15 @@ def main_job(out_dir: Path, print_tables: bool = True, runs_dir: Path | None = N
         from ..identify.figures import identification_section
         page.heading("Identification (Secs. 2.2-2.4) from " + str(runs_dir))
         identification_section(page, Path(runs_dir))
-    if ODRIVE.is_dir():
+    page.heading("Real data: ODrive BLDC cogging maps (position spectrum)")
+    odrive = Path(shared_dir) / ODRIVE if shared_dir is not None else None
+    skipped = ("skipped: no shared data folder given (feeddrive run --shared DIR or $FEEDDRIVE_SHARED)"
+               if odrive is None else None if odrive.is_dir() else f"skipped: {odrive} is not a folder")
+    if skipped is None:
         from ..realdata.odrive import analyse, findings_text
-        page.heading("Real data: ODrive BLDC cogging maps (position spectrum)")
-        page.pre(findings_text(analyse(ODRIVE)))
+        page.pre(findings_text(analyse(odrive)))
+    else:
+        page.text(skipped)
     path = page.write()
     wall = time.perf_counter() - t0
     if print_tables:
@@ -77,5 +83,7 @@ def main_job(out_dir: Path, print_tables: bool = True, runs_dir: Path | None = N
         print()
         print(r4.table())
         print()
+        if skipped is not None:
+            print(f"ODrive real-data section {skipped}")
         print(f"report: {path}  (wall {wall:.1f} s)")
     return {"sec3": r3.rows, "sec4": r4.rows, "report": str(path)}

@@ -61,7 +61,6 @@ def sanitized(fmu_path: Path):
     return build
 
 
-@pytest.mark.slow
 @pytest.mark.parametrize("seed", [1, 2, 3])
 def test_fuzz_sanitized(sanitized, seed: int):
     """300 000 random calls per seed under ASan + UBSan."""
@@ -88,7 +87,6 @@ def test_cycles_plain(plain):
     assert_clean(p)
 
 
-@pytest.mark.slow
 def test_cycles_leak_sanitizer(sanitized):
     """10 000 life cycles under ASan/LSan (resident memory is ASan's quarantine there)."""
     sanitized("cycles_san")
@@ -96,7 +94,6 @@ def test_cycles_leak_sanitizer(sanitized):
     assert_clean(p)
 
 
-@pytest.mark.slow
 @pytest.mark.skipif(shutil.which("valgrind") is None, reason="valgrind is not installed")
 def test_cycles_valgrind(plain):
     """1 000 life cycles of the shared library under valgrind memcheck: no error, no leak."""
@@ -129,7 +126,6 @@ def test_threads_thread_sanitizer(fmu_path: Path):
     assert_clean(p)
 
 
-@pytest.mark.slow
 def test_one_hour_run(plain):
     """3600 s of the 30 mm / 6 s closed loop: finishes, finite, tracking does not drift, the
     energy balance closes to 1e-5 of the motor's work (trapezoidal-rule error on 0.5 ms

@@ -12,7 +12,6 @@ import pytest
 from fmpy import simulate_fmu
 
 
-@pytest.mark.slow
 def test_fmpy_compile_rebuilds_from_sources(fmu_path, tmp_path):
     if shutil.which("cmake") is None:
         pytest.skip("cmake is not installed: fmpy compile needs it")

@@ -19,8 +19,8 @@ from .fmu import REPO, FMUError
 from .identify.pipeline import identify_folder
 from .model_file import load_model, paper_model, save_model
 from .report.diagnosis import write_diagnosis
+from .report.main_job import main_job
 from .validation.replay import validate_file
-from .validation.workflow import main_job
 
 BUILD = REPO / "build"
 

@@ -9,11 +9,12 @@ import pytest
 from feeddrive.data import Run, write_run
 from feeddrive.diagnose.closed_loop import (PIDController, constant_speed_reference,
                                             simulate_run, sinusoid_reference)
-from feeddrive.diagnose.cli import run_cli
+from feeddrive.cli import main as feeddrive_cli
 from feeddrive.diagnose.localise import displacement_since_reversal, spatial_spectrum
 from feeddrive.diagnose.residual import force_residual
 from feeddrive.diagnose.workflow import diagnose
 from feeddrive.model_file import load_model, paper_model, save_model
+from feeddrive.report.diagnosis import write_diagnosis
 
 PAPER = paper_model()
 
@@ -64,7 +65,8 @@ def test_residual_of_the_true_model_is_at_the_noise_floor():
 
 
 def test_complete_model_gets_nothing_named(tmp_path):
-    diag = diagnose(_runs(PAPER, seed=31), PAPER, out_dir=tmp_path, closed_loop=False)
+    diag = diagnose(_runs(PAPER, seed=31), PAPER, closed_loop=False)
+    write_diagnosis(diag, tmp_path)
     assert diag.steps == []
     doc = json.loads((tmp_path / "diagnosis.json").read_text())
     assert doc["steps"] == [] and "no candidate" in doc["stop"]["reason"]
@@ -75,8 +77,8 @@ def test_two_hidden_effects_are_found_in_turn(tmp_path):
     truth = PAPER.with_effect("asymmetric_friction", True,
                               **{"asymmetry.dF": 4.0, "asymmetry.dsigma2": 30.0})
     start = PAPER.with_effect("mass", True, m=14.0)
-    diag = diagnose(_runs(truth, seed=41, noise=0.003), start, out_dir=tmp_path,
-                    closed_loop=False)
+    diag = diagnose(_runs(truth, seed=41, noise=0.003), start, closed_loop=False)
+    write_diagnosis(diag, tmp_path)
     assert diag.named[:2] == ["asymmetric_friction", "mass"]
     assert len(diag.steps) == 2
     assert abs(diag.model.parameters["m"] - 16.1) < 0.4
@@ -110,8 +112,8 @@ def test_sec3_sinusoid_static_friction_names_prerolling_and_reversal_error_shrin
     model_path = tmp_path / "static.json"
     save_model(PAPER.with_effect("prerolling", False), model_path)
     out = tmp_path / "out"
-    assert run_cli([str(path), "--model", str(model_path), "--out", str(out),
-                    "--max-steps", "1"]) == 0
+    assert feeddrive_cli(["diagnose", str(path), "--model", str(model_path), "--out", str(out),
+                          "--max-steps", "1"]) == 0
     doc = json.loads((out / "diagnosis.json").read_text())
     s = doc["steps"][0]
     assert s["effect"] == "prerolling"
@@ -142,18 +144,19 @@ def test_too_short_run_is_rejected_with_its_name():
         diagnose([run], PAPER, closed_loop=False)
 
 
-def test_run_cli_accepts_the_package_cli_namespace(tmp_path, capsys):
-    import argparse
+def test_diagnose_command_writes_its_files_and_refuses_bad_input(tmp_path, capsys):
     run = simulate_run(PAPER, sinusoid_reference(3.0, period=3.0), current_noise=0.005,
                        seed=61, name="short")
     write_run(run, tmp_path / "short.csv")
     save_model(PAPER, tmp_path / "paper.json")
-    ns = argparse.Namespace(measured=[str(tmp_path / "short.csv")],
-                            model=str(tmp_path / "paper.json"), out=str(tmp_path / "o"),
-                            max_steps=1)
-    assert run_cli(ns) == 0
+    assert feeddrive_cli(["diagnose", str(tmp_path / "short.csv"), "--model",
+                          str(tmp_path / "paper.json"), "--out", str(tmp_path / "o"),
+                          "--max-steps", "1"]) == 0
     assert "stopped: no candidate" in capsys.readouterr().out
     assert json.loads((tmp_path / "o" / "diagnosis.json").read_text())["steps"] == []
-    bad = argparse.Namespace(measured=[str(tmp_path / "missing.csv")],
-                             model=str(tmp_path / "paper.json"), out=str(tmp_path / "o2"))
-    assert run_cli(bad) == 2
+    assert (tmp_path / "o" / "report.html").stat().st_size > 500
+    assert feeddrive_cli(["diagnose", str(tmp_path / "missing.csv"), "--model",
+                          str(tmp_path / "paper.json"), "--out", str(tmp_path / "o2")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "missing.csv" in err[0] and "Traceback" not in err[0]
+    assert not (tmp_path / "o2").exists()

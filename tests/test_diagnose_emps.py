@@ -16,6 +16,7 @@ from feeddrive.data import load_run
 from feeddrive.diagnose.emps import EMPS_FORCE_GAIN, emps_baseline_model
 from feeddrive.diagnose.residual import force_residual
 from feeddrive.diagnose.workflow import diagnose
+from feeddrive.report.diagnosis import write_diagnosis
 
 EMPS = Path(__file__).resolve().parents[2] / "shared" / "realdata" / "emps" / "emps_train.csv"
 pytestmark = pytest.mark.skipif(not EMPS.exists(), reason=f"{EMPS} not present")
@@ -36,8 +37,8 @@ def test_baseline_residual_matches_the_authors_error(run):
 
 
 def test_emps_diagnosis(run, tmp_path):
-    diag = diagnose([run], emps_baseline_model(), out_dir=tmp_path,
-                    force_gain=EMPS_FORCE_GAIN, max_steps=4)
+    diag = diagnose([run], emps_baseline_model(), force_gain=EMPS_FORCE_GAIN, max_steps=4)
+    write_diagnosis(diag, tmp_path)
     assert diag.steps
     s = diag.steps[0]
     # direction-dependent friction first: Coulomb level lower and viscous higher for v < 0;

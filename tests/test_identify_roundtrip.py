@@ -28,7 +28,7 @@ from feeddrive.experiments.prbs import prbs_runs
 from feeddrive.experiments.prerolling_excitation import AMPLITUDES, prerolling_runs
 from feeddrive.experiments.variable_speed import variable_speed_runs
 from feeddrive.identify import identify_attraction
-from feeddrive.identify.figures import identification_section
+from feeddrive.report.identification import identification_section
 from feeddrive.identify.pipeline import classify, identify_folder
 from feeddrive.identify.sec4_check import compare_sec4
 from feeddrive.identify.truth_table import c_factor

@@ -9,7 +9,7 @@ import pytest
 from feeddrive.cli import main as cli
 from feeddrive.data import load_run
 from feeddrive.model_file import load_model
-from feeddrive.validation.workflow import main_job
+from feeddrive.report.main_job import main_job
 
 
 @pytest.fixture(scope="module")

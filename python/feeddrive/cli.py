@@ -1,37 +1,50 @@
-"""`feeddrive` command line: thin over the modules (model, experiments, identification,
-validation, diagnosis, report)."""
+"""`feeddrive` command line: parses the arguments and calls the modules (model, experiments,
+identification, validation, diagnosis, report).
+
+Bad input (a file, a field, a parameter) ends a command with one line on stderr naming it
+and exit status 2, never a traceback.
+"""
 from __future__ import annotations
 
 import argparse
 import os
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 
-from .fmu import FMUNotFoundError, fmu_path
+from .data import load_run
+from .diagnose.emps import emps_baseline_model
+from .diagnose.workflow import diagnose
+from .experiments.campaign import write_campaign
+from .fmu import FMUError, fmu_path
+from .identify.pipeline import identify_folder
+from .model_file import load_model, paper_model, save_model
+from .report.diagnosis import write_diagnosis
+from .report.main_job import main_job
+from .validation.replay import validate_file
 
 BUILD = Path("build")           # relative to the working directory
 SHARED_ENV = "FEEDDRIVE_SHARED"
 
 
+class UsageError(ValueError):
+    """A command was given arguments it cannot use."""
+
+
 def _cmd_model(a: argparse.Namespace) -> int:
-    from .model_file import paper_model, save_model
     out = Path(a.out)
     if a.paper:
         save_model(paper_model(), out)
         print(f"wrote {out}: the paper's full model; edit its \"effects\" map for reduced models")
     elif a.emps:
-        from .diagnose.emps import emps_baseline_model
         save_model(emps_baseline_model(), out)
         print(f"wrote {out}: the EMPS authors' rigid baseline (use --force-gain 35.15 with its runs)")
     else:
-        print("feeddrive model: give --paper (the paper's full model) or --emps (EMPS baseline)",
-              file=sys.stderr)
-        return 2
+        raise UsageError("give --paper (the paper's full model) or --emps (EMPS baseline)")
     return 0
 
 
 def _cmd_report(a: argparse.Namespace) -> int:
-    from .validation.workflow import main_job
     fmu_path()      # no FMU: one line before the job starts
     main_job(Path(a.out), print_tables=a.command == "run", runs_dir=Path(a.runs) if a.runs else None,
              shared_dir=Path(a.shared) if a.shared else None)
@@ -39,39 +52,61 @@ def _cmd_report(a: argparse.Namespace) -> int:
 
 
 def _cmd_validate(a: argparse.Namespace) -> int:
-    from .validation.replay import validate_file
     rep = validate_file(Path(a.measured), Path(a.model) if a.model else None)
     print(rep.text())
     return 0
 
 
 def _cmd_experiments(a: argparse.Namespace) -> int:
-    from .experiments.campaign import write_campaign
     paths = write_campaign(Path(a.out), model=Path(a.model) if a.model else None, seed=a.seed)
     print(f"wrote {len(paths)} runs to {a.out}")
     return 0
 
 
 def _cmd_identify(a: argparse.Namespace) -> int:
-    from .identify.pipeline import identify_folder
-    from .model_file import load_model
     truth = load_model(Path(a.truth)).fmu_parameters() if a.truth else None
-    try:
-        res = identify_folder(Path(a.runs), Path(a.out), truth=truth)
-    except (ValueError, FileNotFoundError) as e:
-        print(f"feeddrive identify: {e}", file=sys.stderr)
-        return 2
+    res = identify_folder(Path(a.runs), Path(a.out), truth=truth)
     print(res.text())
     return 0
 
 
 def _cmd_diagnose(a: argparse.Namespace) -> int:
-    from .diagnose.cli import run_cli
-    return int(run_cli(a) or 0)
+    runs = [load_run(p) for p in a.runs]
+    model = load_model(a.model)
+    diag = diagnose(runs, model, max_steps=a.max_steps, force_gain=a.force_gain,
+                    window=a.window, n_blocks=a.blocks, closed_loop=not a.no_closed_loop)
+    report = write_diagnosis(diag, a.out)
+    for note in diag.notes:
+        print(note)
+    for k, s in enumerate(diag.steps, 1):
+        amb = f" (cannot be told from {', '.join(s.ambiguous_with)})" if s.ambiguous_with else ""
+        print(f"step {k}: {s.effect}{amb}: held-out improvement "
+              f"{s.evidence['heldout_improvement']:.1%}, t = {s.evidence['t_blocks']:.1f}; "
+              f"force gap {s.gap_before['force_rms_N']:.3g} N -> "
+              f"{s.gap_after['force_rms_N']:.3g} N")
+    print(f"stopped: {diag.stop.get('reason')}")
+    print(f"wrote {a.out / 'diagnosis.json'}, {a.out / 'model.json'}, {report}")
+    return 0
+
+
+def _diagnose_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("runs", nargs="+", type=Path, help="measured runs (DATA.md CSV files)")
+    p.add_argument("--model", required=True, type=Path, help="starting model file (JSON)")
+    p.add_argument("--out", required=True, type=Path, help="output directory")
+    p.add_argument("--max-steps", type=int, default=4, help="at most this many effects")
+    p.add_argument("--force-gain", type=float, default=None,
+                   help="N/V for runs without a current column (else the sidecar's "
+                        "'force_gain', else the model's current loop)")
+    p.add_argument("--window", type=int, default=None,
+                   help="Savitzky-Golay window of the acceleration [samples] (default 20 ms)")
+    p.add_argument("--blocks", type=int, default=10, help="held-out blocks over all runs")
+    p.add_argument("--no-closed-loop", action="store_true",
+                   help="skip the closed-loop re-simulation of runs with a known controller")
 
 
 def build_parser() -> argparse.ArgumentParser:
-    ap = argparse.ArgumentParser(prog="feeddrive", description=__doc__)
+    """The parser of every ``feeddrive`` sub-command."""
+    ap = argparse.ArgumentParser(prog="feeddrive", description=__doc__.split("\n\n")[0])
     sub = ap.add_subparsers(dest="command", required=True)
     for name, text in (("run", "the main job: Secs. 3 and 4 reproduced, report written, tables printed"),
                        ("report", "write build/report/index.html (figures and tables)")):
@@ -100,18 +135,18 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True)
     p.add_argument("--truth", default=None, help="model file of the truth (virtual runs): print true vs identified")
     p.set_defaults(func=_cmd_identify)
-    p = sub.add_parser("diagnose", help="find the effects the model lacks")
-    from .diagnose.cli import add_arguments
-    add_arguments(p)
+    p = sub.add_parser("diagnose", help="find the effects the model lacks (force residual, held-out blocks)")
+    _diagnose_arguments(p)
     p.set_defaults(func=_cmd_diagnose)
     return ap
 
 
-def main(argv: list[str] | None = None) -> int:
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run one ``feeddrive`` command; returns its exit status (2: bad input, one line on stderr)."""
     a = build_parser().parse_args(argv)
     try:
-        return a.func(a)
-    except FMUNotFoundError as e:
+        return int(a.func(a) or 0)
+    except (ValueError, OSError, FMUError) as e:
         print(f"feeddrive {a.command}: {e}", file=sys.stderr)
         return 2
 

@@ -11,7 +11,6 @@ the improvement, or after ``max_steps``.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
@@ -237,13 +236,6 @@ def polish(runs: list[Run], effect: str, model: ModelFile, res: list[RunResidual
     return model, res, n
 
 
-def run_cli(args) -> int:
-    """The ``feeddrive diagnose`` command: ``args`` is an argv list or the lead CLI's
-    argparse namespace (see :func:`feeddrive.diagnose.cli.run_cli`)."""
-    from .cli import run_cli as _run_cli
-    return _run_cli(args)
-
-
 def _summary(s: Score) -> dict:
     return {"effect": s.variant.effect, "variant": s.variant.label,
             "heldout_improvement": s.improvement, "t_blocks": s.t,
@@ -251,7 +243,7 @@ def _summary(s: Score) -> dict:
             "refinement": s.variant.refine}
 
 
-def diagnose(runs: list[Run], model: ModelFile, out_dir: Path | None = None, max_steps: int = 4,
+def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
              force_gain: float | None = None, window: int | None = None,
              n_blocks: int = DEFAULT_BLOCKS, closed_loop: bool = True) -> "Diagnosis":
     """Diagnose what ``model`` lacks against measured ``runs`` (see module docstring).
@@ -260,7 +252,6 @@ def diagnose(runs: list[Run], model: ModelFile, out_dir: Path | None = None, max
     ----------
     runs : measured runs (DATA.md); several runs are pooled, blocks are cut per run.
     model : the starting model file.
-    out_dir : when given, diagnosis.json, model.json and report.html are written there.
     max_steps : at most this many effects are added.
     force_gain : N/V for runs without current (else the sidecar's, else the model's loop).
     window : Savitzky-Golay window of the acceleration estimate [samples] (None: 20 ms).
@@ -337,11 +328,7 @@ def diagnose(runs: list[Run], model: ModelFile, out_dir: Path | None = None, max
             break
     else:
         stop = {"reason": f"max_steps = {max_steps} reached", "gap": gap(res)}
-    diag = Diagnosis(steps=steps, stop=stop, model_start=model, model=current,
+    return Diagnosis(steps=steps, stop=stop, model_start=model, model=current,
                      runs=[r.name or f"run{j}" for j, r in enumerate(runs)], notes=notes,
                      residual_start=start_res, residual_final=res)
-    if out_dir is not None:
-        from .output import write_outputs
-        write_outputs(diag, Path(out_dir))
-    return diag
 

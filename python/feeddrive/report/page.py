@@ -30,6 +30,20 @@ class Page:
     def pre(self, text: str) -> None:
         self.parts.append(f"<pre>{html.escape(text)}</pre>")
 
+    def lines(self, lines: Sequence[str]) -> None:
+        """One paragraph of lines (escaped), separated by line breaks."""
+        if lines:
+            self.parts.append("<p>" + "<br>".join(html.escape(t) for t in lines) + "</p>")
+
+    def cells(self, header: Sequence[str], rows: Sequence[Sequence[Sequence[str]]]) -> None:
+        """A table whose cells hold several lines each (escaped; the first may be bold)."""
+        head = "".join(f"<th>{html.escape(c)}</th>" for c in header)
+        body = "".join("<tr>" + "".join(
+            "<td style='text-align:left;vertical-align:top'>"
+            + "<br>".join(html.escape(t) for t in cell) + "</td>" for cell in row) + "</tr>"
+            for row in rows)
+        self.parts.append(f"<table><tr>{head}</tr>{body}</table>")
+
     def table(self, rows: Sequence[dict[str, Any]], caption: str = "", digits: int = 3) -> None:
         if not rows:
             return
@@ -46,15 +60,17 @@ class Page:
         cap = f"<caption>{html.escape(caption)}</caption>" if caption else ""
         self.parts.append(f"<table>{cap}<tr>{head}</tr>{body}</table>")
 
-    def figure(self, fig: plt.Figure, name: str, caption: str = "") -> Path:
+    def figure(self, fig: plt.Figure, name: str, caption: str = "", dpi: int = 110) -> Path:
+        """Save ``fig`` as ``name``.png beside the page and show it with ``caption``."""
         path = self.dir / f"{name}.png"
-        fig.savefig(path, dpi=110, bbox_inches="tight")
+        fig.savefig(path, dpi=dpi, bbox_inches="tight")
         plt.close(fig)
         self.parts.append(f'<figure><img src="{path.name}" alt="{html.escape(name)}">'
                           f"<figcaption>{html.escape(caption)}</figcaption></figure>")
         return path
 
-    def write(self) -> Path:
+    def write(self, name: str = "index.html") -> Path:
+        """Write the page as ``name`` in the page's folder; returns its path."""
         style = ("body{font-family:sans-serif;max-width:1100px;margin:auto}"
                  "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #999;"
                  "padding:2px 8px;text-align:right}caption{font-weight:bold}"
@@ -62,6 +78,6 @@ class Page:
         doc = (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(self.title)}"
                f"</title><style>{style}</style></head><body><h1>{html.escape(self.title)}</h1>"
                + "\n".join(self.parts) + "</body></html>")
-        path = self.dir / "index.html"
-        path.write_text(doc)
+        path = self.dir / name
+        path.write_text(doc, encoding="utf-8")
         return path

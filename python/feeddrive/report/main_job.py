@@ -7,10 +7,15 @@ from pathlib import Path
 
 from tqdm import tqdm
 
-from ..report import Page
-from ..report import closed_loop_figures as figs
-from . import sec3, sec4
-from .controllers import make_controller, state_space_spec
+from ..experiments.references import sinusoid
+from ..paper import paper_parameters
+from ..realdata.odrive import analyse, findings_text
+from ..validation import sec3, sec4
+from ..validation.closed_loop import run_closed_loop
+from ..validation.controllers import make_controller, state_space_spec
+from . import closed_loop_figures as figs
+from .identification import identification_section
+from .page import Page
 
 ODRIVE = Path("realdata") / "odrive-cogging"     # inside the shared data folder
 
@@ -30,9 +35,6 @@ def main_job(out_dir: Path, print_tables: bool = True, runs_dir: Path | None = N
     ctrl = make_controller(state_space_spec(), [0.15, 0.15])
     design = ctrl.format_report()
     steps.update(1)
-    from ..experiments.references import sinusoid
-    from ..paper import paper_parameters
-    from .closed_loop import run_closed_loop
     ref = sinusoid(sec3.AMPLITUDE, sec3.PERIOD, sec3.CENTRE, sec3.PERIOD)
     one = run_closed_loop(paper_parameters(), state_space_spec(), ref)
     run_line = (f"30 mm / 6 s closed-loop sinusoid (co-simulation, Python controller at 2 kHz): "
@@ -60,7 +62,6 @@ def main_job(out_dir: Path, print_tables: bool = True, runs_dir: Path | None = N
     page.figure(figs.fig16(r4), "fig16_feedforward", "Analogue of Fig. 16: tracking error for each feedforward")
     page.figure(figs.reversal_closeups(r4), "sec4_reversals", "Error at each reference reversal")
     if runs_dir is not None:
-        from ..identify.figures import identification_section
         page.heading("Identification (Secs. 2.2-2.4) from " + str(runs_dir))
         identification_section(page, Path(runs_dir))
     page.heading("Real data: ODrive BLDC cogging maps (position spectrum)")
@@ -68,7 +69,6 @@ def main_job(out_dir: Path, print_tables: bool = True, runs_dir: Path | None = N
     skipped = ("skipped: no shared data folder given (feeddrive run --shared DIR or $FEEDDRIVE_SHARED)"
                if odrive is None else None if odrive.is_dir() else f"skipped: {odrive} is not a folder")
     if skipped is None:
-        from ..realdata.odrive import analyse, findings_text
         page.pre(findings_text(analyse(odrive)))
     else:
         page.text(skipped)

@@ -28,24 +28,22 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
-import matplotlib
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.ticker import NullFormatter, ScalarFormatter
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.ticker import NullFormatter, ScalarFormatter  # noqa: E402
-
-from .. import maps  # noqa: E402
-from ..data import Run  # noqa: E402
-from ..friction_curves import stribeck_level  # noqa: E402
-from ..model_file import save_model  # noqa: E402
-from ._signals import eq1_friction  # noqa: E402
-from .attraction import _level, simulate_lag  # noqa: E402
-from .current_loop import simulate  # noqa: E402
-from .dstft import DSTFT, dstft  # noqa: E402
-from .pipeline import IdentificationResult, identify_folder, identify_runs  # noqa: E402
-from .sec4_check import REVERSAL_TOL, Sec4Comparison, compare_sec4  # noqa: E402
-from .truth_table import elements  # noqa: E402
+from .. import maps
+from ..data import Run
+from ..friction_curves import stribeck_level
+from ..identify._signals import eq1_friction
+from ..identify.attraction import _level, simulate_lag
+from ..identify.current_loop import simulate
+from ..identify.dstft import DSTFT, dstft
+from ..identify.pipeline import IdentificationResult, identify_folder, identify_runs
+from ..identify.sec4_check import REVERSAL_TOL, Sec4Comparison, compare_sec4
+from ..identify.truth_table import elements
+from ..model_file import save_model
+from .page import Page
 
 MM = 1e3            #: m -> mm for axes
 WAVELENGTHS_COGGING = (0.0375, 0.01875, 0.0125)
@@ -303,7 +301,7 @@ FIGURES: tuple[tuple[Callable[[IdentificationResult], plt.Figure], str, str, str
 )
 
 
-def add_to_page(page: Any, results: IdentificationResult, level: int = 2) -> list[Path]:
+def add_to_page(page: Page, results: IdentificationResult, level: int = 2) -> list[Path]:
     """Add the identification (summary text, truth table, every figure) to a report Page.
 
     Figures of steps that did not run are left out (the text says why).  Returns the PNGs.
@@ -343,7 +341,7 @@ def fig_sec4_comparison(cmp: Sec4Comparison) -> plt.Figure:
     return fig
 
 
-def identification_section(page: Any, runs: str | Path | Sequence[Run] | IdentificationResult,
+def identification_section(page: Page, runs: str | Path | Sequence[Run] | IdentificationResult,
                            truth: Any = None, out: str | Path | None = None,
                            sec4: bool = True) -> IdentificationResult:
     """Identify a folder (or list) of runs and add the section to ``page``.

@@ -46,8 +46,7 @@ fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h, fmi2Boolean no
         return fmi2Error;
     }
     m->time = t;
-    m->in.u = m->val[VR_u];
-    m->in.F_ext = m->val[VR_F_ext];
+    params_inputs(m->val, &m->in);
     /* what is due now, with the inputs the master has just set */
     if (fmu_sample_due(m) || m->solver_restart) {
         fmu_event_update(c, &changed);

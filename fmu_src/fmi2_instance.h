@@ -4,7 +4,7 @@
 #define FMI2_INSTANCE_H
 
 #include "fmi2Functions.h"
-#include "model_vars.h"
+#include "params.h"
 #include "plant.h"
 #include "solver_dp45.h"
 

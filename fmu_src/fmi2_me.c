@@ -106,8 +106,7 @@ fmi2Status fmi2GetEventIndicators(fmi2Component comp, fmi2Real z[], size_t nz) {
     if (!c) return fmi2Error;
     if (!array_ok(c, "fmi2GetEventIndicators", z, nz, PLANT_NZ)) return fmi2Error;
     m = &c->m;
-    m->in.u = m->val[VR_u];
-    m->in.F_ext = m->val[VR_F_ext];
+    params_inputs(m->val, &m->in);
     plant_indicators(&m->p, &m->d, m->y, &m->in, z);
     return fmi2OK;
 }

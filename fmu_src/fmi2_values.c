@@ -94,7 +94,7 @@ static int settable(instance_t *c, const char *fn, int row) {
     return 0;
 }
 
-/* The min/max of modelDescription.xml bind every variable (plant_check_value knows only the
+/* The min/max of modelDescription.xml bind every variable (params_check_value knows only the
  * physics' own ranges); solver.tol must in addition lie in (0, 1) like fmi2SetupExperiment's. */
 static int declared_range_ok(instance_t *c, const char *fn, int row, double v) {
     const model_var_t *mv = &MODEL_VARS[row];
@@ -137,7 +137,7 @@ static fmi2Status set_values(fmi2Component comp, const char *fn, const fmi2Value
             }
             v = b ? 1.0 : 0.0;
         }
-        if (!plant_check_value(vr[k], v, msg, sizeof msg)) {
+        if (!params_check_value(vr[k], v, msg, sizeof msg)) {
             fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s", fn, msg);
             return fmi2Error;
         }
@@ -165,8 +165,7 @@ static fmi2Status set_values(fmi2Component comp, const char *fn, const fmi2Value
     if (m->fsm & ST_INIT) m->params_ok = 0;
     m->out_valid = 0;
     if (m->fsm & (ST_EVENT | ST_CONT | ST_STEP_COMPLETE)) {
-        m->in.u = m->val[VR_u];
-        m->in.F_ext = m->val[VR_F_ext];
+        params_inputs(m->val, &m->in);
         m->solver_restart = 1;
     }
     return fmi2OK;

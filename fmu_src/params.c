@@ -1,12 +1,12 @@
-/* Parameters: every check (one message per rule) and the compilation of the FMU's values
- * into plant_params_t with the effect switches applied. Defaults live in modelDescription.xml. */
+/* The value table by value reference: start values (from modelDescription.xml), every check
+ * (one message per rule), the compilation of the FMU's values into plant_params_t with the
+ * effect switches applied, and the transfer of inputs, states and outputs. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "model_vars.h"
-#include "plant.h"
+#include "params.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -55,7 +55,7 @@ static void fmt_range(char *buf, size_t n, const range_t *r) {
     snprintf(buf, n, "%s%s, %s%s", r->lo_open ? "(" : "[", lo, hi, r->hi_open ? ")" : "]");
 }
 
-bool plant_check_value(unsigned vr, double value, char *msg, size_t msglen) {
+bool params_check_value(unsigned vr, double value, char *msg, size_t msglen) {
     range_t r;
     char rs[80];
     if (!isfinite(value)) {
@@ -97,7 +97,7 @@ static void map_compile(const double *val, posmap_t *m, const unsigned *vc, int 
 
 #define FAIL(...) do { snprintf(msg, msglen, __VA_ARGS__); return false; } while (0)
 
-bool plant_params_compile(const double *val, plant_params_t *p, char *msg, size_t msglen) {
+bool params_compile(const double *val, plant_params_t *p, char *msg, size_t msglen) {
     unsigned vr;
     int j;
     double sa = 0.0, sb = 0.0, sum_nu = 0.0;
@@ -106,7 +106,7 @@ bool plant_params_compile(const double *val, plant_params_t *p, char *msg, size_
     for (j = 0; j < MODEL_NVARS; j++) {
         if (MODEL_VARS[j].causality != 'p') continue;
         vr = MODEL_VARS[j].vr;
-        if (!plant_check_value(vr, val[vr], msg, msglen)) return false;
+        if (!params_check_value(vr, val[vr], msg, msglen)) return false;
     }
     memset(p, 0, sizeof *p);
     p->m = val[VR_m];
@@ -176,4 +176,40 @@ bool plant_params_compile(const double *val, plant_params_t *p, char *msg, size_
              "set friction.nu[%d] = 1 - sum of the others)", p->N, sum_nu, SUM_NU_TOL, p->N);
     p->F_off = val[VR_effects_offset_force] != 0.0 ? val[VR_offset_F] : 0.0;
     return true;
+}
+
+void params_defaults(double *val) {
+    int j;
+    for (j = 0; j < MODEL_NVARS; j++) val[MODEL_VARS[j].vr] = MODEL_VARS[j].start;
+}
+
+void params_inputs(const double *val, plant_in_t *in) {
+    in->u = val[VR_u];
+    in->F_ext = val[VR_F_ext];
+}
+
+void params_states(const double *val, double *y) {
+    int j;
+    for (j = 0; j < MODEL_NX; j++) y[j] = val[MODEL_STATE_VR[j]];
+}
+
+void params_store_outputs(double *val, const double *y, const double *dydt, const plant_out_t *o,
+                          const plant_disc_t *d) {
+    int j;
+    for (j = 0; j < MODEL_NX; j++) {
+        val[MODEL_STATE_VR[j]] = y[j];
+        val[MODEL_DER_VR[j]] = dydt[j];
+    }
+    val[VR_i] = o->i;
+    val[VR_F_motor] = o->F_motor;
+    val[VR_F_cogging] = o->F_cg;
+    val[VR_F_friction] = o->F_fric;
+    val[VR_K_f] = o->K_f;
+    val[VR_n_stuck] = o->n_stuck;
+    val[VR_stats_n_stick] = (double)d->n_stick;
+    val[VR_stats_n_slip] = (double)d->n_slip;
+    val[VR_stats_n_time_events] = (double)d->n_time_events;
+    val[VR_stats_n_state_events] = (double)d->n_state_events;
+    /* friction.F[j] reports the element's effective force (nu_j s(v) when lag is off) */
+    for (j = 0; j < PLANT_NE_MAX; j++) val[VRA_friction_F[j + 1]] = o->F_elem[j];
 }

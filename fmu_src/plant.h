@@ -4,7 +4,6 @@
 #define PLANT_H
 
 #include <stdbool.h>
-#include <stddef.h>
 
 #define PLANT_NE_MAX 10      /* GMS element slots */
 #define PLANT_NH_MAX 8       /* Fourier slots per position map */
@@ -78,14 +77,6 @@ typedef struct {
     int n_stuck;
 } plant_out_t;
 
-/* params.c */
-typedef struct { unsigned vr; const char *msg_fmt; } plant_rule_t;
-/* Compile the FMU values (indexed by value reference) into params. On error, returns false and
- * writes a message naming the variable, its value and the allowed range into msg. */
-bool plant_params_compile(const double *val, plant_params_t *p, char *msg, size_t msglen);
-/* Check one value alone (called on fmi2Set*); true if acceptable. */
-bool plant_check_value(unsigned vr, double value, char *msg, size_t msglen);
-
 /* position_maps.c */
 double posmap_eval(const posmap_t *m, double x);
 void posmap_prepare(posmap_t *m);
@@ -104,6 +95,9 @@ void gms_derivatives(const plant_params_t *p, const plant_disc_t *d, const doubl
 void gms_indicators(const plant_params_t *p, const plant_disc_t *d, const double *y, double *z);
 void gms_init(const plant_params_t *p, plant_disc_t *d, const double *y);
 int gms_update(const plant_params_t *p, plant_disc_t *d, double *y, bool *y_changed);
+int gms_n_stuck(const plant_params_t *p, const plant_disc_t *d);
+/* elements switched on or off by a parameter change (old -> p) start stuck at zero force */
+void gms_retune(const plant_params_t *old, const plant_params_t *p, plant_disc_t *d, double *y);
 
 /* friction_static.c */
 double static_friction(const plant_params_t *p, const plant_disc_t *d, double v, double F_app);
@@ -123,5 +117,9 @@ void plant_indicators(const plant_params_t *p, const plant_disc_t *d, const doub
  * stick/slip switch the state calls for. Returns the number of friction switches. */
 int plant_event_update(const plant_params_t *p, plant_disc_t *d, double *y, const plant_in_t *in,
                        bool sample_due, bool *y_changed);
+/* friction elements stuck (GMS), or 1/0 for the static model stuck/sliding */
+int plant_n_stuck(const plant_params_t *p, const plant_disc_t *d);
+/* after tunable parameters changed from old to p: the discrete and continuous state to match */
+void plant_retune(const plant_params_t *old, const plant_params_t *p, plant_disc_t *d, double *y);
 
 #endif

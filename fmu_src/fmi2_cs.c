@@ -20,7 +20,7 @@ static void indicators(void *ctx, double t, const double *y, double *z) {
 }
 
 fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h, fmi2Boolean noSetFMUStatePriorToCurrentPoint) {
-    instance_t *c = fmu_enter(comp, "fmi2DoStep", fmi2CoSimulation, ST_STEP_COMPLETE);
+    instance_t *c = FMU_ENTER(comp, fmi2DoStep);
     model_t *m;
     double t_end, eps, t_target;
     int roots[PLANT_NZ], guard = 0;
@@ -81,7 +81,7 @@ fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h, fmi2Boolean no
 }
 
 fmi2Status fmi2CancelStep(fmi2Component comp) {
-    instance_t *c = fmu_cast(comp, "fmi2CancelStep");
+    instance_t *c = FMU_ENTER(comp, fmi2CancelStep);
     if (!c) return fmi2Error;
     fmu_log(c, fmi2Error, LOG_ERROR, "fmi2CancelStep: fmi2DoStep never returns fmi2Pending, nothing to cancel");
     return fmi2Error;
@@ -89,7 +89,7 @@ fmi2Status fmi2CancelStep(fmi2Component comp) {
 
 fmi2Status fmi2SetRealInputDerivatives(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr,
                                        const fmi2Integer order[], const fmi2Real value[]) {
-    instance_t *c = fmu_cast(comp, "fmi2SetRealInputDerivatives");
+    instance_t *c = FMU_ENTER(comp, fmi2SetRealInputDerivatives);
     (void)vr; (void)order; (void)value;
     if (!c) return fmi2Error;
     if (nvr == 0) return fmi2OK;
@@ -100,8 +100,7 @@ fmi2Status fmi2SetRealInputDerivatives(fmi2Component comp, const fmi2ValueRefere
 
 fmi2Status fmi2GetRealOutputDerivatives(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr,
                                         const fmi2Integer order[], fmi2Real value[]) {
-    instance_t *c = fmu_enter(comp, "fmi2GetRealOutputDerivatives",
-                            fmi2CoSimulation, ST_STEP_COMPLETE | ST_STEP_FAILED | ST_TERMINATED);
+    instance_t *c = FMU_ENTER(comp, fmi2GetRealOutputDerivatives);
     size_t k;
     if (!c) return fmi2Error;
     if (nvr > 0 && (!vr || !order || !value)) {
@@ -127,8 +126,7 @@ fmi2Status fmi2GetRealOutputDerivatives(fmi2Component comp, const fmi2ValueRefer
     return fmi2OK;
 }
 
-static fmi2Status no_status(fmi2Component comp, const char *fn) {
-    instance_t *c = fmu_cast(comp, fn);
+static fmi2Status no_status(instance_t *c, const char *fn) {
     if (!c) return fmi2Error;
     fmu_log(c, fmi2Discard, LOG_ERROR, "%s: no asynchronous step status (fmi2DoStep never returns "
             "fmi2Pending)", fn);
@@ -137,23 +135,23 @@ static fmi2Status no_status(fmi2Component comp, const char *fn) {
 
 fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status *value) {
     (void)s; (void)value;
-    return no_status(c, "fmi2GetStatus");
+    return no_status(FMU_ENTER(c, fmi2GetStatus), "fmi2GetStatus");
 }
 fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *value) {
-    instance_t *ci = fmu_cast(c, "fmi2GetRealStatus");
+    instance_t *ci = FMU_ENTER(c, fmi2GetRealStatus);
     if (ci && s == fmi2LastSuccessfulTime && value) { *value = ci->m.time; return fmi2OK; }
-    return no_status(c, "fmi2GetRealStatus");
+    return no_status(ci, "fmi2GetRealStatus");
 }
 fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind s, fmi2Integer *value) {
     (void)s; (void)value;
-    return no_status(c, "fmi2GetIntegerStatus");
+    return no_status(FMU_ENTER(c, fmi2GetIntegerStatus), "fmi2GetIntegerStatus");
 }
 fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boolean *value) {
-    instance_t *ci = fmu_cast(c, "fmi2GetBooleanStatus");
+    instance_t *ci = FMU_ENTER(c, fmi2GetBooleanStatus);
     if (ci && s == fmi2Terminated && value) { *value = fmi2False; return fmi2OK; }
-    return no_status(c, "fmi2GetBooleanStatus");
+    return no_status(ci, "fmi2GetBooleanStatus");
 }
 fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind s, fmi2String *value) {
     (void)s; (void)value;
-    return no_status(c, "fmi2GetStringStatus");
+    return no_status(FMU_ENTER(c, fmi2GetStringStatus), "fmi2GetStringStatus");
 }

@@ -52,35 +52,34 @@ void fmu_log(instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...) {
     emit(&c->cb, c->name ? c->name : "?", st, CAT_NAME[idx], buf);
 }
 
-instance_t *fmu_enter(fmi2Component comp, const char *fn, fmi2Type type, int mask) {
-    instance_t *c = fmu_cast(comp, fn);
-    if (!c) return NULL;
-    if (c->type != type) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "%s: only for %s; this instance is %s", fn,
-                type == fmi2ModelExchange ? "model exchange" : "co-simulation",
-                type == fmi2ModelExchange ? "co-simulation" : "model exchange");
-        return NULL;
-    }
-    return fmu_allowed(c, fn, mask) ? c : NULL;
-}
-
-instance_t *fmu_cast(fmi2Component comp, const char *fn) {
+static instance_t *as_instance(fmi2Component comp) {
     instance_t *c = (instance_t *)comp;
-    (void)fn;
-    if (!c || c->m.magic != MODEL_MAGIC) return NULL;
-    return c;
+    return (c && c->m.magic == MODEL_MAGIC) ? c : NULL;
 }
 
-int fmu_allowed(instance_t *c, const char *fn, int mask) {
+/* the state check: logs and moves to Error (unless Fatal) when the state is not in mask */
+static int state_allowed(instance_t *c, const char *fn, int mask) {
     static const char *const NAMES[] = {"Instantiated", "InitializationMode", "EventMode",
                                         "ContinuousTimeMode", "StepComplete", "StepFailed",
                                         "Terminated", "Error", "Fatal"};
     int k = 0;
-    if (c->m.fsm & mask) return 1;
+    if (mask == ST_ANY || (c->m.fsm & mask)) return 1;
     while (k < 8 && !(c->m.fsm & (1 << k))) k++;
     fmu_log(c, fmi2Error, LOG_ERROR, "%s: illegal call in state %s", fn, NAMES[k]);
     if (c->m.fsm != ST_FATAL) c->m.fsm = ST_ERROR;
     return 0;
+}
+
+instance_t *fmu_enter(fmi2Component comp, const char *fn, int iface, int mask) {
+    instance_t *c = as_instance(comp);
+    if (!c) return NULL;
+    if (!(iface & (1 << c->type))) {
+        int me = iface == FOR_ME;
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: only for %s; this instance is %s", fn,
+                me ? "model exchange" : "co-simulation", me ? "co-simulation" : "model exchange");
+        return NULL;
+    }
+    return state_allowed(c, fn, mask) ? c : NULL;
 }
 
 double fmu_next_sample(const model_t *m) { return m->t0 + (double)(m->d.k + 1) * m->p.Ts; }
@@ -211,7 +210,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
 }
 
 void fmi2FreeInstance(fmi2Component comp) {
-    instance_t *c = fmu_cast(comp, "fmi2FreeInstance");
+    instance_t *c = FMU_ENTER(comp, fmi2FreeInstance);
     fmi2CallbackFreeMemory fr;
     if (!c) return;
     fr = c->cb.freeMemory;
@@ -222,7 +221,7 @@ void fmi2FreeInstance(fmi2Component comp) {
 
 fmi2Status fmi2SetDebugLogging(fmi2Component comp, fmi2Boolean loggingOn, size_t nCategories,
                                const fmi2String categories[]) {
-    instance_t *c = fmu_cast(comp, "fmi2SetDebugLogging");
+    instance_t *c = FMU_ENTER(comp, fmi2SetDebugLogging);
     size_t k;
     if (!c) return fmi2Error;
     c->logging_on = loggingOn != 0;
@@ -247,8 +246,8 @@ fmi2Status fmi2SetDebugLogging(fmi2Component comp, fmi2Boolean loggingOn, size_t
 
 fmi2Status fmi2SetupExperiment(fmi2Component comp, fmi2Boolean toleranceDefined, fmi2Real tolerance,
                                fmi2Real startTime, fmi2Boolean stopTimeDefined, fmi2Real stopTime) {
-    instance_t *c = fmu_cast(comp, "fmi2SetupExperiment");
-    if (!c || !fmu_allowed(c, "fmi2SetupExperiment", ST_INSTANTIATED)) return fmi2Error;
+    instance_t *c = FMU_ENTER(comp, fmi2SetupExperiment);
+    if (!c) return fmi2Error;
     if (!isfinite(startTime) || (stopTimeDefined && (!isfinite(stopTime) || stopTime < startTime)) ||
         (toleranceDefined && (!isfinite(tolerance) || tolerance <= 0.0 || tolerance >= 1.0))) {
         fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SetupExperiment: startTime = %g, stopTime = %g, tolerance = %g: "
@@ -265,8 +264,8 @@ fmi2Status fmi2SetupExperiment(fmi2Component comp, fmi2Boolean toleranceDefined,
 }
 
 fmi2Status fmi2EnterInitializationMode(fmi2Component comp) {
-    instance_t *c = fmu_cast(comp, "fmi2EnterInitializationMode");
-    if (!c || !fmu_allowed(c, "fmi2EnterInitializationMode", ST_INSTANTIATED)) return fmi2Error;
+    instance_t *c = FMU_ENTER(comp, fmi2EnterInitializationMode);
+    if (!c) return fmi2Error;
     c->m.fsm = ST_INIT;
     c->m.out_valid = 0;
     c->m.params_ok = 0;
@@ -298,24 +297,23 @@ fmi2Status fmu_initialize_plant(instance_t *c) {
 }
 
 fmi2Status fmi2ExitInitializationMode(fmi2Component comp) {
-    instance_t *c = fmu_cast(comp, "fmi2ExitInitializationMode");
-    if (!c || !fmu_allowed(c, "fmi2ExitInitializationMode", ST_INIT)) return fmi2Error;
+    instance_t *c = FMU_ENTER(comp, fmi2ExitInitializationMode);
+    if (!c) return fmi2Error;
     if (fmu_initialize_plant(c) != fmi2OK) { c->m.fsm = ST_ERROR; return fmi2Error; }
     c->m.fsm = c->type == fmi2ModelExchange ? ST_EVENT : ST_STEP_COMPLETE;
     return fmi2OK;
 }
 
 fmi2Status fmi2Terminate(fmi2Component comp) {
-    instance_t *c = fmu_cast(comp, "fmi2Terminate");
-    if (!c || !fmu_allowed(c, "fmi2Terminate", ST_EVENT | ST_CONT | ST_STEP_COMPLETE | ST_STEP_FAILED))
-        return fmi2Error;
+    instance_t *c = FMU_ENTER(comp, fmi2Terminate);
+    if (!c) return fmi2Error;
     c->m.fsm = ST_TERMINATED;
     return fmi2OK;
 }
 
 fmi2Status fmi2Reset(fmi2Component comp) {
-    instance_t *c = fmu_cast(comp, "fmi2Reset");
-    if (!c || !fmu_allowed(c, "fmi2Reset", ~ST_FATAL)) return fmi2Error;
+    instance_t *c = FMU_ENTER(comp, fmi2Reset);
+    if (!c) return fmi2Error;
     model_defaults(&c->m);
     return fmi2OK;
 }

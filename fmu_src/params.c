@@ -12,6 +12,19 @@
 #define M_PI 3.14159265358979323846
 #endif
 
+/* The plant's counts must be those of modelDescription.xml (model_vars.h is generated from it).
+ * C99 has no _Static_assert: a negative array size fails the build, naming the check. */
+#define COMPILE_CHECK(name, cond) typedef char compile_check_##name[(cond) ? 1 : -1]
+#define COUNT(a) (sizeof(a) / sizeof((a)[0]))
+COMPILE_CHECK(continuous_states_match_xml, PLANT_NX == MODEL_NX);
+COMPILE_CHECK(event_indicators_match_xml, PLANT_NZ == MODEL_NZ);
+COMPILE_CHECK(friction_elements_match_xml, COUNT(VRA_friction_nu) == PLANT_NE_MAX + 1 &&
+              COUNT(VRA_friction_k) == PLANT_NE_MAX + 1 && COUNT(VRA_friction_F) == PLANT_NE_MAX + 1);
+COMPILE_CHECK(fourier_slots_match_xml, COUNT(VRA_cogging_lambda) == PLANT_NH_MAX + 1 &&
+              COUNT(VRA_ripple_lambda) == PLANT_NH_MAX + 1);
+COMPILE_CHECK(current_loop_match_xml, COUNT(VRA_current_a) == PLANT_NA_MAX + 1 &&
+              COUNT(VRA_current_b) == PLANT_NB_MAX);
+
 #define SUM_NU_TOL 1e-3   /* |sum(nu_i) - 1| allowed; Eq. 12 needs sum(nu) = 1 */
 
 /* the shortest decimal form that reads back exactly (%.15g when enough, else %.17g) */

@@ -110,21 +110,21 @@ static void map_compile(const double *val, posmap_t *m, const unsigned *vc, int 
 
 #define FAIL(...) do { snprintf(msg, msglen, __VA_ARGS__); return false; } while (0)
 
-bool params_compile(const double *val, plant_params_t *p, char *msg, size_t msglen) {
-    unsigned vr;
+/* every single-value rule, for every parameter */
+static bool check_each_parameter(const double *val, char *msg, size_t msglen) {
     int j;
-    double sa = 0.0, sb = 0.0, sum_nu = 0.0;
-    bool e_str, e_visc, e_asym;
-    /* every single-value rule, for every parameter */
     for (j = 0; j < MODEL_NVARS; j++) {
+        unsigned vr = MODEL_VARS[j].vr;
         if (MODEL_VARS[j].causality != 'p') continue;
-        vr = MODEL_VARS[j].vr;
         if (!params_check_value(vr, val[vr], msg, msglen)) return false;
     }
-    memset(p, 0, sizeof *p);
-    p->m = val[VR_m];
-    p->Ts = val[VR_Ts];
-    /* current loop */
+    return true;
+}
+
+/* G(z) coefficients and its DC gain (Eq. 2); refuses a pole at z = 1 */
+static bool compile_current_loop(const double *val, plant_params_t *p, char *msg, size_t msglen) {
+    double sa = 0.0, sb = 0.0;
+    int j;
     p->current_dynamics = val[VR_effects_current_dynamics] != 0.0;
     p->na = PLANT_NA_MAX;
     p->nb = PLANT_NB_MAX;
@@ -134,7 +134,11 @@ bool params_compile(const double *val, plant_params_t *p, char *msg, size_t msgl
         FAIL("current.a[1..5] sum to %.17g: the current loop has a pole at z = 1 and no finite DC gain; "
              "allowed: sum(current.a) != 1", sa);
     p->G1 = sb / (1.0 - sa);
-    /* position maps */
+    return true;
+}
+
+/* cogging F_cg(x) and force constant K_f(x) (Eqs. 6, 7) and the stroke they are evaluated on */
+static bool compile_position_maps(const double *val, plant_params_t *p, char *msg, size_t msglen) {
     map_compile(val, &p->cog, VRA_cogging_c, 4, VRA_cogging_lambda, VRA_cogging_a, VRA_cogging_b,
                 val[VR_effects_cogging_periodic] != 0.0, val[VR_effects_cogging_aperiodic] != 0.0, false);
     map_compile(val, &p->rip, VRA_ripple_c, 3, VRA_ripple_lambda, VRA_ripple_a, VRA_ripple_b,
@@ -144,10 +148,27 @@ bool params_compile(const double *val, plant_params_t *p, char *msg, size_t msgl
     if (!(p->x_max > p->x_min))
         FAIL("stroke.x_max = %.17g must exceed stroke.x_min = %.17g: allowed stroke.x_max in (%.17g, inf) m",
              p->x_max, p->x_min, p->x_min);
-    /* friction */
-    e_str = val[VR_effects_stribeck] != 0.0;
-    e_visc = val[VR_effects_viscous] != 0.0;
-    e_asym = val[VR_effects_asymmetric_friction] != 0.0;
+    return true;
+}
+
+/* the asymmetry's shift of the levels for v < 0 (effect asymmetric_friction) */
+static bool compile_asymmetry(const double *val, plant_params_t *p, bool viscous, char *msg, size_t msglen) {
+    double dF = val[VR_asymmetry_dF], ds = val[VR_asymmetry_dsigma2];
+    if (p->Fc[0] + dF < 0.0 || p->Fs[0] + dF <= 0.0)
+        FAIL("asymmetry.dF = %.17g makes the friction level for v < 0 negative: allowed [%.17g, inf) N",
+             dF, -p->Fc[0]);
+    if (p->sigma2[0] + ds < 0.0)
+        FAIL("asymmetry.dsigma2 = %.17g makes the viscous coefficient for v < 0 negative: "
+             "allowed [%.17g, inf) N.s/m", ds, -p->sigma2[0]);
+    p->Fs[1] += dF;
+    p->Fc[1] += dF;
+    p->sigma2[1] += viscous ? ds : 0.0;
+    return true;
+}
+
+/* the sliding levels F_s, F_c, sigma2 per direction and the Stribeck curve (Eqs. 8, 10) */
+static bool compile_friction_levels(const double *val, plant_params_t *p, char *msg, size_t msglen) {
+    bool e_str = val[VR_effects_stribeck] != 0.0, e_visc = val[VR_effects_viscous] != 0.0;
     p->prerolling = val[VR_effects_prerolling] != 0.0;
     p->lag = val[VR_effects_frictional_lag] != 0.0;
     p->stribeck = e_str;
@@ -160,21 +181,18 @@ bool params_compile(const double *val, plant_params_t *p, char *msg, size_t msgl
     p->Fs[1] = p->Fs[0];
     p->Fc[1] = p->Fc[0];
     p->sigma2[1] = p->sigma2[0];
-    if (e_asym) {
-        double dF = val[VR_asymmetry_dF], ds = val[VR_asymmetry_dsigma2];
-        if (p->Fc[0] + dF < 0.0 || p->Fs[0] + dF <= 0.0)
-            FAIL("asymmetry.dF = %.17g makes the friction level for v < 0 negative: allowed [%.17g, inf) N",
-                 dF, -p->Fc[0]);
-        if (p->sigma2[0] + ds < 0.0)
-            FAIL("asymmetry.dsigma2 = %.17g makes the viscous coefficient for v < 0 negative: "
-                 "allowed [%.17g, inf) N.s/m", ds, -p->sigma2[0]);
-        p->Fs[1] += dF;
-        p->Fc[1] += dF;
-        p->sigma2[1] += e_visc ? ds : 0.0;
-    }
+    if (val[VR_effects_asymmetric_friction] != 0.0 && !compile_asymmetry(val, p, e_visc, msg, msglen))
+        return false;
     p->Vs = val[VR_friction_V_s];
     p->delta = val[VR_friction_delta];
     p->C = val[VR_friction_C];
+    return true;
+}
+
+/* the GMS elements in use (Eqs. 9, 11, 12): N, nu_i, k_i; sum(nu) = 1 when prerolling */
+static bool compile_elements(const double *val, plant_params_t *p, char *msg, size_t msglen) {
+    double sum_nu = 0.0;
+    int j;
     p->N = (int)val[VR_friction_N];
     if ((double)p->N != val[VR_friction_N])
         FAIL("friction.N = %.17g is not an integer: allowed 1..%d", val[VR_friction_N], PLANT_NE_MAX);
@@ -187,6 +205,17 @@ bool params_compile(const double *val, plant_params_t *p, char *msg, size_t msgl
     if (p->prerolling && fabs(sum_nu - 1.0) > SUM_NU_TOL)
         FAIL("friction.nu[1..%d] sum to %.17g: allowed 1 +- %g (Eq. 12 needs sum(nu) = 1; "
              "set friction.nu[%d] = 1 - sum of the others)", p->N, sum_nu, SUM_NU_TOL, p->N);
+    return true;
+}
+
+bool params_compile(const double *val, plant_params_t *p, char *msg, size_t msglen) {
+    if (!check_each_parameter(val, msg, msglen)) return false;
+    memset(p, 0, sizeof *p);
+    p->m = val[VR_m];
+    p->Ts = val[VR_Ts];
+    if (!compile_current_loop(val, p, msg, msglen) || !compile_position_maps(val, p, msg, msglen) ||
+        !compile_friction_levels(val, p, msg, msglen) || !compile_elements(val, p, msg, msglen))
+        return false;
     p->F_off = val[VR_effects_offset_force] != 0.0 ? val[VR_offset_F] : 0.0;
     return true;
 }

@@ -126,8 +126,6 @@ static bool compile_current_loop(const double *val, plant_params_t *p, char *msg
     double sa = 0.0, sb = 0.0;
     int j;
     p->current_dynamics = val[VR_effects_current_dynamics] != 0.0;
-    p->na = PLANT_NA_MAX;
-    p->nb = PLANT_NB_MAX;
     for (j = 1; j <= PLANT_NA_MAX; j++) { p->ca[j - 1] = val[VRA_current_a[j]]; sa += p->ca[j - 1]; }
     for (j = 0; j < PLANT_NB_MAX; j++) { p->cb[j] = val[VRA_current_b[j]]; sb += p->cb[j]; }
     if (fabs(1.0 - sa) < 1e-9)
@@ -171,7 +169,6 @@ static bool compile_friction_levels(const double *val, plant_params_t *p, char *
     bool e_str = val[VR_effects_stribeck] != 0.0, e_visc = val[VR_effects_viscous] != 0.0;
     p->prerolling = val[VR_effects_prerolling] != 0.0;
     p->lag = val[VR_effects_frictional_lag] != 0.0;
-    p->stribeck = e_str;
     if (val[VR_friction_F_c] > val[VR_friction_F_s])
         FAIL("friction.F_c = %.17g exceeds friction.F_s = %.17g: allowed friction.F_c in [0, friction.F_s] N",
              val[VR_friction_F_c], val[VR_friction_F_s]);

@@ -8,8 +8,8 @@
 #define PLANT_NE_MAX 10      /* GMS element slots */
 #define PLANT_NH_MAX 8       /* Fourier slots per position map */
 #define PLANT_NA_MAX 5       /* current loop: i[k-1..k-5] */
-#define PLANT_NB_MAX 6
-#define PLANT_NMULT 24      /* highest multiple of the fundamental evaluated by recurrence */       /* current loop: u[k..k-5] */
+#define PLANT_NB_MAX 6       /* current loop: u[k..k-5] */
+#define PLANT_NMULT 24       /* highest multiple of the fundamental evaluated by recurrence */
 #define PLANT_NX (2 + PLANT_NE_MAX)   /* x, v, F_1..F_10 */
 #define PLANT_NZ (PLANT_NE_MAX + 1)   /* one per element + one for the motion direction */
 #define PLANT_IX 0
@@ -35,7 +35,6 @@ typedef struct {
 typedef struct {
     double m, Ts;
     bool current_dynamics;
-    int na, nb;
     double ca[PLANT_NA_MAX], cb[PLANT_NB_MAX];
     double G1;                        /* DC gain of the current loop [A/V] */
     posmap_t cog, rip;
@@ -44,7 +43,6 @@ typedef struct {
     bool prerolling, lag;
     double Fs[2], Fc[2], sigma2[2];   /* [0]: v > 0 (and v = 0), [1]: v < 0 */
     double Vs, delta, C;
-    bool stribeck;
     int N;                            /* elements in use */
     double nu[PLANT_NE_MAX], k[PLANT_NE_MAX];
     bool active[PLANT_NE_MAX];        /* i < N and nu_i > 0 */

@@ -19,6 +19,27 @@ static void indicators(void *ctx, double t, const double *y, double *z) {
     plant_indicators(&m->p, &m->d, y, &m->in, z);
 }
 
+/* a step from t (the time reached so far) of size h > 0, not past the stop time (logs if not) */
+static int step_args_ok(instance_t *c, double t, double h, double eps) {
+    const model_t *m = &c->m;
+    if (!isfinite(t) || !isfinite(h) || h <= 0.0) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: currentCommunicationPoint = %g, "
+                "communicationStepSize = %g: allowed finite values with communicationStepSize > 0", t, h);
+        return 0;
+    }
+    if (fabs(t - m->time) > eps) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: currentCommunicationPoint = %.17g differs from the "
+                "FMU's time %.17g (allowed: the time reached by the previous step)", t, m->time);
+        return 0;
+    }
+    if (m->stop_defined && t + h > m->stop_time + eps) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: step to %.17g passes the stopTime %.17g given to "
+                "fmi2SetupExperiment", t + h, m->stop_time);
+        return 0;
+    }
+    return 1;
+}
+
 fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h, fmi2Boolean noSetFMUStatePriorToCurrentPoint) {
     instance_t *c = FMU_ENTER(comp, fmi2DoStep);
     model_t *m;
@@ -29,22 +50,8 @@ fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h, fmi2Boolean no
     if (!c) return fmi2Error;
     m = &c->m;
     eps = 1e-9 * (fabs(t) > 1.0 ? fabs(t) : 1.0);
-    if (!isfinite(t) || !isfinite(h) || h <= 0.0) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: currentCommunicationPoint = %g, "
-                "communicationStepSize = %g: allowed finite values with communicationStepSize > 0", t, h);
-        return fmi2Error;
-    }
-    if (fabs(t - m->time) > eps) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: currentCommunicationPoint = %.17g differs from the "
-                "FMU's time %.17g (allowed: the time reached by the previous step)", t, m->time);
-        return fmi2Error;
-    }
+    if (!step_args_ok(c, t, h, eps)) return fmi2Error;
     t_end = t + h;
-    if (m->stop_defined && t_end > m->stop_time + eps) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: step to %.17g passes the stopTime %.17g given to "
-                "fmi2SetupExperiment", t_end, m->stop_time);
-        return fmi2Error;
-    }
     m->time = t;
     params_inputs(m->val, &m->in);
     /* what is due now, with the inputs the master has just set */

@@ -1,5 +1,6 @@
-/* FMI 2.0 glue common to model exchange and co-simulation: life cycle, call-sequence checks,
- * logging, get/set with value checks, FMU state snapshots. */
+/* FMI 2.0 glue common to model exchange and co-simulation: life cycle, the one call-sequence
+ * check (its table is fmi2_allowed.h), logging, and the plant driven from the value table
+ * (params.h). Get/set are in fmi2_values.c, FMU state snapshots in fmi2_state.c. */
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>

@@ -55,7 +55,7 @@ void fmu_log(instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...)
 instance_t *fmu_enter(fmi2Component comp, const char *fn, int iface, int mask);
 /* outputs and derivatives up to date */
 void fmu_update_outputs(instance_t *c);
-/* process what is due at the current time: a current-loop sample, then friction switches */
+/* process what is due at the current time: a current-loop sample, then the plant's switches */
 int fmu_event_update(instance_t *c, fmi2Boolean *states_changed);
 double fmu_next_sample(const model_t *m);
 int fmu_sample_due(const model_t *m);

@@ -19,8 +19,29 @@ static void indicators(void *ctx, double t, const double *y, double *z) {
     plant_indicators(&m->p, &m->d, y, &m->in, z);
 }
 
+/* a step from t (the time reached so far) of size h > 0, not past the stop time (logs if not) */
+static int step_args_ok(instance_t *c, double t, double h, double eps) {
+    const model_t *m = &c->m;
+    if (!isfinite(t) || !isfinite(h) || h <= 0.0) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: currentCommunicationPoint = %g, "
+                "communicationStepSize = %g: allowed finite values with communicationStepSize > 0", t, h);
+        return 0;
+    }
+    if (fabs(t - m->time) > eps) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: currentCommunicationPoint = %.17g differs from the "
+                "FMU's time %.17g (allowed: the time reached by the previous step)", t, m->time);
+        return 0;
+    }
+    if (m->stop_defined && t + h > m->stop_time + eps) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: step to %.17g passes the stopTime %.17g given to "
+                "fmi2SetupExperiment", t + h, m->stop_time);
+        return 0;
+    }
+    return 1;
+}
+
 fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h, fmi2Boolean noSetFMUStatePriorToCurrentPoint) {
-    instance_t *c = fmu_enter(comp, "fmi2DoStep", fmi2CoSimulation, ST_STEP_COMPLETE);
+    instance_t *c = FMU_ENTER(comp, fmi2DoStep);
     model_t *m;
     double t_end, eps, t_target;
     int roots[PLANT_NZ], guard = 0;
@@ -29,25 +50,10 @@ fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h, fmi2Boolean no
     if (!c) return fmi2Error;
     m = &c->m;
     eps = 1e-9 * (fabs(t) > 1.0 ? fabs(t) : 1.0);
-    if (!isfinite(t) || !isfinite(h) || h <= 0.0) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: currentCommunicationPoint = %g, "
-                "communicationStepSize = %g: allowed finite values with communicationStepSize > 0", t, h);
-        return fmi2Error;
-    }
-    if (fabs(t - m->time) > eps) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: currentCommunicationPoint = %.17g differs from the "
-                "FMU's time %.17g (allowed: the time reached by the previous step)", t, m->time);
-        return fmi2Error;
-    }
+    if (!step_args_ok(c, t, h, eps)) return fmi2Error;
     t_end = t + h;
-    if (m->stop_defined && t_end > m->stop_time + eps) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: step to %.17g passes the stopTime %.17g given to "
-                "fmi2SetupExperiment", t_end, m->stop_time);
-        return fmi2Error;
-    }
     m->time = t;
-    m->in.u = m->val[VR_u];
-    m->in.F_ext = m->val[VR_F_ext];
+    params_inputs(m->val, &m->in);
     /* what is due now, with the inputs the master has just set */
     if (fmu_sample_due(m) || m->solver_restart) {
         fmu_event_update(c, &changed);
@@ -82,7 +88,7 @@ fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h, fmi2Boolean no
 }
 
 fmi2Status fmi2CancelStep(fmi2Component comp) {
-    instance_t *c = fmu_cast(comp, "fmi2CancelStep");
+    instance_t *c = FMU_ENTER(comp, fmi2CancelStep);
     if (!c) return fmi2Error;
     fmu_log(c, fmi2Error, LOG_ERROR, "fmi2CancelStep: fmi2DoStep never returns fmi2Pending, nothing to cancel");
     return fmi2Error;
@@ -90,7 +96,7 @@ fmi2Status fmi2CancelStep(fmi2Component comp) {
 
 fmi2Status fmi2SetRealInputDerivatives(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr,
                                        const fmi2Integer order[], const fmi2Real value[]) {
-    instance_t *c = fmu_cast(comp, "fmi2SetRealInputDerivatives");
+    instance_t *c = FMU_ENTER(comp, fmi2SetRealInputDerivatives);
     (void)vr; (void)order; (void)value;
     if (!c) return fmi2Error;
     if (nvr == 0) return fmi2OK;
@@ -101,8 +107,7 @@ fmi2Status fmi2SetRealInputDerivatives(fmi2Component comp, const fmi2ValueRefere
 
 fmi2Status fmi2GetRealOutputDerivatives(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr,
                                         const fmi2Integer order[], fmi2Real value[]) {
-    instance_t *c = fmu_enter(comp, "fmi2GetRealOutputDerivatives",
-                            fmi2CoSimulation, ST_STEP_COMPLETE | ST_STEP_FAILED | ST_TERMINATED);
+    instance_t *c = FMU_ENTER(comp, fmi2GetRealOutputDerivatives);
     size_t k;
     if (!c) return fmi2Error;
     if (nvr > 0 && (!vr || !order || !value)) {
@@ -128,8 +133,7 @@ fmi2Status fmi2GetRealOutputDerivatives(fmi2Component comp, const fmi2ValueRefer
     return fmi2OK;
 }
 
-static fmi2Status no_status(fmi2Component comp, const char *fn) {
-    instance_t *c = fmu_cast(comp, fn);
+static fmi2Status no_status(instance_t *c, const char *fn) {
     if (!c) return fmi2Error;
     fmu_log(c, fmi2Discard, LOG_ERROR, "%s: no asynchronous step status (fmi2DoStep never returns "
             "fmi2Pending)", fn);
@@ -138,23 +142,23 @@ static fmi2Status no_status(fmi2Component comp, const char *fn) {
 
 fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status *value) {
     (void)s; (void)value;
-    return no_status(c, "fmi2GetStatus");
+    return no_status(FMU_ENTER(c, fmi2GetStatus), "fmi2GetStatus");
 }
 fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *value) {
-    instance_t *ci = fmu_cast(c, "fmi2GetRealStatus");
+    instance_t *ci = FMU_ENTER(c, fmi2GetRealStatus);
     if (ci && s == fmi2LastSuccessfulTime && value) { *value = ci->m.time; return fmi2OK; }
-    return no_status(c, "fmi2GetRealStatus");
+    return no_status(ci, "fmi2GetRealStatus");
 }
 fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind s, fmi2Integer *value) {
     (void)s; (void)value;
-    return no_status(c, "fmi2GetIntegerStatus");
+    return no_status(FMU_ENTER(c, fmi2GetIntegerStatus), "fmi2GetIntegerStatus");
 }
 fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boolean *value) {
-    instance_t *ci = fmu_cast(c, "fmi2GetBooleanStatus");
+    instance_t *ci = FMU_ENTER(c, fmi2GetBooleanStatus);
     if (ci && s == fmi2Terminated && value) { *value = fmi2False; return fmi2OK; }
-    return no_status(c, "fmi2GetBooleanStatus");
+    return no_status(ci, "fmi2GetBooleanStatus");
 }
 fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind s, fmi2String *value) {
     (void)s; (void)value;
-    return no_status(c, "fmi2GetStringStatus");
+    return no_status(FMU_ENTER(c, fmi2GetStringStatus), "fmi2GetStringStatus");
 }

@@ -1,5 +1,6 @@
-/* FMI 2.0 glue common to model exchange and co-simulation: life cycle, call-sequence checks,
- * logging, get/set with value checks, FMU state snapshots. */
+/* FMI 2.0 glue common to model exchange and co-simulation: life cycle, the one call-sequence
+ * check (its table is fmi2_allowed.h), logging, and the plant driven from the value table
+ * (params.h). Get/set are in fmi2_values.c, FMU state snapshots in fmi2_state.c. */
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -52,45 +53,34 @@ void fmu_log(instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...) {
     emit(&c->cb, c->name ? c->name : "?", st, CAT_NAME[idx], buf);
 }
 
-instance_t *fmu_enter(fmi2Component comp, const char *fn, fmi2Type type, int mask) {
-    instance_t *c = fmu_cast(comp, fn);
-    if (!c) return NULL;
-    if (c->type != type) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "%s: only for %s; this instance is %s", fn,
-                type == fmi2ModelExchange ? "model exchange" : "co-simulation",
-                type == fmi2ModelExchange ? "co-simulation" : "model exchange");
-        return NULL;
-    }
-    return fmu_allowed(c, fn, mask) ? c : NULL;
-}
-
-instance_t *fmu_cast(fmi2Component comp, const char *fn) {
+static instance_t *as_instance(fmi2Component comp) {
     instance_t *c = (instance_t *)comp;
-    (void)fn;
-    if (!c || c->m.magic != MODEL_MAGIC) return NULL;
-    return c;
+    return (c && c->m.magic == MODEL_MAGIC) ? c : NULL;
 }
 
-int fmu_allowed(instance_t *c, const char *fn, int mask) {
+/* the state check: logs and moves to Error (unless Fatal) when the state is not in mask */
+static int state_allowed(instance_t *c, const char *fn, int mask) {
     static const char *const NAMES[] = {"Instantiated", "InitializationMode", "EventMode",
                                         "ContinuousTimeMode", "StepComplete", "StepFailed",
                                         "Terminated", "Error", "Fatal"};
     int k = 0;
-    if (c->m.fsm & mask) return 1;
+    if (mask == ST_ANY || (c->m.fsm & mask)) return 1;
     while (k < 8 && !(c->m.fsm & (1 << k))) k++;
     fmu_log(c, fmi2Error, LOG_ERROR, "%s: illegal call in state %s", fn, NAMES[k]);
     if (c->m.fsm != ST_FATAL) c->m.fsm = ST_ERROR;
     return 0;
 }
 
-static void set_inputs(model_t *m) {
-    m->in.u = m->val[VR_u];
-    m->in.F_ext = m->val[VR_F_ext];
-}
-
-static void load_states(model_t *m) {
-    int j;
-    for (j = 0; j < MODEL_NX; j++) m->y[j] = m->val[MODEL_STATE_VR[j]];
+instance_t *fmu_enter(fmi2Component comp, const char *fn, int iface, int mask) {
+    instance_t *c = as_instance(comp);
+    if (!c) return NULL;
+    if (!(iface & (1 << c->type))) {
+        int me = iface == FOR_ME;
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: only for %s; this instance is %s", fn,
+                me ? "model exchange" : "co-simulation", me ? "co-simulation" : "model exchange");
+        return NULL;
+    }
+    return state_allowed(c, fn, mask) ? c : NULL;
 }
 
 double fmu_next_sample(const model_t *m) { return m->t0 + (double)(m->d.k + 1) * m->p.Ts; }
@@ -102,29 +92,13 @@ int fmu_sample_due(const model_t *m) {
 
 void fmu_update_outputs(instance_t *c) {
     model_t *m = &c->m;
-    int j;
     if (m->out_valid) return;
-    set_inputs(m);
+    params_inputs(m->val, &m->in);
     plant_outputs(&m->p, &m->d, m->y, &m->in, &m->out);
     plant_derivatives(&m->p, &m->d, m->y, &m->in, m->dydt);
-    for (j = 0; j < MODEL_NX; j++) {
-        m->val[MODEL_STATE_VR[j]] = m->y[j];
-        m->val[MODEL_DER_VR[j]] = m->dydt[j];
-    }
-    m->val[VR_i] = m->out.i;
-    m->val[VR_F_motor] = m->out.F_motor;
-    m->val[VR_F_cogging] = m->out.F_cg;
-    m->val[VR_F_friction] = m->out.F_fric;
-    m->val[VR_K_f] = m->out.K_f;
-    m->val[VR_n_stuck] = m->out.n_stuck;
-    m->val[VR_stats_n_stick] = (double)m->d.n_stick;
-    m->val[VR_stats_n_slip] = (double)m->d.n_slip;
-    m->val[VR_stats_n_time_events] = (double)m->d.n_time_events;
-    m->val[VR_stats_n_state_events] = (double)m->d.n_state_events;
+    params_store_outputs(m->val, m->y, m->dydt, &m->out, &m->d);
     m->val[VR_stats_n_steps] = (double)m->solver.n_steps;
     m->val[VR_stats_n_rhs] = (double)m->solver.n_rhs;
-    /* friction.F[j] reports the element's effective force (nu_j s(v) when lag is off) */
-    for (j = 0; j < PLANT_NE_MAX; j++) m->val[VRA_friction_F[j + 1]] = m->out.F_elem[j];
     m->out_valid = 1;
 }
 
@@ -146,7 +120,7 @@ int fmu_event_update(instance_t *c, fmi2Boolean *states_changed) {
     model_t *m = &c->m;
     bool changed = false;
     int n = 0, samples = 0;
-    set_inputs(m);
+    params_inputs(m->val, &m->in);
     do {
         int due = fmu_sample_due(m);
         n += plant_event_update(&m->p, &m->d, m->y, &m->in, due != 0, &changed);
@@ -158,13 +132,9 @@ int fmu_event_update(instance_t *c, fmi2Boolean *states_changed) {
     if (samples > 1)
         fmu_log(c, fmi2Warning, LOG_WARNING, "t = %.9g s: %d current-loop samples were overdue (the importer "
                 "stepped past nextEventTime)", m->time, samples);
-    if (n > 0) {
-        int j, stuck = m->d.st_stuck;
-        if (m->p.prerolling)
-            for (j = 0, stuck = 0; j < PLANT_NE_MAX; j++) stuck += m->p.active[j] && m->d.stuck[j];
+    if (n > 0)
         fmu_log(c, fmi2OK, LOG_EVENTS, "t = %.9g s: %d friction switch(es), v = %.6g m/s, %d element(s) stuck",
-                m->time, n, m->y[PLANT_IV], stuck);
-    }
+                m->time, n, m->y[PLANT_IV], plant_n_stuck(&m->p, &m->d));
     fmu_check_stroke(c);
     m->out_valid = 0;
     *states_changed = changed ? fmi2True : fmi2False;
@@ -175,19 +145,13 @@ fmi2Status fmu_recompile(instance_t *c, const double *backup_val) {
     model_t *m = &c->m;
     char msg[512];
     plant_params_t old = m->p;
-    int j;
-    if (!plant_params_compile(m->val, &m->p, msg, sizeof msg)) {
+    if (!params_compile(m->val, &m->p, msg, sizeof msg)) {
         fmu_log(c, fmi2Error, LOG_ERROR, "%s", msg);
         if (backup_val) memcpy(m->val, backup_val, sizeof m->val);
         m->p = old;
         return fmi2Error;
     }
-    /* elements switched on or off by a tunable change start stuck at zero force */
-    for (j = 0; j < PLANT_NE_MAX; j++) {
-        if (m->p.active[j] == old.active[j]) continue;
-        m->y[PLANT_IF + j] = 0.0;
-        m->d.stuck[j] = m->p.active[j];
-    }
+    plant_retune(&old, &m->p, &m->d, m->y);
     m->params_ok = 1;
     m->out_valid = 0;
     m->solver_restart = 1;
@@ -196,12 +160,11 @@ fmi2Status fmu_recompile(instance_t *c, const double *backup_val) {
 
 /* A freshly instantiated model: every variable at its start value, state Instantiated. */
 static void model_defaults(model_t *m) {
-    int j;
     memset(m, 0, sizeof *m);
     m->magic = MODEL_MAGIC;
     m->size = (unsigned)sizeof(model_t);
     m->fsm = ST_INSTANTIATED;
-    for (j = 0; j < MODEL_NVARS; j++) m->val[MODEL_VARS[j].vr] = MODEL_VARS[j].start;
+    params_defaults(m->val);
     m->tol = m->val[VR_solver_tol];
 }
 
@@ -248,7 +211,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
 }
 
 void fmi2FreeInstance(fmi2Component comp) {
-    instance_t *c = fmu_cast(comp, "fmi2FreeInstance");
+    instance_t *c = FMU_ENTER(comp, fmi2FreeInstance);
     fmi2CallbackFreeMemory fr;
     if (!c) return;
     fr = c->cb.freeMemory;
@@ -259,7 +222,7 @@ void fmi2FreeInstance(fmi2Component comp) {
 
 fmi2Status fmi2SetDebugLogging(fmi2Component comp, fmi2Boolean loggingOn, size_t nCategories,
                                const fmi2String categories[]) {
-    instance_t *c = fmu_cast(comp, "fmi2SetDebugLogging");
+    instance_t *c = FMU_ENTER(comp, fmi2SetDebugLogging);
     size_t k;
     if (!c) return fmi2Error;
     c->logging_on = loggingOn != 0;
@@ -284,8 +247,8 @@ fmi2Status fmi2SetDebugLogging(fmi2Component comp, fmi2Boolean loggingOn, size_t
 
 fmi2Status fmi2SetupExperiment(fmi2Component comp, fmi2Boolean toleranceDefined, fmi2Real tolerance,
                                fmi2Real startTime, fmi2Boolean stopTimeDefined, fmi2Real stopTime) {
-    instance_t *c = fmu_cast(comp, "fmi2SetupExperiment");
-    if (!c || !fmu_allowed(c, "fmi2SetupExperiment", ST_INSTANTIATED)) return fmi2Error;
+    instance_t *c = FMU_ENTER(comp, fmi2SetupExperiment);
+    if (!c) return fmi2Error;
     if (!isfinite(startTime) || (stopTimeDefined && (!isfinite(stopTime) || stopTime < startTime)) ||
         (toleranceDefined && (!isfinite(tolerance) || tolerance <= 0.0 || tolerance >= 1.0))) {
         fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SetupExperiment: startTime = %g, stopTime = %g, tolerance = %g: "
@@ -302,8 +265,8 @@ fmi2Status fmi2SetupExperiment(fmi2Component comp, fmi2Boolean toleranceDefined,
 }
 
 fmi2Status fmi2EnterInitializationMode(fmi2Component comp) {
-    instance_t *c = fmu_cast(comp, "fmi2EnterInitializationMode");
-    if (!c || !fmu_allowed(c, "fmi2EnterInitializationMode", ST_INSTANTIATED)) return fmi2Error;
+    instance_t *c = FMU_ENTER(comp, fmi2EnterInitializationMode);
+    if (!c) return fmi2Error;
     c->m.fsm = ST_INIT;
     c->m.out_valid = 0;
     c->m.params_ok = 0;
@@ -316,14 +279,14 @@ fmi2Status fmu_initialize_plant(instance_t *c) {
     char msg[512];
     double atol[PLANT_NX];
     int j;
-    if (!plant_params_compile(m->val, &m->p, msg, sizeof msg)) {
+    if (!params_compile(m->val, &m->p, msg, sizeof msg)) {
         fmu_log(c, fmi2Error, LOG_ERROR, "%s", msg);
         m->params_ok = 0;
         return fmi2Error;
     }
     m->params_ok = 1;
-    load_states(m);
-    set_inputs(m);
+    params_states(m->val, m->y);
+    params_inputs(m->val, &m->in);
     plant_init(&m->p, &m->d, m->y, &m->in);
     if (!m->tol_defined) m->tol = m->val[VR_solver_tol];
     for (j = 0; j < PLANT_NX; j++) atol[j] = m->tol * MODEL_STATE_NOMINAL(j);   /* XML nominals */
@@ -335,24 +298,23 @@ fmi2Status fmu_initialize_plant(instance_t *c) {
 }
 
 fmi2Status fmi2ExitInitializationMode(fmi2Component comp) {
-    instance_t *c = fmu_cast(comp, "fmi2ExitInitializationMode");
-    if (!c || !fmu_allowed(c, "fmi2ExitInitializationMode", ST_INIT)) return fmi2Error;
+    instance_t *c = FMU_ENTER(comp, fmi2ExitInitializationMode);
+    if (!c) return fmi2Error;
     if (fmu_initialize_plant(c) != fmi2OK) { c->m.fsm = ST_ERROR; return fmi2Error; }
     c->m.fsm = c->type == fmi2ModelExchange ? ST_EVENT : ST_STEP_COMPLETE;
     return fmi2OK;
 }
 
 fmi2Status fmi2Terminate(fmi2Component comp) {
-    instance_t *c = fmu_cast(comp, "fmi2Terminate");
-    if (!c || !fmu_allowed(c, "fmi2Terminate", ST_EVENT | ST_CONT | ST_STEP_COMPLETE | ST_STEP_FAILED))
-        return fmi2Error;
+    instance_t *c = FMU_ENTER(comp, fmi2Terminate);
+    if (!c) return fmi2Error;
     c->m.fsm = ST_TERMINATED;
     return fmi2OK;
 }
 
 fmi2Status fmi2Reset(fmi2Component comp) {
-    instance_t *c = fmu_cast(comp, "fmi2Reset");
-    if (!c || !fmu_allowed(c, "fmi2Reset", ~ST_FATAL)) return fmi2Error;
+    instance_t *c = FMU_ENTER(comp, fmi2Reset);
+    if (!c) return fmi2Error;
     model_defaults(&c->m);
     return fmi2OK;
 }

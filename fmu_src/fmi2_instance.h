@@ -4,25 +4,12 @@
 #define FMI2_INSTANCE_H
 
 #include "fmi2Functions.h"
-#include "model_vars.h"
+#include "fmi2_allowed.h"
+#include "params.h"
 #include "plant.h"
 #include "solver_dp45.h"
 
 #define MODEL_MAGIC 0x46445256u   /* "FDRV": marks instances and FMU states */
-
-/* call-sequence states (bit masks, as in the Reference FMUs) */
-enum {
-    ST_INSTANTIATED = 1 << 0,
-    ST_INIT = 1 << 1,
-    ST_EVENT = 1 << 2,
-    ST_CONT = 1 << 3,
-    ST_STEP_COMPLETE = 1 << 4,
-    ST_STEP_FAILED = 1 << 5,
-    ST_TERMINATED = 1 << 6,
-    ST_ERROR = 1 << 7,
-    ST_FATAL = 1 << 8
-};
-#define ST_AFTER_INIT (ST_EVENT | ST_CONT | ST_STEP_COMPLETE | ST_STEP_FAILED | ST_TERMINATED | ST_ERROR)
 
 /* Everything an FMU state snapshot holds: plain data, no pointers. */
 typedef struct {
@@ -63,15 +50,12 @@ void fmu_log(instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...)
     __attribute__((format(printf, 4, 5)))
 #endif
     ;
-/* check that the call is allowed in the current state; logs and returns 0 if not */
-int fmu_allowed(instance_t *c, const char *fn, int mask);
-instance_t *fmu_cast(fmi2Component c, const char *fn);
-/* entry of an interface-specific call: the instance when it is of `type` and in a state of
- * `mask`, else NULL (with a logged message) */
-instance_t *fmu_enter(fmi2Component c, const char *fn, fmi2Type type, int mask);
+/* entry of every FMI call (through FMU_ENTER): the instance when comp is one, the call belongs to
+ * its interface (a FOR_* set) and its state is one of `mask`, else NULL (with a logged message) */
+instance_t *fmu_enter(fmi2Component comp, const char *fn, int iface, int mask);
 /* outputs and derivatives up to date */
 void fmu_update_outputs(instance_t *c);
-/* process what is due at the current time: a current-loop sample, then friction switches */
+/* process what is due at the current time: a current-loop sample, then the plant's switches */
 int fmu_event_update(instance_t *c, fmi2Boolean *states_changed);
 double fmu_next_sample(const model_t *m);
 int fmu_sample_due(const model_t *m);

@@ -17,14 +17,14 @@ static int array_ok(instance_t *c, const char *fn, const void *p, size_t n, size
 }
 
 fmi2Status fmi2EnterEventMode(fmi2Component comp) {
-    instance_t *c = fmu_enter(comp, "fmi2EnterEventMode", fmi2ModelExchange, ST_EVENT | ST_CONT);
+    instance_t *c = FMU_ENTER(comp, fmi2EnterEventMode);
     if (!c) return fmi2Error;
     c->m.fsm = ST_EVENT;
     return fmi2OK;
 }
 
 fmi2Status fmi2NewDiscreteStates(fmi2Component comp, fmi2EventInfo *info) {
-    instance_t *c = fmu_enter(comp, "fmi2NewDiscreteStates", fmi2ModelExchange, ST_EVENT);
+    instance_t *c = FMU_ENTER(comp, fmi2NewDiscreteStates);
     fmi2Boolean changed = fmi2False;
     if (!c) return fmi2Error;
     if (!info) { fmu_log(c, fmi2Error, LOG_ERROR, "fmi2NewDiscreteStates: eventInfo is NULL"); return fmi2Error; }
@@ -39,7 +39,7 @@ fmi2Status fmi2NewDiscreteStates(fmi2Component comp, fmi2EventInfo *info) {
 }
 
 fmi2Status fmi2EnterContinuousTimeMode(fmi2Component comp) {
-    instance_t *c = fmu_enter(comp, "fmi2EnterContinuousTimeMode", fmi2ModelExchange, ST_EVENT);
+    instance_t *c = FMU_ENTER(comp, fmi2EnterContinuousTimeMode);
     if (!c) return fmi2Error;
     c->m.fsm = ST_CONT;
     return fmi2OK;
@@ -47,7 +47,7 @@ fmi2Status fmi2EnterContinuousTimeMode(fmi2Component comp) {
 
 fmi2Status fmi2CompletedIntegratorStep(fmi2Component comp, fmi2Boolean noSetFMUStatePriorToCurrentPoint,
                                        fmi2Boolean *enterEventMode, fmi2Boolean *terminateSimulation) {
-    instance_t *c = fmu_enter(comp, "fmi2CompletedIntegratorStep", fmi2ModelExchange, ST_CONT);
+    instance_t *c = FMU_ENTER(comp, fmi2CompletedIntegratorStep);
     (void)noSetFMUStatePriorToCurrentPoint;
     if (!c) return fmi2Error;
     if (!enterEventMode || !terminateSimulation) {
@@ -61,7 +61,7 @@ fmi2Status fmi2CompletedIntegratorStep(fmi2Component comp, fmi2Boolean noSetFMUS
 }
 
 fmi2Status fmi2SetTime(fmi2Component comp, fmi2Real time) {
-    instance_t *c = fmu_enter(comp, "fmi2SetTime", fmi2ModelExchange, ST_EVENT | ST_CONT);
+    instance_t *c = FMU_ENTER(comp, fmi2SetTime);
     if (!c) return fmi2Error;
     if (!isfinite(time)) {
         fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SetTime: time = %g is not finite", time);
@@ -73,7 +73,7 @@ fmi2Status fmi2SetTime(fmi2Component comp, fmi2Real time) {
 }
 
 fmi2Status fmi2SetContinuousStates(fmi2Component comp, const fmi2Real x[], size_t nx) {
-    instance_t *c = fmu_enter(comp, "fmi2SetContinuousStates", fmi2ModelExchange, ST_CONT);
+    instance_t *c = FMU_ENTER(comp, fmi2SetContinuousStates);
     size_t j;
     if (!c) return fmi2Error;
     if (!array_ok(c, "fmi2SetContinuousStates", x, nx, PLANT_NX)) return fmi2Error;
@@ -90,8 +90,7 @@ fmi2Status fmi2SetContinuousStates(fmi2Component comp, const fmi2Real x[], size_
 }
 
 fmi2Status fmi2GetDerivatives(fmi2Component comp, fmi2Real derivatives[], size_t nx) {
-    instance_t *c = fmu_enter(comp, "fmi2GetDerivatives",
-                            fmi2ModelExchange, ST_EVENT | ST_CONT | ST_TERMINATED | ST_ERROR);
+    instance_t *c = FMU_ENTER(comp, fmi2GetDerivatives);
     if (!c) return fmi2Error;
     if (!array_ok(c, "fmi2GetDerivatives", derivatives, nx, PLANT_NX)) return fmi2Error;
     fmu_update_outputs(c);
@@ -100,21 +99,18 @@ fmi2Status fmi2GetDerivatives(fmi2Component comp, fmi2Real derivatives[], size_t
 }
 
 fmi2Status fmi2GetEventIndicators(fmi2Component comp, fmi2Real z[], size_t nz) {
-    instance_t *c = fmu_enter(comp, "fmi2GetEventIndicators",
-                            fmi2ModelExchange, ST_EVENT | ST_CONT | ST_TERMINATED | ST_ERROR);
+    instance_t *c = FMU_ENTER(comp, fmi2GetEventIndicators);
     model_t *m;
     if (!c) return fmi2Error;
     if (!array_ok(c, "fmi2GetEventIndicators", z, nz, PLANT_NZ)) return fmi2Error;
     m = &c->m;
-    m->in.u = m->val[VR_u];
-    m->in.F_ext = m->val[VR_F_ext];
+    params_inputs(m->val, &m->in);
     plant_indicators(&m->p, &m->d, m->y, &m->in, z);
     return fmi2OK;
 }
 
 fmi2Status fmi2GetContinuousStates(fmi2Component comp, fmi2Real x[], size_t nx) {
-    instance_t *c = fmu_enter(comp, "fmi2GetContinuousStates",
-                            fmi2ModelExchange, ST_EVENT | ST_CONT | ST_TERMINATED | ST_ERROR);
+    instance_t *c = FMU_ENTER(comp, fmi2GetContinuousStates);
     if (!c) return fmi2Error;
     if (!array_ok(c, "fmi2GetContinuousStates", x, nx, PLANT_NX)) return fmi2Error;
     memcpy(x, c->m.y, nx * sizeof(double));
@@ -122,8 +118,7 @@ fmi2Status fmi2GetContinuousStates(fmi2Component comp, fmi2Real x[], size_t nx) 
 }
 
 fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component comp, fmi2Real x_nominal[], size_t nx) {
-    instance_t *c = fmu_enter(comp, "fmi2GetNominalsOfContinuousStates",
-                            fmi2ModelExchange, ST_INSTANTIATED | ST_EVENT | ST_CONT | ST_TERMINATED | ST_ERROR);
+    instance_t *c = FMU_ENTER(comp, fmi2GetNominalsOfContinuousStates);
     size_t j;
     if (!c) return fmi2Error;
     if (!array_ok(c, "fmi2GetNominalsOfContinuousStates", x_nominal, nx, PLANT_NX)) return fmi2Error;

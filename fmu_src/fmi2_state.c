@@ -8,9 +8,9 @@
 /* ---------------------------------------------------------------- FMU state */
 
 fmi2Status fmi2GetFMUstate(fmi2Component comp, fmi2FMUstate *state) {
-    instance_t *c = fmu_cast(comp, "fmi2GetFMUstate");
+    instance_t *c = FMU_ENTER(comp, fmi2GetFMUstate);
     model_t *s;
-    if (!c || !fmu_allowed(c, "fmi2GetFMUstate", ~(ST_FATAL | ST_ERROR))) return fmi2Error;
+    if (!c) return fmi2Error;
     if (!state) { fmu_log(c, fmi2Error, LOG_ERROR, "fmi2GetFMUstate: FMUstate pointer is NULL"); return fmi2Error; }
     s = (model_t *)*state;
     if (!s) {
@@ -26,9 +26,9 @@ fmi2Status fmi2GetFMUstate(fmi2Component comp, fmi2FMUstate *state) {
 }
 
 fmi2Status fmi2SetFMUstate(fmi2Component comp, fmi2FMUstate state) {
-    instance_t *c = fmu_cast(comp, "fmi2SetFMUstate");
+    instance_t *c = FMU_ENTER(comp, fmi2SetFMUstate);
     const model_t *s = (const model_t *)state;
-    if (!c || !fmu_allowed(c, "fmi2SetFMUstate", ~ST_FATAL)) return fmi2Error;
+    if (!c) return fmi2Error;
     if (!s || s->magic != MODEL_MAGIC || s->size != sizeof(model_t)) {
         fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SetFMUstate: not a state of this FMU");
         return fmi2Error;
@@ -39,7 +39,7 @@ fmi2Status fmi2SetFMUstate(fmi2Component comp, fmi2FMUstate state) {
 }
 
 fmi2Status fmi2FreeFMUstate(fmi2Component comp, fmi2FMUstate *state) {
-    instance_t *c = fmu_cast(comp, "fmi2FreeFMUstate");
+    instance_t *c = FMU_ENTER(comp, fmi2FreeFMUstate);
     model_t *s;
     if (!c) return fmi2Error;
     if (!state || !*state) return fmi2OK;
@@ -55,7 +55,7 @@ fmi2Status fmi2FreeFMUstate(fmi2Component comp, fmi2FMUstate *state) {
 }
 
 fmi2Status fmi2SerializedFMUstateSize(fmi2Component comp, fmi2FMUstate state, size_t *size) {
-    instance_t *c = fmu_cast(comp, "fmi2SerializedFMUstateSize");
+    instance_t *c = FMU_ENTER(comp, fmi2SerializedFMUstateSize);
     if (!c) return fmi2Error;
     if (!state || !size || ((const model_t *)state)->magic != MODEL_MAGIC) {
         fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SerializedFMUstateSize: %s", !size ? "size pointer is NULL"
@@ -67,7 +67,7 @@ fmi2Status fmi2SerializedFMUstateSize(fmi2Component comp, fmi2FMUstate state, si
 }
 
 fmi2Status fmi2SerializeFMUstate(fmi2Component comp, fmi2FMUstate state, fmi2Byte serializedState[], size_t size) {
-    instance_t *c = fmu_cast(comp, "fmi2SerializeFMUstate");
+    instance_t *c = FMU_ENTER(comp, fmi2SerializeFMUstate);
     const model_t *s = (const model_t *)state;
     if (!c) return fmi2Error;
     if (!s || s->magic != MODEL_MAGIC || !serializedState || size < sizeof(model_t)) {
@@ -81,7 +81,7 @@ fmi2Status fmi2SerializeFMUstate(fmi2Component comp, fmi2FMUstate state, fmi2Byt
 
 fmi2Status fmi2DeSerializeFMUstate(fmi2Component comp, const fmi2Byte serializedState[], size_t size,
                                    fmi2FMUstate *state) {
-    instance_t *c = fmu_cast(comp, "fmi2DeSerializeFMUstate");
+    instance_t *c = FMU_ENTER(comp, fmi2DeSerializeFMUstate);
     model_t tmp;
     if (!c) return fmi2Error;
     if (!serializedState || !state || size != sizeof(model_t)) {
@@ -104,7 +104,7 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component comp, const fmi2Byte serialized
 fmi2Status fmi2GetDirectionalDerivative(fmi2Component comp, const fmi2ValueReference vUnknown_ref[], size_t nUnknown,
                                         const fmi2ValueReference vKnown_ref[], size_t nKnown,
                                         const fmi2Real dvKnown[], fmi2Real dvUnknown[]) {
-    instance_t *c = fmu_cast(comp, "fmi2GetDirectionalDerivative");
+    instance_t *c = FMU_ENTER(comp, fmi2GetDirectionalDerivative);
     (void)vUnknown_ref; (void)nUnknown; (void)vKnown_ref; (void)nKnown; (void)dvKnown; (void)dvUnknown;
     if (!c) return fmi2Error;
     fmu_log(c, fmi2Error, LOG_ERROR, "fmi2GetDirectionalDerivative: not provided "

@@ -30,11 +30,11 @@ static int args_ok(instance_t *c, const char *fn, const void *vr, size_t nvr, co
     return 1;
 }
 
-static fmi2Status get_values(fmi2Component comp, const char *fn, const fmi2ValueReference vr[], size_t nvr,
+/* c: the instance admitted by FMU_ENTER (NULL: the call was refused) */
+static fmi2Status get_values(instance_t *c, const char *fn, const fmi2ValueReference vr[], size_t nvr,
                              char type, void *value) {
-    instance_t *c = fmu_cast(comp, fn);
     size_t k;
-    if (!c || !fmu_allowed(c, fn, ST_INIT | ST_AFTER_INIT)) return fmi2Error;
+    if (!c) return fmi2Error;
     if (!args_ok(c, fn, vr, nvr, value)) return fmi2Error;
     if (c->m.fsm == ST_INIT && !c->m.params_ok) {
         /* initialization mode: compute with the values set so far */
@@ -54,16 +54,16 @@ static fmi2Status get_values(fmi2Component comp, const char *fn, const fmi2Value
 }
 
 fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[]) {
-    return get_values(c, "fmi2GetReal", vr, nvr, 'R', value);
+    return get_values(FMU_ENTER(c, fmi2GetReal), "fmi2GetReal", vr, nvr, 'R', value);
 }
 fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Integer value[]) {
-    return get_values(c, "fmi2GetInteger", vr, nvr, 'I', value);
+    return get_values(FMU_ENTER(c, fmi2GetInteger), "fmi2GetInteger", vr, nvr, 'I', value);
 }
 fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Boolean value[]) {
-    return get_values(c, "fmi2GetBoolean", vr, nvr, 'B', value);
+    return get_values(FMU_ENTER(c, fmi2GetBoolean), "fmi2GetBoolean", vr, nvr, 'B', value);
 }
 fmi2Status fmi2GetString(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr, fmi2String value[]) {
-    instance_t *c = fmu_cast(comp, "fmi2GetString");
+    instance_t *c = FMU_ENTER(comp, fmi2GetString);
     (void)vr; (void)value;
     if (!c) return fmi2Error;
     if (nvr == 0) return fmi2OK;
@@ -77,13 +77,11 @@ static int settable(instance_t *c, const char *fn, int row) {
     const model_var_t *v = &MODEL_VARS[row];
     int st = c->m.fsm;
     if (v->causality == 'i') {
-        if (st & (ST_INSTANTIATED | ST_INIT | ST_EVENT | ST_CONT | ST_STEP_COMPLETE)) return 1;
+        if (st & SET_INPUT) return 1;
     } else if (v->causality == 'p') {
-        if (st & (ST_INSTANTIATED | ST_INIT)) return 1;
-        if (v->variability == 't' && (st & (ST_EVENT | ST_STEP_COMPLETE))) return 1;
+        if (st & (v->variability == 't' ? SET_TUNABLE : SET_FIXED)) return 1;
     } else if (v->has_start && (v->variability == 'c')) {
-        /* states with initial="exact": before and during initialization */
-        if (st & (ST_INSTANTIATED | ST_INIT)) return 1;
+        if (st & SET_EXACT_STATE) return 1;
     }
     fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s (causality %s, variability %s) cannot be set in this state%s", fn,
             v->name, v->causality == 'p' ? "parameter" : (v->causality == 'i' ? "input" :
@@ -94,7 +92,7 @@ static int settable(instance_t *c, const char *fn, int row) {
     return 0;
 }
 
-/* The min/max of modelDescription.xml bind every variable (plant_check_value knows only the
+/* The min/max of modelDescription.xml bind every variable (params_check_value knows only the
  * physics' own ranges); solver.tol must in addition lie in (0, 1) like fmi2SetupExperiment's. */
 static int declared_range_ok(instance_t *c, const char *fn, int row, double v) {
     const model_var_t *mv = &MODEL_VARS[row];
@@ -110,16 +108,14 @@ static int declared_range_ok(instance_t *c, const char *fn, int row, double v) {
     return 1;
 }
 
-static fmi2Status set_values(fmi2Component comp, const char *fn, const fmi2ValueReference vr[], size_t nvr,
+static fmi2Status set_values(instance_t *c, const char *fn, const fmi2ValueReference vr[], size_t nvr,
                              char type, const void *value) {
-    instance_t *c = fmu_cast(comp, fn);
     model_t *m;
     size_t k;
     int param_changed = 0;
     char msg[512];
     if (!c) return fmi2Error;
     m = &c->m;
-    if (!fmu_allowed(c, fn, ST_INSTANTIATED | ST_INIT | ST_EVENT | ST_CONT | ST_STEP_COMPLETE)) return fmi2Error;
     if (!args_ok(c, fn, vr, nvr, value)) return fmi2Error;
     /* validate everything first, so a rejected call changes nothing */
     for (k = 0; k < nvr; k++) {
@@ -137,7 +133,7 @@ static fmi2Status set_values(fmi2Component comp, const char *fn, const fmi2Value
             }
             v = b ? 1.0 : 0.0;
         }
-        if (!plant_check_value(vr[k], v, msg, sizeof msg)) {
+        if (!params_check_value(vr[k], v, msg, sizeof msg)) {
             fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s", fn, msg);
             return fmi2Error;
         }
@@ -165,24 +161,23 @@ static fmi2Status set_values(fmi2Component comp, const char *fn, const fmi2Value
     if (m->fsm & ST_INIT) m->params_ok = 0;
     m->out_valid = 0;
     if (m->fsm & (ST_EVENT | ST_CONT | ST_STEP_COMPLETE)) {
-        m->in.u = m->val[VR_u];
-        m->in.F_ext = m->val[VR_F_ext];
+        params_inputs(m->val, &m->in);
         m->solver_restart = 1;
     }
     return fmi2OK;
 }
 
 fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Real value[]) {
-    return set_values(c, "fmi2SetReal", vr, nvr, 'R', value);
+    return set_values(FMU_ENTER(c, fmi2SetReal), "fmi2SetReal", vr, nvr, 'R', value);
 }
 fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Integer value[]) {
-    return set_values(c, "fmi2SetInteger", vr, nvr, 'I', value);
+    return set_values(FMU_ENTER(c, fmi2SetInteger), "fmi2SetInteger", vr, nvr, 'I', value);
 }
 fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Boolean value[]) {
-    return set_values(c, "fmi2SetBoolean", vr, nvr, 'B', value);
+    return set_values(FMU_ENTER(c, fmi2SetBoolean), "fmi2SetBoolean", vr, nvr, 'B', value);
 }
 fmi2Status fmi2SetString(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr, const fmi2String value[]) {
-    instance_t *c = fmu_cast(comp, "fmi2SetString");
+    instance_t *c = FMU_ENTER(comp, fmi2SetString);
     (void)value;
     if (!c) return fmi2Error;
     if (nvr == 0) return fmi2OK;

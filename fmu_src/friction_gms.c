@@ -97,3 +97,18 @@ int gms_update(const plant_params_t *p, plant_disc_t *d, double *y, bool *y_chan
     }
     return n;
 }
+
+int gms_n_stuck(const plant_params_t *p, const plant_disc_t *d) {
+    int j, n = 0;
+    for (j = 0; j < PLANT_NE_MAX; j++) n += p->active[j] && d->stuck[j];
+    return n;
+}
+
+void gms_retune(const plant_params_t *old, const plant_params_t *p, plant_disc_t *d, double *y) {
+    int j;
+    for (j = 0; j < PLANT_NE_MAX; j++) {
+        if (p->active[j] == old->active[j]) continue;
+        y[PLANT_IF + j] = 0.0;
+        d->stuck[j] = p->active[j];
+    }
+}

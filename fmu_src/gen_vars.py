@@ -28,7 +28,6 @@ def c_double(text: str, typ: str) -> str:
 def main(xml_path: str, outdir: str) -> None:
     root = ET.parse(xml_path).getroot()
     guid = root.get("guid")
-    ident = root.find("ModelExchange").get("modelIdentifier")
     nz = int(root.get("numberOfEventIndicators"))
     svs = root.find("ModelVariables").findall("ScalarVariable")
     rows, defines, groups = [], [], {}
@@ -62,7 +61,7 @@ def main(xml_path: str, outdir: str) -> None:
     out.mkdir(parents=True, exist_ok=True)
     h = [f"/* Generated from {Path(xml_path).name} by gen_vars.py: do not edit. */",
          "#ifndef MODEL_VARS_H", "#define MODEL_VARS_H", "",
-         f'#define MODEL_GUID "{guid}"', f'#define MODEL_IDENTIFIER_STR "{ident}"',
+         f'#define MODEL_GUID "{guid}"',
          f"#define MODEL_NVR {nvr}u      /* value references 0..MODEL_NVR-1 */",
          f"#define MODEL_NVARS {len(rows)}",
          f"#define MODEL_NX {len(states)}       /* continuous states */",

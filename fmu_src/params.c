@@ -1,16 +1,29 @@
-/* Parameters: every check (one message per rule) and the compilation of the FMU's values
- * into plant_params_t with the effect switches applied. Defaults live in modelDescription.xml. */
+/* The value table by value reference: start values (from modelDescription.xml), every check
+ * (one message per rule), the compilation of the FMU's values into plant_params_t with the
+ * effect switches applied, and the transfer of inputs, states and outputs. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "model_vars.h"
-#include "plant.h"
+#include "params.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
 #endif
+
+/* The plant's counts must be those of modelDescription.xml (model_vars.h is generated from it).
+ * C99 has no _Static_assert: a negative array size fails the build, naming the check. */
+#define COMPILE_CHECK(name, cond) typedef char compile_check_##name[(cond) ? 1 : -1]
+#define COUNT(a) (sizeof(a) / sizeof((a)[0]))
+COMPILE_CHECK(continuous_states_match_xml, PLANT_NX == MODEL_NX);
+COMPILE_CHECK(event_indicators_match_xml, PLANT_NZ == MODEL_NZ);
+COMPILE_CHECK(friction_elements_match_xml, COUNT(VRA_friction_nu) == PLANT_NE_MAX + 1 &&
+              COUNT(VRA_friction_k) == PLANT_NE_MAX + 1 && COUNT(VRA_friction_F) == PLANT_NE_MAX + 1);
+COMPILE_CHECK(fourier_slots_match_xml, COUNT(VRA_cogging_lambda) == PLANT_NH_MAX + 1 &&
+              COUNT(VRA_ripple_lambda) == PLANT_NH_MAX + 1);
+COMPILE_CHECK(current_loop_match_xml, COUNT(VRA_current_a) == PLANT_NA_MAX + 1 &&
+              COUNT(VRA_current_b) == PLANT_NB_MAX);
 
 #define SUM_NU_TOL 1e-3   /* |sum(nu_i) - 1| allowed; Eq. 12 needs sum(nu) = 1 */
 
@@ -55,7 +68,7 @@ static void fmt_range(char *buf, size_t n, const range_t *r) {
     snprintf(buf, n, "%s%s, %s%s", r->lo_open ? "(" : "[", lo, hi, r->hi_open ? ")" : "]");
 }
 
-bool plant_check_value(unsigned vr, double value, char *msg, size_t msglen) {
+bool params_check_value(unsigned vr, double value, char *msg, size_t msglen) {
     range_t r;
     char rs[80];
     if (!isfinite(value)) {
@@ -97,31 +110,33 @@ static void map_compile(const double *val, posmap_t *m, const unsigned *vc, int 
 
 #define FAIL(...) do { snprintf(msg, msglen, __VA_ARGS__); return false; } while (0)
 
-bool plant_params_compile(const double *val, plant_params_t *p, char *msg, size_t msglen) {
-    unsigned vr;
+/* every single-value rule, for every parameter */
+static bool check_each_parameter(const double *val, char *msg, size_t msglen) {
     int j;
-    double sa = 0.0, sb = 0.0, sum_nu = 0.0;
-    bool e_str, e_visc, e_asym;
-    /* every single-value rule, for every parameter */
     for (j = 0; j < MODEL_NVARS; j++) {
+        unsigned vr = MODEL_VARS[j].vr;
         if (MODEL_VARS[j].causality != 'p') continue;
-        vr = MODEL_VARS[j].vr;
-        if (!plant_check_value(vr, val[vr], msg, msglen)) return false;
+        if (!params_check_value(vr, val[vr], msg, msglen)) return false;
     }
-    memset(p, 0, sizeof *p);
-    p->m = val[VR_m];
-    p->Ts = val[VR_Ts];
-    /* current loop */
+    return true;
+}
+
+/* G(z) coefficients and its DC gain (Eq. 2); refuses a pole at z = 1 */
+static bool compile_current_loop(const double *val, plant_params_t *p, char *msg, size_t msglen) {
+    double sa = 0.0, sb = 0.0;
+    int j;
     p->current_dynamics = val[VR_effects_current_dynamics] != 0.0;
-    p->na = PLANT_NA_MAX;
-    p->nb = PLANT_NB_MAX;
     for (j = 1; j <= PLANT_NA_MAX; j++) { p->ca[j - 1] = val[VRA_current_a[j]]; sa += p->ca[j - 1]; }
     for (j = 0; j < PLANT_NB_MAX; j++) { p->cb[j] = val[VRA_current_b[j]]; sb += p->cb[j]; }
     if (fabs(1.0 - sa) < 1e-9)
         FAIL("current.a[1..5] sum to %.17g: the current loop has a pole at z = 1 and no finite DC gain; "
              "allowed: sum(current.a) != 1", sa);
     p->G1 = sb / (1.0 - sa);
-    /* position maps */
+    return true;
+}
+
+/* cogging F_cg(x) and force constant K_f(x) (Eqs. 6, 7) and the stroke they are evaluated on */
+static bool compile_position_maps(const double *val, plant_params_t *p, char *msg, size_t msglen) {
     map_compile(val, &p->cog, VRA_cogging_c, 4, VRA_cogging_lambda, VRA_cogging_a, VRA_cogging_b,
                 val[VR_effects_cogging_periodic] != 0.0, val[VR_effects_cogging_aperiodic] != 0.0, false);
     map_compile(val, &p->rip, VRA_ripple_c, 3, VRA_ripple_lambda, VRA_ripple_a, VRA_ripple_b,
@@ -131,13 +146,29 @@ bool plant_params_compile(const double *val, plant_params_t *p, char *msg, size_
     if (!(p->x_max > p->x_min))
         FAIL("stroke.x_max = %.17g must exceed stroke.x_min = %.17g: allowed stroke.x_max in (%.17g, inf) m",
              p->x_max, p->x_min, p->x_min);
-    /* friction */
-    e_str = val[VR_effects_stribeck] != 0.0;
-    e_visc = val[VR_effects_viscous] != 0.0;
-    e_asym = val[VR_effects_asymmetric_friction] != 0.0;
+    return true;
+}
+
+/* the asymmetry's shift of the levels for v < 0 (effect asymmetric_friction) */
+static bool compile_asymmetry(const double *val, plant_params_t *p, bool viscous, char *msg, size_t msglen) {
+    double dF = val[VR_asymmetry_dF], ds = val[VR_asymmetry_dsigma2];
+    if (p->Fc[0] + dF < 0.0 || p->Fs[0] + dF <= 0.0)
+        FAIL("asymmetry.dF = %.17g makes the friction level for v < 0 negative: allowed [%.17g, inf) N",
+             dF, -p->Fc[0]);
+    if (p->sigma2[0] + ds < 0.0)
+        FAIL("asymmetry.dsigma2 = %.17g makes the viscous coefficient for v < 0 negative: "
+             "allowed [%.17g, inf) N.s/m", ds, -p->sigma2[0]);
+    p->Fs[1] += dF;
+    p->Fc[1] += dF;
+    p->sigma2[1] += viscous ? ds : 0.0;
+    return true;
+}
+
+/* the sliding levels F_s, F_c, sigma2 per direction and the Stribeck curve (Eqs. 8, 10) */
+static bool compile_friction_levels(const double *val, plant_params_t *p, char *msg, size_t msglen) {
+    bool e_str = val[VR_effects_stribeck] != 0.0, e_visc = val[VR_effects_viscous] != 0.0;
     p->prerolling = val[VR_effects_prerolling] != 0.0;
     p->lag = val[VR_effects_frictional_lag] != 0.0;
-    p->stribeck = e_str;
     if (val[VR_friction_F_c] > val[VR_friction_F_s])
         FAIL("friction.F_c = %.17g exceeds friction.F_s = %.17g: allowed friction.F_c in [0, friction.F_s] N",
              val[VR_friction_F_c], val[VR_friction_F_s]);
@@ -147,21 +178,18 @@ bool plant_params_compile(const double *val, plant_params_t *p, char *msg, size_
     p->Fs[1] = p->Fs[0];
     p->Fc[1] = p->Fc[0];
     p->sigma2[1] = p->sigma2[0];
-    if (e_asym) {
-        double dF = val[VR_asymmetry_dF], ds = val[VR_asymmetry_dsigma2];
-        if (p->Fc[0] + dF < 0.0 || p->Fs[0] + dF <= 0.0)
-            FAIL("asymmetry.dF = %.17g makes the friction level for v < 0 negative: allowed [%.17g, inf) N",
-                 dF, -p->Fc[0]);
-        if (p->sigma2[0] + ds < 0.0)
-            FAIL("asymmetry.dsigma2 = %.17g makes the viscous coefficient for v < 0 negative: "
-                 "allowed [%.17g, inf) N.s/m", ds, -p->sigma2[0]);
-        p->Fs[1] += dF;
-        p->Fc[1] += dF;
-        p->sigma2[1] += e_visc ? ds : 0.0;
-    }
+    if (val[VR_effects_asymmetric_friction] != 0.0 && !compile_asymmetry(val, p, e_visc, msg, msglen))
+        return false;
     p->Vs = val[VR_friction_V_s];
     p->delta = val[VR_friction_delta];
     p->C = val[VR_friction_C];
+    return true;
+}
+
+/* the GMS elements in use (Eqs. 9, 11, 12): N, nu_i, k_i; sum(nu) = 1 when prerolling */
+static bool compile_elements(const double *val, plant_params_t *p, char *msg, size_t msglen) {
+    double sum_nu = 0.0;
+    int j;
     p->N = (int)val[VR_friction_N];
     if ((double)p->N != val[VR_friction_N])
         FAIL("friction.N = %.17g is not an integer: allowed 1..%d", val[VR_friction_N], PLANT_NE_MAX);
@@ -174,6 +202,53 @@ bool plant_params_compile(const double *val, plant_params_t *p, char *msg, size_
     if (p->prerolling && fabs(sum_nu - 1.0) > SUM_NU_TOL)
         FAIL("friction.nu[1..%d] sum to %.17g: allowed 1 +- %g (Eq. 12 needs sum(nu) = 1; "
              "set friction.nu[%d] = 1 - sum of the others)", p->N, sum_nu, SUM_NU_TOL, p->N);
+    return true;
+}
+
+bool params_compile(const double *val, plant_params_t *p, char *msg, size_t msglen) {
+    if (!check_each_parameter(val, msg, msglen)) return false;
+    memset(p, 0, sizeof *p);
+    p->m = val[VR_m];
+    p->Ts = val[VR_Ts];
+    if (!compile_current_loop(val, p, msg, msglen) || !compile_position_maps(val, p, msg, msglen) ||
+        !compile_friction_levels(val, p, msg, msglen) || !compile_elements(val, p, msg, msglen))
+        return false;
     p->F_off = val[VR_effects_offset_force] != 0.0 ? val[VR_offset_F] : 0.0;
     return true;
+}
+
+void params_defaults(double *val) {
+    int j;
+    for (j = 0; j < MODEL_NVARS; j++) val[MODEL_VARS[j].vr] = MODEL_VARS[j].start;
+}
+
+void params_inputs(const double *val, plant_in_t *in) {
+    in->u = val[VR_u];
+    in->F_ext = val[VR_F_ext];
+}
+
+void params_states(const double *val, double *y) {
+    int j;
+    for (j = 0; j < MODEL_NX; j++) y[j] = val[MODEL_STATE_VR[j]];
+}
+
+void params_store_outputs(double *val, const double *y, const double *dydt, const plant_out_t *o,
+                          const plant_disc_t *d) {
+    int j;
+    for (j = 0; j < MODEL_NX; j++) {
+        val[MODEL_STATE_VR[j]] = y[j];
+        val[MODEL_DER_VR[j]] = dydt[j];
+    }
+    val[VR_i] = o->i;
+    val[VR_F_motor] = o->F_motor;
+    val[VR_F_cogging] = o->F_cg;
+    val[VR_F_friction] = o->F_fric;
+    val[VR_K_f] = o->K_f;
+    val[VR_n_stuck] = o->n_stuck;
+    val[VR_stats_n_stick] = (double)d->n_stick;
+    val[VR_stats_n_slip] = (double)d->n_slip;
+    val[VR_stats_n_time_events] = (double)d->n_time_events;
+    val[VR_stats_n_state_events] = (double)d->n_state_events;
+    /* friction.F[j] reports the element's effective force (nu_j s(v) when lag is off) */
+    for (j = 0; j < PLANT_NE_MAX; j++) val[VRA_friction_F[j + 1]] = o->F_elem[j];
 }

@@ -23,18 +23,14 @@ void plant_outputs(const plant_params_t *p, const plant_disc_t *d, const double 
     if (p->prerolling) {
         gms_element_forces(p, d, y, o->F_elem);
         o->F_fric = p->sigma2[v < 0.0] * v;
-        o->n_stuck = 0;
-        for (j = 0; j < PLANT_NE_MAX; j++) {
-            o->F_fric += o->F_elem[j];
-            o->n_stuck += p->active[j] && d->stuck[j];
-        }
+        for (j = 0; j < PLANT_NE_MAX; j++) o->F_fric += o->F_elem[j];
         o->a = (F_app - o->F_fric) / p->m;
     } else {
         for (j = 0; j < PLANT_NE_MAX; j++) o->F_elem[j] = 0.0;
         o->F_fric = static_friction(p, d, v, F_app);
-        o->n_stuck = d->st_stuck;
         o->a = d->st_stuck ? 0.0 : (F_app - o->F_fric) / p->m;
     }
+    o->n_stuck = plant_n_stuck(p, d);
 }
 
 void plant_derivatives(const plant_params_t *p, const plant_disc_t *d, const double *y,
@@ -102,4 +98,12 @@ int plant_event_update(const plant_params_t *p, plant_disc_t *d, double *y, cons
     }
     if (n > 0) d->n_state_events++;
     return n;
+}
+
+int plant_n_stuck(const plant_params_t *p, const plant_disc_t *d) {
+    return p->prerolling ? gms_n_stuck(p, d) : d->st_stuck;
+}
+
+void plant_retune(const plant_params_t *old, const plant_params_t *p, plant_disc_t *d, double *y) {
+    gms_retune(old, p, d, y);
 }

@@ -4,13 +4,12 @@
 #define PLANT_H
 
 #include <stdbool.h>
-#include <stddef.h>
 
 #define PLANT_NE_MAX 10      /* GMS element slots */
 #define PLANT_NH_MAX 8       /* Fourier slots per position map */
 #define PLANT_NA_MAX 5       /* current loop: i[k-1..k-5] */
-#define PLANT_NB_MAX 6
-#define PLANT_NMULT 24      /* highest multiple of the fundamental evaluated by recurrence */       /* current loop: u[k..k-5] */
+#define PLANT_NB_MAX 6       /* current loop: u[k..k-5] */
+#define PLANT_NMULT 24       /* highest multiple of the fundamental evaluated by recurrence */
 #define PLANT_NX (2 + PLANT_NE_MAX)   /* x, v, F_1..F_10 */
 #define PLANT_NZ (PLANT_NE_MAX + 1)   /* one per element + one for the motion direction */
 #define PLANT_IX 0
@@ -36,7 +35,6 @@ typedef struct {
 typedef struct {
     double m, Ts;
     bool current_dynamics;
-    int na, nb;
     double ca[PLANT_NA_MAX], cb[PLANT_NB_MAX];
     double G1;                        /* DC gain of the current loop [A/V] */
     posmap_t cog, rip;
@@ -45,7 +43,6 @@ typedef struct {
     bool prerolling, lag;
     double Fs[2], Fc[2], sigma2[2];   /* [0]: v > 0 (and v = 0), [1]: v < 0 */
     double Vs, delta, C;
-    bool stribeck;
     int N;                            /* elements in use */
     double nu[PLANT_NE_MAX], k[PLANT_NE_MAX];
     bool active[PLANT_NE_MAX];        /* i < N and nu_i > 0 */
@@ -78,14 +75,6 @@ typedef struct {
     int n_stuck;
 } plant_out_t;
 
-/* params.c */
-typedef struct { unsigned vr; const char *msg_fmt; } plant_rule_t;
-/* Compile the FMU values (indexed by value reference) into params. On error, returns false and
- * writes a message naming the variable, its value and the allowed range into msg. */
-bool plant_params_compile(const double *val, plant_params_t *p, char *msg, size_t msglen);
-/* Check one value alone (called on fmi2Set*); true if acceptable. */
-bool plant_check_value(unsigned vr, double value, char *msg, size_t msglen);
-
 /* position_maps.c */
 double posmap_eval(const posmap_t *m, double x);
 void posmap_prepare(posmap_t *m);
@@ -104,6 +93,9 @@ void gms_derivatives(const plant_params_t *p, const plant_disc_t *d, const doubl
 void gms_indicators(const plant_params_t *p, const plant_disc_t *d, const double *y, double *z);
 void gms_init(const plant_params_t *p, plant_disc_t *d, const double *y);
 int gms_update(const plant_params_t *p, plant_disc_t *d, double *y, bool *y_changed);
+int gms_n_stuck(const plant_params_t *p, const plant_disc_t *d);
+/* elements switched on or off by a parameter change (old -> p) start stuck at zero force */
+void gms_retune(const plant_params_t *old, const plant_params_t *p, plant_disc_t *d, double *y);
 
 /* friction_static.c */
 double static_friction(const plant_params_t *p, const plant_disc_t *d, double v, double F_app);
@@ -123,5 +115,9 @@ void plant_indicators(const plant_params_t *p, const plant_disc_t *d, const doub
  * stick/slip switch the state calls for. Returns the number of friction switches. */
 int plant_event_update(const plant_params_t *p, plant_disc_t *d, double *y, const plant_in_t *in,
                        bool sample_due, bool *y_changed);
+/* friction elements stuck (GMS), or 1/0 for the static model stuck/sliding */
+int plant_n_stuck(const plant_params_t *p, const plant_disc_t *d);
+/* after tunable parameters changed from old to p: the discrete and continuous state to match */
+void plant_retune(const plant_params_t *old, const plant_params_t *p, plant_disc_t *d, double *y);
 
 #endif

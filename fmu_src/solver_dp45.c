@@ -326,27 +326,29 @@ static double locate_root(dp45_t *s, void *ctx, dp45_ind_fn g, double t0, double
     return thi;
 }
 
-int dp45_advance(dp45_t *s, void *ctx, dp45_rhs_fn f, dp45_ind_fn g, double *t, double t_end,
-                 double *y, int *roots)
+/* Arguments and tolerances valid for an advance from tc to t_end (ng: indicators in use)? */
+static int advance_args_ok(const dp45_t *s, dp45_rhs_fn f, int ng, const int *roots, double tc,
+                           double t_end)
+{
+    int j;
+    if (s->n < 1 || s->n > DP45_MAX_N || s->ng < 0 || s->ng > DP45_MAX_G || f == NULL ||
+        (ng > 0 && roots == NULL) || !(t_end >= tc) || !(t_end - tc < HUGE_VAL)) {
+        return 0;
+    }
+    if (!(s->rtol >= 0.0)) return 0;
+    for (j = 0; j < s->n; ++j) {
+        if (!(s->atol[j] > 0.0)) return 0;
+    }
+    return 1;
+}
+
+/* Make what is carried over valid at tc: k1 = f(tc, y) (FSAL), the indicators at tc and a
+ * step-size proposal. Returns 0 when y or f(tc, y) is not finite. */
+static int prepare_start(dp45_t *s, void *ctx, dp45_rhs_fn f, dp45_ind_fn g, int ng, double tc,
+                         double t_end, const double *y)
 {
     const int n = s->n;
-    const int ng = (g != NULL) ? s->ng : 0;
-    const double rtol = s->rtol;
-    double tc = *t;
-    long attempts = 0;
     int j;
-
-    if (n < 1 || n > DP45_MAX_N || s->ng < 0 || s->ng > DP45_MAX_G || f == NULL ||
-        (ng > 0 && roots == NULL) || !(t_end >= tc) || !(t_end - tc < HUGE_VAL)) {
-        return DP45_ERROR;
-    }
-    if (!(rtol >= 0.0)) return DP45_ERROR;
-    for (j = 0; j < n; ++j) {
-        if (!(s->atol[j] > 0.0)) return DP45_ERROR;
-    }
-    for (j = 0; j < ng; ++j) roots[j] = 0;
-    if (t_end == tc) return DP45_REACHED;
-
     if (s->t_cur != tc) {
         /* the caller moved time: nothing carried over is valid */
         s->fsal_ok = 0;
@@ -355,11 +357,11 @@ int dp45_advance(dp45_t *s, void *ctx, dp45_rhs_fn f, dp45_ind_fn g, double *t, 
     if (!s->fsal_ok) {
         double chk = 0.0;
         for (j = 0; j < n; ++j) chk += y[j] * 0.0; /* NaN iff some y_j is not finite */
-        if (chk != 0.0) return DP45_ERROR;
+        if (chk != 0.0) return 0;
         f(ctx, tc, y, s->k[s->i_k1]);
         s->n_rhs++;
         for (j = 0; j < n; ++j) chk += s->k[s->i_k1][j] * 0.0;
-        if (chk != 0.0) return DP45_ERROR;
+        if (chk != 0.0) return 0;
         s->fsal_ok = 1;
         s->t_cur = tc;
     }
@@ -372,128 +374,177 @@ int dp45_advance(dp45_t *s, void *ctx, dp45_rhs_fn f, dp45_ind_fn g, double *t, 
     if (!(s->h > 0.0)) {
         s->h = initial_step(s, ctx, f, tc, y, t_end - tc);
     }
+    return 1;
+}
+
+/* Step size from tc with proposal hp: land exactly on t_end, stretching by <= 1 % (never
+ * beyond h_max, up to rounding); split a remainder below 2 hp into two halves. Returns 1 when
+ * the step ends on t_end. */
+static int choose_step(const dp45_t *s, double tc, double t_end, double tiny, double hp, double *h,
+                       double *t1)
+{
+    const double rem = t_end - tc;
+    double lim = 1.01 * s->h;
+    if (lim > s->h_max + tiny) lim = s->h_max + tiny;
+    if (rem <= lim) {
+        *h = rem;
+        *t1 = t_end;
+        return 1;
+    }
+    *h = (rem < 2.0 * hp) ? 0.5 * rem : hp;
+    *t1 = tc + *h;
+    return 0;
+}
+
+/* One Dormand-Prince step of size h from (tc, y) to t1: stages k2..k7 into s->k (k1 is
+ * s->k[s->i_k1]), the 5th-order solution into s->y_new. Returns the mean squared scaled error,
+ * or HUGE_VAL when the new state or derivative is not finite. */
+static double dopri_step(dp45_t *s, void *ctx, dp45_rhs_fn f, double tc, double h, double t1,
+                         const double *y)
+{
+    const int n = s->n;
+    const double *k1 = s->k[s->i_k1];
+    double *k2 = s->k[1], *k3 = s->k[2], *k4 = s->k[3], *k5 = s->k[4], *k6 = s->k[5];
+    double *k7 = s->k[6 - s->i_k1];
+    double *ys = s->y_stage, *yn = s->y_new;
+    double sum = 0.0, chk = 0.0;
+    int j;
+
+    for (j = 0; j < n; ++j) ys[j] = y[j] + h * (A21 * k1[j]);
+    f(ctx, tc + C2 * h, ys, k2);
+    for (j = 0; j < n; ++j) ys[j] = y[j] + h * (A31 * k1[j] + A32 * k2[j]);
+    f(ctx, tc + C3 * h, ys, k3);
+    for (j = 0; j < n; ++j) ys[j] = y[j] + h * (A41 * k1[j] + A42 * k2[j] + A43 * k3[j]);
+    f(ctx, tc + C4 * h, ys, k4);
+    for (j = 0; j < n; ++j)
+        ys[j] = y[j] + h * (A51 * k1[j] + A52 * k2[j] + A53 * k3[j] + A54 * k4[j]);
+    f(ctx, tc + C5 * h, ys, k5);
+    for (j = 0; j < n; ++j)
+        ys[j] = y[j] +
+                h * (A61 * k1[j] + A62 * k2[j] + A63 * k3[j] + A64 * k4[j] + A65 * k5[j]);
+    f(ctx, t1, ys, k6);
+    for (j = 0; j < n; ++j)
+        yn[j] = y[j] +
+                h * (A71 * k1[j] + A73 * k3[j] + A74 * k4[j] + A75 * k5[j] + A76 * k6[j]);
+    f(ctx, t1, yn, k7);
+    s->n_rhs += 6;
+
+    for (j = 0; j < n; ++j) {
+        const double e =
+            h * (E1 * k1[j] + E3 * k3[j] + E4 * k4[j] + E5 * k5[j] + E6 * k6[j] + E7 * k7[j]);
+        const double a = fabs(y[j]), b = fabs(yn[j]);
+        const double q = e / (s->atol[j] + s->rtol * ((a > b) ? a : b));
+        sum += q * q;
+        chk += yn[j] * 0.0 + k7[j] * 0.0;
+    }
+    return (chk != 0.0) ? HUGE_VAL : sum / n;
+}
+
+/* Factor by which a rejected step shrinks: hard for non-finite values, else 0.9 err^-0.17
+ * (at least 0.2). */
+static double shrink_factor(double err2)
+{
+    double lf;
+    if (!(err2 <= DBL_MAX)) return NONFINITE_SHRINK;
+    lf = L2_SAFE - EXPO1 * 0.5 * log2_approx(err2); /* log2(0.9 err^-0.17) */
+    if (lf < L2_SHRINK_MIN) lf = L2_SHRINK_MIN;
+    return exp2_approx(lf);
+}
+
+/* After an accepted step of size h (proposal hp): the next proposal from the PI controller
+ * h_new = h * 0.9 * err^-0.17 * errold^0.04, no growth right after a rejection. */
+static void next_step_size(dp45_t *s, double h, double hp, double err2)
+{
+    double grow;
+    if (err2 < ERR2_SATURATED) {
+        grow = FAC_GROW_MAX;
+        s->log2_facold = L2_FACOLD_MIN;
+    } else {
+        const double l2_err = 0.5 * log2_approx(err2);
+        double lf = L2_SAFE - EXPO1 * l2_err + BETA * s->log2_facold;
+        if (lf > L2_GROW_MAX) lf = L2_GROW_MAX;
+        if (lf < L2_SHRINK_MIN) lf = L2_SHRINK_MIN;
+        grow = exp2_approx(lf);
+        s->log2_facold = (l2_err > L2_FACOLD_MIN) ? l2_err : L2_FACOLD_MIN;
+    }
+    if (s->reject_prev && grow > 1.0) grow = 1.0;
+    s->reject_prev = 0;
+    if (h < hp) {
+        /* limited by t_end, not by accuracy: keep the earlier proposal when the
+         * error allows growth */
+        const double hg = h * grow;
+        s->h = (grow >= 1.0 && s->h > hg) ? s->h : hg;
+    } else {
+        s->h = h * grow;
+    }
+    if (s->h > s->h_max) s->h = s->h_max;
+}
+
+/* Keep the accepted step [tc, t1] for dense output; k7 becomes the next k1 (FSAL). */
+static void record_step(dp45_t *s, const double *y, double tc, double t1, double h)
+{
+    s->n_steps++;
+    copy_n(s->y_old, y, s->n);
+    s->t_old = tc;
+    s->t_new = t1;
+    s->h_last = h;
+    s->dense_k1 = s->i_k1;
+    s->dense_ok = 1;
+    s->i_k1 = 6 - s->i_k1;
+}
+
+/* Indicators at the end t1 of the last accepted step (into g_hi): did one change sign? */
+static int step_has_crossing(dp45_t *s, void *ctx, dp45_ind_fn g, int ng, double t1)
+{
+    int any = 0, zero_start = 0, j;
+    g(ctx, t1, s->y_new, s->g_hi);
+    s->n_ind++;
+    for (j = 0; j < ng; ++j) {
+        any |= crossed(s->g_prev[j], s->g_hi[j]);
+        zero_start |= (s->g_prev[j] == 0.0 && s->g_hi[j] != 0.0);
+    }
+    if (zero_start) {
+        probe_zero_start(s, ctx, g);
+        for (j = 0; j < ng; ++j) any |= crossed(s->g_prev[j], s->g_hi[j]);
+    }
+    return any;
+}
+
+int dp45_advance(dp45_t *s, void *ctx, dp45_rhs_fn f, dp45_ind_fn g, double *t, double t_end,
+                 double *y, int *roots)
+{
+    const int ng = (g != NULL) ? s->ng : 0;
+    double tc = *t;
+    long attempts = 0;
+    int j;
+
+    if (!advance_args_ok(s, f, ng, roots, tc, t_end)) return DP45_ERROR;
+    for (j = 0; j < ng; ++j) roots[j] = 0;
+    if (t_end == tc) return DP45_REACHED;
+    if (!prepare_start(s, ctx, f, g, ng, tc, t_end, y)) return DP45_ERROR;
 
     for (;;) {
-        const int i1 = s->i_k1, i7 = 6 - i1;
-        const double *k1 = s->k[i1];
-        double *k2 = s->k[1], *k3 = s->k[2], *k4 = s->k[3], *k5 = s->k[4], *k6 = s->k[5];
-        double *k7 = s->k[i7];
-        double *ys = s->y_stage, *yn = s->y_new;
-        const double rem = t_end - tc;
         const double tiny = 16.0 * DBL_EPSILON * (fabs(tc) + fabs(t_end));
         const double hp = (s->h < s->h_max) ? s->h : s->h_max;
-        double lim = 1.01 * s->h, h, t1, sum = 0.0, chk = 0.0, err2, grow;
-        int last = 0;
+        double h, t1, err2;
+        int last;
 
         if (attempts++ >= s->max_steps) break;
-
-        /* step size: land exactly on t_end, stretching by <= 1 % (never beyond
-         * h_max, up to rounding); split a remainder below 2 h into two halves */
-        if (lim > s->h_max + tiny) lim = s->h_max + tiny;
-        if (rem <= lim) {
-            h = rem;
-            t1 = t_end;
-            last = 1;
-        } else {
-            h = (rem < 2.0 * hp) ? 0.5 * rem : hp;
-            t1 = tc + h;
-        }
+        last = choose_step(s, tc, t_end, tiny, hp, &h, &t1);
         s->dense_ok = 0; /* the stage slots are about to be overwritten */
-
-        for (j = 0; j < n; ++j) ys[j] = y[j] + h * (A21 * k1[j]);
-        f(ctx, tc + C2 * h, ys, k2);
-        for (j = 0; j < n; ++j) ys[j] = y[j] + h * (A31 * k1[j] + A32 * k2[j]);
-        f(ctx, tc + C3 * h, ys, k3);
-        for (j = 0; j < n; ++j) ys[j] = y[j] + h * (A41 * k1[j] + A42 * k2[j] + A43 * k3[j]);
-        f(ctx, tc + C4 * h, ys, k4);
-        for (j = 0; j < n; ++j)
-            ys[j] = y[j] + h * (A51 * k1[j] + A52 * k2[j] + A53 * k3[j] + A54 * k4[j]);
-        f(ctx, tc + C5 * h, ys, k5);
-        for (j = 0; j < n; ++j)
-            ys[j] = y[j] +
-                    h * (A61 * k1[j] + A62 * k2[j] + A63 * k3[j] + A64 * k4[j] + A65 * k5[j]);
-        f(ctx, t1, ys, k6);
-        for (j = 0; j < n; ++j)
-            yn[j] = y[j] +
-                    h * (A71 * k1[j] + A73 * k3[j] + A74 * k4[j] + A75 * k5[j] + A76 * k6[j]);
-        f(ctx, t1, yn, k7);
-        s->n_rhs += 6;
-
-        for (j = 0; j < n; ++j) {
-            const double e =
-                h * (E1 * k1[j] + E3 * k3[j] + E4 * k4[j] + E5 * k5[j] + E6 * k6[j] + E7 * k7[j]);
-            const double a = fabs(y[j]), b = fabs(yn[j]);
-            const double q = e / (s->atol[j] + rtol * ((a > b) ? a : b));
-            sum += q * q;
-            chk += yn[j] * 0.0 + k7[j] * 0.0;
-        }
-        err2 = sum / n;
-
-        if (!(err2 <= DBL_MAX) || chk != 0.0) {
-            /* non-finite stage values: shrink hard and retry */
+        err2 = dopri_step(s, ctx, f, tc, h, t1, y);
+        if (!(err2 <= 1.0)) {
+            /* rejected (error test or non-finite stage values): shrink and retry */
             s->n_rejected++;
             s->reject_prev = 1;
-            s->h = h * NONFINITE_SHRINK;
+            s->h = h * shrink_factor(err2);
             if (s->h < s->h_min || s->h < tiny) break;
             continue;
         }
-
-        if (err2 > 1.0) {
-            double lf = L2_SAFE - EXPO1 * 0.5 * log2_approx(err2); /* log2(0.9 err^-0.17) */
-            if (lf < L2_SHRINK_MIN) lf = L2_SHRINK_MIN;
-            s->n_rejected++;
-            s->reject_prev = 1;
-            s->h = h * exp2_approx(lf);
-            if (s->h < s->h_min || s->h < tiny) break;
-            continue;
-        }
-
-        /* accepted: PI controller h_new = h * 0.9 * err^-0.17 * errold^0.04 */
-        if (err2 < ERR2_SATURATED) {
-            grow = FAC_GROW_MAX;
-            s->log2_facold = L2_FACOLD_MIN;
-        } else {
-            const double l2_err = 0.5 * log2_approx(err2);
-            double lf = L2_SAFE - EXPO1 * l2_err + BETA * s->log2_facold;
-            if (lf > L2_GROW_MAX) lf = L2_GROW_MAX;
-            if (lf < L2_SHRINK_MIN) lf = L2_SHRINK_MIN;
-            grow = exp2_approx(lf);
-            s->log2_facold = (l2_err > L2_FACOLD_MIN) ? l2_err : L2_FACOLD_MIN;
-        }
-        if (s->reject_prev && grow > 1.0) grow = 1.0;
-        s->reject_prev = 0;
-        if (h < hp) {
-            /* limited by t_end, not by accuracy: keep the earlier proposal when the
-             * error allows growth */
-            const double hg = h * grow;
-            s->h = (grow >= 1.0 && s->h > hg) ? s->h : hg;
-        } else {
-            s->h = h * grow;
-        }
-        if (s->h > s->h_max) s->h = s->h_max;
-
-        s->n_steps++;
-        copy_n(s->y_old, y, n);
-        s->t_old = tc;
-        s->t_new = t1;
-        s->h_last = h;
-        s->dense_k1 = i1;
-        s->dense_ok = 1;
-        s->i_k1 = i7; /* FSAL: k7 of this step is k1 of the next */
-
+        next_step_size(s, h, hp, err2);
+        record_step(s, y, tc, t1, h);
         if (ng > 0) {
-            int any = 0, zero_start = 0;
-            g(ctx, t1, yn, s->g_hi);
-            s->n_ind++;
-            for (j = 0; j < ng; ++j) {
-                any |= crossed(s->g_prev[j], s->g_hi[j]);
-                zero_start |= (s->g_prev[j] == 0.0 && s->g_hi[j] != 0.0);
-            }
-            if (zero_start) {
-                probe_zero_start(s, ctx, g);
-                for (j = 0; j < ng; ++j) any |= crossed(s->g_prev[j], s->g_hi[j]);
-            }
-            if (any) {
+            if (step_has_crossing(s, ctx, g, ng, t1)) {
                 tc = locate_root(s, ctx, g, s->t_old, t1, y, roots);
                 s->fsal_ok = (tc == t1);
                 s->t_cur = tc;
@@ -503,7 +554,7 @@ int dp45_advance(dp45_t *s, void *ctx, dp45_rhs_fn f, dp45_ind_fn g, double *t, 
             }
             memcpy(s->g_prev, s->g_hi, sizeof s->g_prev); /* fixed size: inlined */
         }
-        copy_n(y, yn, n);
+        copy_n(y, s->y_new, s->n);
         tc = t1;
         s->t_cur = tc;
         if (last) {

@@ -1,0 +1,90 @@
+/* The one table of the FMI 2.0 call sequence: for every function that takes an instance, the
+ * interface(s) it belongs to and the states it may be called in (after the Reference FMUs'
+ * MASK_fmi2... defines). Every entry point starts with FMU_ENTER(comp, fmi2Xxx), which checks
+ * both against this table; an illegal call logs "<function>: illegal call in state <state>",
+ * moves the instance to the Error state and returns NULL (the call answers fmi2Error). */
+#ifndef FMI2_ALLOWED_H
+#define FMI2_ALLOWED_H
+
+/* call-sequence states (one bit each) */
+enum {
+    ST_INSTANTIATED = 1 << 0,
+    ST_INIT = 1 << 1,
+    ST_EVENT = 1 << 2,
+    ST_CONT = 1 << 3,
+    ST_STEP_COMPLETE = 1 << 4,
+    ST_STEP_FAILED = 1 << 5,
+    ST_TERMINATED = 1 << 6,
+    ST_ERROR = 1 << 7,
+    ST_FATAL = 1 << 8
+};
+/* no state check: the function answers every state itself (with fmi2Error, fmi2Discard or a
+ * value that is valid in every state) */
+#define ST_ANY (~0)
+#define ST_AFTER_INIT (ST_EVENT | ST_CONT | ST_STEP_COMPLETE | ST_STEP_FAILED | ST_TERMINATED | ST_ERROR)
+#define ST_SETTABLE (ST_INSTANTIATED | ST_INIT | ST_EVENT | ST_CONT | ST_STEP_COMPLETE)
+#define ST_ME_OUTPUTS (ST_EVENT | ST_CONT | ST_TERMINATED | ST_ERROR)
+
+/* interfaces: bit (1 << fmi2Type) */
+#define FOR_ME 1
+#define FOR_CS 2
+#define FOR_BOTH (FOR_ME | FOR_CS)
+
+/*       function                              interface  states */
+/* life cycle */
+#define ALLOW_fmi2FreeInstance                 FOR_BOTH, ST_ANY
+#define ALLOW_fmi2SetDebugLogging              FOR_BOTH, ST_ANY
+#define ALLOW_fmi2SetupExperiment              FOR_BOTH, ST_INSTANTIATED
+#define ALLOW_fmi2EnterInitializationMode      FOR_BOTH, ST_INSTANTIATED
+#define ALLOW_fmi2ExitInitializationMode       FOR_BOTH, ST_INIT
+#define ALLOW_fmi2Terminate                    FOR_BOTH, (ST_EVENT | ST_CONT | ST_STEP_COMPLETE | ST_STEP_FAILED)
+#define ALLOW_fmi2Reset                        FOR_BOTH, (~ST_FATAL)
+/* values */
+#define ALLOW_fmi2GetReal                      FOR_BOTH, (ST_INIT | ST_AFTER_INIT)
+#define ALLOW_fmi2GetInteger                   FOR_BOTH, (ST_INIT | ST_AFTER_INIT)
+#define ALLOW_fmi2GetBoolean                   FOR_BOTH, (ST_INIT | ST_AFTER_INIT)
+#define ALLOW_fmi2GetString                    FOR_BOTH, ST_ANY
+#define ALLOW_fmi2SetReal                      FOR_BOTH, ST_SETTABLE
+#define ALLOW_fmi2SetInteger                   FOR_BOTH, ST_SETTABLE
+#define ALLOW_fmi2SetBoolean                   FOR_BOTH, ST_SETTABLE
+#define ALLOW_fmi2SetString                    FOR_BOTH, ST_ANY
+/* FMU state */
+#define ALLOW_fmi2GetFMUstate                  FOR_BOTH, (~(ST_FATAL | ST_ERROR))
+#define ALLOW_fmi2SetFMUstate                  FOR_BOTH, (~ST_FATAL)
+#define ALLOW_fmi2FreeFMUstate                 FOR_BOTH, ST_ANY
+#define ALLOW_fmi2SerializedFMUstateSize       FOR_BOTH, ST_ANY
+#define ALLOW_fmi2SerializeFMUstate            FOR_BOTH, ST_ANY
+#define ALLOW_fmi2DeSerializeFMUstate          FOR_BOTH, ST_ANY
+#define ALLOW_fmi2GetDirectionalDerivative     FOR_BOTH, ST_ANY
+/* model exchange */
+#define ALLOW_fmi2EnterEventMode               FOR_ME, (ST_EVENT | ST_CONT)
+#define ALLOW_fmi2NewDiscreteStates            FOR_ME, ST_EVENT
+#define ALLOW_fmi2EnterContinuousTimeMode      FOR_ME, ST_EVENT
+#define ALLOW_fmi2CompletedIntegratorStep      FOR_ME, ST_CONT
+#define ALLOW_fmi2SetTime                      FOR_ME, (ST_EVENT | ST_CONT)
+#define ALLOW_fmi2SetContinuousStates          FOR_ME, ST_CONT
+#define ALLOW_fmi2GetDerivatives               FOR_ME, ST_ME_OUTPUTS
+#define ALLOW_fmi2GetEventIndicators           FOR_ME, ST_ME_OUTPUTS
+#define ALLOW_fmi2GetContinuousStates          FOR_ME, ST_ME_OUTPUTS
+#define ALLOW_fmi2GetNominalsOfContinuousStates FOR_ME, (ST_INSTANTIATED | ST_ME_OUTPUTS)
+/* co-simulation (the functions that always answer fmi2Error or fmi2Discard take every state) */
+#define ALLOW_fmi2DoStep                       FOR_CS, ST_STEP_COMPLETE
+#define ALLOW_fmi2CancelStep                   FOR_BOTH, ST_ANY
+#define ALLOW_fmi2SetRealInputDerivatives      FOR_BOTH, ST_ANY
+#define ALLOW_fmi2GetRealOutputDerivatives     FOR_CS, (ST_STEP_COMPLETE | ST_STEP_FAILED | ST_TERMINATED)
+#define ALLOW_fmi2GetStatus                    FOR_BOTH, ST_ANY
+#define ALLOW_fmi2GetRealStatus                FOR_BOTH, ST_ANY
+#define ALLOW_fmi2GetIntegerStatus             FOR_BOTH, ST_ANY
+#define ALLOW_fmi2GetBooleanStatus             FOR_BOTH, ST_ANY
+#define ALLOW_fmi2GetStringStatus              FOR_BOTH, ST_ANY
+
+/* which variables fmi2Set{Real,Integer,Boolean} may set in which states (FMI 2.0, Table 3) */
+#define SET_INPUT ST_SETTABLE
+#define SET_FIXED (ST_INSTANTIATED | ST_INIT)                          /* fixed parameters */
+#define SET_TUNABLE (ST_INSTANTIATED | ST_INIT | ST_EVENT | ST_STEP_COMPLETE)
+#define SET_EXACT_STATE (ST_INSTANTIATED | ST_INIT)                    /* states with initial="exact" */
+
+/* the instance behind comp when function F may be called on it now, else NULL (logged) */
+#define FMU_ENTER(comp, F) fmu_enter((comp), #F, ALLOW_##F)
+
+#endif

@@ -1,0 +1,29 @@
+/* The FMU's variables by value reference (the table generated from modelDescription.xml) and
+ * the plant's structs: start values, the checks of single values and of their combination, the
+ * compilation into plant_params_t with the effect switches applied, and the transfer of inputs,
+ * states and outputs between the value table and the plant. Knows nothing of the FMI calls. */
+#ifndef PARAMS_H
+#define PARAMS_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "model_vars.h"
+#include "plant.h"
+
+/* every variable at its start value */
+void params_defaults(double *val);
+/* Check one value alone (called on fmi2Set*); true if acceptable, else a message naming the
+ * variable, its value and the allowed range in msg. */
+bool params_check_value(unsigned vr, double value, char *msg, size_t msglen);
+/* Compile the values (indexed by value reference) into p. On error, returns false and writes a
+ * message naming the variable, its value and the allowed range into msg. */
+bool params_compile(const double *val, plant_params_t *p, char *msg, size_t msglen);
+/* the inputs and the continuous states (start values) from the value table */
+void params_inputs(const double *val, plant_in_t *in);
+void params_states(const double *val, double *y);
+/* states, derivatives, outputs and the plant's event statistics into the value table */
+void params_store_outputs(double *val, const double *y, const double *dydt, const plant_out_t *o,
+                          const plant_disc_t *d);
+
+#endif

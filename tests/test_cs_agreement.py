@@ -28,7 +28,7 @@ import numpy as np
 import pytest
 
 from feeddrive.fmu import DEFAULT_FMU, Plant
-from feeddrive.simulate import simulate_closed_loop
+from feeddrive.harness.simulate import simulate_closed_loop
 
 pytestmark = pytest.mark.skipif(not DEFAULT_FMU.is_file(), reason="build the FMU first: make fmu")
 

@@ -13,15 +13,15 @@ from pathlib import Path
 
 import numpy as np
 
-from .experiments.references import sinusoid
 from .fmu import Plant
+from .harness.controllers import make_controller, state_space_spec
+from .harness.references import sinusoid
+from .harness.simulate import simulate_closed_loop
 from .paper import paper_parameters
-from .simulate import simulate_closed_loop
-from .validation.controllers import make_controller, state_space_spec
 
 
 def _closed_loop(interface: str, tolerance: float, ref) -> tuple[float, dict]:
-    ctrl = make_controller(state_space_spec(), ref.x)
+    ctrl = make_controller(state_space_spec(), ref)
     with Plant(paper_parameters(), interface=interface, tolerance=tolerance) as plant:
         t0 = time.perf_counter()
         res = simulate_closed_loop(plant, ctrl, ref.n, float(ref.x[0]))

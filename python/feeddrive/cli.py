@@ -36,7 +36,11 @@ def _cmd_report(a: argparse.Namespace) -> int:
 
 def _cmd_validate(a: argparse.Namespace) -> int:
     from .validation.replay import validate_file
-    rep = validate_file(Path(a.measured), Path(a.model) if a.model else None)
+    try:
+        rep = validate_file(Path(a.measured), Path(a.model) if a.model else None)
+    except (ValueError, FileNotFoundError) as e:
+        print(f"feeddrive validate: {e}", file=sys.stderr)
+        return 2
     print(rep.text())
     return 0
 

@@ -7,10 +7,15 @@ from pathlib import Path
 
 from tqdm import tqdm
 
+from ..harness.controllers import make_controller, state_space_spec
+from ..harness.references import Reference, sinusoid
+from ..harness.runs import run_closed_loop
+from ..identify.figures import identification_section
+from ..paper import paper_parameters
+from ..realdata.odrive import analyse, findings_text
 from ..report import Page
 from ..report import closed_loop_figures as figs
 from . import sec3, sec4
-from .controllers import make_controller, state_space_spec
 
 
 ODRIVE = Path(__file__).resolve().parents[3].parent / "shared" / "realdata" / "odrive-cogging"
@@ -26,12 +31,9 @@ def main_job(out_dir: Path, print_tables: bool = True, runs_dir: Path | None = N
     page = Page(out_dir, "feeddrive: the linear-motor feed drive of Villegas et al. (2014)")
     t0 = time.perf_counter()
     steps = tqdm(total=3, desc="feeddrive run", unit="stage", disable=not print_tables)
-    ctrl = make_controller(state_space_spec(), [0.15, 0.15])
+    ctrl = make_controller(state_space_spec(), Reference(5e-4, [0.15, 0.15], [0.0, 0.0], [0.0, 0.0]))
     design = ctrl.format_report()
     steps.update(1)
-    from ..experiments.references import sinusoid
-    from ..paper import paper_parameters
-    from .closed_loop import run_closed_loop
     ref = sinusoid(sec3.AMPLITUDE, sec3.PERIOD, sec3.CENTRE, sec3.PERIOD)
     one = run_closed_loop(paper_parameters(), state_space_spec(), ref)
     run_line = (f"30 mm / 6 s closed-loop sinusoid (co-simulation, Python controller at 2 kHz): "
@@ -59,11 +61,9 @@ def main_job(out_dir: Path, print_tables: bool = True, runs_dir: Path | None = N
     page.figure(figs.fig16(r4), "fig16_feedforward", "Analogue of Fig. 16: tracking error for each feedforward")
     page.figure(figs.reversal_closeups(r4), "sec4_reversals", "Error at each reference reversal")
     if runs_dir is not None:
-        from ..identify.figures import identification_section
         page.heading("Identification (Secs. 2.2-2.4) from " + str(runs_dir))
         identification_section(page, Path(runs_dir))
     if ODRIVE.is_dir():
-        from ..realdata.odrive import analyse, findings_text
         page.heading("Real data: ODrive BLDC cogging maps (position spectrum)")
         page.pre(findings_text(analyse(ODRIVE)))
     path = page.write()

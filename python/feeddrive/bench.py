@@ -7,12 +7,15 @@ from __future__ import annotations
 import argparse
 import os
 import platform
+import re
 import statistics
+import subprocess
 import time
 from pathlib import Path
 
 import numpy as np
 
+from .bench_c import REPO, SO, run_bench_cs
 from .fmu import Plant
 from .harness.controllers import make_controller, state_space_spec
 from .harness.references import sinusoid
@@ -62,7 +65,6 @@ def python_rows(repeats: int = 5) -> tuple[list[tuple[str, str, str]], dict]:
 
 def c_rows(repeats: int = 5) -> list[tuple[str, str, str]]:
     """Figures of the C drivers: co-simulation from C, doStep latency, memory."""
-    from .bench_c import run_bench_cs
     f = run_bench_cs(repeats)
     wall = f["wall_s_best"]
     rows = [
@@ -84,9 +86,6 @@ def c_rows(repeats: int = 5) -> list[tuple[str, str, str]]:
 
 def _memory() -> list[tuple[str, str, str]]:
     """Bytes one instance holds and memory growth over 10 000 instances (tests/c/cycles)."""
-    import re
-    import subprocess
-    from .bench_c import REPO, SO
     exe = REPO / "build" / "tests_c" / "cycles"
     try:
         subprocess.run(["make", "-s", "-C", str(REPO / "tests" / "c"), str(exe)], check=True,

@@ -4,7 +4,7 @@ The FMU tests need motions the open-loop helpers cannot give: a stage held at co
 speed, a position moved slowly through pre-rolling, a force ramp stopped at break-away.  A
 *law* computes the inputs (u, F_ext) at every sample t_k = t0 + k dt from the outputs at
 t_k; the FMU integrates [t_k, t_{k+1}] with fmpy's CVodeSolver and the FMI 2.0 event
-handling of :class:`feeddrive.simulate._Stepper` (state events located by CVode's root
+handling of :class:`feeddrive.harness.simulate.Stepper` (state events located by CVode's root
 finder, an event update at every sample).
 """
 from __future__ import annotations
@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from feeddrive.fmu import Plant
-from feeddrive.simulate import _Stepper
+from feeddrive.harness.simulate import Stepper as _Stepper
 
 #: Parameters that strip the plant down to mass + friction driven by F_ext (u = 0):
 #: no cogging, no ripple, no current-loop samples (so a sample may be longer than Ts).

@@ -28,7 +28,7 @@ import numpy as np
 import pytest
 
 from feeddrive.fmu import DEFAULT_FMU, Plant
-from feeddrive.simulate import simulate_closed_loop
+from feeddrive.harness.simulate import simulate_closed_loop
 
 pytestmark = pytest.mark.skipif(not DEFAULT_FMU.is_file(), reason="build the FMU first: make fmu")
 
@@ -87,7 +87,8 @@ def _cs_loop(tol: float, quantum: float, ctrl_Ts: float = TS, h: float = TS, **g
     with Plant(interface="cs", tolerance=tol) as p:
         p.start({"x": X0, "v": 0.0, "u": ctrl.step(read(X0), 0), "F_ext": 0.0})
         rec, inp = p.raw(["x", "F_friction"]), p.raw(["u"])
-        do_step, comp = p.fmu._functions["fmi2DoStep"], p.fmu.component
+        raw = p.raw_calls()
+        do_step, comp = raw.do_step, raw.component
         out = np.empty((n + 1, 2))
         out[0] = rec.get()
         j = 0

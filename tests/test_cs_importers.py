@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 
 from feeddrive.fmu import Plant
-from feeddrive.simulate import simulate_open_loop
+from feeddrive.harness.simulate import simulate_open_loop
 
 REPO = Path(__file__).resolve().parents[1]
 JAVA_DIR = REPO / "tests" / "java"
@@ -54,7 +54,7 @@ def fmi4j_runs(fmu_path: Path, tmp_path_factory) -> dict[str, np.ndarray]:
     print(p.stdout)
     runs = {k: np.genfromtxt(out / f"{k}.csv", delimiter=",", names=True) for k in ("cs", "me")}
     # the Java host records every output at the end of each step (the left limit at t_k+1);
-    # feeddrive.simulate records the sampled current as Eq. 2's i[k] at row k: align it
+    # feeddrive.harness.simulate records the sampled current as Eq. 2's i[k] at row k: align it
     for d in runs.values():
         d["i"] = np.concatenate((d["i"][1:], d["i"][-1:]))
     return runs

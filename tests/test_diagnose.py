@@ -7,23 +7,35 @@ import numpy as np
 import pytest
 
 from feeddrive.data import Run, write_run
-from feeddrive.diagnose.closed_loop import (PIDController, constant_speed_reference,
-                                            simulate_run, sinusoid_reference)
 from feeddrive.cli import main as feeddrive_cli
 from feeddrive.diagnose.localise import displacement_since_reversal, spatial_spectrum
 from feeddrive.diagnose.residual import force_residual
 from feeddrive.diagnose.workflow import diagnose
+from feeddrive.harness import (Sensors, back_and_forth, closed_loop_run, controller_spec,
+                               make_controller, pid_spec, sinusoid)
 from feeddrive.model_file import load_model, paper_model, save_model
 from feeddrive.report.diagnosis import write_diagnosis
 
 PAPER = paper_model()
 
 
+def simulate_run(truth, ref, current_noise=0.0, quantum=1e-7, seed=0, name="sim", spec=None):
+    """The truth in closed loop under the harness's PID (or ``spec``), noise on the current
+    measurement only: a DATA.md run with its sidecar."""
+    sensors = Sensors(quantum=quantum, current_noise=current_noise, seed=seed, noise_on_stage=False)
+    return closed_loop_run(truth.fmu_parameters(), spec or pid_spec(), ref, sensors, name=name)[0]
+
+
+def sinusoid_reference(duration, period=6.0):
+    """30 mm sinusoid at mid-stroke, starting at rest at the lower end."""
+    return sinusoid(0.03, period, 0.15, duration)
+
+
 def _runs(truth, seed, noise=0.005, cs=True):
     runs = [simulate_run(truth, sinusoid_reference(6.0), current_noise=noise, seed=seed,
                          name="sinusoid")]
     if cs:
-        runs.append(simulate_run(truth, constant_speed_reference([0.003, 0.01, 0.03],
+        runs.append(simulate_run(truth, back_and_forth([0.003, 0.01, 0.03],
                                                                  stroke=0.01),
                                  current_noise=noise, seed=seed + 1, name="constant_speed"))
     return runs
@@ -125,12 +137,11 @@ def test_sec3_sinusoid_static_friction_names_prerolling_and_reversal_error_shrin
 
 def test_pid_sidecar_round_trip():
     ref = sinusoid_reference(0.1)
-    c = PIDController(x_ref=ref)
-    c2 = PIDController.from_meta(c.to_meta(), ref, 5e-4)
+    c = make_controller(pid_spec(), ref)
+    c2 = make_controller(controller_spec(c), ref)
     assert (c2.Kp, c2.Kv, c2.Ki) == (c.Kp, c.Kv, c.Ki)
     with pytest.raises(ValueError, match="Kp"):
-        PIDController.from_meta({"type": "pid", "Kv": 1, "Ki": 1, "force_per_volt": 1}, ref,
-                                5e-4)
+        make_controller({"type": "pid", "Kv": 1, "Ki": 1, "force_per_volt": 1}, ref)
 
 
 def test_diagnose_rejects_no_runs():

@@ -1,6 +1,6 @@
 """Discrepancy workflow on FMU runs with one hidden effect (issue 5, item 4).
 
-Data: the FMU in closed loop (PID of feeddrive.diagnose.closed_loop) on a 30 mm / 6 s sinusoid
+Data: the FMU in closed loop (the harness's PID, feeddrive.harness pid_spec()) on a 30 mm / 6 s sinusoid
 around mid-stroke plus back-and-forth moves at 3, 10, 30 mm/s; position quantised, current
 with white noise.  The truth has one effect the diagnosing model lacks (or has with a wrong
 value).  Each test asserts: the first named effect is the hidden one (or its documented
@@ -14,14 +14,25 @@ import functools
 import numpy as np
 import pytest
 
-from feeddrive.diagnose.closed_loop import (constant_speed_reference, simulate_run,
-                                            sinusoid_reference)
 from feeddrive.diagnose.workflow import diagnose
+from feeddrive.harness import Sensors, back_and_forth, closed_loop_run, pid_spec, sinusoid
 from feeddrive.friction_curves import stribeck_level
 from feeddrive.maps import cogging, force_constant
 from feeddrive.model_file import ModelFile, paper_model
 
 PAPER = paper_model()
+
+
+def simulate_run(truth, ref, current_noise=0.0, quantum=1e-7, seed=0, name="sim", spec=None):
+    """The truth in closed loop under the harness's PID (or ``spec``), noise on the current
+    measurement only: a DATA.md run with its sidecar."""
+    sensors = Sensors(quantum=quantum, current_noise=current_noise, seed=seed, noise_on_stage=False)
+    return closed_loop_run(truth.fmu_parameters(), spec or pid_spec(), ref, sensors, name=name)[0]
+
+
+def sinusoid_reference(duration, period=6.0):
+    """30 mm sinusoid at mid-stroke, starting at rest at the lower end."""
+    return sinusoid(0.03, period, 0.15, duration)
 
 
 def make_runs(truth: ModelFile, seed: int, noise: float = 0.005, quantum: float = 1e-7,
@@ -30,7 +41,7 @@ def make_runs(truth: ModelFile, seed: int, noise: float = 0.005, quantum: float 
     runs = [simulate_run(truth, sinusoid_reference(sin_period, period=sin_period),
                          current_noise=noise, quantum=quantum, seed=seed, name="sinusoid")]
     if cs:
-        runs.append(simulate_run(truth, constant_speed_reference([0.003, 0.01, 0.03],
+        runs.append(simulate_run(truth, back_and_forth([0.003, 0.01, 0.03],
                                                                  stroke=0.01),
                                  current_noise=noise, quantum=quantum, seed=seed + 100,
                                  name="constant_speed"))

@@ -6,7 +6,7 @@ import pytest
 from scipy.signal import lfilter
 
 from feeddrive.maps import cogging, force_constant
-from feeddrive.simulate import simulate_open_loop
+from feeddrive.harness.simulate import simulate_open_loop
 from fmu_loops import me_plant
 
 pytestmark = pytest.mark.usefixtures("fmu_path")
@@ -37,7 +37,7 @@ def test_eq2_coefficients_and_dc_gain(paper: dict) -> None:
 def test_current_equals_difference_equation_at_samples(paper: dict) -> None:
     """i at the sample instants is lfilter(Eq. 2) of the same u samples to 1e-9 A.
 
-    Convention (feeddrive.simulate): u[k] is set at t_k before the FMU's sample at t_k, and
+    Convention (feeddrive.harness.simulate): u[k] is set at t_k before the FMU's sample at t_k, and
     the recorded row k holds i[k], the current held over [t_k, t_{k+1}).  F_ext balances
     K_f(x0) i - F_cg(x0), so the stage stays put (i does not depend on motion anyway)."""
     n = 400

@@ -23,7 +23,7 @@ from feeddrive.experiments.constant_speed import (PAPER_LOADS, constant_speed_ru
                                                   stribeck_runs)
 from feeddrive.experiments.force_open_loop import force_open_loop_runs
 from feeddrive.experiments.recording import run_seed
-from feeddrive.experiments.measurement import Sensors
+from feeddrive.harness.sensors import Sensors
 from feeddrive.experiments.prbs import prbs_runs
 from feeddrive.experiments.prerolling_excitation import AMPLITUDES, prerolling_runs
 from feeddrive.experiments.variable_speed import variable_speed_runs

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from feeddrive.fmu import FMUError, Plant
-from feeddrive.simulate import simulate_open_loop
+from feeddrive.harness.simulate import simulate_open_loop
 
 
 def test_nan_input_raises_naming_the_input(fmu_path):

@@ -7,22 +7,24 @@ from __future__ import annotations
 import argparse
 import os
 import platform
+import re
 import statistics
+import subprocess
 import time
 from pathlib import Path
 
 import numpy as np
 
 from .bench_c import run_bench_cs, run_cycles
-from .experiments.references import sinusoid
 from .fmu import Plant
+from .harness.controllers import make_controller, state_space_spec
+from .harness.references import sinusoid
+from .harness.simulate import simulate_closed_loop
 from .paper import paper_parameters
-from .simulate import simulate_closed_loop
-from .validation.controllers import make_controller, state_space_spec
 
 
 def _closed_loop(interface: str, tolerance: float, ref) -> tuple[float, dict]:
-    ctrl = make_controller(state_space_spec(), ref.x)
+    ctrl = make_controller(state_space_spec(), ref)
     with Plant(paper_parameters(), interface=interface, tolerance=tolerance) as plant:
         t0 = time.perf_counter()
         res = simulate_closed_loop(plant, ctrl, ref.n, float(ref.x[0]))

@@ -2,7 +2,8 @@
 
 A run is one CSV file with a header row (columns ``time, u, i, x, x_ref, F_load`` in SI,
 ``time``, ``u``, ``x`` required; any other column is kept as it is) plus an optional JSON
-sidecar with the same stem (``run.csv`` + ``run.json``) that says how the experiment was run.
+sidecar with the same stem (``run.csv`` + ``run.json``) that says how the experiment was run
+(the runs our commands write use one schema for it: :mod:`feeddrive.harness.sidecar`).
 
 The loader is strict: every rule of DATA.md that a file breaks raises :class:`DataError`
 naming the file, the 1-based line (the header is line 1) and the column.  Rows are never

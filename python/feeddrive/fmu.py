@@ -3,8 +3,8 @@
 Two interfaces of the same ``.fmu``:
 
 * ``"cs"`` (default): co-simulation; ``fmi2DoStep`` integrates with the FMU's own
-  event-locating Dormand-Prince 5(4).  Fast path: raw fmpy calls on pre-built ctypes arrays,
-  three calls per controller sample.
+  event-locating Dormand-Prince 5(4).  Fast path: :meth:`Plant.raw_calls`, our own ctypes
+  handles on the library fmpy loaded, on pre-built arrays: three calls per controller sample.
 * ``"me"``: model exchange integrated by fmpy's CVode (SUNDIALS) between samples, with the
   state events and time events handled here as FMI 2.0 prescribes.  The reference path.
 """
@@ -14,7 +14,7 @@ import ctypes
 import os
 import shutil
 import tempfile
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
@@ -217,13 +217,63 @@ class Plant:
             pass
 
     # ------------------------------------------------------------------ fast raw access
+    def raw_calls(self) -> "RawCalls":
+        """Own ctypes handles on the started instance's fmi2DoStep, fmi2GetReal, fmi2SetReal.
+
+        Loaded from the FMU's shared library (fmpy's public ``dll``), independent of fmpy's
+        wrappers; pointer arguments are addresses (int) or ctypes arrays.  Valid until the
+        next :meth:`start` or :meth:`close`.
+        """
+        if not self._instantiated:
+            raise FMUError("raw_calls: the FMU instance is not started (call start() first)")
+        handles = self.__dict__.get("_raw_handles")
+        if handles is None:
+            handles = _load_raw_handles(self.fmu.dll)
+            self._raw_handles = handles
+        return RawCalls(self.fmu.component, *handles)
+
     def raw(self, names: Sequence[str]) -> "RawIO":
         """Pre-built ctypes arrays for ``names`` (Real variables): ~1 µs get/set calls."""
         return RawIO(self, names)
 
 
+def _load_raw_handles(dll: ctypes.CDLL) -> tuple[Callable[..., int], ...]:
+    """fmi2DoStep, fmi2GetReal, fmi2SetReal of ``dll`` with our own ctypes signatures."""
+    ptr, n = ctypes.c_void_p, ctypes.c_size_t
+    sigs = (("fmi2DoStep", [ptr, ctypes.c_double, ctypes.c_double, ctypes.c_int]),
+            ("fmi2GetReal", [ptr, ptr, n, ptr]), ("fmi2SetReal", [ptr, ptr, n, ptr]))
+    out = []
+    for name, argtypes in sigs:
+        f = dll[name]            # a new function object: fmpy's own handle is left alone
+        f.restype = ctypes.c_int
+        f.argtypes = argtypes
+        out.append(f)
+    return tuple(out)
+
+
+@dataclass(frozen=True)
+class RawCalls:
+    """The three FMI calls of the 2 kHz loop, bound to one instance.
+
+    Each returns the fmi2Status (> 1: fmi2Discard or worse).
+
+    - ``do_step(component, t, h, 1)``: fmi2DoStep;
+    - ``get_real(component, vr, n, values)`` / ``set_real(component, vr, n, values)``:
+      ``vr`` an array of n fmi2ValueReference, ``values`` of n fmi2Real (addresses or arrays).
+    """
+
+    component: int
+    do_step: Callable[..., int]
+    get_real: Callable[..., int]
+    set_real: Callable[..., int]
+
+
 class RawIO:
-    """Get/set a fixed list of Real variables with pre-built arrays (the 2 kHz fast path)."""
+    """Get/set a fixed list of Real variables with pre-built arrays (the 2 kHz fast path).
+
+    Attributes ``vr`` / ``buf`` (ctypes arrays), ``vr_address`` (int) and ``calls``
+    (:class:`RawCalls`) let a loop make the calls itself.
+    """
 
     def __init__(self, plant: Plant, names: Sequence[str]) -> None:
         n = len(names)
@@ -231,32 +281,34 @@ class RawIO:
         self.names = list(names)
         self.n = n
         self.vr = (fmi2ValueReference * n)(*[plant.vr(s) for s in names])
+        self.vr_address = ctypes.addressof(self.vr)
         self.buf = (fmi2Real * n)()
         self.np = np.ctypeslib.as_array(self.buf)
-        self._get = plant.fmu._functions["fmi2GetReal"]
-        self._set = plant.fmu._functions["fmi2SetReal"]
-        self._c = plant.fmu.component
-        # a second handle on fmi2GetReal taking the value array as an address (no ctypes
-        # pointer object per call): lets the caller write straight into a large buffer
-        f = plant.fmu.dll["fmi2GetReal"]
-        f.restype = ctypes.c_int
-        f.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t, ctypes.c_void_p]
-        self._get_to = f
+        self.calls = plant.raw_calls()
 
-    def _fail(self, what: str) -> None:
+    def fail(self, what: str) -> None:
+        """Raise FMUError for a failed ``what`` on these variables, with the FMU's message."""
         msgs = self.plant.messages
         raise FMUError(f"{what} {', '.join(self.names)}: " + (msgs[-1] if msgs else "no message"))
 
     def get(self) -> np.ndarray:
         """Current values (a view on the buffer: copy it to keep it)."""
-        if self._get(self._c, self.vr, self.n, self.buf) > 1:
-            self._fail("fmi2GetReal")
+        c = self.calls
+        if c.get_real(c.component, self.vr, self.n, self.buf) > 1:
+            self.fail("fmi2GetReal")
         return self.np
+
+    def get_into(self, address: int) -> None:
+        """Write the current values to ``n`` doubles at ``address`` (no copy)."""
+        c = self.calls
+        if c.get_real(c.component, self.vr_address, self.n, address) > 1:
+            self.fail("fmi2GetReal")
 
     def set(self, values: Sequence[float]) -> None:
         """Set the values; FMUError (with the FMU's message naming variable, value and range)
         when the FMU rejects them."""
         for k, v in enumerate(values):
             self.buf[k] = v
-        if self._set(self._c, self.vr, self.n, self.buf) > 1:
-            self._fail("fmi2SetReal")
+        c = self.calls
+        if c.set_real(c.component, self.vr, self.n, self.buf) > 1:
+            self.fail("fmi2SetReal")

@@ -6,7 +6,7 @@ feedforward) are given as arrays at construction, so ``step`` only indexes them.
 - :mod:`design_model`: the sampled design model u -> x (Eq. 2 in series with K_f0/(m s^2)).
 - :mod:`state_space`: state feedback + integral action + current estimator (pole placement).
 - :mod:`zpetc`: Tomizuka's zero-phase-error tracking pre-filter of the closed loop.
-- :mod:`pid`: position PID with filtered derivative and anti-windup.
+- :mod:`pid`: the force-equivalent position PID (optional derivative filter, anti-windup, lead).
 - :mod:`feedforward`: inertia, cogging, ripple, offset and friction (static / GMS) feedforward.
 - :mod:`gms`: the Generalized Maxwell-Slip friction model driven by a motion.
 - :mod:`margins`: gain / phase / modulus margins from a loop frequency response.

@@ -15,9 +15,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..data import Run
+from ..harness.controllers import CONTROLLERS
+from ..harness.runs import replay
+from ..harness.sidecar import read_sidecar
 from ..model_file import ModelFile
 from .candidates import CANDIDATES
-from .closed_loop import controller_from_meta, simulate_run
 from .context import DEFAULT_BLOCKS, Context
 from .localise import (displacement_since_reversal, localise, spatial_spectrum, spectral_peaks,
                        where)
@@ -140,23 +142,22 @@ def localisation_summary(res: list[RunResidual]) -> dict:
 def closed_loop_gap(runs: list[Run], model: ModelFile) -> dict | None:
     """Closed-loop position error of ``model`` re-simulated with each run's controller.
 
-    Only runs whose sidecar describes a controller :func:`closed_loop.controller_from_meta`
-    knows (``pid``, ``state_space``) and that have ``x_ref`` count; None when there is none.  Returns rms and max |x_sim - x_meas| [m],
-    and the max within ``REVERSAL_ZONE`` of travel after a reversal (the reversal error).
+    Only runs that have ``x_ref`` and whose sidecar (:mod:`feeddrive.harness.sidecar`)
+    names a controller of a type the harness knows (:data:`~feeddrive.harness.controllers.
+    CONTROLLERS`) count; None when there is none.  The replay
+    (:func:`feeddrive.harness.runs.replay`) reads the position at the run's
+    ``sensors.quantum``, without noise, under the run's load.  Returns rms and max
+    |x_sim - x_meas| [m], and the max within ``REVERSAL_ZONE`` of travel after a reversal
+    (the reversal error).
     """
     errs, near = [], []
     for run in runs:
-        spec = (run.meta or {}).get("controller")
-        if spec is None or run.x_ref is None:
+        side = read_sidecar(run.meta, where=f"{run.path or run.name}: sidecar")
+        if side.controller is None or run.x_ref is None \
+                or side.controller.get("type") not in CONTROLLERS:
             continue
-        try:
-            ctl = controller_from_meta(spec, run.x_ref, run.Ts)
-        except ValueError:
-            continue
-        load = float(np.mean(run.F_load)) if run.F_load is not None else 0.0
-        sim = simulate_run(model, run.x_ref, controller=ctl, Ts=run.Ts,
-                           quantum=float(run.meta.get("quantum", 1e-7)), F_load=load)
-        errs.append(np.asarray(sim.x) - np.asarray(run.x))
+        x_sim = replay(model.fmu_parameters(), run, side)
+        errs.append(side.sensors.quantise(x_sim) - np.asarray(run.x))
         near.append(displacement_since_reversal(np.asarray(run.x)) < REVERSAL_ZONE)
     if not errs:
         return None
@@ -270,7 +271,7 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
     cl = closed_loop_gap(runs, current) if closed_loop else None
     if closed_loop and cl is None:
         notes.append("closed-loop gap not computed: no run has x_ref and a sidecar 'controller' "
-                     "of a known type ('pid', 'state_space')")
+                     f"of a known type ({', '.join(map(repr, CONTROLLERS))})")
     for _ in range(max_steps):
         ctx = Context(res, current, n_blocks=n_blocks)
         ranking = rank(ctx)

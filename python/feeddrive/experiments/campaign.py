@@ -25,11 +25,11 @@ from typing import Any
 from tqdm import tqdm
 
 from ..data import Run, write_run
+from ..harness.sensors import Sensors
 from ..model_file import ModelFile, load_model, paper_model
 from .constant_speed import (PAPER_LOADS, PAPER_SPEED, STRIBECK_SPEEDS, constant_speed_runs,
                              run_seed, stribeck_runs)
 from .force_open_loop import force_open_loop_runs
-from .measurement import Sensors
 from .prbs import prbs_runs
 from .prerolling_excitation import AMPLITUDES as PREROLLING_AMPLITUDES, prerolling_runs
 from .variable_speed import variable_speed_runs

@@ -1,6 +1,6 @@
 """Constant-speed runs through the closed loop (Secs. 2.3.1 and 2.4.2).
 
-Each run is a trapezoidal position reference (``references.constant_speed``) over a segment
+Each run is a trapezoidal position reference (``harness.references.point_to_point``) over a segment
 of the stroke, in one direction, with a constant pulley load P.  The load enters the FMU as
 ``F_ext = P`` (same sign convention as cogging: m a = K_f i - F_cg - F_f - F_ext) and is the
 run's ``F_load`` column.  Before the record the drive holds the start position with the
@@ -23,9 +23,9 @@ from typing import Any
 import numpy as np
 
 from ..data import Run
-from .measurement import Sensors
+from ..harness.references import point_to_point
+from ..harness.sensors import Sensors
 from .recording import STROKE_MARGIN, closed_loop_measurement, run_seed, stroke
-from .references import constant_speed
 
 #: Pulley loads of the paper's ripple/cogging runs [N] (Sec. 2.3.1).
 PAPER_LOADS: tuple[float, ...] = (0.0, 54.9, 272.7)
@@ -74,7 +74,7 @@ def constant_speed_runs(params: Mapping[str, Any], sensors: Sensors,
                 if d not in (1, -1):
                     raise ValueError(f"constant_speed_runs: direction {d!r} must be +1 or -1")
                 x0, x1 = (lo, hi) if d > 0 else (hi, lo)
-                ref = constant_speed(x0, x1, float(v), accel, dwell=dwell, Ts=Ts)
+                ref = point_to_point(x0, x1, float(v), accel, dwell=dwell, Ts=Ts)
                 name = _tag(float(v), d, float(P))
                 meta = {"name": name, "kind": "constant_speed", "speed": float(v),
                         "direction": int(d), "P": float(P), "segment": [float(x0), float(x1)],

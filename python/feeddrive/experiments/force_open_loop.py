@@ -16,9 +16,11 @@ import numpy as np
 
 from ..data import Run
 from ..fmu import Plant
-from ..simulate import simulate_open_loop
+from ..harness.runs import to_run
+from ..harness.sensors import Sensors
+from ..harness.sidecar import build_sidecar
+from ..harness.simulate import simulate_open_loop
 from .recording import sampled_signals, stroke
-from .measurement import Sensors, to_run
 
 
 def square_wave_input(Ts: float, amplitude: float = 1.0, period: float = 0.2,
@@ -67,10 +69,9 @@ def force_open_loop_runs(params: Mapping[str, Any], sensors: Sensors, amplitude:
         raise ValueError(f"force_open_loop_runs: start position {x0} is within {margin} m "
                          f"of the stroke [{x_min}, {x_max}]")
     res = {k: v[:stop] for k, v in res.items()}
-    meta = {"name": "force_open_loop", "kind": "force_open_loop", "Ts": Ts,
-            "controller": None, "position": x0, "amplitude": float(amplitude),
-            "period": float(period), "n_periods": int(n_periods), "bias": float(bias),
-            "rest": float(rest), "stopped_at_stroke_limit": bool(out.size),
-            "sensors": {"quantum": sensors.quantum, "current_noise": sensors.current_noise,
-                        "seed": sensors.seed}}
+    meta = build_sidecar("force_open_loop", Ts, None, sensors, F_load=0.0,
+                         name="force_open_loop", kind="force_open_loop", position=x0,
+                         amplitude=float(amplitude), period=float(period),
+                         n_periods=int(n_periods), bias=float(bias), rest=float(rest),
+                         stopped_at_stroke_limit=bool(out.size))
     return [to_run(res, sensors, x_ref=None, F_load=0.0, meta=meta)]

@@ -15,15 +15,14 @@ from typing import Any
 import numpy as np
 
 from ..data import Run
-from ..identify.current_loop import prbs
+from ..harness.references import Reference, prbs
+from ..harness.sensors import Sensors
 from .recording import closed_loop_measurement, stroke
-from .measurement import Sensors
-from .references import Reference
 
 
 def prbs_sequence(order: int = 11, amplitude: float = 0.3, periods: int = 1) -> np.ndarray:
     """``periods`` periods of the maximum-length sequence of ``order``, levels +-amplitude [V]
-    (one bit per sample; :func:`feeddrive.identify.current_loop.prbs`)."""
+    (one bit per sample; :func:`feeddrive.harness.references.prbs`)."""
     return prbs(order, amplitude=amplitude, periods=periods)
 
 

@@ -18,9 +18,9 @@ from dataclasses import replace
 from typing import Any
 
 from ..data import Run
+from ..harness.references import sinusoid
+from ..harness.sensors import Sensors
 from .recording import closed_loop_measurement, run_seed, stroke
-from .measurement import Sensors
-from .references import sinusoid
 
 #: Default amplitudes [m]: mostly pre-rolling, and gross sliding.
 AMPLITUDES: tuple[float, ...] = (80e-6, 0.5e-3)

@@ -9,10 +9,11 @@ from typing import Any
 import numpy as np
 
 from ..data import Run
-from ..validation.closed_loop import run_closed_loop
-from ..validation.controllers import state_space_spec
-from .measurement import Sensors, to_run
-from .references import Reference
+from ..harness.controllers import state_space_spec
+from ..harness.references import Reference
+from ..harness.runs import run_closed_loop, to_run
+from ..harness.sensors import Sensors
+from ..harness.sidecar import build_sidecar
 
 #: Distance kept from the stroke ends [m] (the start-up sag under load must stay inside).
 STROKE_MARGIN: float = 5e-3
@@ -50,7 +51,8 @@ def closed_loop_measurement(params: Mapping[str, Any], sensors: Sensors, ref: Re
     params : FMU parameters of the plant (SI).
     sensors : scale quantum, current noise (a real force on the stage, seen in i) and seed.
     ref : position reference sampled at the controller's Ts (what is recorded).
-    meta : how the run was made (``kind`` etc.); Ts, controller spec and sensors are added.
+    meta : how the run was made (``name``, ``kind`` etc.): the sidecar's experiment-specific
+        keys (:mod:`feeddrive.harness.sidecar`); ``experiment`` is ``meta['kind']``.
     spec : controller spec (default ``state_space_spec()``: the paper-designed controller).
     F_load : constant pulley load P [N], applied as F_ext = P and written as ``F_load``.
     u_ff : voltage added to the controller's output (e.g. an excitation), aligned with
@@ -68,10 +70,8 @@ def closed_loop_measurement(params: Mapping[str, Any], sensors: Sensors, ref: Re
     full = Reference(ref.Ts, x_full, v_full, a_full)
     uff = None if u_ff is None else np.concatenate([np.zeros(k0), np.asarray(u_ff, float)])
     res = run_closed_loop(params, spec, full, u_ff=uff, sensors=sensors, F_ext=float(F_load))
-    m: dict[str, Any] = dict(meta)
-    m.update({"Ts": ref.Ts, "controller": spec, "hold_before_record": k0 * ref.Ts,
-              "sensors": {"quantum": sensors.quantum, "current_noise": sensors.current_noise,
-                          "seed": sensors.seed}})
+    m = build_sidecar(str(meta.get("kind", "closed_loop")), ref.Ts, spec, sensors,
+                      F_load=float(F_load), hold_before_record=k0 * ref.Ts, **meta)
     run = to_run(sampled_signals(res), sensors, x_ref=full.x[:-1], F_load=float(F_load), meta=m)
     cols = {c: a[k0:] for c, a in run.columns().items()}
     cols["time"] = cols["time"] - cols["time"][0]

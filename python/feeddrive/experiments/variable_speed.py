@@ -21,9 +21,9 @@ from typing import Any
 import numpy as np
 
 from ..data import Run
+from ..harness.references import Reference
+from ..harness.sensors import Sensors
 from .recording import STROKE_MARGIN, closed_loop_measurement, stroke
-from .measurement import Sensors
-from .references import Reference
 
 
 def speed_profile(Ts: float, v_min: float, v_max: float, period: float, duration: float,

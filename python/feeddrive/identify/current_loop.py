@@ -23,32 +23,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.optimize import least_squares
-from scipy.signal import lfilter, lfiltic, max_len_seq
+from scipy.signal import lfilter, lfiltic
 
 from ..data import Run
+from ..harness.references import prbs  # noqa: F401  (re-exported by feeddrive.identify)
 from ._signals import jacobian_stderr, run_label, sample_time, signal
 
 MAX_LAG = 5         #: highest u lag the FMU holds (current.b[0..5])
 MAX_ORDER = 5       #: highest i lag the FMU holds (current.a[1..5])
-
-
-def prbs(order: int = 11, amplitude: float = 1.0, offset: float = 0.0, hold: int = 1,
-         periods: int = 1) -> np.ndarray:
-    """Maximum-length pseudo-random binary sequence (scipy.signal.max_len_seq).
-
-    Parameters
-    ----------
-    order : register length (the paper: 11, period 2**11 - 1 = 2047 bits).
-    amplitude, offset : levels offset +- amplitude [V].
-    hold : samples per bit (clock divider; 1 = one bit per sample).
-    periods : number of repetitions of the full sequence.
-    """
-    if order < 2 or hold < 1 or periods < 1:
-        raise ValueError(f"prbs: need order >= 2, hold >= 1, periods >= 1 "
-                         f"(got {order}, {hold}, {periods})")
-    seq = max_len_seq(order)[0].astype(float)
-    u = offset + amplitude * (2.0 * seq - 1.0)
-    return np.tile(np.repeat(u, hold), periods)
 
 
 @dataclass

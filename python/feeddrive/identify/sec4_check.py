@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from ..experiments.references import sinusoid
+from ..harness.references import sinusoid
 from ..validation import sec4
 from ..validation.metrics import reversal_mask, summarise
 

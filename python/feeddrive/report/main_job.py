@@ -7,12 +7,12 @@ from pathlib import Path
 
 from tqdm import tqdm
 
-from ..experiments.references import sinusoid
+from ..harness.controllers import make_controller, state_space_spec
+from ..harness.references import Reference, sinusoid
+from ..harness.runs import run_closed_loop
 from ..paper import paper_parameters
 from ..realdata.odrive import analyse, findings_text
 from ..validation import sec3, sec4
-from ..validation.closed_loop import run_closed_loop
-from ..validation.controllers import make_controller, state_space_spec
 from . import closed_loop_figures as figs
 from .identification import identification_section
 from .page import Page
@@ -32,7 +32,7 @@ def main_job(out_dir: Path, print_tables: bool = True, runs_dir: Path | None = N
     page = Page(out_dir, "feeddrive: the linear-motor feed drive of Villegas et al. (2014)")
     t0 = time.perf_counter()
     steps = tqdm(total=3, desc="feeddrive run", unit="stage", disable=not print_tables)
-    ctrl = make_controller(state_space_spec(), [0.15, 0.15])
+    ctrl = make_controller(state_space_spec(), Reference(5e-4, [0.15, 0.15], [0.0, 0.0], [0.0, 0.0]))
     design = ctrl.format_report()
     steps.update(1)
     ref = sinusoid(sec3.AMPLITUDE, sec3.PERIOD, sec3.CENTRE, sec3.PERIOD)

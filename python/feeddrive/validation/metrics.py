@@ -5,7 +5,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..experiments.references import reversals
+from ..harness.references import reversals
 
 
 @dataclass

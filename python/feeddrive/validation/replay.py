@@ -9,10 +9,11 @@ from pathlib import Path
 import numpy as np
 
 from ..data import Run, load_run
-from ..experiments.references import Reference
+from ..diagnose.residual import force_residual
+from ..harness.runs import replay
+from ..harness.sidecar import read_sidecar
 from ..model_file import ModelFile, load_model, paper_model
-from .closed_loop import run_closed_loop
-from .metrics import ErrorSummary, summarise
+from .metrics import ErrorSummary, reversal_mask, summarise
 
 
 @dataclass
@@ -39,14 +40,12 @@ class ValidationReport:
 
 def force_residual_summary(run: Run, model: ModelFile) -> tuple[dict[str, float], list[str]]:
     """rms/peak of the force residual along the measured trajectory, near reversals and elsewhere."""
-    from ..diagnose.residual import force_residual
     fr = force_residual(run, model)
     r = np.asarray(fr.r)
     notes = [] if run.has_current else [f"no measured current: motor force from {fr.force_source}"]
     ok = np.isfinite(r) & np.asarray(fr.valid, bool)
     out = {"rms": float(np.sqrt(np.mean(r[ok] ** 2))), "peak": float(np.abs(r[ok]).max())}
     if run.x_ref is not None:
-        from .metrics import reversal_mask
         near, far = reversal_mask(run.x_ref, run.Ts)
         if (near & ok).any():
             out["rms near reversals"] = float(np.sqrt(np.mean(r[near & ok] ** 2)))
@@ -56,27 +55,25 @@ def force_residual_summary(run: Run, model: ModelFile) -> tuple[dict[str, float]
 
 
 def validate(run: Run, model: ModelFile) -> ValidationReport:
-    """Replay ``run`` (closed loop when its sidecar names the controller) and compute the gap."""
+    """Replay ``run`` (closed loop when its sidecar names the controller) and compute the gap.
+
+    The replay (:func:`feeddrive.harness.runs.replay`) reads the position as the run's
+    scale did (``sensors.quantum`` of the sidecar) without noise: the model's prediction.
+    ValueError (naming the run) for a sidecar or controller spec the harness cannot read.
+    """
     notes: list[str] = []
     pos = None
     x_sim = None
-    spec = run.meta.get("controller") if run.meta else None
-    if spec and run.x_ref is not None:
-        Ts = float(run.meta.get("Ts", run.Ts))
-        ref = Reference(Ts, run.x_ref, np.gradient(run.x_ref, Ts), np.gradient(np.gradient(run.x_ref, Ts), Ts))
-        F = run.F_load if run.F_load is not None else 0.0
-        sim = run_closed_loop(model.fmu_parameters(), spec, ref, F_ext=F)
-        x_sim = sim["x"][: run.n]
+    side = read_sidecar(run.meta, where=f"{run.path or run.name}: sidecar")
+    if side.controller is not None and run.x_ref is not None:
+        Ts = side.Ts if side.Ts is not None else run.Ts
+        x_sim = replay(model.fmu_parameters(), run, side)
         pos = summarise(x_sim - run.x, run.x_ref, Ts)
     else:
         notes.append("no controller in the run's sidecar (or no x_ref): the closed-loop position gap "
                      "is not computed; only the force residual")
-    try:
-        force, fnotes = force_residual_summary(run, model)
-        notes += fnotes
-    except ImportError:
-        force = {}
-        notes.append("force residual unavailable (feeddrive.diagnose not installed)")
+    force, fnotes = force_residual_summary(run, model)
+    notes += fnotes
     return ValidationReport(run=run, model_name=model.name, position=pos, force=force, notes=notes,
                             x_sim=x_sim)
 

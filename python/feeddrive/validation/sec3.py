@@ -10,11 +10,11 @@ from pathlib import Path
 import numpy as np
 
 from ..data import Run, write_run
-from ..experiments.measurement import Sensors
-from ..experiments.references import sinusoid
+from ..harness.controllers import state_space_spec
+from ..harness.references import sinusoid
+from ..harness.runs import closed_loop_run, run_closed_loop
+from ..harness.sensors import Sensors
 from ..paper import paper_parameters
-from .closed_loop import measured_run, run_closed_loop
-from .controllers import state_space_spec
 
 VARIANTS = {
     "full model": {},
@@ -44,9 +44,8 @@ def reproduce(out_dir: Path | None = None, seed: int = 3, window: float = 0.3) -
     ref = sinusoid(AMPLITUDE, PERIOD, CENTRE, PERIOD)
     truth = paper_parameters()
     spec = state_space_spec()
-    run, _ = measured_run(truth, spec, ref, Sensors(seed=seed),
-                          meta={"experiment": "sec3_sinusoid", "amplitude": AMPLITUDE,
-                                "period": PERIOD, "centre": CENTRE})
+    run, _ = closed_loop_run(truth, spec, ref, Sensors(seed=seed), experiment="sec3_sinusoid",
+                             amplitude=AMPLITUDE, period=PERIOD, centre=CENTRE)
     if out_dir is not None:
         write_run(run, Path(out_dir) / "sec3_measured.csv")
     top = int(np.argmax(ref.x))

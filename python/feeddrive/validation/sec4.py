@@ -11,11 +11,11 @@ from typing import Any
 
 import numpy as np
 
-from ..control.feedforward import FeedforwardOptions, feedforward
-from ..experiments.references import reversals, sinusoid
+from ..control.feedforward import FeedforwardOptions
+from ..harness.controllers import state_space_spec
+from ..harness.references import reversals, sinusoid
+from ..harness.runs import run_closed_loop
 from ..paper import paper_parameters
-from .closed_loop import run_closed_loop
-from .controllers import state_space_spec
 from .metrics import summarise
 
 AMPLITUDE, PERIOD, CENTRE, DURATION = 0.005, 6.0, 0.150, 12.5
@@ -87,12 +87,10 @@ def reproduce(v_eps: float | None = None, plant: Mapping[str, Any] | None = None
     out = Sec4Result(time=ref.time, reversal_indices=[int(r) for r in reversals(ref.x)],
                      perturbed=perturbed)
     for case, friction in CASES.items():
-        u_ff = None
-        if friction is not None:
-            opts = FeedforwardOptions(friction=friction, **({"v_eps": v_eps} if v_eps else {}))
-            u_ff = feedforward(ref.x, ref.Ts, nominal, opts, v_ref=ref.v, a_ref=ref.a).u
-        spec = state_space_spec(nominal, feedforward=friction)
-        res = run_closed_loop(plant, spec, ref, u_ff=u_ff)
+        opts = None if friction is None else \
+            FeedforwardOptions(friction=friction, **({"v_eps": v_eps} if v_eps else {}))
+        spec = state_space_spec(nominal, feedforward=opts)     # feedforward on ``nominal``
+        res = run_closed_loop(plant, spec, ref)
         e = ref.x - res["x"]
         out.errors[case] = e
         out.walls[case] = float(res["wall"])

@@ -15,21 +15,16 @@ import ctypes
 import math
 import time as _time
 from collections.abc import Callable, Mapping, Sequence
-from typing import Protocol
+from dataclasses import dataclass
 
 import numpy as np
+from fmpy.sundials import CVodeSolver
 
-from .fmu import OUTPUTS, FMUError, Plant, Result
+from ..fmu import FMUError, Plant, RawIO, Result
+from .controllers import Controller
 
 RECORD = ("x", "v", "a", "i", "F_motor", "F_cogging", "F_friction", "K_f")
-
-
-class Controller(Protocol):
-    """What the closed loop needs of a controller."""
-
-    def reset(self) -> None: ...
-
-    def step(self, x_meas: float, k: int) -> float: ...
+STATS = ("stats.n_state_events", "stats.n_slip", "stats.n_stick", "stats.n_steps", "stats.n_rhs")
 
 
 def quantise(x: float, quantum: float) -> float:
@@ -37,7 +32,14 @@ def quantise(x: float, quantum: float) -> float:
     return round(x / quantum) * quantum if quantum > 0 else x
 
 
-class _Stepper:
+class _NoInput:
+    """fmpy's CVode driver applies inputs through this; ours are set per sample."""
+
+    def apply(self, *args: object, **kwargs: object) -> None:
+        return None
+
+
+class Stepper:
     """Advance the FMU by one sample [t_k, t_k + dt] through either interface."""
 
     def __init__(self, plant: Plant, dt: float, t0: float) -> None:
@@ -48,22 +50,14 @@ class _Stepper:
         self.n_time_events = 0
         self.n_calls = 0
         if plant.interface == "cs":
-            self._do = plant.fmu._functions["fmi2DoStep"]
-            self._c = plant.fmu.component
+            self._raw = plant.raw_calls()
         else:
             self._init_me()
 
     # ---- model exchange with fmpy's CVode
     def _init_me(self) -> None:
-        from fmpy.sundials import CVodeSolver
-
         fmu = self.p.fmu
         md = self.p.md
-
-        class _NoInput:
-            def apply(self, *a, **k):
-                return None
-
         self._event_iteration()
         fmu.enterContinuousTimeMode()
         self.solver = CVodeSolver(
@@ -82,30 +76,36 @@ class _Stepper:
             if terminate:
                 raise FMUError("the FMU asked to terminate")
 
+    def _event(self, t: float) -> None:
+        fmu = self.p.fmu
+        fmu.enterEventMode()
+        self._event_iteration()
+        fmu.enterContinuousTimeMode()
+        self.solver.reset(t)
+
     def step(self, k: int) -> None:
+        """Integrate over [t_k, t_{k+1}] (inputs already set for t_k)."""
         t = self.t0 + k * self.dt
         t_next = self.t0 + (k + 1) * self.dt
         if self.p.interface == "cs":
-            if self._do(self._c, t, self.dt, 1) > 1:
-                raise FMUError(f"fmi2DoStep at t = {t}: " + (self.p.messages[-1] if self.p.messages else ""))
+            r = self._raw
+            if r.do_step(r.component, t, self.dt, 1) > 1:
+                raise FMUError(f"fmi2DoStep at t = {t}: " + _last_message(self.p))
             self.n_calls += 1
             return
-        fmu = self.p.fmu
-        if k > 0:  # the sample at t_k (inputs already set for this instant)
-            fmu.enterEventMode()
-            self._event_iteration()
-            fmu.enterContinuousTimeMode()
-            self.solver.reset(t)
+        if k > 0:  # the sample at t_k is a time event
+            self._event(t)
             self.n_time_events += 1
         while t < t_next and not math.isclose(t, t_next, rel_tol=0, abs_tol=1e-12):
             state_event, _, t = self.solver.step(t, t_next)
-            fmu.setTime(t)
+            self.p.fmu.setTime(t)
             if state_event:
                 self.n_state_events += 1
-                fmu.enterEventMode()
-                self._event_iteration()
-                fmu.enterContinuousTimeMode()
-                self.solver.reset(t)
+                self._event(t)
+
+
+def _last_message(plant: Plant) -> str:
+    return plant.messages[-1] if plant.messages else ""
 
 
 def _align_current(sig: dict) -> None:
@@ -139,7 +139,7 @@ def simulate_open_loop(plant: Plant, t: np.ndarray, u: np.ndarray | float = 0.0,
     plant.start(sv, t0=float(t[0]))
     rec = plant.raw(list(record))
     inp = plant.raw(["u", "F_ext"])
-    stepper = _Stepper(plant, dt, float(t[0]))
+    stepper = Stepper(plant, dt, float(t[0]))
     out = np.empty((n, len(record)))
     out[0] = rec.get()
     for k in range(n - 1):
@@ -150,6 +150,96 @@ def simulate_open_loop(plant: Plant, t: np.ndarray, u: np.ndarray | float = 0.0,
     sig = {"time": t.copy(), "u": np.array(u), "F_ext": np.array(F_ext)}
     sig.update({name: out[:, j].copy() for j, name in enumerate(record)})
     _align_current(sig)
+    return Result(sig)
+
+
+@dataclass
+class _Loop:
+    """The per-run state of :func:`simulate_closed_loop`: FMI handles and the buffers."""
+
+    rec: RawIO                  #: recorded variables, "x" first
+    inp: RawIO                  #: u, F_ext
+    stepper: Stepper
+    out: ctypes.Array           #: (n + 1) x len(rec.names) doubles, written by the FMU
+    u: list[float]
+    x_meas: list[float]
+
+
+def _start_loop(plant: Plant, controller: Controller, n: int, x0: float, quantum: float,
+                F0: float, Ts: float, record: Sequence[str]) -> _Loop:
+    """Reset the controller, compute u[0] from the reading at x0, start the FMU holding it,
+    and record row 0."""
+    controller.reset()
+    xm0 = quantise(x0, quantum)
+    u0 = controller.step(xm0, 0)
+    plant.start({"x": x0, "v": 0.0, "u": float(u0), "F_ext": F0}, t0=0.0)
+    names = ["x"] + [r for r in record if r != "x"]
+    rec = plant.raw(names)
+    loop = _Loop(rec=rec, inp=plant.raw(["u", "F_ext"]), stepper=Stepper(plant, Ts, 0.0),
+                 out=(ctypes.c_double * ((n + 1) * len(names)))(),
+                 u=[0.0] * (n + 1), x_meas=[0.0] * (n + 1))
+    loop.u[0], loop.x_meas[0] = u0, xm0
+    rec.get_into(ctypes.addressof(loop.out))
+    return loop
+
+
+def _sample_loop(plant: Plant, loop: _Loop, step: Callable[[float, int], float], n: int,
+                 Ts: float, quantum: float, F_ext: np.ndarray,
+                 progress: Callable[[int], None] | None) -> None:
+    """The 2 kHz loop: read x_k, quantise, u_k = step(x_meas, k), set u (and F_ext), advance
+    one sample, record row k + 1 (three FMI calls per sample through the CS interface)."""
+    raw = loop.rec.calls
+    c, get, set_in, do_step = raw.component, raw.get_real, raw.set_real, raw.do_step
+    m = loop.rec.n
+    big, base, row_bytes = loop.out, ctypes.addressof(loop.out), 8 * m
+    vr_out, vr_in, ubuf = loop.rec.vr_address, loop.inp.vr, loop.inp.buf
+    const_F = bool(np.all(F_ext == F_ext[0]))
+    F_list = F_ext.tolist()
+    ubuf[1] = F_list[0]
+    cs = plant.interface == "cs"
+    stepper = loop.stepper
+    u_list, xm_list = loop.u, loop.x_meas
+    for k in range(n):
+        if k > 0:
+            xk = big[k * m]
+            xq = round(xk / quantum) * quantum if quantum > 0 else xk
+            xm_list[k] = xq
+            uk = step(xq, k)
+            u_list[k] = uk
+            ubuf[0] = uk
+            if not const_F:
+                ubuf[1] = F_list[k]
+            if set_in(c, vr_in, 2, ubuf) > 1:
+                raise FMUError(f"fmi2SetReal u = {uk} at t = {k * Ts}: " + _last_message(plant))
+        if cs:
+            if do_step(c, k * Ts, Ts, 1) > 1:
+                raise FMUError(f"fmi2DoStep at t = {k * Ts}: " + _last_message(plant))
+        else:
+            stepper.step(k)
+        if get(c, vr_out, m, base + (k + 1) * row_bytes) > 1:
+            raise FMUError(f"fmi2GetReal at t = {(k + 1) * Ts}: " + _last_message(plant))
+        if progress is not None and k % 1000 == 0:
+            progress(k)
+
+
+def _closed_loop_result(plant: Plant, loop: _Loop, n: int, Ts: float, quantum: float,
+                        F_ext: np.ndarray, wall: float) -> Result:
+    """The recorded signals (current aligned to Eq. 2's i[k]), wall time and FMU stats."""
+    names = loop.rec.names
+    out = np.ctypeslib.as_array(loop.out).reshape(n + 1, len(names))
+    u = np.array(loop.u)
+    xm = np.array(loop.x_meas)
+    xm[n] = quantise(out[n, 0], quantum)
+    u[n] = u[n - 1]
+    sig = {"time": np.arange(n + 1) * Ts, "u": u, "x_meas": xm, "F_ext": np.array(F_ext)}
+    sig.update({name: out[:, j].copy() for j, name in enumerate(names)})
+    _align_current(sig)
+    sig["wall"] = np.array(wall)
+    st = plant.get(list(STATS))
+    sig["state_events"] = np.array(st["stats.n_state_events"] if plant.interface == "cs"
+                                   else loop.stepper.n_state_events)
+    for key in STATS[1:]:
+        sig[key] = np.array(st[key])
     return Result(sig)
 
 
@@ -168,71 +258,10 @@ def simulate_closed_loop(plant: Plant, controller: Controller, n: int, x0: float
     F_ext : external force per sample (or constant) [N].
 
     Returns time, u, x_meas and the recorded FMU variables at t_k, k = 0..n, and the wall
-    time and event counts in ``meta`` entries ``wall``, ``state_events``.
+    time and event counts in entries ``wall``, ``state_events``, ``stats.*``.
     """
     F_ext = np.broadcast_to(np.asarray(F_ext, dtype=float), (n + 1,))
-    controller.reset()
-    u = np.empty(n + 1)
-    xm = np.empty(n + 1)
-    xm[0] = quantise(x0, quantum)
-    u[0] = controller.step(xm[0], 0)
     wall0 = _time.perf_counter()
-    plant.start({"x": x0, "v": 0.0, "u": float(u[0]), "F_ext": float(F_ext[0])}, t0=0.0)
-    rec = plant.raw(["x"] + [r for r in record if r != "x"])
-    names = ["x"] + [r for r in record if r != "x"]
-    inp = plant.raw(["u", "F_ext"])
-    stepper = _Stepper(plant, Ts, 0.0)
-    m = len(names)
-    big = (ctypes.c_double * ((n + 1) * m))()      # the FMU writes the outputs here directly
-    get, c_get, vr_out = rec._get_to, rec._c, ctypes.addressof(rec.vr)
-    base = ctypes.addressof(big)
-    if get(c_get, vr_out, m, base) > 1:
-        raise FMUError("fmi2GetReal failed: " + (plant.messages[-1] if plant.messages else ""))
-    ubuf, set_in = inp.buf, inp._set
-    c, vr_in = inp._c, inp.vr
-    step = controller.step
-    const_F = bool(np.all(F_ext == F_ext[0]))
-    F_list = F_ext.tolist()
-    ubuf[1] = F_list[0]
-    cs = plant.interface == "cs"
-    do_step = plant.fmu._functions["fmi2DoStep"] if cs else None
-    row_bytes = 8 * m
-    u_list = [0.0] * (n + 1)
-    xm_list = [0.0] * (n + 1)
-    for k in range(n):
-        if k > 0:
-            xk = big[k * m]
-            xq = round(xk / quantum) * quantum if quantum > 0 else xk
-            xm_list[k] = xq
-            uk = step(xq, k)
-            u_list[k] = uk
-            ubuf[0] = uk
-            if not const_F:
-                ubuf[1] = F_list[k]
-            if set_in(c, vr_in, 2, ubuf) > 1:
-                raise FMUError(f"fmi2SetReal u = {uk} at t = {k * Ts}: "
-                               + (plant.messages[-1] if plant.messages else ""))
-        if cs:
-            if do_step(c, k * Ts, Ts, 1) > 1:
-                raise FMUError(f"fmi2DoStep at t = {k * Ts}: " + (plant.messages[-1] if plant.messages else ""))
-        else:
-            stepper.step(k)
-        get(c_get, vr_out, m, base + (k + 1) * row_bytes)
-        if progress is not None and k % 1000 == 0:
-            progress(k)
-    out = np.ctypeslib.as_array(big).reshape(n + 1, m)
-    u[1:] = u_list[1:]
-    xm[1:] = xm_list[1:]
-    wall = _time.perf_counter() - wall0
-    xm[n] = quantise(out[n, 0], quantum)
-    u[n] = u[n - 1]
-    sig = {"time": np.arange(n + 1) * Ts, "u": u, "x_meas": xm, "F_ext": np.array(F_ext)}
-    sig.update({name: out[:, j].copy() for j, name in enumerate(names)})
-    _align_current(sig)
-    sig["wall"] = np.array(wall)
-    st = plant.get(["stats.n_state_events", "stats.n_slip", "stats.n_stick", "stats.n_steps", "stats.n_rhs"])
-    sig["state_events"] = np.array(st["stats.n_state_events"] if plant.interface == "cs"
-                                   else stepper.n_state_events)
-    for key in ("stats.n_slip", "stats.n_stick", "stats.n_steps", "stats.n_rhs"):
-        sig[key] = np.array(st[key])
-    return Result(sig)
+    loop = _start_loop(plant, controller, n, x0, quantum, float(F_ext[0]), Ts, record)
+    _sample_loop(plant, loop, controller.step, n, Ts, quantum, F_ext, progress)
+    return _closed_loop_result(plant, loop, n, Ts, quantum, F_ext, _time.perf_counter() - wall0)

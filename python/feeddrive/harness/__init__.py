@@ -1,0 +1,25 @@
+"""The closed-loop harness below every stage: references, the sensor model, the controller
+registry, the FMU loop, the run maker and the sidecar schema.
+
+- :mod:`.references`: :class:`Reference` and its profiles, :func:`prbs`, :func:`reversals`;
+- :mod:`.sensors`: :class:`Sensors` (scale quantum, current noise, seed);
+- :mod:`.controllers`: spec <-> controller (``state_space``, ``pid``, ``pid_lead``);
+- :mod:`.simulate`: :func:`simulate_open_loop`, :func:`simulate_closed_loop` on a Plant;
+- :mod:`.runs`: :func:`run_closed_loop` from a spec, :func:`to_run`, :func:`closed_loop_run`;
+- :mod:`.sidecar`: :func:`build_sidecar`, :func:`read_sidecar` (schema ``feeddrive.run/1``).
+"""
+from .controllers import (CONTROLLERS, Controller, controller_spec, make_controller, pid_lead_spec,
+                          pid_spec, state_space_spec)
+from .references import (Reference, back_and_forth, from_positions, point_to_point, prbs,
+                         reversals, sinusoid)
+from .runs import SCALE_ONLY, closed_loop_run, run_closed_loop, to_run
+from .sensors import IDEAL, Sensors
+from .sidecar import SCHEMA, Sidecar, build_sidecar, read_sidecar
+from .simulate import RECORD, Stepper, quantise, simulate_closed_loop, simulate_open_loop
+
+__all__ = ["CONTROLLERS", "Controller", "controller_spec", "make_controller", "pid_lead_spec",
+           "pid_spec", "state_space_spec", "Reference", "back_and_forth", "from_positions",
+           "point_to_point", "prbs", "reversals", "sinusoid", "SCALE_ONLY", "closed_loop_run",
+           "run_closed_loop", "to_run", "IDEAL", "Sensors", "SCHEMA", "Sidecar",
+           "build_sidecar", "read_sidecar", "RECORD", "Stepper", "quantise",
+           "simulate_closed_loop", "simulate_open_loop"]

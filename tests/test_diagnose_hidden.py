@@ -17,8 +17,8 @@ import pytest
 from feeddrive.diagnose.closed_loop import (constant_speed_reference, simulate_run,
                                             sinusoid_reference)
 from feeddrive.diagnose.workflow import diagnose
-from feeddrive.friction_curves import stribeck_level
-from feeddrive.maps import cogging, force_constant
+from feeddrive.physics.friction_curves import stribeck_level
+from feeddrive.physics.position_maps import cogging, force_constant
 from feeddrive.model_file import ModelFile, paper_model
 
 PAPER = paper_model()

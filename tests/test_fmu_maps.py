@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from feeddrive.maps import cogging, force_constant
+from feeddrive.physics.position_maps import cogging, force_constant
 from fmu_loops import me_plant, run_law
 
 pytestmark = pytest.mark.usefixtures("fmu_path")

@@ -41,9 +41,9 @@ import numpy as np
 from scipy.optimize import least_squares, minimize_scalar
 
 from ..data import Run
-from ..friction_curves import stribeck_level
-from ._signals import (MapSpec, apply_kernel, current, eq1_friction, jacobian_stderr, run_label,
-                       signal)
+from ..physics import FrictionCurve, MapSpec, eq1_friction
+from ..signals import apply_kernel, run_label
+from ._signals import current, jacobian_stderr, signal
 
 
 @dataclass
@@ -66,12 +66,7 @@ class AttractionFit:
 
 def _level(v: np.ndarray, p: Mapping[str, float]) -> np.ndarray:
     """s(v) with the FMU's asymmetry applied for v < 0."""
-    dF = p.get("asymmetry.dF", 0.0)
-    fwd = stribeck_level(v, p["friction.F_s"], p["friction.F_c"], p["friction.V_s"],
-                         p["friction.delta"])
-    bwd = stribeck_level(v, p["friction.F_s"] + dF, p["friction.F_c"] + dF, p["friction.V_s"],
-                         p["friction.delta"])
-    return np.sign(v) * np.where(v < 0, bwd, fwd)
+    return FrictionCurve.from_params(p).sliding(v)
 
 
 def simulate_lag(s: np.ndarray, kappa: float, G0: float, Ts: float) -> np.ndarray:

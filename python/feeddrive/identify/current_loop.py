@@ -26,7 +26,8 @@ from scipy.optimize import least_squares
 from scipy.signal import lfilter, lfiltic, max_len_seq
 
 from ..data import Run
-from ._signals import jacobian_stderr, run_label, sample_time, signal
+from ..signals import run_label, sample_time
+from ._signals import jacobian_stderr, signal
 
 MAX_LAG = 5         #: highest u lag the FMU holds (current.b[0..5])
 MAX_ORDER = 5       #: highest i lag the FMU holds (current.a[1..5])

@@ -35,11 +35,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.ticker import NullFormatter, ScalarFormatter  # noqa: E402
 
-from .. import maps  # noqa: E402
 from ..data import Run  # noqa: E402
-from ..friction_curves import stribeck_level  # noqa: E402
 from ..model_file import save_model  # noqa: E402
-from ._signals import eq1_friction  # noqa: E402
+from ..physics import eq1_friction, stribeck_level  # noqa: E402
+from ..physics import position_maps as maps  # noqa: E402
 from .attraction import _level, simulate_lag  # noqa: E402
 from .current_loop import simulate  # noqa: E402
 from .dstft import DSTFT, dstft  # noqa: E402

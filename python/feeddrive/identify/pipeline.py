@@ -32,7 +32,9 @@ import numpy as np
 from ..data import Run, load_runs
 from ..model_file import ModelFile, load_model, paper_model, save_model
 from ..paper import PAPER_EFFECTS
-from ._signals import run_label, run_load, sample_time, steady_segment
+from ..physics import run_load_mean
+from ..signals import run_label, sample_time
+from ._signals import steady_segment
 from .attraction import AttractionFit, identify_attraction
 from .current_loop import CurrentLoopFit, identify_current_loop
 from .mass import MassFit, identify_mass
@@ -102,7 +104,7 @@ def _speed(run: Run) -> float:
 def map_and_stribeck_runs(runs: Sequence[Run]) -> tuple[list[Run], list[Run]]:
     """Split constant-speed runs: those for the maps (every run at the speed of a loaded
     run, loaded or not) and those for the Stribeck curve (every unloaded run)."""
-    loads = [run_load(r)[0] for r in runs]
+    loads = [run_load_mean(r)[0] for r in runs]
     speeds = [_speed(r) for r in runs]
     loaded = [s for s, P in zip(speeds, loads) if abs(P) > LOAD_TOL]
     maps_runs = [r for r, s in zip(runs, speeds)

@@ -36,7 +36,9 @@ from scipy.signal import find_peaks
 
 from ..data import Run
 from ..paper import N_ELEMENTS_MAX
-from ._signals import MapSpec, current, eq1_friction, run_label, signal
+from ..physics import MapSpec, eq1_friction
+from ..signals import run_label
+from ._signals import current, signal
 
 
 def maxwell_slip(x: np.ndarray, Delta: Sequence[float], W: Sequence[float] | None = None,

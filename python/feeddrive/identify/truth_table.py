@@ -31,7 +31,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .. import maps
+from ..physics import position_maps as maps
 from .prerolling import maxwell_slip
 
 if TYPE_CHECKING:

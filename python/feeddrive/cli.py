@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 from .fmu import REPO
+from .model_file import ModelFileError
 
 BUILD = REPO / "build"
 
@@ -105,7 +106,11 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     a = build_parser().parse_args(argv)
-    return a.func(a)
+    try:
+        return a.func(a)
+    except ModelFileError as e:          # a model file the FMU would refuse, or malformed
+        print(f"feeddrive {a.command}: {e}", file=sys.stderr)
+        return 2
 
 
 if __name__ == "__main__":

@@ -4,7 +4,7 @@
 
 v and a come from a Savitzky-Golay differentiator of the measured position; the force side
 is smoothed by the kernel that differentiator applies to the true acceleration (see
-``_signals.matched_acceleration``), so both sides see exactly the same averaging.  Samples
+``feeddrive.signals.matched_acceleration``), so both sides see exactly the same averaging.  Samples
 slower than ``v_min`` or within ``reversal_skip`` of travel after a reversal are left out
 (there pre-rolling and frictional lag make F_f a function of the history, not of v), and so
 is every sample whose filter window reaches one of them, and half a window at both ends.
@@ -62,7 +62,7 @@ def fit_mass(time: np.ndarray, x: np.ndarray, i: np.ndarray, force_constant: Map
         make friction there a function of the history, not of v.
     current_timing : 'held' (i[k] acts over [t_k, t_k+1), Eq. 2), 'held_previous' (i[k]
         acted over [t_k-1, t_k): recorded one sample late) or 'sampled' (continuous current);
-        see ``_signals.effective_current``.  A one-sample error here biases m by ~1 % on a
+        see ``feeddrive.physics.held_current``.  A one-sample error here biases m by ~1 % on a
         square-wave run.
     fit_offset : also estimate a constant force offset.F, taken to act like F_load
         (m a = ... - F_load - offset.F).

@@ -124,7 +124,7 @@ def map_samples(runs: Sequence[Run], grid_step: float = GRID_STEP, kf_method: st
     grid_step : grid spacing [m] (0.1 mm); grid points are integer multiples of it.
     kf_method : 'lstsq' or 'pairs' (see module docstring).
     resample : 'interp' (paper: linear interpolation) or 'bin' (mean per grid cell).
-    window, rel_tol : constant-speed detection (see ``_signals.steady_segment``).
+    window, rel_tol : constant-speed detection (see ``identify._signals.steady_segment``).
     trim : extra length dropped at both ends of each constant-speed segment [m].
     load_tol : loads closer than this [N] are the same load.
     dc_gain : for runs without a current column, i = dc_gain * u (DATA.md).

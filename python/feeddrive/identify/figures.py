@@ -37,10 +37,9 @@ from matplotlib.ticker import NullFormatter, ScalarFormatter  # noqa: E402
 
 from ..data import Run  # noqa: E402
 from ..model_file import save_model  # noqa: E402
-from ..physics import eq1_friction, stribeck_level  # noqa: E402
+from ..physics import eq1_friction, simulate_current, stribeck_level  # noqa: E402
 from ..physics import position_maps as maps  # noqa: E402
 from .attraction import _level, simulate_lag  # noqa: E402
-from .current_loop import simulate  # noqa: E402
 from .dstft import DSTFT, dstft  # noqa: E402
 from .pipeline import IdentificationResult, identify_folder, identify_runs  # noqa: E402
 from .sec4_check import REVERSAL_TOL, Sec4Comparison, compare_sec4  # noqa: E402
@@ -229,7 +228,7 @@ def fig_current_loop(res: IdentificationResult, seconds: float = 0.1) -> plt.Fig
     c = _need(res, "current_loop", "current loop")
     run = max(res.groups["prbs"], key=lambda r: len(r.time))
     u, i = np.asarray(run.u, float), np.asarray(run.i, float)
-    i_sim = simulate(c.a, c.b, u)
+    i_sim = simulate_current(c.a, c.b, u)
     t = np.asarray(run.time, float)
     k0 = int((run.meta or {}).get("prbs_start", 0))
     sl = slice(k0, min(len(t), k0 + int(seconds / c.Ts)))

@@ -11,7 +11,8 @@
 
 Identification, diagnosis and feedforward use only this package.
 """
-from .current_loop import CurrentLoop, current_loop_dc_gain, current_loop_polynomials
+from .current_loop import (CurrentLoop, current_loop_dc_gain, current_loop_polynomials,
+                           simulate_current)
 from .friction_curves import FrictionCurve, steady_friction, stribeck_drop, stribeck_level
 from .friction_gms import GMSFriction, GMSParameters, element_forces, element_rates, gms_force
 from .friction_static import DEFAULT_V_STICK, karnopp_friction
@@ -20,7 +21,7 @@ from .plant import (CURRENT_TIMINGS, applied_force, eq1_friction, eq1_terms, for
                     held_current, measured_motion, run_load, run_load_mean)
 from .position_maps import MapSpec, PositionMap, eval_map
 
-__all__ = ["CurrentLoop", "current_loop_dc_gain", "current_loop_polynomials", "FrictionCurve", "steady_friction",
+__all__ = ["CurrentLoop", "current_loop_dc_gain", "current_loop_polynomials", "simulate_current", "FrictionCurve", "steady_friction",
            "stribeck_drop", "stribeck_level", "GMSFriction", "GMSParameters", "element_forces", "element_rates", "gms_force",
            "DEFAULT_V_STICK", "karnopp_friction", "ParameterError", "PlantParameters",
            "check_value", "compile", "parameter_values", "CURRENT_TIMINGS", "applied_force",

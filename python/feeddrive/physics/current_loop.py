@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.signal import lfilter
+from scipy.signal import lfilter, lfiltic
 
 N_CURRENT_A = 5   #: current.a[1..5]
 N_CURRENT_B = 6   #: current.b[0..5]
@@ -61,3 +61,23 @@ def current_loop_polynomials(params: Mapping[str, float]) -> tuple[np.ndarray, n
 def current_loop_dc_gain(params: Mapping[str, float]) -> float:
     """G(1) [A/V] from FMU-named parameters."""
     return CurrentLoop.from_parameters(params).G1
+
+
+def simulate_current(a: ArrayLike, b: ArrayLike, u: ArrayLike, i_init: ArrayLike | None = None,
+                     u_init: ArrayLike | None = None) -> np.ndarray:
+    """i[k] = sum a_j i[k-j] + sum b_j u[k-j] for any a (i lags 1..) and b (u lags 0..).
+
+    ``i_init``/``u_init`` are the samples just before ``u[0]`` in time order (the last
+    entry is the one immediately before); missing history counts as zero.
+    """
+    den = np.concatenate(([1.0], -np.asarray(a, dtype=float)))
+    num = np.asarray(b, dtype=float)
+    if num.size == 0:
+        return np.zeros(len(np.asarray(u)))
+    zi = None
+    if i_init is not None or u_init is not None:
+        yh = np.zeros(0) if i_init is None else np.asarray(i_init, dtype=float)[::-1]
+        xh = np.zeros(0) if u_init is None else np.asarray(u_init, dtype=float)[::-1]
+        zi = lfiltic(num, den, yh, xh)
+        return lfilter(num, den, u, zi=zi)[0]
+    return lfilter(num, den, u)

@@ -58,7 +58,7 @@ def constant_speed_run(v, x0, x1, load, rng, p=P, noise=0.005, ramp=0.05, dwell=
 
 
 def _scalar_maps(p=P):
-    """Fast scalar K_f, F_cg for the RK4 loops (same formulas as feeddrive.maps)."""
+    """Fast scalar K_f, F_cg for the RK4 loops (same formulas as feeddrive.physics.position_maps)."""
     def make(name, n):
         c = [p[f"{name}.c[{k}]"] for k in range(n)]
         h = [(2 * math.pi / p[f"{name}.lambda[{j}]"], p[f"{name}.a[{j}]"], p[f"{name}.b[{j}]"])

@@ -25,10 +25,3 @@ def karnopp_friction(v: ArrayLike, F_app: ArrayLike, prm: GMSParameters,
     stuck = (np.abs(v) < v_stick) & (np.abs(F_app) < prm.break_away(F_app))
     return np.where(stuck, F_app, prm.steady(v)), stuck
 
-
-def sliding_friction(v: ArrayLike, direction: ArrayLike, prm: GMSParameters) -> np.ndarray:
-    """Friction of a sliding stage [N]: direction S(|v|) + sigma2 v, the level of the side of
-    ``direction`` (+1/-1), as friction_static.c's ``static_friction`` when not stuck."""
-    d = np.asarray(direction, dtype=float)
-    return d * prm.level(np.abs(np.asarray(v, dtype=float)) * np.where(d < 0, -1.0, 1.0)) \
-        + prm.viscous(v)

@@ -34,6 +34,8 @@ from .position_maps import MAP_EFFECTS, PositionMap
 
 #: |sum(nu_i) - 1| allowed (params.c SUM_NU_TOL).
 SUM_NU_TOL = 1e-3
+#: FMU parameters of the integrator, not of the plant (checked for finiteness only).
+SOLVER_PARAMETERS = ("solver.tol",)
 #: |1 - sum(current.a)| below which the current loop has a pole at z = 1.
 POLE_TOL = 1e-9
 
@@ -213,7 +215,7 @@ def compile(model: HasFmuParameters | Mapping[str, Any]) -> PlantParameters:
     val = parameter_values(model)
     known = paper_parameters()
     for name in val:
-        if name not in known:
+        if name not in known and name not in SOLVER_PARAMETERS:
             raise KeyError(f"{name!r} is not a parameter of the FMU")
     for name, v in val.items():
         check_value(name, v)

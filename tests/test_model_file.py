@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from feeddrive.cli import main
 from feeddrive.model_file import (PARAMETER_NAMES, ModelFile, ModelFileError, load_model,
                                   paper_model, save_model)
 from feeddrive.paper import EFFECT_IDS, SWITCHABLE_EFFECTS, paper_parameters
@@ -242,7 +243,6 @@ def test_sum_nu_checked_only_with_prerolling(tmp_path):
 
 def test_every_command_refuses_an_invalid_model_file_with_the_fmus_message(tmp_path, capsys):
     """validate, experiments, identify (--truth) and diagnose: one line naming the file, exit 2."""
-    from feeddrive.cli import main
     doc = _doc()
     doc["parameters"]["m"] = -16.1
     bad = _write(tmp_path, doc, "bad.json")

@@ -8,6 +8,7 @@ import math
 import pytest
 
 from feeddrive.fmu import FMUError, Plant
+from feeddrive.model_file import paper_model
 from feeddrive.paper import paper_parameters
 from feeddrive.physics import ParameterError, compile
 
@@ -110,7 +111,6 @@ def test_non_integer_element_count():
 
 
 def test_model_file_and_unknown_names():
-    from feeddrive.model_file import paper_model
     P = compile(paper_model())
     assert P.m == 16.1 and P.friction.nu[-1] == pytest.approx(0.383)
     with pytest.raises(KeyError, match="friction.Fs"):

@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 from scipy import signal
 
-from feeddrive import maps
-from feeddrive.control import (PID, ZPETC, FeedforwardOptions, GMSFriction, GMSParameters,
-                               StateSpaceController, design_model, feedforward, gms_force,
-                               invert_current_loop, simulate_linear, static_friction)
+from feeddrive.control import (PID, ZPETC, FeedforwardOptions, StateSpaceController, design_model,
+                               feedforward, invert_current_loop, simulate_linear, static_friction)
+from feeddrive.physics import GMSFriction, GMSParameters, gms_force
+from feeddrive.physics import position_maps as maps
 from feeddrive.control.lti_step import compile_step
 from feeddrive.paper import paper_parameters
 

@@ -16,8 +16,8 @@ import pytest
 
 from feeddrive.diagnose.workflow import diagnose
 from feeddrive.harness import Sensors, back_and_forth, closed_loop_run, pid_spec, sinusoid
-from feeddrive.friction_curves import stribeck_level
-from feeddrive.maps import cogging, force_constant
+from feeddrive.physics.friction_curves import stribeck_level
+from feeddrive.physics.position_maps import cogging, force_constant
 from feeddrive.model_file import ModelFile, paper_model
 
 PAPER = paper_model()

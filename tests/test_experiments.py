@@ -17,7 +17,7 @@ from feeddrive.experiments.constant_speed import PAPER_LOADS, constant_speed_run
 from feeddrive.experiments.force_open_loop import force_open_loop_runs
 from feeddrive.harness.sensors import Sensors
 from feeddrive.experiments.prbs import prbs_runs, prbs_sequence
-from feeddrive.maps import force_constant
+from feeddrive.physics.position_maps import force_constant
 from feeddrive.model_file import PARAMETER_NAMES, paper_model
 from feeddrive.paper import paper_parameters
 from feeddrive.validation.replay import validate_file

@@ -16,8 +16,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from feeddrive.friction_curves import stribeck_level
-from feeddrive.maps import cogging
+from feeddrive.physics.friction_curves import stribeck_level
+from feeddrive.physics.position_maps import cogging
 from fmu_loops import me_plant, run_law
 
 pytestmark = pytest.mark.usefixtures("fmu_path")

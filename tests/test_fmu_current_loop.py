@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from scipy.signal import lfilter
 
-from feeddrive.maps import cogging, force_constant
+from feeddrive.physics.position_maps import cogging, force_constant
 from feeddrive.harness.simulate import simulate_open_loop
 from fmu_loops import me_plant
 

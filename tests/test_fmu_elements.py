@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from feeddrive.friction_curves import steady_friction
+from feeddrive.physics.friction_curves import steady_friction
 from fmu_loops import (FRICTION_ONLY, PositionLoop, me_plant, run_at_speed, run_law,
                        triangle)
 

@@ -13,7 +13,7 @@ import fmpy
 import numpy as np
 import pytest
 
-from feeddrive.maps import cogging
+from feeddrive.physics.position_maps import cogging
 from fmu_loops import PositionLoop, me_plant, run_law
 
 pytestmark = pytest.mark.usefixtures("fmu_path")

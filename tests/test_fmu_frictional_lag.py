@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from feeddrive.friction_curves import steady_friction, stribeck_level
+from feeddrive.physics.friction_curves import steady_friction, stribeck_level
 from fmu_loops import FRICTION_ONLY, VelocityLoop, me_plant, run_law
 
 pytestmark = pytest.mark.usefixtures("fmu_path")

@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from feeddrive.maps import cogging, force_constant
+from feeddrive.physics.position_maps import cogging, force_constant
 from fmu_loops import me_plant, run_law
 
 pytestmark = pytest.mark.usefixtures("fmu_path")
@@ -32,7 +32,7 @@ def test_check_values(x: float, F_cg: float, K_f: float) -> None:
 
 
 def test_maps_match_python_evaluation_inside_stroke(paper: dict) -> None:
-    """At arbitrary positions the FMU's maps equal feeddrive.maps (1e-9)."""
+    """At arbitrary positions the FMU's maps equal feeddrive.physics.position_maps (1e-9)."""
     for x in (0.0123, 0.0877, 0.2049, 0.2991):
         f, k, _ = _maps_at(x)
         assert f == pytest.approx(float(cogging(x, paper)), abs=1e-9)

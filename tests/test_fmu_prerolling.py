@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from feeddrive.friction_curves import stribeck_level
+from feeddrive.physics.friction_curves import stribeck_level
 from fmu_loops import FRICTION_ONLY, PositionLoop, maxwell_slip, me_plant, run_law, triangle
 
 pytestmark = pytest.mark.usefixtures("fmu_path")

@@ -8,8 +8,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from feeddrive.friction_curves import steady_friction
-from feeddrive.maps import cogging
+from feeddrive.physics.friction_curves import steady_friction
+from feeddrive.physics.position_maps import cogging
 from fmu_loops import FRICTION_ONLY, me_plant, run_at_speed, run_law
 
 pytestmark = pytest.mark.usefixtures("fmu_path")

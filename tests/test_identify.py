@@ -12,9 +12,10 @@ import numpy as np
 import pytest
 from scipy.signal import lfilter
 
-from feeddrive import maps, paper
+from feeddrive import paper
+from feeddrive.physics import position_maps as maps
 from feeddrive.data import Run
-from feeddrive.friction_curves import steady_friction, stribeck_level
+from feeddrive.physics.friction_curves import steady_friction, stribeck_level
 from feeddrive.identify import (dstft, fit_weights, identify_attraction, identify_current_loop,
                                 identify_mass, identify_position_maps, identify_prerolling,
                                 identify_stribeck, maxwell_slip, prbs)
@@ -57,7 +58,7 @@ def constant_speed_run(v, x0, x1, load, rng, p=P, noise=0.005, ramp=0.05, dwell=
 
 
 def _scalar_maps(p=P):
-    """Fast scalar K_f, F_cg for the RK4 loops (same formulas as feeddrive.maps)."""
+    """Fast scalar K_f, F_cg for the RK4 loops (same formulas as feeddrive.physics.position_maps)."""
     def make(name, n):
         c = [p[f"{name}.c[{k}]"] for k in range(n)]
         h = [(2 * math.pi / p[f"{name}.lambda[{j}]"], p[f"{name}.a[{j}]"], p[f"{name}.b[{j}]"])

@@ -5,8 +5,10 @@ import json
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 
+from feeddrive.cli import main
 from feeddrive.model_file import (PARAMETER_NAMES, ModelFile, ModelFileError, load_model,
                                   paper_model, save_model)
 from feeddrive.paper import EFFECT_IDS, SWITCHABLE_EFFECTS, paper_parameters
@@ -198,3 +200,61 @@ def test_direct_construction_fills_defaults():
     m = ModelFile("small", effects, {"m": 12.0})
     assert m.parameters["m"] == 12.0 and len(m.parameters) == len(PARAMETER_NAMES)
     assert "m" not in m.defaulted and "Ts" in m.defaulted
+
+
+INVALID = [  # parameters, the FMU's message (fmu_src/params.c)
+    ({"m": -16.1}, "m = -16.1 is out of range: allowed (0, inf) kg"),
+    ({"friction.F_c": 30.0}, "friction.F_c = 30 exceeds friction.F_s = 26.100000000000001: "
+                             "allowed friction.F_c in [0, friction.F_s] N"),
+    ({"Ts": 0.0}, "Ts = 0 is out of range: allowed (0, inf) s"),
+    ({"friction.nu[5]": 0.713}, "friction.nu[1..5] sum to 1.3300000000000001: allowed 1 +- "
+                                "0.001 (Eq. 12 needs sum(nu) = 1; set friction.nu[5] = 1 - sum "
+                                "of the others)"),
+    ({"friction.sigma2": -7135.0}, "friction.sigma2 = -7135 is out of range: allowed [0, inf) "
+                                   "N.s/m"),
+]
+
+
+@pytest.mark.parametrize("params,message", INVALID, ids=[next(iter(p)) for p, _ in INVALID])
+def test_invalid_physics_refused_naming_the_file_with_the_fmus_message(tmp_path, params, message):
+    doc = _doc()
+    doc["parameters"].update(params)
+    path = _write(tmp_path, doc)
+    assert _error(path) == f"{path}: {message}"
+    with pytest.raises(ModelFileError) as err:          # building one in memory, too
+        paper_model().with_effect("mass", True, **params)
+    assert str(err.value) == f"model 'paper': {message}"
+
+
+def test_save_refuses_an_edited_model_the_fmu_would_refuse(tmp_path):
+    m = paper_model()
+    m.parameters["m"] = -16.1                           # edited in place, after construction
+    with pytest.raises(ModelFileError, match=r"out\.json: m = -16.1 is out of range"):
+        save_model(m, tmp_path / "out.json")
+    assert not (tmp_path / "out.json").exists()
+
+
+def test_sum_nu_checked_only_with_prerolling(tmp_path):
+    doc = _doc()
+    doc["effects"]["prerolling"] = False
+    doc["parameters"]["friction.nu[5]"] = 0.713
+    assert load_model(_write(tmp_path, doc)).parameters["friction.nu[5]"] == 0.713
+
+
+def test_every_command_refuses_an_invalid_model_file_with_the_fmus_message(tmp_path, capsys):
+    """validate, experiments, identify (--truth) and diagnose: one line naming the file, exit 2."""
+    doc = _doc()
+    doc["parameters"]["m"] = -16.1
+    bad = _write(tmp_path, doc, "bad.json")
+    t = np.arange(400) * 5e-4
+    run = tmp_path / "run.csv"
+    run.write_text("time,u,x\n" + "".join(f"{s:.6f},0.0,{0.15 + 1e-3 * np.sin(20 * s):.9f}\n"
+                                          for s in t))
+    expect = f"{bad}: m = -16.1 is out of range: allowed (0, inf) kg"
+    for argv in (["validate", str(run), "--model", str(bad)],
+                 ["experiments", "--out", str(tmp_path / "exp"), "--model", str(bad)],
+                 ["identify", str(tmp_path), "--out", str(tmp_path / "id"), "--truth", str(bad)],
+                 ["diagnose", str(run), "--model", str(bad), "--out", str(tmp_path / "dg")]):
+        assert main(argv) == 2, argv
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and err[0].endswith(expect), (argv, err)

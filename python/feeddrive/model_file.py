@@ -19,7 +19,9 @@ Rules (checked by :func:`load_model`, every error names the file and the key):
 - ``name`` (defaults to the file stem) and ``description`` are strings; other top-level
   keys and duplicate keys are errors.
 
-Physical ranges (m > 0, 0 < delta, ...) are the FMU's to check, not this module's.
+- the parameters must pass the FMU's rules (m > 0, 0 <= F_c <= F_s, Ts > 0, sum(nu) = 1,
+  ...): :func:`feeddrive.physics.compile` checks them with the messages of fmu_src/params.c,
+  so a model the FMU would refuse is refused here, naming the file (or the model) first.
 """
 from __future__ import annotations
 
@@ -31,6 +33,7 @@ from pathlib import Path
 from typing import Any
 
 from feeddrive.paper import EFFECT_IDS, PAPER_EFFECTS, SWITCHABLE_EFFECTS, paper_parameters
+from feeddrive.physics import ParameterError, compile
 
 Value = float | int | bool
 
@@ -119,6 +122,17 @@ def _check_parameters(raw: Any, effects: dict[str, bool], src: str
     return {n: given[n] if n in given else _PAPER[n] for n in PARAMETER_NAMES}, filled
 
 
+def _check_physics(effects: dict[str, bool], parameters: dict[str, Value], src: str) -> None:
+    """The FMU's parameter rules (feeddrive.physics.compile); the FMU's message after src."""
+    values: dict[str, Value] = dict(parameters)
+    for eid in SWITCHABLE_EFFECTS:
+        values[f"effects.{eid}"] = effects[eid]
+    try:
+        compile(values)
+    except ParameterError as e:
+        raise ModelFileError(src, None, str(e)) from None
+
+
 @dataclass
 class ModelFile:
     """A model: effect switches (every EFFECTS.md id) and every FMU parameter in SI.
@@ -144,6 +158,7 @@ class ModelFile:
                                  f"must be a string, got {self.description!r}")
         self.effects = _check_effects(dict(self.effects), src)
         self.parameters, filled = _check_parameters(dict(self.parameters), self.effects, src)
+        _check_physics(self.effects, self.parameters, src)
         self.defaulted = tuple(n for n in PARAMETER_NAMES
                                if n in filled or n in self.defaulted)
 
@@ -228,6 +243,7 @@ def load_model(path: str | Path) -> ModelFile:
             raise ModelFileError(src, repr(key), f"must be a string, got {value!r}")
     effects = _check_effects(raw["effects"], src)
     parameters, filled = _check_parameters(raw.get("parameters", {}), effects, src)
+    _check_physics(effects, parameters, src)
     return ModelFile(name=name, effects=effects, parameters=parameters,
                      description=description, defaulted=filled)
 
@@ -239,6 +255,7 @@ def save_model(model: ModelFile, path: str | Path) -> None:
     src = str(path)
     effects = _check_effects(dict(model.effects), src)      # the model may have been edited
     parameters, _ = _check_parameters(dict(model.parameters), effects, src)
+    _check_physics(effects, parameters, src)
     doc = {"name": model.name, "description": model.description,
            "effects": effects, "parameters": parameters}
     text = json.dumps(doc, indent=2, allow_nan=False)

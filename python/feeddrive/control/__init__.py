@@ -8,21 +8,17 @@ feedforward) are given as arrays at construction, so ``step`` only indexes them.
 - :mod:`zpetc`: Tomizuka's zero-phase-error tracking pre-filter of the closed loop.
 - :mod:`pid`: the force-equivalent position PID (optional derivative filter, anti-windup, lead).
 - :mod:`feedforward`: inertia, cogging, ripple, offset and friction (static / GMS) feedforward.
-- :mod:`gms`: the Generalized Maxwell-Slip friction model driven by a motion.
 - :mod:`margins`: gain / phase / modulus margins from a loop frequency response.
 """
-from .design_model import (DesignModel, current_loop_dc_gain, current_loop_polynomials,
-                           design_model, simulate_linear)
+from .design_model import DesignModel, design_model, simulate_linear
 from .feedforward import (Feedforward, FeedforwardOptions, feedforward, invert_current_loop,
                           reference_derivatives, static_friction)
-from .gms import GMSFriction, GMSParameters, gms_force
 from .margins import Margins, loop_margins
 from .pid import PID
 from .state_space import StateSpaceController, default_observer_poles, default_poles
 from .zpetc import ZPETC
 
-__all__ = ["DesignModel", "current_loop_dc_gain", "current_loop_polynomials", "design_model",
+__all__ = ["DesignModel", "design_model",
            "simulate_linear", "Feedforward", "FeedforwardOptions", "feedforward",
-           "invert_current_loop", "reference_derivatives", "static_friction", "GMSFriction",
-           "GMSParameters", "gms_force", "Margins", "loop_margins", "PID",
+           "invert_current_loop", "reference_derivatives", "static_friction", "Margins", "loop_margins", "PID",
            "StateSpaceController", "default_observer_poles", "default_poles", "ZPETC"]

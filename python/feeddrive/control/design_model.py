@@ -20,37 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import signal
 
-N_CURRENT_A = 5   #: current.a[1..5]
-N_CURRENT_B = 6   #: current.b[0..5]
-
-
-def current_loop_polynomials(params: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:
-    """Numerator and denominator of G(z) in powers of z^-1 from ``current.a/b`` (Eq. 2).
-
-    i[k] = sum_j a_j i[k-j] + sum_j b_j u[k-j]  ->  G = (sum b_j z^-j) / (1 - sum a_j z^-j).
-    Trailing zero coefficients are removed.  With ``effects.current_dynamics`` false the
-    loop is the static gain G(1) (MODEL.md / EFFECTS.md: i = G(1) u).
-    """
-    a = np.array([float(params.get(f"current.a[{j}]", 0.0)) for j in range(1, N_CURRENT_A + 1)])
-    b = np.array([float(params.get(f"current.b[{j}]", 0.0)) for j in range(0, N_CURRENT_B)])
-    den = np.concatenate(([1.0], -a))
-    if not np.any(b != 0.0):
-        raise ValueError("design_model.py: current.b[0..5] are all zero, G(z) = 0")
-    den = np.trim_zeros(den, "b")
-    num = np.trim_zeros(b, "b")
-    if not bool(params.get("effects.current_dynamics", True)):
-        return np.array([num.sum() / den.sum()]), np.array([1.0])
-    return num, den
-
-
-def current_loop_dc_gain(params: Mapping[str, float]) -> float:
-    """G(1) [A/V] of the current loop (1.1260 A/V for Eq. 2)."""
-    num, den = current_loop_polynomials(params)
-    g1 = den.sum()
-    if abs(g1) < 1e-12:
-        raise ValueError("design_model.py: current.a gives a pole at z = 1, G(1) is undefined")
-    return float(num.sum() / g1)
-
+from ..physics import CurrentLoop
 
 @dataclass(frozen=True)
 class DesignModel:
@@ -140,7 +110,10 @@ def design_model(params: Mapping[str, float]) -> DesignModel:
     if m <= 0 or Ts <= 0 or K_f0 <= 0:
         raise ValueError(f"design_model.py: need m > 0, Ts > 0, ripple.c[0] > 0 "
                          f"(got m={m}, Ts={Ts}, ripple.c[0]={K_f0})")
-    num, den = current_loop_polynomials(params)
+    loop = CurrentLoop.from_parameters(params)
+    if not any(loop.b):
+        raise ValueError("design_model.py: current.b[0..5] are all zero, G(z) = 0")
+    num, den = loop.polynomials()
     G1 = float(num.sum() / den.sum())
     # mechanical part: i -> [x, v]
     Am, Bm, _, _, _ = signal.cont2discrete(

@@ -17,7 +17,7 @@ Friction models:
   plain sgn(v_ref) jumps by 2 F_s at a reversal and excites the loop (MODEL.md).  |F| is
   within 0.5 % of the steady curve for |v| >= 3 v_eps, F(0) = 0,
   dF/dv(0) = S(0)/v_eps + sigma2.
-- ``"gms"``: the GMS model (:mod:`gms`) driven by (x_ref, v_ref).
+- ``"gms"``: the GMS model (:mod:`feeddrive.physics.friction_gms`) driven by (x_ref, v_ref).
 
 Python simulation of the default state-space loop on the design model with the paper's GMS
 friction as plant (5 mm / 6 s sine, 100 nm resolution), peak error at the reversal: ~23 um
@@ -39,9 +39,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy import signal
 
-from .. import maps
-from .design_model import current_loop_dc_gain, current_loop_polynomials
-from .gms import GMSParameters, gms_force
+from ..physics import GMSParameters, PlantParameters, compile, gms_force
 
 DEFAULT_V_EPS = 3e-4   #: m/s (~ V_s/10), regularisation speed of the static-friction sign
 
@@ -94,13 +92,15 @@ def static_friction(v: ArrayLike, prm: GMSParameters, v_eps: float = DEFAULT_V_E
     return prm.level(v) * np.tanh(v / v_eps) + prm.viscous(v)
 
 
-def invert_current_loop(i_ff: ArrayLike, params: Mapping[str, float]) -> np.ndarray:
+def invert_current_loop(i_ff: ArrayLike, params: Mapping[str, float] | PlantParameters
+                        ) -> np.ndarray:
     """u such that Eq. 2 gives exactly i_ff (needs d0 samples of preview; i_ff held at the end).
 
     G = z^-d0 B'(z^-1)/A(z^-1), u[k] = (A/B')(z^-1) i_ff[k + d0].  B' must be minimum phase.
     """
     i = np.asarray(i_ff, dtype=float)
-    num, den = current_loop_polynomials(params)
+    P = params if isinstance(params, PlantParameters) else compile(params)
+    num, den = P.current.polynomials()
     d0 = int(np.argmax(num != 0.0))
     Bp = num[d0:]
     zeros = np.roots(Bp) if len(Bp) > 1 else np.zeros(0)
@@ -136,21 +136,18 @@ def feedforward(x_ref: ArrayLike, Ts: float, params: Mapping[str, float],
     if v.shape != x.shape or a.shape != x.shape:
         raise ValueError("feedforward.py: v_ref and a_ref must have the shape of x_ref")
 
-    def on(effect: str) -> bool:
-        return bool(params.get(f"effects.{effect}", True))
-
+    P = compile(params)
     forces: dict[str, np.ndarray] = {}
     if options.inertia:
-        forces["inertia"] = float(params["m"]) * a
+        forces["inertia"] = P.m * a
     if options.cogging:
-        forces["cogging"] = maps.cogging(x, params, periodic=on("cogging_periodic"),
-                                         aperiodic=on("cogging_aperiodic"))
-    if options.offset and on("offset_force"):
-        forces["offset"] = np.full_like(x, float(params.get("offset.F", 0.0)))
+        forces["cogging"] = P.F_cg(x)
+    if options.offset and P.values["effects.offset_force"]:
+        forces["offset"] = np.full_like(x, P.F_offset)
     if options.friction == "static":
-        forces["friction"] = static_friction(v, GMSParameters.from_params(params), options.v_eps)
+        forces["friction"] = static_friction(v, P.friction, options.v_eps)
     elif options.friction == "gms":
-        forces["friction"] = gms_force(x, v, Ts, GMSParameters.from_params(params))
+        forces["friction"] = gms_force(x, v, Ts, P.friction)
     elif options.friction != "none":
         raise ValueError(f"feedforward.py: friction must be 'none', 'static' or 'gms', "
                          f"got {options.friction!r}")
@@ -158,16 +155,12 @@ def feedforward(x_ref: ArrayLike, Ts: float, params: Mapping[str, float],
     for f in forces.values():
         total = total + f
     forces["total"] = total
-    if options.ripple:
-        K_f = maps.force_constant(x, params, periodic=on("ripple_periodic"),
-                                  aperiodic=on("ripple_aperiodic"))
-    else:
-        K_f = np.full_like(x, float(params["ripple.c[0]"]))
-    G1 = current_loop_dc_gain(params)
+    K_f = P.K_f(x) if options.ripple else np.full_like(x, P.ripple.c[0])
+    G1 = P.current.G1
     if options.current_loop == "dc":
         u = total / (K_f * G1)
     elif options.current_loop == "inverse":
-        u = invert_current_loop(total / K_f, params)
+        u = invert_current_loop(total / K_f, P)
     else:
         raise ValueError(f"feedforward.py: current_loop must be 'dc' or 'inverse', "
                          f"got {options.current_loop!r}")

@@ -20,13 +20,11 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.optimize import minimize, minimize_scalar
 
-from .. import maps
-from ..control.gms import GMSParameters, gms_force
 from ..model_file import ModelFile
 from ..paper import N_ELEMENTS_MAX, N_HARMONICS
+from ..physics import gms_force, held_current, stribeck_drop
 from .context import Context
 from .localise import spatial_spectrum, spectral_peaks
-from .residual import model_current
 
 #: Maxwell-slip element travels tried by the pre-rolling candidate [m].
 PREROLL_DELTAS = tuple(np.geomspace(2e-6, 300e-6, 8).tolist())
@@ -138,10 +136,9 @@ def _sliding_fraction(ctx: Context, q) -> np.ndarray:
 
 
 def _sliding(ctx: Context, q) -> np.ndarray:
-    m = ctx.model
-    if not m.effects["prerolling"]:
+    if not ctx.plant.prerolling:
         return (~q.stuck).astype(float)
-    prm = GMSParameters.from_params(m.fmu_parameters())
+    prm = ctx.plant.friction
     _, Fe = gms_force(q.x, q.v, q.Ts, prm, return_elements=True)
     lim = np.outer(prm.level(q.v), np.asarray(prm.nu))
     slipping = np.abs(Fe) >= 0.98 * lim
@@ -159,13 +156,12 @@ def stribeck(ctx: Context) -> list[Variant]:
         Vs0, d0, dS0 = float(p["friction.V_s"]), float(p["friction.delta"]), \
             float(p["friction.F_s"]) - F_c
         it = iter(frac)
-        base = ctx.stack(lambda q: next(it) * np.sign(q.v) * dS0
-                         * np.exp(-np.abs(q.v / Vs0) ** d0))[:, 0]
+        base = ctx.stack(lambda q: next(it) * dS0 * stribeck_drop(q.v, Vs0, d0))[:, 0]
     y = ctx.r + (base if base is not None else 0.0)
 
     def column(Vs: float, d: float) -> np.ndarray:
         it = iter(frac)
-        return ctx.stack(lambda q: next(it) * np.sign(q.v) * np.exp(-np.abs(q.v / Vs) ** d))
+        return ctx.stack(lambda q: next(it) * stribeck_drop(q.v, Vs, d))
 
     # grid by in-sample explained energy (one column each), then a local refinement of the
     # best (log V_s, delta); the few best are scored on held-out blocks by the workflow
@@ -190,7 +186,7 @@ def stribeck(ctx: Context) -> list[Variant]:
 
 def _gms_unit_columns(ctx: Context, q, deltas) -> np.ndarray:
     """Friction of one Maxwell-slip element (nu = 1, travel Delta) per Delta, no viscous."""
-    prm = GMSParameters.from_params(ctx.model.fmu_parameters())
+    prm = ctx.plant.friction
     cols = []
     for D in deltas:
         pe = replace(prm, nu=(1.0,), k=(prm.F_s / D,), sigma2=0.0, dsigma2=0.0)
@@ -201,7 +197,7 @@ def _gms_unit_columns(ctx: Context, q, deltas) -> np.ndarray:
 def prerolling(ctx: Context) -> list[Variant]:
     m = ctx.model
     on = m.effects["prerolling"]
-    prm = GMSParameters.from_params(m.fmu_parameters())
+    prm = ctx.plant.friction
     deltas = PREROLL_DELTAS
     Phi = ctx.stack(lambda q: _gms_unit_columns(ctx, q, deltas))
     base = ctx.stack(lambda q: q.F_f - prm.viscous(q.v))[:, 0]
@@ -229,8 +225,7 @@ def frictional_lag(ctx: Context) -> list[Variant]:
     if not m.effects["prerolling"]:
         return []          # slip-phase attraction only exists in the GMS
     on = m.effects["frictional_lag"]
-    P = m.fmu_parameters()
-    prm = GMSParameters.from_params(P)
+    prm = ctx.plant.friction
     base = ctx.stack(lambda q: q.F_f - prm.viscous(q.v))[:, 0]
     y = ctx.r + base
     C_now = float(m.parameters["friction.C"]) if on else np.inf
@@ -413,16 +408,10 @@ def current_dynamics(ctx: Context) -> list[Variant]:
     if not all(q.i is not None and q.force_source.startswith("no current measured: i =")
                for q in ctx.res):
         return []          # measured current, or F = gain * u: the loop is not in the residual
-    P = m.fmu_parameters()
-    P["effects.current_dynamics"] = True
-    Pm = m.parameters
+    loop = replace(ctx.plant.current, dynamics=True)
 
     def col(q):
-        from .signals import zoh_midpoint
-        i_dyn = zoh_midpoint(model_current(P, q.u))
-        kf = maps.force_constant(q.x, Pm, periodic=m.effects["ripple_periodic"],
-                                 aperiodic=m.effects["ripple_aperiodic"])
-        return kf * (i_dyn - q.i)
+        return ctx.plant.K_f(q.x) * (held_current(loop.current(q.u)) - q.i)
 
     Phi = -ctx.stack(col, mask_stuck=True)
     return [Variant("current_dynamics", "G(z) of the model file instead of G(1)", Phi,

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..model_file import ModelFile
+from ..physics import PlantParameters, compile
 from .residual import RunResidual
 
 #: Held-out blocks over all runs (contiguous pieces of each run).
@@ -33,8 +34,11 @@ class Context:
     block_bounds: list[tuple[int, int]] = field(init=False)
     #: per-context memo of expensive per-run signals (e.g. the GMS sliding share)
     cache: dict = field(init=False, default_factory=dict)
+    #: the model compiled (effect switches applied)
+    plant: PlantParameters = field(init=False)
 
     def __post_init__(self) -> None:
+        self.plant = compile(self.model)
         self.r = np.concatenate([q.r[q.valid] for q in self.res])
         self.run_id = np.concatenate([np.full(int(q.valid.sum()), j)
                                       for j, q in enumerate(self.res)])

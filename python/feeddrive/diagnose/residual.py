@@ -14,7 +14,7 @@ Eq. 1 evaluated on the measured trajectory::
   sidecar's ``force_gain``), else ``K_f(x) G(z) u`` with the model's current loop (static
   gain G(1) when ``current_dynamics`` is off).  Which one was used is recorded.
 - ``F_f`` is the model's friction along the measured motion: with ``prerolling`` on, the GMS
-  of ``feeddrive.control.gms`` driven by the measured position (quantised, not smoothed:
+  of ``feeddrive.physics.friction_gms`` driven by the measured position (quantised, not smoothed:
   smoothing moves x by fractions of a micrometre near reversals, which the 1.8e6 N/m
   pre-rolling stiffness turns into newtons) and the Savitzky-Golay velocity; with it off,
   Eq. 12 as a memoryless function of v plus Karnopp stiction: where |v| < ``v_stick`` and the
@@ -29,21 +29,17 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.signal import lfilter, savgol_filter
 
-from .. import maps
-from ..control.design_model import current_loop_polynomials
-from ..control.gms import GMSParameters, gms_force
 from ..data import Run
-from .signals import (apply_kernel, matched_acceleration, odd_window, run_label, sample_time,
-                      zoh_midpoint)
 from ..model_file import ModelFile
+from ..physics import (DEFAULT_V_STICK, PlantParameters, applied_force, compile,
+                       force_residual as eq1_residual, gms_force, held_current, karnopp_friction,
+                       measured_motion, run_load)
+from ..signals import apply_kernel, odd_window, run_label, sample_time
 
 #: Default Savitzky-Golay window [s] (41 samples at 0.5 ms) and polynomial order.
 DEFAULT_WINDOW_S = 0.02
 DEFAULT_POLYORDER = 3
-#: Below this speed [m/s] a memoryless (static) friction model treats the stage as stuck.
-DEFAULT_V_STICK = 2e-5
 
 
 @dataclass
@@ -95,52 +91,28 @@ def run_force_gain(run: Run, force_gain: float | None) -> float | None:
         raise ValueError(f"{run_label(run)}: meta['force_gain'] = {g!r} is not a number") from None
 
 
-def model_current(params: dict, u: np.ndarray) -> np.ndarray:
-    """i[k] of the model's current loop (Eq. 2, or G(1) u when current_dynamics is off)."""
-    num, den = current_loop_polynomials(params)
-    return lfilter(num, den, np.asarray(u, dtype=float))
-
-
-def motor_force(run: Run, model: ModelFile, x: np.ndarray, force_gain: float | None
+def motor_force(run: Run, P: PlantParameters, x: np.ndarray, force_gain: float | None
                 ) -> tuple[np.ndarray, np.ndarray | None, str]:
     """F_motor at the samples (midpoint of held values), the current used, and its source."""
-    p = model.fmu_parameters()
-    kf = maps.force_constant(x, p, periodic=model.effects["ripple_periodic"],
-                             aperiodic=model.effects["ripple_aperiodic"])
+    kf = P.K_f(x)
     if run.i is not None:
-        i = zoh_midpoint(run.i)
+        i = held_current(run.i)
         return kf * i, i, "measured current i, F = K_f(x) i"
     gain = run_force_gain(run, force_gain)
     if gain is not None:
-        return gain * zoh_midpoint(run.u), None, f"no current measured: F = {gain:g} N/V * u"
-    i = zoh_midpoint(model_current(p, run.u))
-    how = "G(z) u (model's current loop)" if model.effects["current_dynamics"] else \
+        return gain * held_current(run.u), None, f"no current measured: F = {gain:g} N/V * u"
+    i = held_current(P.current.current(run.u))
+    how = "G(z) u (model's current loop)" if P.current.dynamics else \
         "G(1) u (model's static current-loop gain)"
     return kf * i, i, f"no current measured: i = {how}, F = K_f(x) i"
 
 
-def model_friction(model: ModelFile, x: np.ndarray, v: np.ndarray, F_app: np.ndarray, Ts: float,
+def model_friction(P: PlantParameters, x: np.ndarray, v: np.ndarray, F_app: np.ndarray, Ts: float,
                    v_stick: float = DEFAULT_V_STICK) -> tuple[np.ndarray, np.ndarray]:
     """The model's friction along a motion and the static model's stuck mask."""
-    p = model.fmu_parameters()
-    prm = GMSParameters.from_params(p)
-    if model.effects["prerolling"]:
-        return gms_force(x, v, Ts, prm), np.zeros(len(x), dtype=bool)
-    F = prm.steady(v)
-    F_break = np.where(F_app < 0, prm.F_s + prm.dF, prm.F_s)
-    stuck = (np.abs(v) < v_stick) & (np.abs(F_app) < F_break)
-    return np.where(stuck, F_app, F), stuck
-
-
-def run_load_force(run: Run) -> np.ndarray:
-    """The external load per sample [N]: column F_load, else meta F_load/load/P, else 0."""
-    if run.F_load is not None:
-        return np.asarray(run.F_load, dtype=float)
-    meta = run.meta or {}
-    for key in ("F_load", "load", "P"):
-        if key in meta:
-            return np.full(run.n, float(meta[key]))
-    return np.zeros(run.n)
+    if P.prerolling:
+        return gms_force(x, v, Ts, P.friction), np.zeros(len(x), dtype=bool)
+    return karnopp_friction(v, F_app, P.friction, v_stick)
 
 
 def force_residual(run: Run, model: ModelFile, window: int | None = None,
@@ -163,19 +135,14 @@ def force_residual(run: Run, model: ModelFile, window: int | None = None,
         window = int(round(DEFAULT_WINDOW_S / Ts))
     w = odd_window(window, run.n)
     x_meas = np.asarray(run.x, dtype=float)
-    po = min(polyorder, w - 1)
     xs = x_meas
-    v = savgol_filter(x_meas, w, po, deriv=1, delta=Ts)
-    a, K = matched_acceleration(x_meas, Ts, w, po)
-    p = model.fmu_parameters()
-    F_motor, i, source = motor_force(run, model, xs, force_gain)
-    F_cg = maps.cogging(xs, p, periodic=model.effects["cogging_periodic"],
-                        aperiodic=model.effects["cogging_aperiodic"])
-    F_load = run_load_force(run)
-    offset = float(p["offset.F"]) if model.effects["offset_force"] else 0.0
-    F_app = F_motor - F_cg - F_load - offset
-    F_f, stuck = model_friction(model, xs, v, F_app, Ts, v_stick)
-    r = apply_kernel(F_app - F_f, K) - float(p["m"]) * a
+    v, a, K = measured_motion(x_meas, Ts, w, polyorder)
+    P = compile(model)
+    F_motor, i, source = motor_force(run, P, xs, force_gain)
+    F_load, _ = run_load(run)
+    F_app = applied_force(F_motor, P.F_cg(xs), F_load, P.F_offset)
+    F_f, stuck = model_friction(P, xs, v, F_app, Ts, v_stick)
+    r = eq1_residual(F_app, F_f, a, P.m, K)
     valid = np.isfinite(r)
     return RunResidual(name=run.name or label, Ts=Ts, K=K, time=np.asarray(run.time, float),
                        x=xs, v=v, a=a, i=i, F_motor=F_motor, F_app=F_app, F_f=F_f, stuck=stuck,

@@ -12,7 +12,10 @@ out of the fit too) and predicts the held-out block.  Statistics:
   samples, are the independent units; bounded, so that neither an effect that lives in a
   few regimes nor a block that holds almost no residual dominates the statistic).
 
-A candidate is *significant* when improvement >= ``I_MIN`` and t >= ``T_MIN``.
+A candidate is *significant* when improvement >= ``I_MIN`` and t >= ``T_MIN`` and the model
+it identifies passes the FMU's parameter rules (``feeddrive.physics.compile``, run by the
+ModelFile it builds); a refused one keeps its message in ``refused`` and its in-sample
+improvement is -inf, so that neither the ranking nor the polish can pick it.
 """
 from __future__ import annotations
 
@@ -21,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import nnls
 
+from ..model_file import ModelFileError
 from .candidates import Variant
 from .context import Context
 
@@ -42,10 +46,11 @@ class Score:
     theta: np.ndarray           #: fitted on all data
     r_fit: np.ndarray           #: residual after the all-data fit (stacked)
     r_heldout: np.ndarray       #: residual of the held-out predictions (stacked)
+    refused: str | None = None  #: why the identified model breaks a parameter rule
 
     @property
     def significant(self) -> bool:
-        return self.improvement >= I_MIN and self.t >= T_MIN
+        return self.refused is None and self.improvement >= I_MIN and self.t >= T_MIN
 
     @property
     def blocks_improved(self) -> int:
@@ -109,10 +114,22 @@ def score(ctx: Context, var: Variant) -> Score:
     sd = float(np.std(d, ddof=1)) if B > 1 else 0.0
     t = float(np.mean(d) / (sd / np.sqrt(B))) if sd > 0 else (np.inf if np.mean(d) > 0 else 0.0)
     tot = float(sb.sum())
+    refused = admissible(var, theta)
     return Score(variant=var, improvement=1.0 - float(sa.sum()) / tot if tot > 0 else 0.0,
                  t=t, sse_before=sb, sse_after=sa,
-                 improvement_in_sample=1.0 - float(r_fit @ r_fit) / float(r @ r),
-                 theta=theta, r_fit=r_fit, r_heldout=r_ho)
+                 improvement_in_sample=-np.inf if refused else
+                 1.0 - float(r_fit @ r_fit) / float(r @ r),
+                 theta=theta, r_fit=r_fit, r_heldout=r_ho, refused=refused)
+
+
+def admissible(var: Variant, theta: np.ndarray) -> str | None:
+    """None when the model ``var`` identifies with ``theta`` passes the FMU's rules, else the
+    message naming the parameter (e.g. friction.sigma2 = -7135 out of range)."""
+    try:
+        var.to_model(theta)
+    except ModelFileError as e:
+        return e.problem
+    return None
 
 
 def separable(best: Score, other: Score) -> bool:

@@ -24,8 +24,7 @@ from .position_maps import (MapFit, MapSamples, PositionMapsFit, fit_map, identi
                             map_samples)
 from .prerolling import (PrerollingFit, fit_knots, fit_weights, half_cycles, identify_prerolling,
                          maxwell_slip)
-from .stribeck import (StribeckFit, StribeckPoints, fit_stribeck, identify_stribeck,
-                       stribeck_model, stribeck_points)
+from .stribeck import StribeckFit, StribeckPoints, fit_stribeck, identify_stribeck, stribeck_points
 
 __all__ = [
     "AttractionFit", "fit_attraction", "identify_attraction", "simulate_lag",
@@ -35,6 +34,6 @@ __all__ = [
     "MapFit", "MapSamples", "PositionMapsFit", "fit_map", "identify_position_maps", "map_samples",
     "PrerollingFit", "fit_knots", "fit_weights", "half_cycles", "identify_prerolling",
     "maxwell_slip",
-    "StribeckFit", "StribeckPoints", "fit_stribeck", "identify_stribeck", "stribeck_model",
+    "StribeckFit", "StribeckPoints", "fit_stribeck", "identify_stribeck",
     "stribeck_points",
 ]

@@ -1,22 +1,16 @@
 """Signal helpers shared by the identification modules (private).
 
 Everything here works on plain arrays or on :class:`feeddrive.data.Run` objects and is in SI.
+The physics (Eq. 1 on measured data, maps, friction curves) is :mod:`feeddrive.physics`'s.
 """
 from __future__ import annotations
 
 import warnings
-from collections.abc import Callable, Mapping
-from typing import Union
 
 import numpy as np
-from scipy.signal import savgol_filter
 
-from .. import maps
 from ..data import Run
-from ..signals import apply_kernel, matched_acceleration, odd_window, run_label, sample_time  # noqa: F401
-
-#: A position map given either as FMU parameters (evaluated with feeddrive.maps) or a callable.
-MapSpec = Union[Mapping[str, float], Callable[[np.ndarray], np.ndarray]]
+from ..signals import odd_window, run_label
 
 
 def signal(run: Run, name: str) -> np.ndarray:
@@ -41,100 +35,6 @@ def current(run: Run, dc_gain: float | None = None) -> np.ndarray:
     warnings.warn(f"{run_label(run)}: no measured current, using i = {dc_gain:g} A/V * u "
                   "(static current-loop gain, current dynamics ignored)", stacklevel=3)
     return dc_gain * signal(run, "u")
-
-
-def run_load(run: Run) -> tuple[float, str]:
-    """The constant external load P [N] of a run and where it came from.
-
-    ``run.F_load`` (its mean) if present, else meta keys 'F_load', 'load' or 'P', else 0
-    (DATA.md: an absent F_load column means no load).
-    """
-    if getattr(run, "F_load", None) is not None:
-        return float(np.mean(run.F_load)), "column F_load"
-    meta = getattr(run, "meta", {}) or {}
-    for key in ("F_load", "load", "P"):
-        if key in meta:
-            try:
-                return float(meta[key]), f"meta[{key!r}]"
-            except (TypeError, ValueError):
-                raise ValueError(f"{run_label(run)}: meta[{key!r}] = {meta[key]!r} is not a number")
-    return 0.0, "absent (0)"
-
-
-def derivatives(x: np.ndarray, Ts: float, window: int, polyorder: int = 3
-                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Savitzky-Golay smoothed x, its first and second derivative (same window)."""
-    w = odd_window(window, len(x))
-    p = min(polyorder, w - 1)
-    xs = savgol_filter(x, w, p)
-    v = savgol_filter(x, w, p, deriv=1, delta=Ts)
-    a = savgol_filter(x, w, max(p, 2), deriv=2, delta=Ts)
-    return xs, v, a
-
-
-#: How a recorded current sample relates to the current acting on the stage.
-CURRENT_TIMINGS = ("held", "held_previous", "sampled")
-
-
-def effective_current(i: np.ndarray, timing: str = "held") -> np.ndarray:
-    """The current a central second difference of x sees at sample k.
-
-    For a current constant over each sample interval, x[k+1] - 2 x[k] + x[k-1] is set by
-    the mean of the currents of the two intervals around t_k.
-
-    - 'held': i[k] acts over [t_k, t_k+1) (the sampled current loop of Eq. 2):
-      (i[k-1] + i[k]) / 2.
-    - 'held_previous': i[k] is the current that acted over [t_k-1, t_k) (recorded one
-      sample late): (i[k] + i[k+1]) / 2.
-    - 'sampled': i is a continuous current sampled at t_k: i[k].
-    """
-    i = np.asarray(i, dtype=float)
-    out = i.copy()
-    if timing == "held":
-        out[1:] = 0.5 * (i[1:] + i[:-1])
-    elif timing == "held_previous":
-        out[:-1] = 0.5 * (i[:-1] + i[1:])
-    elif timing != "sampled":
-        raise ValueError(f"current_timing must be one of {CURRENT_TIMINGS}, got {timing!r}")
-    return out
-
-
-def eq1_terms(time: np.ndarray, x: np.ndarray, i: np.ndarray, force_constant: MapSpec,
-              cogging: MapSpec, F_load: np.ndarray | float = 0.0, window: int = 41,
-              current_timing: str = "held"
-              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, float]:
-    """The known terms of Eq. 1 along a run: (force, a, v, K, Ts) with
-    force = K_f(x) i - F_cg(x) - F_e (unsmoothed), a the Savitzky-Golay acceleration, K the
-    kernel that differentiator applies (:func:`matched_acceleration`); the current taken as
-    :func:`effective_current` with ``current_timing``."""
-    t = np.asarray(time, dtype=float)
-    x, i = np.asarray(x, dtype=float), np.asarray(i, dtype=float)
-    Ts = sample_time(t)
-    _, v, _ = derivatives(x, Ts, window)
-    a, K = matched_acceleration(x, Ts, window)
-    i_eff = effective_current(i, current_timing)
-    force = eval_map(force_constant, "ripple", x) * i_eff - eval_map(cogging, "cogging", x) \
-        - np.broadcast_to(np.asarray(F_load, dtype=float), x.shape)
-    return force, a, v, K, Ts
-
-
-def eq1_friction(time: np.ndarray, x: np.ndarray, i: np.ndarray, m: float,
-                 force_constant: MapSpec, cogging: MapSpec, F_load: np.ndarray | float = 0.0,
-                 window: int = 41, current_timing: str = "held"
-                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
-    """Friction force from Eq. 1, F_f = K_f(x) i - F_cg(x) - F_e - m a, smoothed with the
-    kernel of the acceleration estimate (:func:`eq1_terms`).
-    Returns (F_f, v, K, Ts); F_f is NaN within half a window of the ends.
-    """
-    force, a, v, K, Ts = eq1_terms(time, x, i, force_constant, cogging, F_load, window, current_timing)
-    return apply_kernel(force, K) - m * a, v, K, Ts
-
-
-def eval_map(spec: MapSpec, name: str, x: np.ndarray) -> np.ndarray:
-    """Evaluate K_f ('ripple') or F_cg ('cogging') at x from FMU parameters or a callable."""
-    if callable(spec):
-        return np.asarray(spec(np.asarray(x, dtype=float)), dtype=float)
-    return maps.evaluate(name, x, spec, clamp=True)
 
 
 def steady_segment(x: np.ndarray, Ts: float, window: int = 201, rel_tol: float = 0.25,

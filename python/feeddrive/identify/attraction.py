@@ -41,9 +41,9 @@ import numpy as np
 from scipy.optimize import least_squares, minimize_scalar
 
 from ..data import Run
-from ..friction_curves import stribeck_level
-from ._signals import (MapSpec, apply_kernel, current, eq1_friction, jacobian_stderr, run_label,
-                       signal)
+from ..physics import FrictionCurve, MapSpec, eq1_friction
+from ..signals import apply_kernel, run_label
+from ._signals import current, jacobian_stderr, signal
 
 
 @dataclass
@@ -66,12 +66,7 @@ class AttractionFit:
 
 def _level(v: np.ndarray, p: Mapping[str, float]) -> np.ndarray:
     """s(v) with the FMU's asymmetry applied for v < 0."""
-    dF = p.get("asymmetry.dF", 0.0)
-    fwd = stribeck_level(v, p["friction.F_s"], p["friction.F_c"], p["friction.V_s"],
-                         p["friction.delta"])
-    bwd = stribeck_level(v, p["friction.F_s"] + dF, p["friction.F_c"] + dF, p["friction.V_s"],
-                         p["friction.delta"])
-    return np.sign(v) * np.where(v < 0, bwd, fwd)
+    return FrictionCurve.from_params(p).sliding(v)
 
 
 def simulate_lag(s: np.ndarray, kappa: float, G0: float, Ts: float) -> np.ndarray:
@@ -122,8 +117,32 @@ def fit_attraction(time: np.ndarray, x: np.ndarray, i: np.ndarray, params: Mappi
     F_f, v, K, Ts = eq1_friction(time, x, i, params["m"], Kf, Fcg, F_load, window,
                                  current_timing)
     G = F_f - params["friction.sigma2"] * apply_kernel(v, K)
-    ok = np.isfinite(G)
-    # the longest stretch moving one way faster than v_min (standstill before/after is cut)
+    seg, use = _one_way_stretch(x, v, np.isfinite(G), v_min, x_skip)
+    s = _level(v, params)
+    C_ee, kap_ee = _equation_error(G[seg], s[seg], use[seg], Ts)
+    s_seg, G_seg = s[seg], G[seg]
+    mask = use[seg] & np.isfinite(apply_kernel(np.zeros_like(s_seg), K))
+    best = _output_error(s_seg, G_seg, mask, K, Ts)
+    kappa = float(best.x[0])
+    # residuals are filtered noise: correct the naive standard error by the kernel's
+    # correlation length 1 / sum(K^2)
+    se_k = float(jacobian_stderr(best.jac, best.fun)[0] / np.sqrt(np.sum(K**2)))
+    C, C_lower, C_upper, C_res, resolved, msg = _interval(kappa, se_k, z)
+    Gsim = simulate_lag(s_seg, kappa, best.x[1], Ts)
+    return AttractionFit(
+        parameters={"friction.C": float(C if resolved else C_lower)},
+        stderr={"friction.C": float(se_k / kappa**2) if kappa > 0 else np.inf, "kappa": se_k},
+        resolved=bool(resolved), C=float(C), C_interval=(float(C_lower), float(C_upper)),
+        C_lower=float(C_lower), C_resolvable_max=float(C_res), C_equation_error=C_ee,
+        C_equation_error_kappa=1.0 / kap_ee if kap_ee > 0 else np.inf, message=msg,
+        rms_residual=float(np.sqrt(np.mean(best.fun**2))), n_used=int(mask.sum()),
+        lag_rms=float(np.sqrt(np.mean((Gsim - s_seg)[mask] ** 2))) if resolved else 0.0)
+
+
+def _one_way_stretch(x: np.ndarray, v: np.ndarray, ok: np.ndarray, v_min: float, x_skip: float
+                     ) -> tuple[slice, np.ndarray]:
+    """The longest stretch moving one way faster than v_min (standstill before and after is
+    cut; it must hold half the valid samples) and the samples of it used (beyond x_skip)."""
     direction = np.sign(np.median(v[ok]))
     moving = ok & (v * direction >= v_min)
     edges = np.flatnonzero(np.diff(np.concatenate(([0], moving.astype(int), [0]))))
@@ -140,18 +159,22 @@ def fit_attraction(time: np.ndarray, x: np.ndarray, i: np.ndarray, params: Mappi
     use[seg] = np.abs(x[seg] - x[seg.start]) >= x_skip
     if use.sum() < 50:
         raise ValueError(f"attraction: only {int(use.sum())} usable samples")
-    s = _level(v, params)
-    # equation error (paper): dG/dt = C r, r = 1 - G/s
-    dG = np.gradient(G[seg], Ts)
-    r = 1.0 - G[seg] / s[seg]
-    u = use[seg] & np.isfinite(dG)
-    C_ee = float(r[u] @ dG[u] / (r[u] @ r[u]))
-    kap_ee = float(r[u] @ dG[u] / (dG[u] @ dG[u]))
-    # output error on the contiguous segment, the simulated G filtered like the data
-    s_seg, G_seg, use_seg = s[seg], G[seg], use[seg]
-    inner = np.isfinite(apply_kernel(np.zeros_like(s_seg), K))
-    mask = use_seg & inner
+    return seg, use
 
+
+def _equation_error(G: np.ndarray, s: np.ndarray, use: np.ndarray, Ts: float
+                    ) -> tuple[float, float]:
+    """The paper's equation error dG/dt = C r, r = 1 - G/s: C and the inverse fit's kappa."""
+    dG = np.gradient(G, Ts)
+    r = 1.0 - G / s
+    u = use & np.isfinite(dG)
+    return float(r[u] @ dG[u] / (r[u] @ r[u])), float(r[u] @ dG[u] / (dG[u] @ dG[u]))
+
+
+def _output_error(s_seg: np.ndarray, G_seg: np.ndarray, mask: np.ndarray, K: np.ndarray,
+                  Ts: float):
+    """Output-error fit of (kappa, G0) on the contiguous segment, the simulated G filtered like
+    the data: a profile scan over kappa, a bounded refinement, a final joint least squares."""
     rows = np.flatnonzero(mask)
 
     def profile(kappa: float) -> tuple[float, float]:
@@ -185,14 +208,15 @@ def fit_attraction(time: np.ndarray, x: np.ndarray, i: np.ndarray, params: Mappi
         Gs = apply_kernel(simulate_lag(s_seg, th[0], th[1], Ts), K)
         return (Gs - G_seg)[mask]
 
-    # final joint least squares (kappa, G0) for the Jacobian and standard error
-    best = least_squares(resid, [k_best, profile(k_best)[1]],
+    return least_squares(resid, [k_best, profile(k_best)[1]],
                          bounds=([0.0, -np.inf], [10.0, np.inf]),
                          x_scale=[max(k_best, 1e-6), 1.0], max_nfev=20)
-    kappa = float(best.x[0])
-    # residuals are filtered noise: correct the naive standard error by the kernel's
-    # correlation length 1 / sum(K^2)
-    se_k = float(jacobian_stderr(best.jac, best.fun)[0] / np.sqrt(np.sum(K**2)))
+
+
+def _interval(kappa: float, se_k: float, z: float
+              ) -> tuple[float, float, float, float, bool, str]:
+    """C, its interval from kappa +- z se, the largest resolvable C, whether C is resolved
+    (kappa - z se > 0), and the message saying so."""
     C = 1.0 / kappa if kappa > 0 else np.inf
     lo_k, hi_k = kappa - z * se_k, kappa + z * se_k
     C_lower = 1.0 / hi_k
@@ -204,15 +228,7 @@ def fit_attraction(time: np.ndarray, x: np.ndarray, i: np.ndarray, params: Mappi
     else:
         msg = (f"C >= {C_lower:.3g} N/s: frictional lag below resolution "
                f"(this run resolves C up to ~{C_res:.3g} N/s)")
-    Gsim = simulate_lag(s_seg, kappa, best.x[1], Ts)
-    return AttractionFit(
-        parameters={"friction.C": float(C if resolved else C_lower)},
-        stderr={"friction.C": float(se_k / kappa**2) if kappa > 0 else np.inf, "kappa": se_k},
-        resolved=bool(resolved), C=float(C), C_interval=(float(C_lower), float(C_upper)),
-        C_lower=float(C_lower), C_resolvable_max=float(C_res), C_equation_error=C_ee,
-        C_equation_error_kappa=1.0 / kap_ee if kap_ee > 0 else np.inf, message=msg,
-        rms_residual=float(np.sqrt(np.mean(best.fun**2))), n_used=int(mask.sum()),
-        lag_rms=float(np.sqrt(np.mean((Gsim - s_seg)[mask] ** 2))) if resolved else 0.0)
+    return C, C_lower, C_upper, C_res, bool(resolved), msg
 
 
 def identify_attraction(run: Run, params: Mapping[str, float], dc_gain: float | None = None,

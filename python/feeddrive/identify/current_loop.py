@@ -23,11 +23,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.optimize import least_squares
-from scipy.signal import lfilter, lfiltic
 
 from ..data import Run
 from ..harness.references import prbs  # noqa: F401  (re-exported by feeddrive.identify)
-from ._signals import jacobian_stderr, run_label, sample_time, signal
+from ..physics import simulate_current
+from ..signals import run_label, sample_time
+from ._signals import jacobian_stderr, signal
 
 MAX_LAG = 5         #: highest u lag the FMU holds (current.b[0..5])
 MAX_ORDER = 5       #: highest i lag the FMU holds (current.a[1..5])
@@ -91,31 +92,11 @@ def _theta_to_ab(theta: np.ndarray, n: int, d: int) -> tuple[np.ndarray, np.ndar
     return a, b
 
 
-def simulate(a: np.ndarray, b: np.ndarray, u: np.ndarray, i_init: np.ndarray | None = None,
-             u_init: np.ndarray | None = None) -> np.ndarray:
-    """Simulate i[k] = sum a_j i[k-j] + sum b_j u[k-j] (scipy.signal.lfilter).
-
-    ``i_init``/``u_init`` are the samples just before ``u[0]`` in time order (the last
-    entry is the one immediately before); missing history counts as zero.
-    """
-    den = np.concatenate(([1.0], -np.asarray(a, dtype=float)))
-    num = np.asarray(b, dtype=float)
-    if num.size == 0:
-        return np.zeros(len(u))
-    zi = None
-    if i_init is not None or u_init is not None:
-        yh = np.zeros(0) if i_init is None else np.asarray(i_init, dtype=float)[::-1]
-        xh = np.zeros(0) if u_init is None else np.asarray(u_init, dtype=float)[::-1]
-        zi = lfiltic(num, den, yh, xh)
-        return lfilter(num, den, u, zi=zi)[0]
-    return lfilter(num, den, u)
-
-
 def _sim_segment(a, b, u, i, k0: int, k1: int) -> np.ndarray:
     """Simulated output on samples k0..k1-1, started from the measured history."""
     h = max(len(a), len(b) - 1)
     lo = max(k0 - h, 0)
-    return simulate(a, b, u[k0:k1], i_init=i[lo:k0], u_init=u[lo:k0])
+    return simulate_current(a, b, u[k0:k1], i_init=i[lo:k0], u_init=u[lo:k0])
 
 
 def _output_error(u, i, n, d, theta0, k0, k1):

@@ -4,7 +4,7 @@
 
 v and a come from a Savitzky-Golay differentiator of the measured position; the force side
 is smoothed by the kernel that differentiator applies to the true acceleration (see
-``_signals.matched_acceleration``), so both sides see exactly the same averaging.  Samples
+``feeddrive.signals.matched_acceleration``), so both sides see exactly the same averaging.  Samples
 slower than ``v_min`` or within ``reversal_skip`` of travel after a reversal are left out
 (there pre-rolling and frictional lag make F_f a function of the history, not of v), and so
 is every sample whose filter window reaches one of them, and half a window at both ends.
@@ -21,9 +21,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..data import Run
-from ..friction_curves import steady_friction
-from ._signals import (MapSpec, apply_kernel, current, eq1_terms, lstsq_with_stderr, run_label,
-                       signal)
+from ..physics import FrictionCurve, MapSpec, eq1_terms
+from ..signals import apply_kernel, run_label
+from ._signals import current, lstsq_with_stderr, signal
 
 
 @dataclass
@@ -39,12 +39,7 @@ class MassFit:
 
 def steady_friction_from(params: Mapping[str, float], v: np.ndarray) -> np.ndarray:
     """Eq. 12 from FMU parameters, with asymmetry.dF / dsigma2 applied for v < 0."""
-    F_s, F_c = params["friction.F_s"], params["friction.F_c"]
-    V_s, d, s2 = params["friction.V_s"], params["friction.delta"], params["friction.sigma2"]
-    dF, ds2 = params.get("asymmetry.dF", 0.0), params.get("asymmetry.dsigma2", 0.0)
-    fwd = steady_friction(v, F_s, F_c, V_s, d, s2)
-    bwd = steady_friction(v, F_s + dF, F_c + dF, V_s, d, s2 + ds2)
-    return np.where(v < 0, bwd, fwd)
+    return FrictionCurve.from_params(params).steady(v)
 
 
 def fit_mass(time: np.ndarray, x: np.ndarray, i: np.ndarray, force_constant: MapSpec,
@@ -67,7 +62,7 @@ def fit_mass(time: np.ndarray, x: np.ndarray, i: np.ndarray, force_constant: Map
         make friction there a function of the history, not of v.
     current_timing : 'held' (i[k] acts over [t_k, t_k+1), Eq. 2), 'held_previous' (i[k]
         acted over [t_k-1, t_k): recorded one sample late) or 'sampled' (continuous current);
-        see ``_signals.effective_current``.  A one-sample error here biases m by ~1 % on a
+        see ``feeddrive.physics.held_current``.  A one-sample error here biases m by ~1 % on a
         square-wave run.
     fit_offset : also estimate a constant force offset.F, taken to act like F_load
         (m a = ... - F_load - offset.F).

@@ -32,7 +32,9 @@ import numpy as np
 from ..data import Run, load_runs
 from ..model_file import ModelFile, load_model, paper_model, save_model
 from ..paper import PAPER_EFFECTS
-from ._signals import run_label, run_load, sample_time, steady_segment
+from ..physics import CurrentLoop, run_load_mean
+from ..signals import run_label, sample_time
+from ._signals import steady_segment
 from .attraction import AttractionFit, identify_attraction
 from .current_loop import CurrentLoopFit, identify_current_loop
 from .mass import MassFit, identify_mass
@@ -102,7 +104,7 @@ def _speed(run: Run) -> float:
 def map_and_stribeck_runs(runs: Sequence[Run]) -> tuple[list[Run], list[Run]]:
     """Split constant-speed runs: those for the maps (every run at the speed of a loaded
     run, loaded or not) and those for the Stribeck curve (every unloaded run)."""
-    loads = [run_load(r)[0] for r in runs]
+    loads = [run_load_mean(r)[0] for r in runs]
     speeds = [_speed(r) for r in runs]
     loaded = [s for s, P in zip(speeds, loads) if abs(P) > LOAD_TOL]
     maps_runs = [r for r, s in zip(runs, speeds)
@@ -237,7 +239,7 @@ def identify_runs(runs: Sequence[Run], truth: ModelFile | Mapping[str, Any] | st
     truth : the model the runs came from (file, ModelFile or FMU parameters), for the table.
     name : the model's name.
     current_timing : how a recorded current sample relates to the force (see
-        ``_signals.effective_current``); 'held' is Eq. 2's i[k] at row k, as recorded by
+        ``feeddrive.physics.held_current``); 'held' is Eq. 2's i[k] at row k, as recorded by
         ``feeddrive.experiments``.
     prerolling_elements : N of the Maxwell-slip model.
     min_map_span : the maps are refused (ValueError) when the runs share a shorter stroke
@@ -245,35 +247,65 @@ def identify_runs(runs: Sequence[Run], truth: ModelFile | Mapping[str, Any] | st
     """
     groups = group_runs(runs)
     base = paper_model()
-    params: dict[str, Any] = dict(base.parameters)
-    identified: set[str] = set()
     res = IdentificationResult(model=base, groups=groups)
-
-    def take(p: Mapping[str, float]) -> None:
-        for k, v in p.items():
-            if k in params:
-                params[k] = v
-                identified.add(k)
-
+    acc = _Collected(dict(base.parameters))
     all_runs = [r for g in groups.values() for r in g]
     if not all_runs:
         raise ValueError("identify: no runs")
-    Ts = sample_time(all_runs[0].time, label=run_label(all_runs[0]))
-    params["Ts"] = Ts
-    identified.add("Ts")
+    acc.take({"Ts": sample_time(all_runs[0].time, label=run_label(all_runs[0]))})
+    dc_gain = _current_loop_step(res, groups, acc, all_runs)
+    _maps_and_stribeck_steps(res, groups, acc, dc_gain, min_map_span)
+    _mass_step(res, groups, acc, dc_gain, current_timing)
+    _attraction_step(res, groups, acc, dc_gain, current_timing)
+    _prerolling_step(res, groups, acc, dc_gain, current_timing, prerolling_elements)
+    params = acc.params
+    res.defaulted = tuple(k for k in params if k not in acc.identified)
+    desc = ("identified by feeddrive.identify.pipeline from " + ", ".join(
+        sorted({run_label(r) for r in all_runs})[:3]) + (" ..." if len(all_runs) > 3 else "")
+        + "; not identified (paper values): " + (_compress(res.defaulted) or "none"))
+    res.model = ModelFile(name=name, effects=dict(base.effects), parameters=params,
+                          description=desc)
+    res.truth = _as_model(truth)
+    if res.truth is not None:
+        res.table = truth_rows(res, res.truth)
+    return res
+
+
+@dataclass
+class _Collected:
+    """The model's parameters as the steps identify them (the paper's until then)."""
+
+    params: dict[str, Any]
+    identified: set[str] = field(default_factory=set)
+
+    def take(self, p: Mapping[str, float]) -> None:
+        for k, v in p.items():
+            if k in self.params:
+                self.params[k] = v
+                self.identified.add(k)
+
+
+def _current_loop_step(res: IdentificationResult, groups: dict, acc: _Collected,
+                       all_runs: list[Run]) -> float | None:
+    """Eq. 2 from the longest PRBS run; returns the DC gain runs without current use."""
     dc_gain = None
     if groups["prbs"]:
         prbs = max(groups["prbs"], key=lambda r: len(r.time))
         res.current_loop = _step("current loop", identify_current_loop, prbs)
-        take(res.current_loop.parameters)
+        acc.take(res.current_loop.parameters)
         dc_gain = res.current_loop.dc_gain
     else:
         res.skipped["current loop"] = "no PRBS run"
     if any(r.i is None for r in all_runs):
         if dc_gain is None:
-            dc_gain = float(sum(params[f"current.b[{j}]"] for j in range(6))
-                            / (1 - sum(params[f"current.a[{j}]"] for j in range(1, 6))))
+            dc_gain = CurrentLoop.from_parameters(acc.params).G1
         res.notes.append(f"runs without a current column use i = G(1) u, G(1) = {dc_gain:.4f} A/V")
+    return dc_gain
+
+
+def _maps_and_stribeck_steps(res: IdentificationResult, groups: dict, acc: _Collected,
+                             dc_gain: float | None, min_map_span: float) -> None:
+    """Eqs. 6-7 from the loaded constant-speed runs, then Eqs. 12-13 from the unloaded ones."""
     map_runs, strib_runs = map_and_stribeck_runs(groups["constant_speed"])
     if map_runs:
         res.maps = _step("position maps", identify_position_maps, map_runs, dc_gain=dc_gain)
@@ -284,50 +316,54 @@ def identify_runs(runs: Sequence[Run], truth: ModelFile | Mapping[str, Any] | st
                 f"{span * 1e3:.1f} mm of stroke; Eqs. 6-7 (a cubic and three harmonics of the "
                 f"37.5 mm pitch) need at least {min_map_span * 1e3:g} mm (min_map_span), "
                 "better the whole stroke")
-        take(res.maps.parameters)
+        acc.take(res.maps.parameters)
     else:
         res.skipped["position maps"] = "no loaded constant-speed runs"
     if len(strib_runs) >= 12:
-        res.stribeck = _step("Stribeck", identify_stribeck, strib_runs, params, params,
+        res.stribeck = _step("Stribeck", identify_stribeck, strib_runs, acc.params, acc.params,
                              dc_gain=dc_gain)
-        take(res.stribeck.parameters)
+        acc.take(res.stribeck.parameters)
     else:
         res.skipped["Stribeck"] = (f"{len(strib_runs)} unloaded constant-speed runs "
                                    "(Eq. 12 needs >= 6 speeds in both directions)")
+
+
+def _mass_step(res: IdentificationResult, groups: dict, acc: _Collected, dc_gain: float | None,
+               current_timing: str) -> None:
+    """m from the open-loop force run (friction known from the previous steps)."""
     if groups["force_open_loop"]:
         run = groups["force_open_loop"][0]
-        res.mass = _step("mass", identify_mass, run, params, params, friction=params,
+        res.mass = _step("mass", identify_mass, run, acc.params, acc.params, friction=acc.params,
                          dc_gain=dc_gain, current_timing=current_timing)
-        take({"m": res.mass.parameters["m"]})
+        acc.take({"m": res.mass.parameters["m"]})
     else:
         res.skipped["mass"] = "no open-loop force run"
+
+
+def _attraction_step(res: IdentificationResult, groups: dict, acc: _Collected,
+                     dc_gain: float | None, current_timing: str) -> None:
+    """C (Eq. 14) from the longest variable-speed run."""
     if groups["variable_speed"]:
         run = max(groups["variable_speed"], key=lambda r: len(r.time))
-        res.attraction = _step("attraction", identify_attraction, run, params, dc_gain=dc_gain,
-                               current_timing=current_timing)
-        take(res.attraction.parameters)
+        res.attraction = _step("attraction", identify_attraction, run, acc.params,
+                               dc_gain=dc_gain, current_timing=current_timing)
+        acc.take(res.attraction.parameters)
     else:
         res.skipped["attraction"] = "no variable-speed run"
+
+
+def _prerolling_step(res: IdentificationResult, groups: dict, acc: _Collected,
+                     dc_gain: float | None, current_timing: str, N: int) -> None:
+    """The Maxwell-slip elements from the largest and smallest periodic runs."""
     pr = sorted(groups["prerolling"], key=lambda r: np.ptp(r.x))
     if len(pr) >= 2:
-        res.prerolling = _step("pre-rolling", identify_prerolling, pr[-1], pr[0], params,
-                               N=prerolling_elements, current_timing=current_timing,
-                               dc_gain=dc_gain)
-        take(res.prerolling.parameters)
+        res.prerolling = _step("pre-rolling", identify_prerolling, pr[-1], pr[0], acc.params,
+                               N=N, current_timing=current_timing, dc_gain=dc_gain)
+        acc.take(res.prerolling.parameters)
         if len(pr) > 2:
             res.notes.append(f"pre-rolling: used the smallest and largest of {len(pr)} runs")
     else:
         res.skipped["pre-rolling"] = f"{len(pr)} periodic runs (a small and a large amplitude needed)"
-    res.defaulted = tuple(k for k in params if k not in identified)
-    desc = ("identified by feeddrive.identify.pipeline from " + ", ".join(
-        sorted({run_label(r) for r in all_runs})[:3]) + (" ..." if len(all_runs) > 3 else "")
-        + "; not identified (paper values): " + (_compress(res.defaulted) or "none"))
-    effects = dict(base.effects)
-    res.model = ModelFile(name=name, effects=effects, parameters=params, description=desc)
-    res.truth = _as_model(truth)
-    if res.truth is not None:
-        res.table = truth_rows(res, res.truth)
-    return res
 
 
 def identify_folder(runs_dir: str | Path, out: str | Path | None = None,

@@ -21,11 +21,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .. import maps
 from ..data import Run
 from ..paper import MAGNET_PITCH_MM, MM, N_HARMONICS
-from ._signals import (common_grid, current, lstsq_with_stderr, run_label, run_load, sample_time,
-                       signal, steady_segment, to_grid)
+from ..physics import position_maps as maps
+from ..physics import run_load_mean
+from ..signals import run_label, sample_time
+from ._signals import common_grid, current, lstsq_with_stderr, signal, steady_segment, to_grid
 
 PITCH = MAGNET_PITCH_MM * MM      #: magnet pitch, the fundamental wavelength [m]
 GRID_STEP = 1e-4                  #: the paper's position sampling L_s = 0.1 mm [m]
@@ -82,7 +83,7 @@ def _group_runs(runs: Sequence[Run], grid_step: float, method: str, window: int,
         seg, v = steady_segment(x, Ts, window=window, rel_tol=rel_tol, label=label)
         xs, is_ = x[seg], i[seg]
         keep = (xs >= xs.min() + trim) & (xs <= xs.max() - trim)
-        P, src = run_load(run)
+        P, src = run_load_mean(run)
         segs.append((label, xs[keep], is_[keep], v, P, src))
     # distinct loads (within load_tol)
     loads: list[float] = []
@@ -123,7 +124,7 @@ def map_samples(runs: Sequence[Run], grid_step: float = GRID_STEP, kf_method: st
     grid_step : grid spacing [m] (0.1 mm); grid points are integer multiples of it.
     kf_method : 'lstsq' or 'pairs' (see module docstring).
     resample : 'interp' (paper: linear interpolation) or 'bin' (mean per grid cell).
-    window, rel_tol : constant-speed detection (see ``_signals.steady_segment``).
+    window, rel_tol : constant-speed detection (see ``identify._signals.steady_segment``).
     trim : extra length dropped at both ends of each constant-speed segment [m].
     load_tol : loads closer than this [N] are the same load.
     dc_gain : for runs without a current column, i = dc_gain * u (DATA.md).

@@ -7,7 +7,7 @@ Delta_i = W_i / k_i; F_f = sum W_i Phi_i with Phi_i = u_i / Delta_i, u_i = x - z
 
 Procedure (two low-frequency periodic runs, a large and a small amplitude):
 
-1. friction along each run from Eq. 1 with known maps and mass (``_signals.eq1_friction``);
+1. friction along each run from Eq. 1 with known maps and mass (``feeddrive.physics.eq1_friction``);
 2. reversal points (scipy.signal.find_peaks on the position), displacement since reversal d,
    and the force change sgn * F (one free offset per half cycle), from the second reversal
    on (the first half cycle starts from an unknown state);
@@ -36,7 +36,9 @@ from scipy.signal import find_peaks
 
 from ..data import Run
 from ..paper import N_ELEMENTS_MAX
-from ._signals import MapSpec, current, eq1_friction, run_label, signal
+from ..physics import MapSpec, eq1_friction
+from ..signals import run_label
+from ._signals import current, signal
 
 
 def maxwell_slip(x: np.ndarray, Delta: Sequence[float], W: Sequence[float] | None = None,
@@ -282,7 +284,7 @@ def identify_prerolling(large: Run, small: Run, params: Mapping[str, float], N: 
         The small amplitude must exceed Delta_{N-1} and stay below Delta_N.
     params : FMU parameters: m, friction.F_s (and the maps unless given separately).
     N : number of elements (2..10).
-    window, current_timing : Eq. 1 friction (see ``_signals.eq1_friction``).
+    window, current_timing : Eq. 1 friction (see ``feeddrive.physics.eq1_friction``).
     start : 'reversal' (default): the model starts at reversal number ``skip_reversals``
         with every element strained in the direction of the motion before it.  After a full
         half cycle (travel 2A) that holds for every element with Delta_i <= A; the others
@@ -309,17 +311,42 @@ def identify_prerolling(large: Run, small: Run, params: Mapping[str, float], N: 
     Kf = force_constant if force_constant is not None else params
     Fcg = cogging if cogging is not None else params
     F_s = float(params["friction.F_s"])
-    data = {}
-    for tag, run in (("large", large), ("small", small)):
-        x = signal(run, "x")
-        F_load = run.F_load if run.F_load is not None else 0.0
-        F, _, _, _ = eq1_friction(run.time, x, current(run, dc_gain), params["m"], Kf, Fcg,
-                                  F_load, window, current_timing)
-        try:
-            hc = half_cycles(x, F, skip=skip_reversals)
-        except ValueError as e:
-            raise ValueError(f"{run_label(run)} ({tag} amplitude): {e}") from None
-        data[tag] = (run_label(run), x, F, hc)
+    use = {"both": ("large", "small"), "small": ("small",), "large": ("large",)}.get(fit_runs)
+    data = {tag: _run_friction(run, tag, params["m"], Kf, Fcg, window, current_timing,
+                               skip_reversals, dc_gain)
+            for tag, run in (("large", large), ("small", small))}
+    Delta, kl, ks = _element_travels(data, N, decimate, flat_fraction)
+    if use is None:
+        raise ValueError("pre-rolling: fit_runs must be 'both', 'small' or 'large', "
+                         f"got {fit_runs!r}")
+    segs = {tag: _model_segment(data[tag], tag, start, skip_reversals, phi0)
+            for tag in ("large", "small")}
+    W, offs = fit_weights([segs[t] for t in use], Delta, F_s, fit_offset=fit_offset)
+    nu, k = W / F_s, W / Delta
+    rms, curves, offsets = _fitted_curves(segs, use, offs, Delta, W, fit_offset)
+    return PrerollingFit(parameters=_element_parameters(N, nu, k, W), Delta=Delta, W=W, nu=nu,
+                         k=k, knots_small=ks, knots_large=kl, rms=rms,
+                         rms_relative=rms[use[0]] / F_s, offsets=offsets, curves=curves)
+
+
+def _run_friction(run: Run, tag: str, m: float, Kf: MapSpec, Fcg: MapSpec, window: int,
+                  current_timing: str, skip_reversals: int, dc_gain: float | None
+                  ) -> tuple[str, np.ndarray, np.ndarray, HalfCycles]:
+    """Step 1: the run's label, position, Eq. 1 friction and its half cycles."""
+    x = signal(run, "x")
+    F_load = run.F_load if run.F_load is not None else 0.0
+    F, _, _, _ = eq1_friction(run.time, x, current(run, dc_gain), m, Kf, Fcg, F_load, window,
+                              current_timing)
+    try:
+        hc = half_cycles(x, F, skip=skip_reversals)
+    except ValueError as e:
+        raise ValueError(f"{run_label(run)} ({tag} amplitude): {e}") from None
+    return run_label(run), x, F, hc
+
+
+def _element_travels(data: dict, N: int, decimate: int, flat_fraction: float):
+    """Steps 2-3: the knots of both amplitudes and the element travels Delta_1..N from them
+    (the small amplitude's N - 1 knots, the large one's end of pre-rolling)."""
     A_l, A_s = data["large"][3].amplitude, data["small"][3].amplitude
     if A_s >= A_l:
         raise ValueError(f"pre-rolling: the 'small' run's amplitude {A_s:g} m is not below the "
@@ -334,28 +361,30 @@ def identify_prerolling(large: Run, small: Run, params: Mapping[str, float], N: 
     if np.any(np.diff(Delta) <= 0):
         raise ValueError(f"pre-rolling: Delta not increasing ({Delta.tolist()} m): the small "
                          f"amplitude ({A_s:g} m) must exceed Delta_(N-1) and stay below Delta_N")
-    use = {"both": ("large", "small"), "small": ("small",), "large": ("large",)}.get(fit_runs)
-    if use is None:
-        raise ValueError("pre-rolling: fit_runs must be 'both', 'small' or 'large', "
-                         f"got {fit_runs!r}")
-    segs = {}
-    for tag in ("large", "small"):
-        _, x, F, hc = data[tag]
-        if start == "record":
-            segs[tag] = (x, F, phi0)
-        elif start == "reversal":
-            r0 = int(hc.reversals[skip_reversals])
-            before = int(hc.reversals[skip_reversals - 1]) if skip_reversals > 0 else 0
-            direction = float(np.sign(x[r0] - x[before]))     # of the motion into r0
-            if direction == 0:
-                raise ValueError(f"pre-rolling: no motion before reversal {skip_reversals} "
-                                 f"of the {tag} run")
-            segs[tag] = (x[r0:], F[r0:], direction)
-        else:
-            raise ValueError("pre-rolling: start must be 'reversal' or 'record', "
-                             f"got {start!r}")
-    W, offs = fit_weights([segs[t] for t in use], Delta, F_s, fit_offset=fit_offset)
-    nu, k = W / F_s, W / Delta
+    return Delta, kl, ks
+
+
+def _model_segment(run_data: tuple, tag: str, start: str, skip_reversals: int,
+                   phi0: float | Sequence[float]) -> tuple[np.ndarray, np.ndarray, object]:
+    """Step 4: where the Maxwell-slip model starts on a run, (x, F, initial state)."""
+    _, x, F, hc = run_data
+    if start == "record":
+        return x, F, phi0
+    if start != "reversal":
+        raise ValueError("pre-rolling: start must be 'reversal' or 'record', "
+                         f"got {start!r}")
+    r0 = int(hc.reversals[skip_reversals])
+    before = int(hc.reversals[skip_reversals - 1]) if skip_reversals > 0 else 0
+    direction = float(np.sign(x[r0] - x[before]))     # of the motion into r0
+    if direction == 0:
+        raise ValueError(f"pre-rolling: no motion before reversal {skip_reversals} "
+                         f"of the {tag} run")
+    return x[r0:], F[r0:], direction
+
+
+def _fitted_curves(segs: dict, use: tuple[str, ...], offs, Delta: np.ndarray, W: np.ndarray,
+                   fit_offset: bool) -> tuple[dict, dict, dict]:
+    """Step 6: the model along each run with its offset, the rms misfit and the curves."""
     rms, curves, offsets = {}, {}, {}
     for tag in ("large", "small"):
         x, F, p0 = segs[tag]
@@ -368,11 +397,14 @@ def identify_prerolling(large: Run, small: Run, params: Mapping[str, float], N: 
         rms[tag] = float(np.sqrt(np.mean((F[ok] - model[ok] - off) ** 2)))
         curves[tag] = (x[ok], F[ok], model[ok] + off)
         offsets[tag] = float(off)
+    return rms, curves, offsets
+
+
+def _element_parameters(N: int, nu: np.ndarray, k: np.ndarray, W: np.ndarray) -> dict[str, float]:
+    """The FMU parameters of the elements (unused slots at the FMU's defaults)."""
     params_out: dict[str, float] = {"friction.N": N}
     for j in range(1, N_ELEMENTS_MAX + 1):
         params_out[f"friction.nu[{j}]"] = float(nu[j - 1]) if j <= N else 0.0
         # an element with W_i = 0 is inert whatever k_i: give it the FMU's unused-slot value
         params_out[f"friction.k[{j}]"] = float(k[j - 1]) if j <= N and W[j - 1] > 0 else 1.0e5
-    return PrerollingFit(parameters=params_out, Delta=Delta, W=W, nu=nu, k=k, knots_small=ks,
-                         knots_large=kl, rms=rms, rms_relative=rms[use[0]] / F_s,
-                         offsets=offsets, curves=curves)
+    return params_out

@@ -24,8 +24,10 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from ..data import Run
-from ._signals import (MapSpec, common_grid, current, eval_map, jacobian_stderr, lstsq_with_stderr,
-                       run_label, run_load, sample_time, signal, steady_segment, to_grid)
+from ..physics import MapSpec, eval_map, run_load_mean, steady_friction
+from ..signals import run_label, sample_time
+from ._signals import (common_grid, current, jacobian_stderr, lstsq_with_stderr, signal,
+                       steady_segment, to_grid)
 from .position_maps import GRID_STEP
 
 NAMES = ("friction.F_s", "friction.F_c", "friction.V_s", "friction.delta", "friction.sigma2")
@@ -54,15 +56,8 @@ class StribeckFit:
     def curve(self, v: np.ndarray) -> np.ndarray:
         """The fitted steady friction (Eq. 12) at v [m/s]."""
         p = self.parameters
-        return stribeck_model(np.asarray(v, dtype=float), p["friction.F_s"], p["friction.F_c"],
+        return steady_friction(np.asarray(v, dtype=float), p["friction.F_s"], p["friction.F_c"],
                               p["friction.V_s"], p["friction.delta"], p["friction.sigma2"])
-
-
-def stribeck_model(v: np.ndarray, F_s: float, F_c: float, V_s: float, delta: float,
-                   sigma2: float) -> np.ndarray:
-    """Eq. 12 (odd in v; 0 at v = 0)."""
-    v = np.asarray(v, dtype=float)
-    return np.sign(v) * (F_c + (F_s - F_c) * np.exp(-np.abs(v / V_s) ** delta)) + sigma2 * v
 
 
 def _pair_runs(runs: Sequence[Run], window: int, rel_tol: float, speed_tol: float,
@@ -74,7 +69,7 @@ def _pair_runs(runs: Sequence[Run], window: int, rel_tol: float, speed_tol: floa
         x, i = signal(run, "x"), current(run, dc_gain)
         w = min(window, max(len(x) // 20, 5))
         seg, v = steady_segment(x, Ts, window=w, rel_tol=rel_tol, label=label)
-        items.append((label, x[seg], i[seg], v, run_load(run)[0]))
+        items.append((label, x[seg], i[seg], v, run_load_mean(run)[0]))
     fw = sorted([it for it in items if it[3] > 0], key=lambda it: it[3])
     bw = sorted([it for it in items if it[3] < 0], key=lambda it: -it[3])
     pairs = []
@@ -150,7 +145,7 @@ def fit_stribeck(speed: np.ndarray, friction: np.ndarray,
     Fs0 = max(F[np.argmin(v)], Fc0 * 1.01)
 
     def resid(th):
-        return w * (stribeck_model(v, *th) - F)
+        return w * (steady_friction(v, *th) - F)
 
     lb = [0.0, 0.0, v.min() * 1e-3, 0.05, 0.0]
     ub = [np.inf, np.inf, v.max() * 10, 10.0, np.inf]
@@ -163,7 +158,7 @@ def fit_stribeck(speed: np.ndarray, friction: np.ndarray,
                 best = sol
     se = jacobian_stderr(best.jac, best.fun)
     params = {n: float(t) for n, t in zip(NAMES, best.x)}
-    return params, {n: float(s) for n, s in zip(NAMES, se)}, stribeck_model(v, *best.x) - F
+    return params, {n: float(s) for n, s in zip(NAMES, se)}, steady_friction(v, *best.x) - F
 
 
 def identify_stribeck(runs: Sequence[Run], force_constant: MapSpec,

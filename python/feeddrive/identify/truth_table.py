@@ -31,7 +31,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .. import maps
+from ..physics import compile
+from ..physics import position_maps as maps
 from .prerolling import maxwell_slip
 
 if TYPE_CHECKING:
@@ -140,7 +141,7 @@ def truth_rows(res: IdentificationResult, truth: ModelFile) -> list[TruthRow]:
             rows.append(_rel(k, unit, t[k], p[k], REL_TOL[k]))
         if res.stribeck.asymmetry is not None:
             a = res.stribeck.asymmetry
-            t_dF = t["asymmetry.dF"] if truth.effects.get("asymmetric_friction") else 0.0
+            t_dF = compile(truth).friction.dF
             rows.append(TruthRow("asymmetry.dF (diagnostic)", "N", t_dF, a["asymmetry.dF"],
                                  a["asymmetry.dF"] - t_dF, "absolute", float("nan"), None))
     if res.mass is not None:

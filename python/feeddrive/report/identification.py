@@ -32,17 +32,15 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.ticker import NullFormatter, ScalarFormatter
 
-from .. import maps
 from ..data import Run
-from ..friction_curves import stribeck_level
-from ..identify._signals import eq1_friction
 from ..identify.attraction import _level, simulate_lag
-from ..identify.current_loop import simulate
 from ..identify.dstft import DSTFT, dstft
 from ..identify.pipeline import IdentificationResult, identify_folder, identify_runs
 from ..identify.sec4_check import REVERSAL_TOL, Sec4Comparison, compare_sec4
 from ..identify.truth_table import elements
 from ..model_file import save_model
+from ..physics import eq1_friction, simulate_current, stribeck_level
+from ..physics import position_maps as maps
 from .page import Page
 
 MM = 1e3            #: m -> mm for axes
@@ -228,7 +226,7 @@ def fig_current_loop(res: IdentificationResult, seconds: float = 0.1) -> plt.Fig
     c = _need(res, "current_loop", "current loop")
     run = max(res.groups["prbs"], key=lambda r: len(r.time))
     u, i = np.asarray(run.u, float), np.asarray(run.i, float)
-    i_sim = simulate(c.a, c.b, u)
+    i_sim = simulate_current(c.a, c.b, u)
     t = np.asarray(run.time, float)
     k0 = int((run.meta or {}).get("prbs_start", 0))
     sl = slice(k0, min(len(t), k0 + int(seconds / c.Ts)))

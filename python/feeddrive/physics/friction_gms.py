@@ -1,5 +1,7 @@
 """Generalized Maxwell-Slip friction (MODEL.md Eqs. 8-12) driven by a given motion.
 
+C twin: fmu_src/friction_gms.c (the FMU integrates the same hybrid model with events).
+
     F_f = sum_i F_i + sigma2(v) v
     stuck:    dF_i/dt = k_i v              until sgn(F_i) = sgn(v) and |F_i| >= nu_i S(|v|)
     slipping: dF_i/dt = (C/S)(nu_i s(v) - F_i)   until v crosses zero (then every slipping
@@ -29,7 +31,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..friction_curves import stribeck_level
+from .friction_curves import FrictionCurve
 
 
 @dataclass(frozen=True)
@@ -48,33 +50,38 @@ class GMSParameters:
     dsigma2: float = 0.0
 
     def __post_init__(self) -> None:
-        if len(self.nu) != len(self.k) or len(self.nu) == 0:
-            raise ValueError("gms.py: nu and k must have the same, non-zero length")
-        if min(self.k) <= 0 or min(self.nu) < 0:
-            raise ValueError("gms.py: need k_i > 0 and nu_i >= 0")
+        if len(self.nu) != len(self.k):
+            raise ValueError("friction_gms.py: nu and k must have the same length")
+        if self.k and (min(self.k) <= 0 or min(self.nu) < 0):
+            raise ValueError("friction_gms.py: need k_i > 0 and nu_i >= 0")
         if not (self.C > 0) or not (self.V_s > 0) or not (self.delta > 0):
-            raise ValueError("gms.py: need C > 0 (inf allowed), V_s > 0, delta > 0")
+            raise ValueError("friction_gms.py: need C > 0 (inf allowed), V_s > 0, delta > 0")
 
     @classmethod
     def from_params(cls, params: Mapping[str, float], apply_effects: bool = True
                     ) -> "GMSParameters":
-        """From FMU-named parameters (``friction.*``, ``asymmetry.*``).
+        """From FMU-named parameters (``friction.*``, ``asymmetry.*``); the friction part of
+        :func:`feeddrive.physics.params.compile`, which validates them first.
 
-        With ``apply_effects`` the ``effects.<id>`` switches act as in the FMU: ``stribeck``
-        off sets F_s = F_c (per side), ``viscous`` off sets sigma2 = dsigma2 = 0,
-        ``frictional_lag`` off sets C = inf, ``asymmetric_friction`` off sets dF = dsigma2 = 0.
+        The elements are those fmu_src/params.c makes active: i <= friction.N with nu_i > 0.
+        With ``apply_effects`` the ``effects.<id>`` switches act once, here: ``stribeck`` off
+        sets F_s = F_c (the Coulomb level of EFFECTS.md), ``viscous`` off sets sigma2 =
+        dsigma2 = 0, ``frictional_lag`` off sets C = inf, ``asymmetric_friction`` off sets
+        dF = dsigma2 = 0.
         """
         try:
             N = int(params["friction.N"])
+            nu = [float(params[f"friction.nu[{j}]"]) for j in range(1, N + 1)]
+            k = [float(params[f"friction.k[{j}]"]) for j in range(1, N + 1)]
+            keep = [j for j in range(N) if nu[j] > 0.0]
             p = cls(F_s=float(params["friction.F_s"]), F_c=float(params["friction.F_c"]),
                     V_s=float(params["friction.V_s"]), delta=float(params["friction.delta"]),
                     sigma2=float(params["friction.sigma2"]), C=float(params["friction.C"]),
-                    nu=tuple(float(params[f"friction.nu[{j}]"]) for j in range(1, N + 1)),
-                    k=tuple(float(params[f"friction.k[{j}]"]) for j in range(1, N + 1)),
+                    nu=tuple(nu[j] for j in keep), k=tuple(k[j] for j in keep),
                     dF=float(params.get("asymmetry.dF", 0.0)),
                     dsigma2=float(params.get("asymmetry.dsigma2", 0.0)))
         except KeyError as e:
-            raise KeyError(f"gms.py: parameter {e.args[0]!r} missing") from None
+            raise KeyError(f"friction_gms.py: parameter {e.args[0]!r} missing") from None
         if not apply_effects:
             return p
         on = lambda e: bool(params.get(f"effects.{e}", True))  # noqa: E731
@@ -88,21 +95,53 @@ class GMSParameters:
             p = replace(p, C=np.inf)
         return p
 
+    def break_away(self, F: ArrayLike) -> np.ndarray:
+        """The static level F_s of the side of the force F (F < 0: F_s + dF) [N]."""
+        return np.where(np.asarray(F, dtype=float) < 0, self.F_s + self.dF, self.F_s)
+
+    @property
+    def curve(self) -> FrictionCurve:
+        """The steady friction curve of these parameters (both sides)."""
+        return FrictionCurve(self.F_s, self.F_c, self.V_s, self.delta, self.sigma2, self.dF,
+                             self.dsigma2)
+
     def level(self, v: ArrayLike) -> np.ndarray:
         """S(|v|) of the side of v (v < 0: levels raised by dF) [N]; S(0) = F_s."""
-        v = np.asarray(v, dtype=float)
-        neg = v < 0
-        return stribeck_level(v, self.F_s + self.dF * neg, self.F_c + self.dF * neg,
-                              self.V_s, self.delta)
+        return self.curve.level(v)
 
     def viscous(self, v: ArrayLike) -> np.ndarray:
         """sigma2 v, with sigma2 + dsigma2 for v < 0 [N]."""
-        v = np.asarray(v, dtype=float)
-        return (self.sigma2 + self.dsigma2 * (v < 0)) * v
+        return self.curve.viscous(v)
 
     def steady(self, v: ArrayLike) -> np.ndarray:
         """Steady sliding friction s(v) + sigma2 v (Eq. 12) [N]; 0 at v = 0."""
-        return np.sign(v) * self.level(v) + self.viscous(v)
+        return self.curve.steady(v)
+
+
+def element_forces(prm: GMSParameters, v: float, F: ArrayLike, slipping: ArrayLike,
+                   direction: int) -> np.ndarray:
+    """The element forces in a hybrid state (friction_gms.c ``gms_element_forces``): a stuck
+    element's force is its state F_i; a slipping one's is F_i with ``frictional_lag`` on
+    (C finite), else nu_i ``direction`` S(|v|) [N]."""
+    F = np.asarray(F, dtype=float)
+    slip = np.asarray(slipping, dtype=bool)
+    if np.isinf(prm.C):
+        S = float(prm.level(abs(v) if direction >= 0 else -abs(v)))
+        return np.where(slip, np.asarray(prm.nu) * direction * S, F)
+    return F.copy()
+
+
+def element_rates(prm: GMSParameters, v: float, F: ArrayLike, slipping: ArrayLike,
+                  direction: int) -> np.ndarray:
+    """dF_i/dt in a hybrid state (``gms_derivatives``): k_i v when stuck; slipping with
+    frictional lag, (C / S)(nu_i direction S - F_i); without it 0 [N/s]."""
+    F = np.asarray(F, dtype=float)
+    slip = np.asarray(slipping, dtype=bool)
+    stuck_rate = np.asarray(prm.k) * v
+    if np.isinf(prm.C):
+        return np.where(slip, 0.0, stuck_rate)
+    S = float(prm.level(abs(v) if direction >= 0 else -abs(v)))
+    return np.where(slip, prm.C / S * (np.asarray(prm.nu) * direction * S - F), stuck_rate)
 
 
 def _pieces(x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters, last_dir: float
@@ -194,7 +233,7 @@ def gms_force(x: ArrayLike, v: ArrayLike, dt: float, params: GMSParameters | Map
     x = np.asarray(x, dtype=float)
     v = np.asarray(v, dtype=float)
     if x.shape != v.shape or x.ndim != 1 or x.size < 1:
-        raise ValueError("gms.py: x and v must be 1-D arrays of the same non-zero length")
+        raise ValueError("friction_gms.py: x and v must be 1-D arrays of the same non-zero length")
     N = len(prm.nu)
     F_init = np.zeros(N) if F0 is None else np.asarray(F0, dtype=float).reshape(N)
     Fe = np.empty((len(x), N))
@@ -244,8 +283,7 @@ class GMSFriction:
         dxs, dirs, Ss, decs, revs = [], [], [], [], []
         for pdx, sv, speed, tau in parts:
             d = 1.0 if sv > 0 else (-1.0 if sv < 0 else 0.0)
-            side = prm.dF if d < 0 else 0.0
-            S = prm.F_c + side + (prm.F_s - prm.F_c) * math.exp(-(speed / prm.V_s) ** prm.delta)
+            S = float(prm.level(speed if d >= 0 else -speed))
             dxs.append(pdx)
             dirs.append(d)
             Ss.append(S)

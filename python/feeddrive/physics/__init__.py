@@ -1,0 +1,29 @@
+"""The plant's physics in Python, one concept per module, named as the C files of fmu_src/:
+
+- :mod:`.params` (params.c): :func:`compile` -> :class:`PlantParameters`, the rules and
+  messages of the FMU (:class:`ParameterError`);
+- :mod:`.position_maps` (position_maps.c): K_f(x), F_cg(x) (Eqs. 6-7);
+- :mod:`.friction_curves` (``friction_level`` of friction_gms.c): Stribeck curve, Eq. 12;
+- :mod:`.friction_gms` (friction_gms.c): the GMS along a motion (Eqs. 8-11);
+- :mod:`.friction_static` (friction_static.c): Eq. 12 with Karnopp stiction;
+- :mod:`.current_loop` (current_loop.c): G(z) of Eq. 2;
+- :mod:`.plant` (plant.c): Eq. 1 on measured data (held current, run load, residual).
+
+Identification, diagnosis and feedforward use only this package.
+"""
+from .current_loop import (CurrentLoop, current_loop_dc_gain, current_loop_polynomials,
+                           simulate_current)
+from .friction_curves import FrictionCurve, steady_friction, stribeck_drop, stribeck_level
+from .friction_gms import GMSFriction, GMSParameters, element_forces, element_rates, gms_force
+from .friction_static import DEFAULT_V_STICK, karnopp_friction
+from .params import ParameterError, PlantParameters, check_value, compile, parameter_values
+from .plant import (CURRENT_TIMINGS, applied_force, eq1_friction, eq1_terms, force_residual,
+                    held_current, measured_motion, run_load, run_load_mean)
+from .position_maps import MapSpec, PositionMap, eval_map
+
+__all__ = ["CurrentLoop", "current_loop_dc_gain", "current_loop_polynomials", "simulate_current", "FrictionCurve", "steady_friction",
+           "stribeck_drop", "stribeck_level", "GMSFriction", "GMSParameters", "element_forces", "element_rates", "gms_force",
+           "DEFAULT_V_STICK", "karnopp_friction", "ParameterError", "PlantParameters",
+           "check_value", "compile", "parameter_values", "CURRENT_TIMINGS", "applied_force",
+           "eq1_friction", "eq1_terms", "force_residual", "held_current", "measured_motion",
+           "run_load", "run_load_mean", "MapSpec", "PositionMap", "eval_map"]

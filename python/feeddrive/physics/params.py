@@ -1,0 +1,234 @@
+"""Compile FMU-named parameters into typed, frozen plant parameters, with the rules and
+messages of fmu_src/params.c.
+
+:func:`compile` takes a model (anything with ``fmu_parameters()``, e.g. a
+:class:`feeddrive.model_file.ModelFile`) or a mapping of FMU parameter names to values
+(missing names keep the FMU's defaults, the paper's values, as an FMU instance does), checks
+every rule of params.c in its order and applies the effect switches once:
+
+- single values (``plant_check_value``; the FMU checks them on fmi2Set*, logging
+  ``"fmi2SetReal: " + message``): every parameter finite; m, Ts, F_s, V_s, delta, C, k_i,
+  lambda_j in (0, inf); F_c, sigma2 in [0, inf); nu_i in [0, 1]; N in [1, 10];
+- the compiled set (``plant_params_compile``; the FMU checks it when initialisation ends or a
+  tunable changes, logging the message itself): sum(current.a) != 1, x_max > x_min,
+  F_c <= F_s, with asymmetry the levels and viscous coefficient for v < 0 non-negative,
+  N an integer, with pre-rolling |sum(nu_1..N) - 1| <= 1e-3.
+
+A broken rule raises :class:`ParameterError` whose message is the FMU's, byte for byte.
+"""
+from __future__ import annotations
+
+import math
+import types
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any, Protocol
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..paper import N_ELEMENTS_MAX, paper_parameters
+from .current_loop import CurrentLoop
+from .friction_gms import GMSParameters
+from .position_maps import MAP_EFFECTS, PositionMap
+
+#: |sum(nu_i) - 1| allowed (params.c SUM_NU_TOL).
+SUM_NU_TOL = 1e-3
+#: FMU parameters of the integrator, not of the plant (checked for finiteness only).
+SOLVER_PARAMETERS = ("solver.tol",)
+#: |1 - sum(current.a)| below which the current loop has a pole at z = 1.
+POLE_TOL = 1e-9
+
+
+class ParameterError(ValueError):
+    """A parameter set the FMU refuses; the message is the one the FMU logs."""
+
+
+class HasFmuParameters(Protocol):
+    def fmu_parameters(self) -> Mapping[str, Any]: ...
+
+
+def _unit(name: str) -> str:
+    """The unit of parameter ``name`` as modelDescription.xml declares it ('' for none)."""
+    fixed = {"m": "kg", "Ts": "s", "friction.F_s": "N", "friction.F_c": "N",
+             "friction.V_s": "m/s", "friction.delta": "1", "friction.sigma2": "N.s/m",
+             "friction.C": "N/s", "friction.N": "", "offset.F": "N", "asymmetry.dF": "N",
+             "asymmetry.dsigma2": "N.s/m", "stroke.x_min": "m", "stroke.x_max": "m",
+             "solver.tol": "1"}
+    if name in fixed:
+        return fixed[name]
+    base = name.split("[")[0]
+    if base == "current.a" or base == "friction.nu":
+        return "1"
+    if base == "current.b":
+        return "A/V"
+    if base == "friction.k":
+        return "N/m"
+    if base.endswith(".lambda"):
+        return "m"
+    if base == "cogging.c":
+        return ("N", "N/m", "N/m2", "N/m3")[int(name[10])]
+    if base == "ripple.c":
+        return ("N/A", "N/(A.m)", "N/(A.m2)")[int(name[9])]
+    if base in ("cogging.a", "cogging.b"):
+        return "N"
+    if base in ("ripple.a", "ripple.b"):
+        return "N/A"
+    return ""
+
+
+# range rules: (lo, lo_open, hi, hi_open), as params.c range_of
+_POS = (0.0, True, math.inf, True)
+_NONNEG = (0.0, False, math.inf, True)
+_UNIT = (0.0, False, 1.0, False)
+_NEL = (1.0, False, float(N_ELEMENTS_MAX), False)
+
+
+def _range_of(name: str) -> tuple[float, bool, float, bool] | None:
+    if name in ("m", "Ts", "friction.F_s", "friction.V_s", "friction.delta", "friction.C"):
+        return _POS
+    if name in ("friction.F_c", "friction.sigma2"):
+        return _NONNEG
+    if name == "friction.N":
+        return _NEL
+    base = name.split("[")[0]
+    if base == "friction.nu":
+        return _UNIT
+    if base in ("friction.k", "cogging.lambda", "ripple.lambda"):
+        return _POS
+    return None
+
+
+def _num(v: float) -> str:
+    """params.c num(): %.15g when it reads back exactly, else %.17g."""
+    s = "%.15g" % v
+    return s if float(s) == v else "%.17g" % v
+
+
+def _g(v: float) -> str:
+    """C's %g of a non-finite double (glibc prints the sign of a NaN)."""
+    if math.isnan(v):
+        return "-nan" if math.copysign(1.0, v) < 0 else "nan"
+    return "%g" % v
+
+
+def check_value(name: str, value: float) -> None:
+    """One parameter alone (params.c ``plant_check_value``); ParameterError if refused."""
+    v = float(value)
+    unit = _unit(name)
+    if not math.isfinite(v):
+        raise ParameterError(f"{name} = {_g(v)} is not a finite number: allowed values are "
+                             f"finite{' [' + unit + ']' if unit else ''}")
+    r = _range_of(name)
+    if r is None:
+        return
+    lo, lo_open, hi, hi_open = r
+    if (v <= lo if lo_open else v < lo) or (v >= hi if hi_open else v > hi):
+        los = "-inf" if math.isinf(lo) else _num(lo)
+        his = "inf" if math.isinf(hi) else _num(hi)
+        rs = f"{'(' if lo_open else '['}{los}, {his}{')' if hi_open else ']'}"
+        raise ParameterError(f"{name} = {_num(v)} is out of range: allowed {rs} {unit}")
+
+
+@dataclass(frozen=True)
+class PlantParameters:
+    """The plant's parameters with the effect switches applied (SI), as params.c's
+    ``plant_params_t``.
+
+    ``friction`` holds the GMS elements i <= N with nu_i > 0; with ``prerolling`` off the
+    plant uses the static friction of :mod:`.friction_static` with the same levels.
+    ``values`` are every FMU parameter by name (as given, switches included).
+    """
+
+    m: float
+    Ts: float
+    current: CurrentLoop
+    cogging: PositionMap
+    ripple: PositionMap
+    x_min: float
+    x_max: float
+    friction: GMSParameters
+    prerolling: bool
+    F_offset: float
+    values: Mapping[str, Any]
+
+    def K_f(self, x: ArrayLike) -> np.ndarray:
+        """K_f(x) [N/A] at x clamped to the stroke (Eq. 7, plant.c)."""
+        return self.ripple(np.clip(np.asarray(x, dtype=float), self.x_min, self.x_max))
+
+    def F_cg(self, x: ArrayLike) -> np.ndarray:
+        """F_cg(x) [N] at x clamped to the stroke (Eq. 6, plant.c)."""
+        return self.cogging(np.clip(np.asarray(x, dtype=float), self.x_min, self.x_max))
+
+
+def parameter_values(model: HasFmuParameters | Mapping[str, Any]) -> dict[str, Any]:
+    """Every FMU parameter by name: the FMU's defaults (the paper's) updated with ``model``'s."""
+    given = model.fmu_parameters() if hasattr(model, "fmu_parameters") else model
+    values: dict[str, Any] = paper_parameters()
+    values.update(given)
+    return values
+
+
+def _check_compiled(val: Mapping[str, Any]) -> None:
+    """The rules of plant_params_compile on the whole set, in its order."""
+    sa = sum(float(val[f"current.a[{j}]"]) for j in range(1, 6))
+    if abs(1.0 - sa) < POLE_TOL:
+        raise ParameterError(f"current.a[1..5] sum to {sa:.17g}: the current loop has a pole at "
+                             "z = 1 and no finite DC gain; allowed: sum(current.a) != 1")
+    x0, x1 = float(val["stroke.x_min"]), float(val["stroke.x_max"])
+    if not x1 > x0:
+        raise ParameterError(f"stroke.x_max = {x1:.17g} must exceed stroke.x_min = {x0:.17g}: "
+                             f"allowed stroke.x_max in ({x0:.17g}, inf) m")
+    Fs, Fc = float(val["friction.F_s"]), float(val["friction.F_c"])
+    if Fc > Fs:
+        raise ParameterError(f"friction.F_c = {Fc:.17g} exceeds friction.F_s = {Fs:.17g}: "
+                             "allowed friction.F_c in [0, friction.F_s] N")
+    if val["effects.asymmetric_friction"]:
+        Fc0 = Fc if val["effects.stribeck"] else Fs      # params.c's compiled Fc[0]
+        s0 = float(val["friction.sigma2"]) if val["effects.viscous"] else 0.0
+        dF, ds = float(val["asymmetry.dF"]), float(val["asymmetry.dsigma2"])
+        if Fc0 + dF < 0.0 or Fs + dF <= 0.0:
+            raise ParameterError(f"asymmetry.dF = {dF:.17g} makes the friction level for v < 0 "
+                                 f"negative: allowed [{-Fc0:.17g}, inf) N")
+        if s0 + ds < 0.0:
+            raise ParameterError(f"asymmetry.dsigma2 = {ds:.17g} makes the viscous coefficient "
+                                 f"for v < 0 negative: allowed [{-s0:.17g}, inf) N.s/m")
+    N = float(val["friction.N"])
+    if int(N) != N:
+        raise ParameterError(f"friction.N = {N:.17g} is not an integer: allowed 1..{N_ELEMENTS_MAX}")
+    if val["effects.prerolling"]:
+        s = sum(float(val[f"friction.nu[{j}]"]) for j in range(1, int(N) + 1))
+        if abs(s - 1.0) > SUM_NU_TOL:
+            raise ParameterError(f"friction.nu[1..{int(N)}] sum to {s:.17g}: allowed 1 +- "
+                                 f"{SUM_NU_TOL:g} (Eq. 12 needs sum(nu) = 1; set "
+                                 f"friction.nu[{int(N)}] = 1 - sum of the others)")
+
+
+def compile(model: HasFmuParameters | Mapping[str, Any]) -> PlantParameters:
+    """Check ``model``'s parameters as the FMU does and compile them (module docstring).
+
+    Raises
+    ------
+    ParameterError : the first rule broken, with the FMU's message.
+    KeyError : a name that is not an FMU parameter.
+    """
+    val = parameter_values(model)
+    known = paper_parameters()
+    for name in val:
+        if name not in known and name not in SOLVER_PARAMETERS:
+            raise KeyError(f"{name!r} is not a parameter of the FMU")
+    for name, v in val.items():
+        check_value(name, v)
+    _check_compiled(val)
+    on = {e: bool(val[f"effects.{e}"]) for e in
+          ("prerolling", "offset_force") + sum(MAP_EFFECTS.values(), ())}
+    maps = {name: PositionMap.from_parameters(name, val, on[per], on[aper])
+            for name, (per, aper) in MAP_EFFECTS.items()}
+    return PlantParameters(
+        m=float(val["m"]), Ts=float(val["Ts"]), current=CurrentLoop.from_parameters(val),
+        cogging=maps["cogging"], ripple=maps["ripple"],
+        x_min=float(val["stroke.x_min"]), x_max=float(val["stroke.x_max"]),
+        friction=GMSParameters.from_params(val), prerolling=on["prerolling"],
+        F_offset=float(val["offset.F"]) if on["offset_force"] else 0.0,
+        values=types.MappingProxyType(val))
+

@@ -2,15 +2,12 @@
 path, and every controller type through `feeddrive validate` and `feeddrive diagnose`."""
 from __future__ import annotations
 
-import ast
 import json
 import re
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-import feeddrive
 from feeddrive.cli import main as cli
 from feeddrive.control.feedforward import FeedforwardOptions
 from feeddrive.data import load_run, write_run
@@ -175,38 +172,3 @@ def test_validate_refuses_a_bad_sidecar_in_one_line(tmp_path, capsys):
     assert cli(["validate", str(path)]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "bad" in err and "'lqr' is not known" in err
-
-
-
-PKG = Path(feeddrive.__file__).parent
-
-
-def feeddrive_imports(path: Path, package: tuple[str, ...]) -> set[str]:
-    """The feeddrive modules the source file ``path`` of ``package`` imports (anywhere in
-    the file, relative imports resolved)."""
-    out = set()
-    for node in ast.walk(ast.parse(path.read_text())):
-        if isinstance(node, ast.ImportFrom):
-            base = list(package[:len(package) - node.level + 1]) if node.level else []
-            out.add(".".join(base + ([node.module] if node.module else [])))
-        elif isinstance(node, ast.Import):
-            out.update(a.name for a in node.names)
-    return {m for m in out if m.split(".")[0] == "feeddrive"}
-
-
-def test_import_scan_sees_a_sideways_import():
-    # validation/replay.py imports the force residual from diagnose (see the report)
-    assert "feeddrive.diagnose.residual" in feeddrive_imports(
-        PKG / "validation" / "replay.py", ("feeddrive", "validation"))
-
-
-@pytest.mark.parametrize("layer, forbidden", [
-    ("harness", ("experiments", "identify", "validation", "diagnose", "report", "cli",
-                 "model_file")),
-    ("experiments", ("identify", "validation", "diagnose", "report", "cli")),
-])
-def test_imports_point_down(layer, forbidden):
-    for path in sorted((PKG / layer).glob("*.py")):
-        mods = feeddrive_imports(path, ("feeddrive", layer))
-        bad = {m for m in mods if len(m.split(".")) > 1 and m.split(".")[1] in forbidden}
-        assert not bad, f"{path.name} imports {sorted(bad)}"

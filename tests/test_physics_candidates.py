@@ -12,8 +12,9 @@ from feeddrive.diagnose.context import Context
 from feeddrive.diagnose.residual import residuals
 from feeddrive.diagnose.scoring import score
 from feeddrive.diagnose.workflow import diagnose
-from feeddrive.model_file import paper_model
+from feeddrive.model_file import load_model, paper_model
 from feeddrive.physics import compile
+from feeddrive.report.diagnosis import write_diagnosis
 
 PAPER = paper_model()
 DSIGMA = -7189.0      #: the data's viscous coefficient is the model's 54 N s/m plus this
@@ -50,7 +51,10 @@ def test_refused_candidate_is_not_significant_and_names_the_rule():
 
 def test_diagnosis_writes_only_models_the_fmu_accepts(tmp_path):
     start = PAPER.with_effect("prerolling", False)
-    diag = diagnose(synthetic_runs(), start, out_dir=tmp_path, max_steps=2, closed_loop=False)
+    diag = diagnose(synthetic_runs(), start, max_steps=2, closed_loop=False)
+    write_diagnosis(diag, tmp_path)
     assert all(s.effect != "viscous" for s in diag.steps)
     compile(diag.model)                                      # raises if the FMU would refuse it
     assert diag.model.parameters["friction.sigma2"] >= 0.0
+    for path in tmp_path.glob("model*.json"):
+        compile(load_model(path))                            # every model file written loads

@@ -27,17 +27,28 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 import numpy as np
 
+from ..model_file import ModelFile
 from ..physics import compile
 from ..physics import position_maps as maps
 from .prerolling import maxwell_slip
 
-if TYPE_CHECKING:
-    from ..model_file import ModelFile
-    from .pipeline import IdentificationResult
+
+class IdentifiedFits(Protocol):
+    """What the comparison reads of an identification result (each fit None when its step
+    did not run); :class:`feeddrive.identify.pipeline.IdentificationResult` is one."""
+
+    model: ModelFile
+    current_loop: Any
+    maps: Any
+    stribeck: Any
+    mass: Any
+    attraction: Any
+    prerolling: Any
+
 
 #: Relative tolerances of the issue (fraction).
 REL_TOL: dict[str, float] = {
@@ -112,7 +123,7 @@ def prerolling_force_error(x: np.ndarray, identified: Mapping[str, Any],
     return float(np.sqrt(np.mean((e - e.mean()) ** 2)))
 
 
-def truth_rows(res: IdentificationResult, truth: ModelFile) -> list[TruthRow]:
+def truth_rows(res: IdentifiedFits, truth: ModelFile) -> list[TruthRow]:
     """The comparison rows for every step that ran."""
     t = truth.fmu_parameters()
     p = res.model.fmu_parameters()

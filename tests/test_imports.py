@@ -1,0 +1,159 @@
+"""The package's imports point one way: no cycle, no function-local import of the package,
+and no module imports a stage later in the workflow than its own.
+
+Layers (lower may be imported by higher, never the reverse)::
+
+    paper, data, signals  <- physics <- model_file <- fmu <- control <- harness <- experiments
+    <- identify, validation, diagnose <- report <- cli, bench
+"""
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import feeddrive
+
+PKG = Path(feeddrive.__file__).resolve().parent
+
+#: rank of each top-level module or subpackage of feeddrive (imports only to rank <= own)
+LAYERS: dict[str, int] = {
+    "paper": 0, "data": 0, "signals": 0,
+    "physics": 1,
+    "model_file": 2,
+    "fmu": 3,
+    "control": 4,
+    "harness": 5,
+    "experiments": 6,
+    "identify": 7, "validation": 7, "diagnose": 7, "realdata": 7,
+    "report": 8,
+    "cli": 9, "bench": 9, "bench_c": 9, "__main__": 9,
+}
+
+
+def _module_name(path: Path) -> str:
+    rel = path.relative_to(PKG.parent).with_suffix("")
+    parts = list(rel.parts)
+    if parts[-1] == "__init__":
+        parts = parts[:-1]
+    return ".".join(parts)
+
+
+def _resolve(mod: str, is_pkg: bool, node: ast.ImportFrom) -> str:
+    if node.level == 0:
+        return node.module or ""
+    base = mod.split(".") if is_pkg else mod.split(".")[:-1]
+    base = base[: len(base) - (node.level - 1)]
+    return ".".join(base + ([node.module] if node.module else []))
+
+
+def _imports(path: Path) -> list[tuple[str, int, bool]]:
+    """(imported feeddrive module, line, inside a function) for every import in ``path``."""
+    mod = _module_name(path)
+    is_pkg = path.name == "__init__.py"
+    tree = ast.parse(path.read_text(), str(path))
+    out: list[tuple[str, int, bool]] = []
+
+    def visit(node: ast.AST, in_func: bool) -> None:
+        for child in ast.iter_child_nodes(node):
+            f = in_func or isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef))
+            if isinstance(child, ast.Import):
+                out.extend((a.name, child.lineno, in_func) for a in child.names
+                           if a.name.split(".")[0] == "feeddrive")
+            elif isinstance(child, ast.ImportFrom):
+                target = _resolve(mod, is_pkg, child)
+                if target.split(".")[0] == "feeddrive":
+                    if child.module is None or target == "feeddrive":
+                        # from . import x / from .. import x: x may be a module
+                        for a in child.names:
+                            out.append((f"{target}.{a.name}", child.lineno, in_func))
+                    else:
+                        out.append((target, child.lineno, in_func))
+            visit(child, f)
+
+    visit(tree, False)
+    return out
+
+
+def _graph() -> dict[str, set[str]]:
+    mods = {_module_name(p): p for p in PKG.rglob("*.py")}
+    g: dict[str, set[str]] = {m: set() for m in mods}
+    for m, p in mods.items():
+        for target, _, _ in _imports(p):
+            while target not in mods and "." in target:   # an attribute, not a module
+                target = target.rsplit(".", 1)[0]
+            if target in mods and target != m:
+                g[m].add(target)
+    return g
+
+
+def _layer(mod: str) -> int | None:
+    parts = mod.split(".")
+    return LAYERS.get(parts[1]) if len(parts) > 1 else None
+
+
+def test_no_import_cycle() -> None:
+    g = _graph()
+    # Tarjan's strongly connected components
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on: set[str] = set()
+    cycles: list[list[str]] = []
+    counter = [0]
+
+    def strong(v: str) -> None:
+        index[v] = low[v] = counter[0]
+        counter[0] += 1
+        stack.append(v)
+        on.add(v)
+        for w in g[v]:
+            if w not in index:
+                strong(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                cycles.append(sorted(comp))
+
+    for v in sorted(g):
+        if v not in index:
+            strong(v)
+    # a package __init__ re-exporting its own modules is not a cycle of the flow
+    real = [c for c in cycles
+            if not all(x.startswith(min(c, key=len) + ".") or x == min(c, key=len) for x in c)]
+    assert not real, f"import cycles: {real}"
+
+
+def test_no_function_local_package_import() -> None:
+    bad = [f"{p.relative_to(PKG.parent)}:{line} imports {t}"
+           for p in sorted(PKG.rglob("*.py")) for t, line, in_func in _imports(p) if in_func]
+    assert not bad, "function-local imports of the package:\n" + "\n".join(bad)
+
+
+def test_imports_point_down_the_flow() -> None:
+    bad = []
+    for p in sorted(PKG.rglob("*.py")):
+        mod = _module_name(p)
+        own = _layer(mod)
+        if own is None:
+            continue
+        for t, line, _ in _imports(p):
+            other = _layer(t)
+            if other is not None and other > own:
+                bad.append(f"{p.relative_to(PKG.parent)}:{line} ({mod.split('.')[1]}, layer {own}) "
+                           f"imports {t} (layer {other})")
+    assert not bad, "imports against the flow:\n" + "\n".join(bad)
+
+
+def test_every_module_has_a_layer() -> None:
+    missing = sorted({m.split(".")[1] for m in _graph() if m.count(".") >= 1
+                      and _layer(m) is None})
+    assert not missing, f"modules with no layer in LAYERS: {missing}"

@@ -85,20 +85,10 @@ def check(effect: str, on: bool, fmu_path) -> None:
             np.testing.assert_allclose(rates, exp["rates"], rtol=1e-12, atol=TOL)
 
 
-STRIBECK_OFF = pytest.mark.xfail(
-    strict=True, reason="fmu_src/params.c compiles stribeck off as F_c := F_s (the static level); "
-    "EFFECTS.md and the Python physics use F_s := F_c (the Coulomb level)")
-
-
 @pytest.mark.parametrize("on", [True, False], ids=["on", "off"])
-@pytest.mark.parametrize("effect", [e for e in SWITCHABLE_EFFECTS if e != "stribeck"])
+@pytest.mark.parametrize("effect", SWITCHABLE_EFFECTS)
 def test_effect_switch_python_equals_fmu(effect: str, on: bool, fmu_path) -> None:
     check(effect, on, fmu_path)
-
-
-@pytest.mark.parametrize("on", [True, pytest.param(False, marks=STRIBECK_OFF)], ids=["on", "off"])
-def test_effect_switch_python_equals_fmu_stribeck(on: bool, fmu_path) -> None:
-    check("stribeck", on, fmu_path)
 
 
 def test_current_loop_samples_python_equals_fmu(fmu_path) -> None:

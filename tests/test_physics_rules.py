@@ -36,10 +36,10 @@ COMPILED = [
     {"effects.asymmetric_friction": True, "asymmetry.dF": -26.1},   # F_s + dF = 0
     {"effects.asymmetric_friction": True, "asymmetry.dsigma2": -60.0},
     {"effects.asymmetric_friction": True, "effects.viscous": False, "asymmetry.dsigma2": -1.0},
-    {"effects.asymmetric_friction": True, "effects.stribeck": False, "asymmetry.dF": -27.0},
+    {"effects.asymmetric_friction": True, "effects.stribeck": False, "asymmetry.dF": -22.0},  # F_c + dF < 0
 ]
 ACCEPTED = [
-    {"effects.asymmetric_friction": True, "effects.stribeck": False, "asymmetry.dF": -22.0},
+    {"effects.asymmetric_friction": True, "effects.stribeck": False, "asymmetry.dF": -21.0},
     {}, {"effects.prerolling": False, "friction.nu[5]": 0.713},     # sum(nu) only with GMS
     {"friction.nu[5]": 0.3839}, {"friction.F_c": 26.1}, {"friction.F_c": 0.0},
     {"effects.asymmetric_friction": True, "asymmetry.dF": -21.6},

@@ -184,10 +184,11 @@ def _check_compiled(val: Mapping[str, Any]) -> None:
         raise ParameterError(f"friction.F_c = {Fc:.17g} exceeds friction.F_s = {Fs:.17g}: "
                              "allowed friction.F_c in [0, friction.F_s] N")
     if val["effects.asymmetric_friction"]:
-        Fc0 = Fc if val["effects.stribeck"] else Fs      # params.c's compiled Fc[0]
+        Fc0 = Fc
+        Fs0 = Fs if val["effects.stribeck"] else Fc      # params.c's compiled Fs[0]
         s0 = float(val["friction.sigma2"]) if val["effects.viscous"] else 0.0
         dF, ds = float(val["asymmetry.dF"]), float(val["asymmetry.dsigma2"])
-        if Fc0 + dF < 0.0 or Fs + dF <= 0.0:
+        if Fc0 + dF < 0.0 or Fs0 + dF <= 0.0:
             raise ParameterError(f"asymmetry.dF = {dF:.17g} makes the friction level for v < 0 "
                                  f"negative: allowed [{-Fc0:.17g}, inf) N")
         if s0 + ds < 0.0:

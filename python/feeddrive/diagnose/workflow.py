@@ -244,6 +244,53 @@ def _summary(s: Score) -> dict:
             "refinement": s.variant.refine}
 
 
+def _stop(reason: str, ranking: list[Score], res: list[RunResidual]) -> dict:
+    return {"reason": reason, "ranking": [_summary(s) for s in ranking[:6]], "gap": gap(res)}
+
+
+def _evidence(cand: Score, ctx: Context, ranking: list[Score], n_polish: int,
+              wh: list[dict]) -> dict:
+    """What a step's decision rests on (diagnosis.json ``evidence``)."""
+    return {"statistic": "held-out share of force-residual energy removed (blocks)",
+            "heldout_improvement": cand.improvement, "t_blocks": cand.t,
+            "blocks_improved": f"{cand.blocks_improved}/{ctx.blocks}",
+            "in_sample_improvement": cand.improvement_in_sample,
+            "variant": cand.variant.label, "refinement": cand.variant.refine,
+            "polish_iterations": n_polish,
+            "where": wh, "ranking": [_summary(s) for s in ranking[:6]]}
+
+
+def confirm_step(runs: list[Run], ctx: Context, cand: Score, group: list[Score],
+                 ranking: list[Score], cl: dict | None, name: str, n_blocks: int,
+                 kw: dict) -> tuple[Step, dict | None] | None:
+    """Add ``cand`` to the context's model, identify it on all data (with polishing) and
+    re-compute the residual; the step and the new closed-loop gap when the gap shrinks by
+    at least ``CONFIRM``, else None.  ``group``: ``cand`` and the candidates it cannot be
+    told from."""
+    current, res = ctx.model, ctx.res
+    new_model = cand.variant.to_model(cand.theta)
+    new_model.name = name
+    new_res = residuals(runs, new_model, **kw)
+    new_model, new_res, n_polish = polish(runs, cand.variant.effect, new_model, new_res,
+                                          n_blocks, kw)
+    if gap(new_res) > (1.0 - CONFIRM) * gap(res):
+        return None
+    wh = where(localise(res), localise(res, ctx.unstack(cand.r_fit)))
+    regimes = [w["regime"] for w in wh]
+    cl_after = closed_loop_gap(runs, new_model) if cl is not None else None
+    ga = _gap_record(new_res, regimes, cl_after)
+    ga["force_rms_heldout_N"] = float(np.sqrt(np.mean(cand.r_heldout**2)))
+    step = Step(effect=cand.variant.effect,
+                decision="ambiguous" if len(group) > 1 else "named",
+                ambiguous_with=[s.variant.effect for s in group[1:]],
+                evidence=_evidence(cand, ctx, ranking, n_polish, wh),
+                parameters=changed_parameters(current, new_model),
+                gap_before=_gap_record(res, regimes, cl), gap_after=ga, model_after=new_model,
+                effect_was_on=bool(current.effects[cand.variant.effect]),
+                residual_before=res, residual_after=new_res)
+    return step, cl_after
+
+
 def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
              force_gain: float | None = None, window: int | None = None,
              n_blocks: int = DEFAULT_BLOCKS, closed_loop: bool = True) -> "Diagnosis":
@@ -263,73 +310,39 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
         raise ValueError("diagnose: no runs given")
     kw = {"force_gain": force_gain, "window": window}
     current = model
-    res = residuals(runs, current, **kw)
+    res = start_res = residuals(runs, current, **kw)
     notes = sorted({q.force_source for q in res})
-    start_res = res
     steps: list[Step] = []
-    stop: dict = {}
     cl = closed_loop_gap(runs, current) if closed_loop else None
     if closed_loop and cl is None:
         notes.append("closed-loop gap not computed: no run has x_ref and a sidecar 'controller' "
                      f"of a known type ({', '.join(map(repr, CONTROLLERS))})")
+    stop = {"reason": f"max_steps = {max_steps} reached"}
     for _ in range(max_steps):
         ctx = Context(res, current, n_blocks=n_blocks)
         ranking = rank(ctx)
         lead, others = choose(ranking)
         if lead is None:
-            stop = {"reason": f"no candidate removes >= {I_MIN:.0%} of the residual energy on "
-                              f"held-out blocks with t >= {T_MIN:g}",
-                    "ranking": [_summary(s) for s in ranking[:6]], "gap": gap(res)}
+            stop = _stop(f"no candidate removes >= {I_MIN:.0%} of the residual energy on "
+                         f"held-out blocks with t >= {T_MIN:g}", ranking, res)
             break
         tried = [lead] + [s for s in ranking if s.significant and s is not lead]
-        done = False
+        found = None
         for cand in tried[:3]:
-            new_model = cand.variant.to_model(cand.theta)
-            added = [*(s.effect for s in steps), cand.variant.effect]
-            new_model.name = f"{model.name}+{'+'.join(added)}"
-            new_res = residuals(runs, new_model, **kw)
-            new_model, new_res, n_polish = polish(runs, cand.variant.effect, new_model, new_res,
-                                                  n_blocks, kw)
-            g0, g1 = gap(res), gap(new_res)
-            if g1 > (1.0 - CONFIRM) * g0:
-                continue
-            loc_b = localise(res)
-            loc_fit = localise(res, ctx.unstack(cand.r_fit))
-            wh = where(loc_b, loc_fit)
-            regimes = [w["regime"] for w in wh]
-            cl_after = closed_loop_gap(runs, new_model) if closed_loop and cl is not None else None
-            g_ho = float(np.sqrt(np.mean(cand.r_heldout**2)))
-            evidence = {
-                "statistic": "held-out share of force-residual energy removed (blocks)",
-                "heldout_improvement": cand.improvement, "t_blocks": cand.t,
-                "blocks_improved": f"{cand.blocks_improved}/{ctx.blocks}",
-                "in_sample_improvement": cand.improvement_in_sample,
-                "variant": cand.variant.label, "refinement": cand.variant.refine,
-                "polish_iterations": n_polish,
-                "where": wh, "ranking": [_summary(s) for s in ranking[:6]]}
-            gb = _gap_record(res, regimes, cl)
-            ga = _gap_record(new_res, regimes, cl_after)
-            ga["force_rms_heldout_N"] = g_ho
-            lead_group = [cand] + ([s for s in others] if cand is lead else [])
-            steps.append(Step(
-                effect=cand.variant.effect,
-                decision="ambiguous" if len(lead_group) > 1 else "named",
-                ambiguous_with=[s.variant.effect for s in lead_group[1:]],
-                evidence=evidence, parameters=changed_parameters(current, new_model),
-                gap_before=gb, gap_after=ga, model_after=new_model,
-                effect_was_on=bool(current.effects[cand.variant.effect]),
-                residual_before=res, residual_after=new_res))
-            current, res, cl = new_model, new_res, cl_after
-            done = True
+            name = f"{model.name}+{'+'.join([*(s.effect for s in steps), cand.variant.effect])}"
+            group = [cand] + (list(others) if cand is lead else [])
+            found = confirm_step(runs, ctx, cand, group, ranking, cl, name, n_blocks, kw)
+            if found is not None:
+                break
+        if found is None:
+            stop = _stop("the significant candidates did not shrink the re-computed residual "
+                         f"by {CONFIRM:.0%}", ranking, res)
             break
-        if not done:
-            stop = {"reason": "the significant candidates did not shrink the re-computed "
-                              f"residual by {CONFIRM:.0%}",
-                    "ranking": [_summary(s) for s in ranking[:6]], "gap": gap(res)}
-            break
+        step, cl = found
+        steps.append(step)
+        current, res = step.model_after, step.residual_after
     else:
-        stop = {"reason": f"max_steps = {max_steps} reached", "gap": gap(res)}
+        stop["gap"] = gap(res)
     return Diagnosis(steps=steps, stop=stop, model_start=model, model=current,
                      runs=[r.name or f"run{j}" for j, r in enumerate(runs)], notes=notes,
                      residual_start=start_res, residual_final=res)
-

@@ -6,39 +6,21 @@ import json
 import numpy as np
 import pytest
 
-from feeddrive.data import Run, write_run
+from feeddrive.data import write_run
 from feeddrive.cli import main as feeddrive_cli
 from feeddrive.diagnose.localise import displacement_since_reversal, spatial_spectrum
 from feeddrive.diagnose.residual import force_residual
 from feeddrive.diagnose.workflow import diagnose
-from feeddrive.harness import (Sensors, back_and_forth, closed_loop_run, controller_spec,
-                               make_controller, pid_spec, sinusoid)
+from feeddrive.harness import controller_spec, make_controller, pid_spec
 from feeddrive.model_file import load_model, paper_model, save_model
 from feeddrive.report.diagnosis import write_diagnosis
+from diagnosis_runs import make_runs, simulate_run, sinusoid_reference
 
 PAPER = paper_model()
 
 
-def simulate_run(truth, ref, current_noise=0.0, quantum=1e-7, seed=0, name="sim", spec=None):
-    """The truth in closed loop under the harness's PID (or ``spec``), noise on the current
-    measurement only: a DATA.md run with its sidecar."""
-    sensors = Sensors(quantum=quantum, current_noise=current_noise, seed=seed, noise_on_stage=False)
-    return closed_loop_run(truth.fmu_parameters(), spec or pid_spec(), ref, sensors, name=name)[0]
-
-
-def sinusoid_reference(duration, period=6.0):
-    """30 mm sinusoid at mid-stroke, starting at rest at the lower end."""
-    return sinusoid(0.03, period, 0.15, duration)
-
-
 def _runs(truth, seed, noise=0.005, cs=True):
-    runs = [simulate_run(truth, sinusoid_reference(6.0), current_noise=noise, seed=seed,
-                         name="sinusoid")]
-    if cs:
-        runs.append(simulate_run(truth, back_and_forth([0.003, 0.01, 0.03],
-                                                                 stroke=0.01),
-                                 current_noise=noise, seed=seed + 1, name="constant_speed"))
-    return runs
+    return make_runs(truth, seed, noise=noise, cs=cs, cs_seed_offset=1)
 
 
 def test_displacement_since_reversal():

@@ -15,37 +15,12 @@ import numpy as np
 import pytest
 
 from feeddrive.diagnose.workflow import diagnose
-from feeddrive.harness import Sensors, back_and_forth, closed_loop_run, pid_spec, sinusoid
 from feeddrive.physics.friction_curves import stribeck_level
 from feeddrive.physics.position_maps import cogging, force_constant
-from feeddrive.model_file import ModelFile, paper_model
+from feeddrive.model_file import paper_model
+from diagnosis_runs import make_runs
 
 PAPER = paper_model()
-
-
-def simulate_run(truth, ref, current_noise=0.0, quantum=1e-7, seed=0, name="sim", spec=None):
-    """The truth in closed loop under the harness's PID (or ``spec``), noise on the current
-    measurement only: a DATA.md run with its sidecar."""
-    sensors = Sensors(quantum=quantum, current_noise=current_noise, seed=seed, noise_on_stage=False)
-    return closed_loop_run(truth.fmu_parameters(), spec or pid_spec(), ref, sensors, name=name)[0]
-
-
-def sinusoid_reference(duration, period=6.0):
-    """30 mm sinusoid at mid-stroke, starting at rest at the lower end."""
-    return sinusoid(0.03, period, 0.15, duration)
-
-
-def make_runs(truth: ModelFile, seed: int, noise: float = 0.005, quantum: float = 1e-7,
-              cs: bool = True, sin_period: float = 6.0):
-    """Closed-loop sinusoid (+ constant-speed run) of ``truth``."""
-    runs = [simulate_run(truth, sinusoid_reference(sin_period, period=sin_period),
-                         current_noise=noise, quantum=quantum, seed=seed, name="sinusoid")]
-    if cs:
-        runs.append(simulate_run(truth, back_and_forth([0.003, 0.01, 0.03],
-                                                                 stroke=0.01),
-                                 current_noise=noise, quantum=quantum, seed=seed + 100,
-                                 name="constant_speed"))
-    return runs
 
 
 def check_first(diag, effect: str, shrink: float = 0.7):

@@ -18,7 +18,8 @@ from feeddrive.data import Run
 from feeddrive.physics.friction_curves import steady_friction, stribeck_level
 from feeddrive.identify import (dstft, fit_weights, identify_attraction, identify_current_loop,
                                 identify_mass, identify_position_maps, identify_prerolling,
-                                identify_stribeck, maxwell_slip, prbs)
+                                identify_stribeck, maxwell_slip)
+from feeddrive.harness.references import prbs
 
 P = paper.paper_parameters()
 TS = paper.TS

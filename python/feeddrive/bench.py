@@ -7,9 +7,7 @@ from __future__ import annotations
 import argparse
 import os
 import platform
-import re
 import statistics
-import subprocess
 import time
 from pathlib import Path
 

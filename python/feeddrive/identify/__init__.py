@@ -17,7 +17,7 @@ prerolling          Eqs. 15-18 (two periodic runs)               friction.N, nu[
 ==================  ===========================================  ===========================
 """
 from .attraction import AttractionFit, fit_attraction, identify_attraction, simulate_lag
-from .current_loop import CurrentLoopFit, fit_current_loop, identify_current_loop, prbs
+from .current_loop import CurrentLoopFit, fit_current_loop, identify_current_loop
 from .dstft import DSTFT, dstft
 from .mass import MassFit, fit_mass, identify_mass
 from .position_maps import (MapFit, MapSamples, PositionMapsFit, fit_map, identify_position_maps,
@@ -28,7 +28,7 @@ from .stribeck import StribeckFit, StribeckPoints, fit_stribeck, identify_stribe
 
 __all__ = [
     "AttractionFit", "fit_attraction", "identify_attraction", "simulate_lag",
-    "CurrentLoopFit", "fit_current_loop", "identify_current_loop", "prbs",
+    "CurrentLoopFit", "fit_current_loop", "identify_current_loop",
     "DSTFT", "dstft",
     "MassFit", "fit_mass", "identify_mass",
     "MapFit", "MapSamples", "PositionMapsFit", "fit_map", "identify_position_maps", "map_samples",

@@ -25,7 +25,6 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from ..data import Run
-from ..harness.references import prbs  # noqa: F401  (re-exported by feeddrive.identify)
 from ..physics import simulate_current
 from ..signals import run_label, sample_time
 from ._signals import jacobian_stderr, signal

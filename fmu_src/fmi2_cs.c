@@ -101,8 +101,8 @@ static fmi2Status integrate(instance_t *c, double tau, double tau_end, double h,
         m->time = m->t0 + tau;
         if (r == DP45_ROOT && ++b.n_events > b.events) r = DP45_ERROR;
         if (r == DP45_ERROR) return step_failed(c, &b, h);
-        if (r == DP45_ROOT || (tau < tau_end && fmu_sample_due(m))) {
-            if (fmu_event_update(c, "fmi2DoStep", &changed) < 0) return step_failed(c, &b, h);
+        if (r == DP45_ROOT || (tau < tau_end && fmu_sample_due(m, tau, 0.0))) {
+            if (fmu_event_update(c, "fmi2DoStep", tau, 0.0, &changed) < 0) return step_failed(c, &b, h);
             dp45_restart(&m->solver);
         }
     }
@@ -123,8 +123,8 @@ fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h, fmi2Boolean no
     m->time = t;
     params_inputs(m->val, &m->in);
     /* what is due now, with the inputs the master has just set */
-    if (fmu_sample_due(m) || m->solver_restart) {
-        if (fmu_event_update(c, "fmi2DoStep", &changed) < 0) { m->fsm = ST_ERROR; return fmi2Error; }
+    if (fmu_sample_due(m, t - m->t0, 0.0) || m->solver_restart) {
+        if (fmu_event_update(c, "fmi2DoStep", t - m->t0, 0.0, &changed) < 0) { m->fsm = ST_ERROR; return fmi2Error; }
         dp45_restart(&m->solver);
         m->solver_restart = 0;
     }

@@ -87,14 +87,19 @@ double fmu_next_sample(const model_t *m) { return m->t0 + (double)(m->d.k + 1) *
 
 double fmu_time_eps(const model_t *m, double t) {
     double tau = fabs(t - m->t0), eps = 1e-9 * (tau > 1.0 ? tau : 1.0);
-    double ulp16 = 16.0 * (nextafter(fabs(t), HUGE_VAL) - fabs(t));
+    double ulp16 = fmu_ulp_slack(t);
     if (m->params_ok && eps > m->p.Ts / 64.0) eps = m->p.Ts / 64.0;
     return eps > ulp16 ? eps : ulp16;
 }
 
-int fmu_sample_due(const model_t *m) {
-    return m->p.current_dynamics && m->time >= fmu_next_sample(m) - fmu_time_eps(m, m->time);
+int fmu_sample_due(const model_t *m, double tau, double slack) {
+    double eps = 1e-9 * (fabs(tau) > 1.0 ? fabs(tau) : 1.0);
+    if (eps > m->p.Ts / 64.0) eps = m->p.Ts / 64.0;
+    if (eps < slack) eps = slack;
+    return m->p.current_dynamics && tau >= (double)(m->d.k + 1) * m->p.Ts - eps;
 }
+
+double fmu_ulp_slack(double t) { return 16.0 * (nextafter(fabs(t), HUGE_VAL) - fabs(t)); }
 
 void fmu_update_outputs(instance_t *c) {
     model_t *m = &c->m;
@@ -139,11 +144,11 @@ void fmu_check_stroke(instance_t *c) {
     }
 }
 
-int fmu_event_update(instance_t *c, const char *fn, fmi2Boolean *states_changed) {
+int fmu_event_update(instance_t *c, const char *fn, double tau, double slack, fmi2Boolean *states_changed) {
     model_t *m = &c->m;
     bool changed = false;
     int n = 0, samples = 0;
-    double behind = m->p.current_dynamics ? (m->time - fmu_next_sample(m)) / m->p.Ts : 0.0;
+    double behind = m->p.current_dynamics ? (tau - (double)(m->d.k + 1) * m->p.Ts) / m->p.Ts : 0.0;
     *states_changed = fmi2False;
     if (behind > BUDGET_OVERDUE_SAMPLES) {
         fmu_log(c, fmi2Error, LOG_ERROR, "%s: t = %.17g s is %.0f current-loop samples past the next one at "
@@ -153,13 +158,13 @@ int fmu_event_update(instance_t *c, const char *fn, fmi2Boolean *states_changed)
     }
     params_inputs(m->val, &m->in);
     do {
-        int due = fmu_sample_due(m);
+        int due = fmu_sample_due(m, tau, slack);
         n += plant_event_update(&m->p, &m->d, m->y, &m->in, due != 0, &changed);
         samples += due;
         if (due)
             fmu_log(c, fmi2OK, LOG_EVENTS, "t = %.9g s: current-loop sample %ld, i = %.9g A", m->time,
                     m->d.k, m->d.i);
-    } while (fmu_sample_due(m) && samples <= BUDGET_OVERDUE_SAMPLES);
+    } while (fmu_sample_due(m, tau, slack) && samples <= BUDGET_OVERDUE_SAMPLES);
     if (samples > 1)
         fmu_log(c, fmi2Warning, LOG_WARNING, "t = %.9g s: %d current-loop samples were overdue (the importer "
                 "stepped past nextEventTime)", m->time, samples);

@@ -69,14 +69,20 @@ void fmu_update_outputs(instance_t *c);
 #define BUDGET_EVENTS_EXTRA 1e5
 #define BUDGET_OVERDUE_SAMPLES 1000
 
-/* process what is due at the current time: a current-loop sample, then the plant's switches;
+/* process what is due at tau = time - startTime: a current-loop sample, then the plant's switches;
  * -1 (logged as fn's error) when more than BUDGET_OVERDUE_SAMPLES samples are overdue */
-int fmu_event_update(instance_t *c, const char *fn, fmi2Boolean *states_changed);
+int fmu_event_update(instance_t *c, const char *fn, double tau, double slack, fmi2Boolean *states_changed);
+/* startTime + (k + 1) Ts: the next sample, from its index */
 double fmu_next_sample(const model_t *m);
-/* how close times must be to count as equal at t: 1e-9 max(1, |t - t0|) (at most Ts/64), and at
- * least 16 units in the last place of t */
+/* how close the master's time must be to the FMU's at t: 1e-9 max(1, |t - t0|) (at most Ts/64),
+ * and at least fmu_ulp_slack(t) */
 double fmu_time_eps(const model_t *m, double t);
-int fmu_sample_due(const model_t *m);
+/* 16 units in the last place of t: the rounding of a time an importer computed */
+double fmu_ulp_slack(double t);
+/* the sample k + 1 is due at tau = time - startTime: tau >= (k + 1) Ts - eps, eps =
+ * 1e-9 max(1, |tau|) (at most Ts/64) or slack if larger (fmu_ulp_slack(time) when tau comes
+ * from an importer's time, 0 when it is the co-simulation's own exact tau) */
+int fmu_sample_due(const model_t *m, double tau, double slack);
 void fmu_check_stroke(instance_t *c);
 /* a result array about to be returned: the model is initialized and every x[j] is finite (logs if not) */
 int fmu_finite_result(instance_t *c, const char *fn, const double *x, size_t n);

@@ -277,7 +277,9 @@ void params_fastest_rate(const double *val, const plant_params_t *p, char *buf, 
     unsigned best_vr = VR_Ts;
     char vb[40], mb[40];
     int j;
-    if (p->prerolling && p->lag) rate_candidate(VR_friction_C, S_min > 0.0 ? p->C / S_min : HUGE_VAL, &best, &best_vr);
+    if (p->prerolling && p->lag)   /* C / S(|v|), S down to F_c: F_c = 0 makes it unbounded */
+        rate_candidate(S_min > 0.0 ? VR_friction_C : VR_friction_F_c, S_min > 0.0 ? p->C / S_min : HUGE_VAL,
+                       &best, &best_vr);
     for (j = 0; j < PLANT_NE_MAX; j++)
         if (p->active[j]) rate_candidate(VRA_friction_k[j + 1], sqrt(p->k[j] / p->m), &best, &best_vr);
     rate_candidate(VR_friction_sigma2, (p->sigma2[0] > p->sigma2[1] ? p->sigma2[0] : p->sigma2[1]) / p->m,

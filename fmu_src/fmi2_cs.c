@@ -27,6 +27,12 @@ static int step_args_ok(instance_t *c, double t, double h, double eps) {
                 "communicationStepSize = %g: allowed finite values with communicationStepSize > 0", t, h);
         return 0;
     }
+    if (m->p.current_dynamics && fmu_ulp_slack(t + h) > m->p.Ts / 8.0) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: at t = %.17g s a double resolves only %g s, too coarse for "
+                "the current-loop samples of Ts = %g s (allowed: 16 ulp(t) <= Ts/8, a start time nearer 0)",
+                t + h, fmu_ulp_slack(t + h) / 16.0, m->p.Ts);
+        return 0;
+    }
     if (fabs(t - m->time) > eps) {
         fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: currentCommunicationPoint = %.17g differs from the "
                 "FMU's time %.17g (allowed: the time reached by the previous step)", t, m->time);

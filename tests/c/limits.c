@@ -9,6 +9,7 @@
  *   time      startTime 1.7e9 s and 1e10 s: 4000 current-loop samples in 2 s and the same sampled
  *             currents, bit for bit, as startTime 0 (x follows the master's rounded communication
  *             points: within 1 mm after the 2 s of stick-slip); a step starting Ts/2 off is refused;
+ *             startTime 1e11 s (time resolution 1.5e-5 s, over Ts/8 in 16 ulp) is refused;
  *   sequence  fmi2GetDerivatives after a failed fmi2EnterEventMode from Instantiated is not fmi2OK;
  *   counters  Integer statistics past 2^31 read INT_MAX (a state with n_steps = 3e9).
  * Usage: limits [LinearMotorFeedDrive.so|-]. Prints JSON lines of figures, FAIL lines and
@@ -250,6 +251,14 @@ static void large_start_times(void) {
         check(st == fmi2Error && strstr(I.env.last, "differs from the FMU's time") != NULL, "step Ts/2 off refused", detail);
         api.FreeInstance(I.c);
     }
+    /* startTime 1e11 s: a double resolves 1.5e-5 s there, too coarse for Ts = 0.5 ms */
+    inst_new(&I, fmi2CoSimulation);
+    init(&I, 1e11);
+    host_env_mark(&I.env);
+    st = api.DoStep(I.c, 1e11, 5e-4, fmi2True);
+    snprintf(detail, sizeof detail, "status %d: %s", st, I.env.last);
+    check(st == fmi2Error && strstr(I.env.last, "too coarse") != NULL, "startTime 1e11 s refused", detail);
+    api.FreeInstance(I.c);
 }
 
 /* ------------------------------------------------------------------ sequence, counters */

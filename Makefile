@@ -22,7 +22,7 @@ SRC_C      := $(filter-out %gen_vars.py,$(wildcard fmu_src/*.c))
 SRC_H      := $(wildcard fmu_src/*.h)
 STAMP      := $(VENV)/.installed
 
-.PHONY: all fmu run test bench wheel clean venv
+.PHONY: all fmu run test bench wheel clean venv fuzz-tools
 all: fmu
 fmu: $(FMU) $(PKG_FMU)
 venv: $(STAMP)
@@ -57,7 +57,14 @@ $(PKG_FMU): $(FMU)
 run: fmu
 	$(PY) -m feeddrive.cli run --shared $(SHARED)
 
-test: fmu
+# the coverage-guided fuzz run of the tests needs clang's libFuzzer: installed here from Debian's
+# packages when missing and apt-get is usable (root); otherwise that test is skipped and says why
+fuzz-tools:
+	@command -v $${CLANG:-clang} >/dev/null 2>&1 || { [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1 && \
+	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq clang >/dev/null; } || \
+	    echo "note: clang is not installed and cannot be installed here: the libFuzzer run is skipped"
+
+test: fmu fuzz-tools
 	$(PY) -m pytest -q tests
 
 # the C benchmark hosts are test code (tests/c); built here and handed to the benchmark

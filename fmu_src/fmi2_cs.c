@@ -27,6 +27,12 @@ static int step_args_ok(instance_t *c, double t, double h, double eps) {
                 "communicationStepSize = %g: allowed finite values with communicationStepSize > 0", t, h);
         return 0;
     }
+    if (m->p.current_dynamics && fmu_ulp_slack(t + h) > m->p.Ts / 8.0) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: at t = %.17g s a double resolves only %g s, too coarse for "
+                "the current-loop samples of Ts = %g s (allowed: 16 ulp(t) <= Ts/8, a start time nearer 0)",
+                t + h, fmu_ulp_slack(t + h) / 16.0, m->p.Ts);
+        return 0;
+    }
     if (fabs(t - m->time) > eps) {
         fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: currentCommunicationPoint = %.17g differs from the "
                 "FMU's time %.17g (allowed: the time reached by the previous step)", t, m->time);
@@ -40,47 +46,95 @@ static int step_args_ok(instance_t *c, double t, double h, double eps) {
     return 1;
 }
 
+/* the work one step of length h may take (fmi2_instance.h) */
+typedef struct { double steps, events, start_attempts; long n_events; } budget_t;
+
+static void budget_start(const model_t *m, double h, budget_t *b) {
+    double extra_steps = BUDGET_STEPS_RATE * h, extra_events = BUDGET_EVENTS_RATE * h;
+    b->steps = BUDGET_STEPS_BASE + BUDGET_STEPS_PER_SAMPLE * h / m->p.Ts +
+               (extra_steps < BUDGET_STEPS_EXTRA ? extra_steps : BUDGET_STEPS_EXTRA);
+    b->events = BUDGET_EVENTS_BASE + (extra_events < BUDGET_EVENTS_EXTRA ? extra_events : BUDGET_EVENTS_EXTRA);
+    b->start_attempts = (double)(m->solver.n_steps + m->solver.n_rejected);
+    b->n_events = 0;
+}
+
+/* step attempts left in this call (at least 1, at most what a long fits) */
+static long budget_left(const model_t *m, const budget_t *b) {
+    double left = b->steps - ((double)(m->solver.n_steps + m->solver.n_rejected) - b->start_attempts);
+    return left < 1.0 ? 1 : (left > 1e15 ? (long)1e15 : (long)left);
+}
+
+/* the integrator failed or a budget ran out: the message, state Error */
+static fmi2Status step_failed(instance_t *c, const budget_t *b, double h) {
+    model_t *m = &c->m;
+    char why[160];
+    double used = (double)(m->solver.n_steps + m->solver.n_rejected) - b->start_attempts;
+    params_fastest_rate(m->val, &m->p, why, sizeof why);
+    if (b->n_events > b->events)
+        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: more than %.0f state events in a step of %g s (budget "
+                "%g + %g/s): the friction switches chatter at t = %.17g s (x = %g m, v = %g m/s); fastest rate: %s",
+                b->events, h, BUDGET_EVENTS_BASE, BUDGET_EVENTS_RATE, m->time, m->y[PLANT_IX], m->y[PLANT_IV], why);
+    else if (used >= b->steps)
+        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: more than %.0f integrator steps in a step of %g s (budget "
+                "%g + %g per Ts + %g/s): the problem is too stiff at t = %.17g s; stiffest: %s", b->steps, h,
+                BUDGET_STEPS_BASE, BUDGET_STEPS_PER_SAMPLE, BUDGET_STEPS_RATE, m->time, why);
+    else
+        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: the integrator failed at t = %.17g s (x = %g m, "
+                "v = %g m/s): step size below its minimum or a non-finite state", m->time,
+                m->y[PLANT_IX], m->y[PLANT_IV]);
+    m->fsm = ST_ERROR;
+    m->out_valid = 0;
+    return fmi2Error;
+}
+
+/* integrate from tau (= time - t0, exact for t0 = 0) to tau_end, stopping at every sample
+ * (keyed to its index: tau_k = k Ts) and every friction switch */
+static fmi2Status integrate(instance_t *c, double tau, double tau_end, double h, double eps) {
+    model_t *m = &c->m;
+    int roots[PLANT_NZ];
+    fmi2Boolean changed;
+    budget_t b;
+    budget_start(m, h, &b);
+    while (tau < tau_end) {
+        double tau_target = tau_end;
+        int r;
+        if (m->p.current_dynamics) {
+            double ns = (double)(m->d.k + 1) * m->p.Ts;
+            if (ns < tau_end - eps) tau_target = ns;
+        }
+        m->solver.max_steps = budget_left(m, &b);
+        r = dp45_advance(&m->solver, m, rhs, indicators, &tau, tau_target, m->y, roots);
+        m->time = m->t0 + tau;
+        if (r == DP45_ROOT && ++b.n_events > b.events) r = DP45_ERROR;
+        if (r == DP45_ERROR) return step_failed(c, &b, h);
+        if (r == DP45_ROOT || (tau < tau_end && fmu_sample_due(m, tau, 0.0))) {
+            if (fmu_event_update(c, "fmi2DoStep", tau, 0.0, &changed) < 0) return step_failed(c, &b, h);
+            dp45_restart(&m->solver);
+        }
+    }
+    return fmi2OK;
+}
+
 fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h, fmi2Boolean noSetFMUStatePriorToCurrentPoint) {
     instance_t *c = FMU_ENTER(comp, fmi2DoStep);
     model_t *m;
-    double t_end, eps, t_target;
-    int roots[PLANT_NZ], guard = 0;
+    double t_end, eps;
     fmi2Boolean changed;
     (void)noSetFMUStatePriorToCurrentPoint;
     if (!c) return fmi2Error;
     m = &c->m;
-    eps = 1e-9 * (fabs(t) > 1.0 ? fabs(t) : 1.0);
+    eps = fmu_time_eps(m, t);
     if (!step_args_ok(c, t, h, eps)) return fmi2Error;
     t_end = t + h;
     m->time = t;
     params_inputs(m->val, &m->in);
     /* what is due now, with the inputs the master has just set */
-    if (fmu_sample_due(m) || m->solver_restart) {
-        fmu_event_update(c, &changed);
+    if (fmu_sample_due(m, t - m->t0, 0.0) || m->solver_restart) {
+        if (fmu_event_update(c, "fmi2DoStep", t - m->t0, 0.0, &changed) < 0) { m->fsm = ST_ERROR; return fmi2Error; }
         dp45_restart(&m->solver);
         m->solver_restart = 0;
     }
-    while (m->time < t_end) {
-        int r;
-        t_target = t_end;
-        if (m->p.current_dynamics) {
-            double ns = fmu_next_sample(m);
-            if (ns < t_end - eps) t_target = ns;
-        }
-        r = dp45_advance(&m->solver, m, rhs, indicators, &m->time, t_target, m->y, roots);
-        if (r == DP45_ERROR || ++guard > 10000000) {
-            fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: the integrator failed at t = %.17g s (x = %g m, "
-                    "v = %g m/s): step size below its minimum or a non-finite state", m->time,
-                    m->y[PLANT_IX], m->y[PLANT_IV]);
-            m->fsm = ST_ERROR;
-            m->out_valid = 0;
-            return fmi2Error;
-        }
-        if (r == DP45_ROOT || (m->time < t_end && fmu_sample_due(m))) {
-            fmu_event_update(c, &changed);
-            dp45_restart(&m->solver);
-        }
-    }
+    if (integrate(c, t - m->t0, t_end - m->t0, h, eps) != fmi2OK) return fmi2Error;
     m->time = t_end;
     fmu_check_stroke(c);
     m->out_valid = 0;
@@ -114,6 +168,7 @@ fmi2Status fmi2GetRealOutputDerivatives(fmi2Component comp, const fmi2ValueRefer
         fmu_log(c, fmi2Error, LOG_ERROR, "fmi2GetRealOutputDerivatives: NULL array with nvr = %zu", nvr);
         return fmi2Error;
     }
+    if (!fmu_finite_result(c, "fmi2GetRealOutputDerivatives", NULL, 0)) return fmi2Error;
     fmu_update_outputs(c);
     for (k = 0; k < nvr; k++) {
         if (order[k] != 1) {
@@ -129,6 +184,7 @@ fmi2Status fmi2GetRealOutputDerivatives(fmi2Component comp, const fmi2ValueRefer
                     "are provided for x, v and (with current_dynamics) i", (unsigned)vr[k]);
             return fmi2Error;
         }
+        if (!fmu_finite_result(c, "fmi2GetRealOutputDerivatives", &value[k], 1)) return fmi2Error;
     }
     return fmi2OK;
 }

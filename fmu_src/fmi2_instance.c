@@ -85,10 +85,21 @@ instance_t *fmu_enter(fmi2Component comp, const char *fn, int iface, int mask) {
 
 double fmu_next_sample(const model_t *m) { return m->t0 + (double)(m->d.k + 1) * m->p.Ts; }
 
-int fmu_sample_due(const model_t *m) {
-    double t = m->time;
-    return m->p.current_dynamics && t >= fmu_next_sample(m) - 1e-9 * (fabs(t) > 1.0 ? fabs(t) : 1.0);
+double fmu_time_eps(const model_t *m, double t) {
+    double tau = fabs(t - m->t0), eps = 1e-9 * (tau > 1.0 ? tau : 1.0);
+    double ulp16 = fmu_ulp_slack(t);
+    if (m->params_ok && eps > m->p.Ts / 64.0) eps = m->p.Ts / 64.0;
+    return eps > ulp16 ? eps : ulp16;
 }
+
+int fmu_sample_due(const model_t *m, double tau, double slack) {
+    double eps = 1e-9 * (fabs(tau) > 1.0 ? fabs(tau) : 1.0);
+    if (eps > m->p.Ts / 64.0) eps = m->p.Ts / 64.0;
+    if (eps < slack) eps = slack;
+    return m->p.current_dynamics && tau >= (double)(m->d.k + 1) * m->p.Ts - eps;
+}
+
+double fmu_ulp_slack(double t) { return 16.0 * (nextafter(fabs(t), HUGE_VAL) - fabs(t)); }
 
 void fmu_update_outputs(instance_t *c) {
     model_t *m = &c->m;
@@ -100,6 +111,23 @@ void fmu_update_outputs(instance_t *c) {
     m->val[VR_stats_n_steps] = (double)m->solver.n_steps;
     m->val[VR_stats_n_rhs] = (double)m->solver.n_rhs;
     m->out_valid = 1;
+}
+
+int fmu_finite_result(instance_t *c, const char *fn, const double *x, size_t n) {
+    size_t j;
+    if (!c->m.params_ok) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: the model is not initialized (no successful "
+                "fmi2ExitInitializationMode)", fn);
+        return 0;
+    }
+    for (j = 0; j < n; j++) {
+        if (!isfinite(x[j])) {
+            fmu_log(c, fmi2Error, LOG_ERROR, "%s: element %zu = %g is not finite (the simulation overflowed)",
+                    fn, j, x[j]);
+            return 0;
+        }
+    }
+    return 1;
 }
 
 void fmu_check_stroke(instance_t *c) {
@@ -116,19 +144,27 @@ void fmu_check_stroke(instance_t *c) {
     }
 }
 
-int fmu_event_update(instance_t *c, fmi2Boolean *states_changed) {
+int fmu_event_update(instance_t *c, const char *fn, double tau, double slack, fmi2Boolean *states_changed) {
     model_t *m = &c->m;
     bool changed = false;
     int n = 0, samples = 0;
+    double behind = m->p.current_dynamics ? (tau - (double)(m->d.k + 1) * m->p.Ts) / m->p.Ts : 0.0;
+    *states_changed = fmi2False;
+    if (behind > BUDGET_OVERDUE_SAMPLES) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: t = %.17g s is %.0f current-loop samples past the next one at "
+                "%.17g s (Ts = %g s): allowed at most %d per call (the importer must stop at nextEventTime)",
+                fn, m->time, floor(behind) + 1.0, fmu_next_sample(m), m->p.Ts, BUDGET_OVERDUE_SAMPLES);
+        return -1;
+    }
     params_inputs(m->val, &m->in);
     do {
-        int due = fmu_sample_due(m);
+        int due = fmu_sample_due(m, tau, slack);
         n += plant_event_update(&m->p, &m->d, m->y, &m->in, due != 0, &changed);
         samples += due;
         if (due)
             fmu_log(c, fmi2OK, LOG_EVENTS, "t = %.9g s: current-loop sample %ld, i = %.9g A", m->time,
                     m->d.k, m->d.i);
-    } while (fmu_sample_due(m) && samples < 1000000);
+    } while (fmu_sample_due(m, tau, slack) && samples <= BUDGET_OVERDUE_SAMPLES);
     if (samples > 1)
         fmu_log(c, fmi2Warning, LOG_WARNING, "t = %.9g s: %d current-loop samples were overdue (the importer "
                 "stepped past nextEventTime)", m->time, samples);
@@ -158,8 +194,7 @@ fmi2Status fmu_recompile(instance_t *c, const double *backup_val) {
     return fmi2OK;
 }
 
-/* A freshly instantiated model: every variable at its start value, state Instantiated. */
-static void model_defaults(model_t *m) {
+void fmu_model_defaults(model_t *m) {
     memset(m, 0, sizeof *m);
     m->magic = MODEL_MAGIC;
     m->size = (unsigned)sizeof(model_t);
@@ -206,7 +241,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     c->type = fmuType;
     c->logging_on = loggingOn != 0;
     c->log_mask = LOG_EVENTS | LOG_WARNING | LOG_ERROR;
-    model_defaults(&c->m);
+    fmu_model_defaults(&c->m);
     return c;
 }
 
@@ -273,12 +308,17 @@ fmi2Status fmi2EnterInitializationMode(fmi2Component comp) {
     return fmi2OK;
 }
 
+void fmu_solver_setup(model_t *m) {
+    double atol[PLANT_NX];
+    int j;
+    for (j = 0; j < PLANT_NX; j++) atol[j] = m->tol * MODEL_STATE_NOMINAL(j);   /* XML nominals */
+    dp45_init(&m->solver, PLANT_NX, PLANT_NZ, m->tol, atol, m->p.Ts);
+}
+
 /* compile parameters and initialise the plant from the current values */
 fmi2Status fmu_initialize_plant(instance_t *c) {
     model_t *m = &c->m;
     char msg[512];
-    double atol[PLANT_NX];
-    int j;
     if (!params_compile(m->val, &m->p, msg, sizeof msg)) {
         fmu_log(c, fmi2Error, LOG_ERROR, "%s", msg);
         m->params_ok = 0;
@@ -289,8 +329,7 @@ fmi2Status fmu_initialize_plant(instance_t *c) {
     params_inputs(m->val, &m->in);
     plant_init(&m->p, &m->d, m->y, &m->in);
     if (!m->tol_defined) m->tol = m->val[VR_solver_tol];
-    for (j = 0; j < PLANT_NX; j++) atol[j] = m->tol * MODEL_STATE_NOMINAL(j);   /* XML nominals */
-    dp45_init(&m->solver, PLANT_NX, PLANT_NZ, m->tol, atol, m->p.Ts);
+    fmu_solver_setup(m);
     m->solver_restart = 1;
     m->out_valid = 0;
     fmu_check_stroke(c);
@@ -315,7 +354,7 @@ fmi2Status fmi2Terminate(fmi2Component comp) {
 fmi2Status fmi2Reset(fmi2Component comp) {
     instance_t *c = FMU_ENTER(comp, fmi2Reset);
     if (!c) return fmi2Error;
-    model_defaults(&c->m);
+    fmu_model_defaults(&c->m);
     return fmi2OK;
 }
 

@@ -11,7 +11,8 @@
 
 #define MODEL_MAGIC 0x46445256u   /* "FDRV": marks instances and FMU states */
 
-/* Everything an FMU state snapshot holds: plain data, no pointers. */
+/* The model: plain data, no pointers (a saved FMU state holds only its state part, see
+ * fmi2_state_format.h). */
 typedef struct {
     unsigned magic, size;
     int fsm;
@@ -55,11 +56,40 @@ void fmu_log(instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...)
 instance_t *fmu_enter(fmi2Component comp, const char *fn, int iface, int mask);
 /* outputs and derivatives up to date */
 void fmu_update_outputs(instance_t *c);
-/* process what is due at the current time: a current-loop sample, then the plant's switches */
-int fmu_event_update(instance_t *c, fmi2Boolean *states_changed);
+/* Work budget of one call (README "Co-simulation"): fmi2DoStep of length h may take
+ *   BUDGET_STEPS_BASE + BUDGET_STEPS_PER_SAMPLE h/Ts + min(BUDGET_STEPS_RATE h, BUDGET_STEPS_EXTRA)
+ * integrator step attempts and BUDGET_EVENTS_BASE + min(BUDGET_EVENTS_RATE h, BUDGET_EVENTS_EXTRA)
+ * state events; an event update catches up at most BUDGET_OVERDUE_SAMPLES current-loop samples. */
+#define BUDGET_STEPS_BASE 10000.0
+#define BUDGET_STEPS_PER_SAMPLE 2.0
+#define BUDGET_STEPS_RATE 2e5          /* per simulated second */
+#define BUDGET_STEPS_EXTRA 2e6
+#define BUDGET_EVENTS_BASE 1000.0
+#define BUDGET_EVENTS_RATE 2e4         /* per simulated second */
+#define BUDGET_EVENTS_EXTRA 1e5
+#define BUDGET_OVERDUE_SAMPLES 1000
+
+/* process what is due at tau = time - startTime: a current-loop sample, then the plant's switches;
+ * -1 (logged as fn's error) when more than BUDGET_OVERDUE_SAMPLES samples are overdue */
+int fmu_event_update(instance_t *c, const char *fn, double tau, double slack, fmi2Boolean *states_changed);
+/* startTime + (k + 1) Ts: the next sample, from its index */
 double fmu_next_sample(const model_t *m);
-int fmu_sample_due(const model_t *m);
+/* how close the master's time must be to the FMU's at t: 1e-9 max(1, |t - t0|) (at most Ts/64),
+ * and at least fmu_ulp_slack(t) */
+double fmu_time_eps(const model_t *m, double t);
+/* 16 units in the last place of t: the rounding of a time an importer computed */
+double fmu_ulp_slack(double t);
+/* the sample k + 1 is due at tau = time - startTime: tau >= (k + 1) Ts - eps, eps =
+ * 1e-9 max(1, |tau|) (at most Ts/64) or slack if larger (fmu_ulp_slack(time) when tau comes
+ * from an importer's time, 0 when it is the co-simulation's own exact tau) */
+int fmu_sample_due(const model_t *m, double tau, double slack);
 void fmu_check_stroke(instance_t *c);
+/* a result array about to be returned: the model is initialized and every x[j] is finite (logs if not) */
+int fmu_finite_result(instance_t *c, const char *fn, const double *x, size_t n);
+/* a freshly instantiated model: every variable at its start value, state Instantiated */
+void fmu_model_defaults(model_t *m);
+/* the solver configured from m->tol, the XML nominals and m->p.Ts (statistics reset) */
+void fmu_solver_setup(model_t *m);
 /* compile parameters and initialise the plant from the current values (logs on error) */
 fmi2Status fmu_initialize_plant(instance_t *c);
 /* recompile parameters after a change; on failure logs, restores *backup and returns fmi2Error */

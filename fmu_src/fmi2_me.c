@@ -28,7 +28,8 @@ fmi2Status fmi2NewDiscreteStates(fmi2Component comp, fmi2EventInfo *info) {
     fmi2Boolean changed = fmi2False;
     if (!c) return fmi2Error;
     if (!info) { fmu_log(c, fmi2Error, LOG_ERROR, "fmi2NewDiscreteStates: eventInfo is NULL"); return fmi2Error; }
-    fmu_event_update(c, &changed);
+    if (fmu_event_update(c, "fmi2NewDiscreteStates", c->m.time - c->m.t0, fmu_ulp_slack(c->m.time), &changed) < 0)
+        return fmi2Error;
     info->newDiscreteStatesNeeded = fmi2False;
     info->terminateSimulation = fmi2False;
     info->nominalsOfContinuousStatesChanged = fmi2False;
@@ -74,6 +75,7 @@ fmi2Status fmi2SetTime(fmi2Component comp, fmi2Real time) {
 
 fmi2Status fmi2SetContinuousStates(fmi2Component comp, const fmi2Real x[], size_t nx) {
     instance_t *c = FMU_ENTER(comp, fmi2SetContinuousStates);
+    char msg[512];
     size_t j;
     if (!c) return fmi2Error;
     if (!array_ok(c, "fmi2SetContinuousStates", x, nx, PLANT_NX)) return fmi2Error;
@@ -81,6 +83,10 @@ fmi2Status fmi2SetContinuousStates(fmi2Component comp, const fmi2Real x[], size_
         if (!isfinite(x[j])) {
             fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SetContinuousStates: state %s = %g is not finite",
                     MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]].name, x[j]);
+            return fmi2Error;
+        }
+        if (!params_check_value(MODEL_STATE_VR[j], x[j], msg, sizeof msg)) {   /* the XML's min/max */
+            fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SetContinuousStates: state %s", msg);
             return fmi2Error;
         }
     }
@@ -93,7 +99,9 @@ fmi2Status fmi2GetDerivatives(fmi2Component comp, fmi2Real derivatives[], size_t
     instance_t *c = FMU_ENTER(comp, fmi2GetDerivatives);
     if (!c) return fmi2Error;
     if (!array_ok(c, "fmi2GetDerivatives", derivatives, nx, PLANT_NX)) return fmi2Error;
+    if (!fmu_finite_result(c, "fmi2GetDerivatives", NULL, 0)) return fmi2Error;
     fmu_update_outputs(c);
+    if (!fmu_finite_result(c, "fmi2GetDerivatives", c->m.dydt, nx)) return fmi2Error;
     memcpy(derivatives, c->m.dydt, nx * sizeof(double));
     return fmi2OK;
 }
@@ -104,15 +112,17 @@ fmi2Status fmi2GetEventIndicators(fmi2Component comp, fmi2Real z[], size_t nz) {
     if (!c) return fmi2Error;
     if (!array_ok(c, "fmi2GetEventIndicators", z, nz, PLANT_NZ)) return fmi2Error;
     m = &c->m;
+    if (!fmu_finite_result(c, "fmi2GetEventIndicators", NULL, 0)) return fmi2Error;
     params_inputs(m->val, &m->in);
     plant_indicators(&m->p, &m->d, m->y, &m->in, z);
-    return fmi2OK;
+    return fmu_finite_result(c, "fmi2GetEventIndicators", z, nz) ? fmi2OK : fmi2Error;
 }
 
 fmi2Status fmi2GetContinuousStates(fmi2Component comp, fmi2Real x[], size_t nx) {
     instance_t *c = FMU_ENTER(comp, fmi2GetContinuousStates);
     if (!c) return fmi2Error;
     if (!array_ok(c, "fmi2GetContinuousStates", x, nx, PLANT_NX)) return fmi2Error;
+    if (!fmu_finite_result(c, "fmi2GetContinuousStates", c->m.y, nx)) return fmi2Error;
     memcpy(x, c->m.y, nx * sizeof(double));
     return fmi2OK;
 }

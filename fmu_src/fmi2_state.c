@@ -1,53 +1,75 @@
-/* FMI 2.0 FMU state: snapshots are copies of the instance's one plain-data struct, so get/set
- * and serialisation are byte copies guarded by a magic number and the struct size. */
+/* FMI 2.0 FMU state. A snapshot (fmi2FMUstate) holds the serialised state of
+ * fmi2_state_format.h, so every snapshot, from memory or from bytes, is loaded through the
+ * one decoder that checks every field and re-derives the rest from the parameters. */
 #include <math.h>
 #include <string.h>
 
-#include "fmi2_instance.h"
+#include "fmi2_state_format.h"
 
-/* ---------------------------------------------------------------- FMU state */
+#define BLOB_MAGIC 0x46444253u   /* marks an fmi2FMUstate of this FMU */
+
+typedef struct {
+    unsigned magic;
+    size_t len;
+    unsigned char bytes[STATE_MAX_BYTES];
+} blob_t;
+
+static blob_t *as_blob(instance_t *c, const char *fn, fmi2FMUstate state) {
+    blob_t *s = (blob_t *)state;
+    if (!s || s->magic != BLOB_MAGIC || s->len != state_bytes()) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: FMUstate is not a state of this FMU", fn);
+        return NULL;
+    }
+    return s;
+}
+
+static blob_t *new_blob(instance_t *c, const char *fn) {
+    blob_t *s = (blob_t *)c->cb.allocateMemory(1, sizeof(blob_t));
+    if (!s) { fmu_log(c, fmi2Error, LOG_ERROR, "%s: out of memory", fn); return NULL; }
+    s->magic = BLOB_MAGIC;
+    s->len = state_bytes();
+    return s;
+}
 
 fmi2Status fmi2GetFMUstate(fmi2Component comp, fmi2FMUstate *state) {
     instance_t *c = FMU_ENTER(comp, fmi2GetFMUstate);
-    model_t *s;
+    blob_t *s;
     if (!c) return fmi2Error;
     if (!state) { fmu_log(c, fmi2Error, LOG_ERROR, "fmi2GetFMUstate: FMUstate pointer is NULL"); return fmi2Error; }
-    s = (model_t *)*state;
-    if (!s) {
-        s = (model_t *)c->cb.allocateMemory(1, sizeof(model_t));
-        if (!s) { fmu_log(c, fmi2Error, LOG_ERROR, "fmi2GetFMUstate: out of memory"); return fmi2Error; }
-    } else if (s->magic != MODEL_MAGIC || s->size != sizeof(model_t)) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2GetFMUstate: *FMUstate is not a state of this FMU");
+    if (state_bytes() > STATE_MAX_BYTES) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2GetFMUstate: a state needs %zu bytes, more than %u", state_bytes(),
+                STATE_MAX_BYTES);
         return fmi2Error;
     }
-    memcpy(s, &c->m, sizeof(model_t));
+    s = *state ? as_blob(c, "fmi2GetFMUstate", *state) : new_blob(c, "fmi2GetFMUstate");
+    if (!s) return fmi2Error;
+    state_encode(&c->m, c->type, s->bytes);
     *state = s;
+    return fmi2OK;
+}
+
+/* bytes checked and loaded into the instance (nothing changes when they are refused) */
+static fmi2Status load(instance_t *c, const char *fn, const unsigned char *b, size_t len) {
+    model_t tmp;
+    if (!state_decode(c, fn, b, len, &tmp)) return fmi2Error;
+    c->m = tmp;
     return fmi2OK;
 }
 
 fmi2Status fmi2SetFMUstate(fmi2Component comp, fmi2FMUstate state) {
     instance_t *c = FMU_ENTER(comp, fmi2SetFMUstate);
-    const model_t *s = (const model_t *)state;
+    blob_t *s;
     if (!c) return fmi2Error;
-    if (!s || s->magic != MODEL_MAGIC || s->size != sizeof(model_t)) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SetFMUstate: not a state of this FMU");
-        return fmi2Error;
-    }
-    memcpy(&c->m, s, sizeof(model_t));
-    c->m.solver_restart = 1;
-    return fmi2OK;
+    if (!(s = as_blob(c, "fmi2SetFMUstate", state))) return fmi2Error;
+    return load(c, "fmi2SetFMUstate", s->bytes, s->len);
 }
 
 fmi2Status fmi2FreeFMUstate(fmi2Component comp, fmi2FMUstate *state) {
     instance_t *c = FMU_ENTER(comp, fmi2FreeFMUstate);
-    model_t *s;
+    blob_t *s;
     if (!c) return fmi2Error;
     if (!state || !*state) return fmi2OK;
-    s = (model_t *)*state;
-    if (s->magic != MODEL_MAGIC) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2FreeFMUstate: not a state of this FMU");
-        return fmi2Error;
-    }
+    if (!(s = as_blob(c, "fmi2FreeFMUstate", *state))) return fmi2Error;
     s->magic = 0;
     c->cb.freeMemory(s);
     *state = NULL;
@@ -56,26 +78,24 @@ fmi2Status fmi2FreeFMUstate(fmi2Component comp, fmi2FMUstate *state) {
 
 fmi2Status fmi2SerializedFMUstateSize(fmi2Component comp, fmi2FMUstate state, size_t *size) {
     instance_t *c = FMU_ENTER(comp, fmi2SerializedFMUstateSize);
+    blob_t *s;
     if (!c) return fmi2Error;
-    if (!state || !size || ((const model_t *)state)->magic != MODEL_MAGIC) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SerializedFMUstateSize: %s", !size ? "size pointer is NULL"
-                : "FMUstate is not a state of this FMU");
-        return fmi2Error;
-    }
-    *size = sizeof(model_t);
+    if (!size) { fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SerializedFMUstateSize: size pointer is NULL"); return fmi2Error; }
+    if (!(s = as_blob(c, "fmi2SerializedFMUstateSize", state))) return fmi2Error;
+    *size = s->len;
     return fmi2OK;
 }
 
 fmi2Status fmi2SerializeFMUstate(fmi2Component comp, fmi2FMUstate state, fmi2Byte serializedState[], size_t size) {
     instance_t *c = FMU_ENTER(comp, fmi2SerializeFMUstate);
-    const model_t *s = (const model_t *)state;
+    blob_t *s;
     if (!c) return fmi2Error;
-    if (!s || s->magic != MODEL_MAGIC || !serializedState || size < sizeof(model_t)) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SerializeFMUstate: invalid state or buffer (size %zu, need %zu)",
-                size, sizeof(model_t));
+    if (!(s = as_blob(c, "fmi2SerializeFMUstate", state))) return fmi2Error;
+    if (!serializedState || size < s->len) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SerializeFMUstate: invalid buffer (size %zu, need %zu)", size, s->len);
         return fmi2Error;
     }
-    memcpy(serializedState, s, sizeof(model_t));
+    memcpy(serializedState, s->bytes, s->len);
     return fmi2OK;
 }
 
@@ -83,21 +103,15 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component comp, const fmi2Byte serialized
                                    fmi2FMUstate *state) {
     instance_t *c = FMU_ENTER(comp, fmi2DeSerializeFMUstate);
     model_t tmp;
+    blob_t *s;
     if (!c) return fmi2Error;
-    if (!serializedState || !state || size != sizeof(model_t)) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DeSerializeFMUstate: size %zu, expected %zu", size, sizeof(model_t));
+    if (!state) { fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DeSerializeFMUstate: FMUstate pointer is NULL"); return fmi2Error; }
+    if (!state_decode(c, "fmi2DeSerializeFMUstate", (const unsigned char *)serializedState, size, &tmp))
         return fmi2Error;
-    }
-    memcpy(&tmp, serializedState, sizeof tmp);
-    if (tmp.magic != MODEL_MAGIC || tmp.size != sizeof(model_t)) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DeSerializeFMUstate: bytes are not a serialized state of this FMU");
-        return fmi2Error;
-    }
-    if (!*state) {
-        *state = c->cb.allocateMemory(1, sizeof(model_t));
-        if (!*state) { fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DeSerializeFMUstate: out of memory"); return fmi2Error; }
-    }
-    memcpy(*state, &tmp, sizeof tmp);
+    s = *state ? as_blob(c, "fmi2DeSerializeFMUstate", *state) : new_blob(c, "fmi2DeSerializeFMUstate");
+    if (!s) return fmi2Error;
+    memcpy(s->bytes, serializedState, size);
+    *state = s;
     return fmi2OK;
 }
 

@@ -1,5 +1,6 @@
 /* FMI 2.0 get/set of variable values: type and state checks, every value checked before any
  * is stored (a rejected call changes nothing), tunable parameters recompiled. */
+#include <limits.h>
 #include <math.h>
 #include <string.h>
 
@@ -46,8 +47,14 @@ static fmi2Status get_values(instance_t *c, const char *fn, const fmi2ValueRefer
         double v;
         if (row < 0) return fmi2Error;
         v = c->m.val[vr[k]];
+        if (!isfinite(v)) {
+            fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s = %g is not finite (the simulation overflowed)", fn,
+                    MODEL_VARS[row].name, v);
+            return fmi2Error;
+        }
         if (type == 'R') ((fmi2Real *)value)[k] = v;
-        else if (type == 'I') ((fmi2Integer *)value)[k] = (fmi2Integer)v;
+        else if (type == 'I')   /* counters saturate at INT_MAX instead of wrapping */
+            ((fmi2Integer *)value)[k] = v >= (double)INT_MAX ? INT_MAX : (v <= (double)INT_MIN ? INT_MIN : (fmi2Integer)v);
         else ((fmi2Boolean *)value)[k] = v != 0.0 ? fmi2True : fmi2False;
     }
     return fmi2OK;
@@ -92,15 +99,10 @@ static int settable(instance_t *c, const char *fn, int row) {
     return 0;
 }
 
-/* The min/max of modelDescription.xml bind every variable (params_check_value knows only the
- * physics' own ranges); solver.tol must in addition lie in (0, 1) like fmi2SetupExperiment's. */
+/* params_check_value binds every variable to the physics' ranges and the min/max of
+ * modelDescription.xml; solver.tol must in addition lie in (0, 1) like fmi2SetupExperiment's. */
 static int declared_range_ok(instance_t *c, const char *fn, int row, double v) {
     const model_var_t *mv = &MODEL_VARS[row];
-    if (v < mv->min || v > mv->max) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s = %.17g is out of range: allowed [%.17g, %.17g] %s", fn, mv->name,
-                v, mv->min, mv->max, mv->unit);
-        return 0;
-    }
     if (mv->vr == VR_solver_tol && !(v > 0.0 && v < 1.0)) {
         fmu_log(c, fmi2Error, LOG_ERROR, "%s: solver.tol = %.17g is out of range: allowed (0, 1)", fn, v);
         return 0;

@@ -68,6 +68,20 @@ static void fmt_range(char *buf, size_t n, const range_t *r) {
     snprintf(buf, n, "%s%s, %s%s", r->lo_open ? "(" : "[", lo, hi, r->hi_open ? ")" : "]");
 }
 
+/* the min/max of modelDescription.xml (the interval that keeps the arithmetic finite) */
+static bool declared_range_ok(unsigned vr, double value, char *msg, size_t msglen) {
+    const model_var_t *v;
+    char vb[40], lo[40], hi[40];
+    if (vr >= MODEL_NVR || MODEL_VR_INDEX[vr] < 0) return true;
+    v = &MODEL_VARS[MODEL_VR_INDEX[vr]];
+    if (value >= v->min && value <= v->max) return true;
+    if (isinf(v->min)) snprintf(lo, sizeof lo, "-inf"); else num(lo, sizeof lo, v->min);
+    if (isinf(v->max)) snprintf(hi, sizeof hi, "inf"); else num(hi, sizeof hi, v->max);
+    snprintf(msg, msglen, "%s = %s is out of range: allowed [%s, %s] %s", v->name, num(vb, sizeof vb, value),
+             lo, hi, v->unit);
+    return false;
+}
+
 bool params_check_value(unsigned vr, double value, char *msg, size_t msglen) {
     range_t r;
     char rs[80];
@@ -77,15 +91,15 @@ bool params_check_value(unsigned vr, double value, char *msg, size_t msglen) {
         if (*var_unit(vr)) strncat(msg, "]", msglen - strlen(msg) - 1);
         return false;
     }
-    if (!range_of(vr, &r)) return true;
-    if ((r.lo_open ? value <= r.lo : value < r.lo) || (r.hi_open ? value >= r.hi : value > r.hi)) {
+    if (range_of(vr, &r) &&
+        ((r.lo_open ? value <= r.lo : value < r.lo) || (r.hi_open ? value >= r.hi : value > r.hi))) {
         fmt_range(rs, sizeof rs, &r);
         char vb[40];
         snprintf(msg, msglen, "%s = %s is out of range: allowed %s %s", var_name(vr), num(vb, sizeof vb, value),
                  rs, var_unit(vr));
         return false;
     }
-    return true;
+    return declared_range_ok(vr, value, msg, msglen);
 }
 
 static void map_compile(const double *val, posmap_t *m, const unsigned *vc, int npoly,
@@ -252,4 +266,31 @@ void params_store_outputs(double *val, const double *y, const double *dydt, cons
     val[VR_stats_n_state_events] = (double)d->n_state_events;
     /* friction.F[j] reports the element's effective force (nu_j s(v) when lag is off) */
     for (j = 0; j < PLANT_NE_MAX; j++) val[VRA_friction_F[j + 1]] = o->F_elem[j];
+}
+
+/* one candidate of params_fastest_rate: a rate [1/s] and the parameter it comes from */
+static void rate_candidate(unsigned vr, double rate, double *best, unsigned *best_vr) {
+    if (rate > *best) { *best = rate; *best_vr = vr; }
+}
+
+void params_fastest_rate(const double *val, const plant_params_t *p, char *buf, size_t n) {
+    double best = 0.0, S_min = p->Fc[0] < p->Fc[1] ? p->Fc[0] : p->Fc[1];
+    unsigned best_vr = VR_Ts;
+    char vb[40], mb[40];
+    int j;
+    if (p->prerolling && p->lag)   /* C / S(|v|), S down to F_c: F_c = 0 makes it unbounded */
+        rate_candidate(S_min > 0.0 ? VR_friction_C : VR_friction_F_c, S_min > 0.0 ? p->C / S_min : HUGE_VAL,
+                       &best, &best_vr);
+    for (j = 0; j < PLANT_NE_MAX; j++)
+        if (p->active[j]) rate_candidate(VRA_friction_k[j + 1], sqrt(p->k[j] / p->m), &best, &best_vr);
+    rate_candidate(VR_friction_sigma2, (p->sigma2[0] > p->sigma2[1] ? p->sigma2[0] : p->sigma2[1]) / p->m,
+                   &best, &best_vr);
+    for (j = 1; j <= PLANT_NH_MAX; j++) {
+        double kw = 2.0 * M_PI / val[VRA_cogging_lambda[j]];
+        rate_candidate(VRA_cogging_a[j], sqrt(fabs(val[VRA_cogging_a[j]]) * kw / p->m), &best, &best_vr);
+        rate_candidate(VRA_cogging_b[j], sqrt(fabs(val[VRA_cogging_b[j]]) * kw / p->m), &best, &best_vr);
+    }
+    if (best < 1.0 / p->Ts) { best = 1.0 / p->Ts; best_vr = VR_Ts; }
+    snprintf(buf, n, "%s = %s (rate %.3g 1/s with m = %s kg)", var_name(best_vr), num(vb, sizeof vb, val[best_vr]),
+             best, num(mb, sizeof mb, p->m));
 }

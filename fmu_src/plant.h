@@ -4,6 +4,7 @@
 #define PLANT_H
 
 #include <stdbool.h>
+#include <stddef.h>
 
 #define PLANT_NE_MAX 10      /* GMS element slots */
 #define PLANT_NH_MAX 8       /* Fourier slots per position map */
@@ -102,6 +103,12 @@ double static_friction(const plant_params_t *p, const plant_disc_t *d, double v,
 double static_indicator(const plant_params_t *p, const plant_disc_t *d, double v, double F_app);
 void static_init(const plant_params_t *p, plant_disc_t *d, double *y, double F_app);
 int static_update(const plant_params_t *p, plant_disc_t *d, double *y, double F_app, bool *y_changed);
+
+/* plant_state.c: the discrete state as PLANT_ND numbers (saved FMU states); unpack checks every
+ * field (flags, directions, finite values, exact counts) and names the first bad one in msg */
+#define PLANT_ND (1 + PLANT_NA_MAX + PLANT_NB_MAX + 1 + PLANT_NE_MAX + 3 + 4)
+void plant_disc_pack(const plant_disc_t *d, double *w);
+bool plant_disc_unpack(const double *w, plant_disc_t *d, char *msg, size_t msglen);
 
 /* plant.c: Eq. 1 assembled */
 void plant_init(const plant_params_t *p, plant_disc_t *d, double *y, const plant_in_t *in);

@@ -71,11 +71,13 @@ static void call_progress(inst_t *I) {
             cur_fn = "fmi2GetDerivatives";
             status = api.GetDerivatives(I->c, dx, MODEL_NX);
             judge(I, status, 0, 1, 1);
+            check_finite(status, dx, MODEL_NX);
             if (status != fmi2OK) { after(I, status, S_NONE); return; }
             cur_fn = "fmi2GetContinuousStates";
             host_env_mark(&I->env);
             status = api.GetContinuousStates(I->c, x, MODEL_NX);
             judge(I, status, 0, 1, 1);
+            check_finite(status, x, MODEL_NX);
             for (j = 0; j < MODEL_NX; j++) x[j] += 2e-5 * dx[j];
             I->time += 2e-5;
             cur_fn = "fmi2SetTime";
@@ -204,6 +206,7 @@ static void call_get_set(inst_t *I, int is_set) {
         if (type == 'R') status = api.GetReal(I->c, null_vr ? NULL : vr, n, null_val ? NULL : rv);
         else if (type == 'I') status = api.GetInteger(I->c, null_vr ? NULL : vr, n, null_val ? NULL : iv);
         else status = api.GetBoolean(I->c, null_vr ? NULL : vr, n, null_val ? NULL : bv);
+        if (type == 'R' && !null_vr && !null_val) check_finite(status, rv, n);
         judge(I, status, bad ? 1 : (all_valid && I->st != S_INIT ? 0 : -1), 1, 1);
     }
     after(I, status, S_NONE);
@@ -320,16 +323,19 @@ static void call_me_continuous(inst_t *I) {
     case 2:
         cur_fn = "fmi2GetDerivatives";
         status = api.GetDerivatives(I->c, null ? NULL : x, nx);
+        if (!null && nx <= MODEL_NX) check_finite(status, x, nx);
         illegal = (!me || I->st == S_INST || I->st == S_STEP || null || nx != MODEL_NX) ? 1 : (st_ok_get ? 0 : -1);
         break;
     case 3:
         cur_fn = "fmi2GetEventIndicators";
         status = api.GetEventIndicators(I->c, null ? NULL : z, nz);
+        if (!null && nz <= MODEL_NZ) check_finite(status, z, nz);
         illegal = (!me || I->st == S_INST || I->st == S_STEP || null || nz != MODEL_NZ) ? 1 : (st_ok_get ? 0 : -1);
         break;
     case 4:
         cur_fn = "fmi2GetContinuousStates";
         status = api.GetContinuousStates(I->c, null ? NULL : x, nx);
+        if (!null && nx <= MODEL_NX) check_finite(status, x, nx);
         illegal = (!me || I->st == S_INST || I->st == S_STEP || null || nx != MODEL_NX) ? 1 : (st_ok_get ? 0 : -1);
         break;
     case 5:
@@ -389,6 +395,7 @@ static void call_cs(inst_t *I) {
         int known = vr == VR_x || vr == VR_v;
         cur_fn = "fmi2GetRealOutputDerivatives";
         status = api.GetRealOutputDerivatives(I->c, &vr, 1, &order, &v);
+        check_finite(status, &v, 1);
         illegal = (!cs || I->st == S_INST || I->st == S_INIT || order != 1 || (!known && vr != VR_i)) ? 1
                   : ((I->st == S_STEP || I->st == S_TERM) && known ? 0 : -1);
     } else {

@@ -126,3 +126,14 @@ int settable(int row, int st) {
 
 int getable_state(int st) { return st == S_INIT || st == S_EVENT || st == S_CONT || st == S_STEP || st == S_TERM; }
 
+
+void check_finite(int status, const double *v, size_t n) {
+    size_t j;
+    if (status != fmi2OK) return;
+    for (j = 0; j < n; j++)
+        if (!isfinite(v[j])) {
+            snprintf(cur_detail, sizeof cur_detail, "element %zu = %g", j, v[j]);
+            fail("fmi2OK with a non-finite value", status, NULL);
+            return;
+        }
+}

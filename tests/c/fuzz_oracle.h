@@ -44,6 +44,8 @@ void judge(inst_t *I, int status, int illegal, int want_ok, int has_logger);
 
 /* a value reference for a get/set of type 'R', 'I' or 'B'; *bad = 1 when certainly wrong,
  * *row_out the MODEL_VARS row or -1 */
+/* no getter answers fmi2OK with a non-finite value: fails the run if one does */
+void check_finite(int status, const double *v, size_t n);
 fmi2ValueReference pick_vr(char type, int *bad, int *row_out);
 double pick_real(int row);
 int settable(int row, int st);          /* may the variable be set in modelled state st? */

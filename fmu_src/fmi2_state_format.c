@@ -1,0 +1,258 @@
+/* The serialised FMU state (layout in fmi2_state_format.h): encoding, and decoding that checks
+ * the header (magic, version, sizes, GUID, interface, structure, checksum) and then every field
+ * of the payload before anything of it is used. */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "fmi2_state_format.h"
+
+#define GUID_BYTES 48
+#define HEADER_BYTES (4 * 4 + GUID_BYTES + 4 + 6 * 4 + 4)
+#define CRC_AT (HEADER_BYTES - 4)
+#define SOLVER_NUMS 7
+#define MAX_COUNT 9007199254740992.0   /* 2^53 */
+#define ST_BEFORE_INIT (ST_INSTANTIATED | ST_INIT)
+#define ST_ME_STATES (ST_BEFORE_INIT | ST_EVENT | ST_CONT | ST_TERMINATED)
+#define ST_CS_STATES (ST_BEFORE_INIT | ST_STEP_COMPLETE | ST_STEP_FAILED | ST_TERMINATED)
+enum { F_STOP = 1, F_TOL = 2, F_PARAMS = 4, F_STROKE = 8, F_ALL = 15 };
+
+typedef struct { unsigned char *b; size_t n; } wr_t;
+typedef struct { const unsigned char *b; size_t n; } rd_t;
+
+static void put_u32(wr_t *w, uint32_t v) {
+    int j;
+    for (j = 0; j < 4; j++) w->b[w->n++] = (unsigned char)(v >> (8 * j));
+}
+static void put_f64(wr_t *w, double v) {
+    uint64_t u;
+    int j;
+    memcpy(&u, &v, sizeof u);
+    for (j = 0; j < 8; j++) w->b[w->n++] = (unsigned char)(u >> (8 * j));
+}
+static uint32_t get_u32(rd_t *r) {
+    uint32_t v = 0;
+    int j;
+    for (j = 0; j < 4; j++) v |= (uint32_t)r->b[r->n++] << (8 * j);
+    return v;
+}
+static double get_f64(rd_t *r) {
+    uint64_t u = 0;
+    double v;
+    int j;
+    for (j = 0; j < 8; j++) u |= (uint64_t)r->b[r->n++] << (8 * j);
+    memcpy(&v, &u, sizeof v);
+    return v;
+}
+
+static uint32_t crc32(uint32_t crc, const unsigned char *b, size_t n) {
+    size_t i;
+    int k;
+    crc = ~crc;
+    for (i = 0; i < n; i++) {
+        crc ^= b[i];
+        for (k = 0; k < 8; k++) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
+    }
+    return ~crc;
+}
+
+/* the variables a state stores: parameters, inputs and the start values of the states */
+static int stored(const model_var_t *v) {
+    return v->causality == 'p' || v->causality == 'i' || (v->has_start && v->variability == 'c');
+}
+static uint32_t n_stored(void) {
+    uint32_t n = 0;
+    int j;
+    for (j = 0; j < MODEL_NVARS; j++) n += (uint32_t)stored(&MODEL_VARS[j]);
+    return n;
+}
+static uint32_t layout_crc(void) {
+    uint32_t crc = 0;
+    int j;
+    for (j = 0; j < MODEL_NVARS; j++)
+        if (stored(&MODEL_VARS[j])) crc = crc32(crc, (const unsigned char *)MODEL_VARS[j].name,
+                                                strlen(MODEL_VARS[j].name) + 1);
+    return crc;
+}
+static size_t payload_bytes(void) {
+    return 2 * 4 + 4 * 8 + 8 * ((size_t)PLANT_NX + n_stored() + PLANT_ND + SOLVER_NUMS);
+}
+size_t state_bytes(void) { return HEADER_BYTES + payload_bytes(); }
+
+static void put_header(wr_t *w, int type) {
+    unsigned char guid[GUID_BYTES] = {0};
+    memcpy(guid, MODEL_GUID, strlen(MODEL_GUID) < GUID_BYTES ? strlen(MODEL_GUID) : GUID_BYTES - 1);
+    put_u32(w, STATE_MAGIC);
+    put_u32(w, STATE_VERSION);
+    put_u32(w, HEADER_BYTES);
+    put_u32(w, (uint32_t)payload_bytes());
+    memcpy(w->b + w->n, guid, GUID_BYTES);
+    w->n += GUID_BYTES;
+    put_u32(w, (uint32_t)type);
+    put_u32(w, MODEL_NVR);
+    put_u32(w, n_stored());
+    put_u32(w, MODEL_NX);
+    put_u32(w, MODEL_NZ);
+    put_u32(w, PLANT_ND);
+    put_u32(w, layout_crc());
+    put_u32(w, 0u);   /* the payload's CRC, written last */
+}
+
+void state_encode(const model_t *m, int type, unsigned char *out) {
+    wr_t w = {out, 0};
+    double disc[PLANT_ND];
+    const double solver[SOLVER_NUMS] = {m->solver.h, m->solver.log2_facold, (double)m->solver.n_steps,
+                                        (double)m->solver.n_rejected, (double)m->solver.n_rhs,
+                                        (double)m->solver.n_ind, (double)m->solver.n_roots};
+    int j;
+    put_header(&w, type);
+    put_u32(&w, (uint32_t)m->fsm);
+    put_u32(&w, (uint32_t)((m->stop_defined ? F_STOP : 0) | (m->tol_defined ? F_TOL : 0) |
+                           (m->params_ok ? F_PARAMS : 0) | (m->stroke_warned ? F_STROKE : 0)));
+    put_f64(&w, m->time);
+    put_f64(&w, m->t0);
+    put_f64(&w, m->stop_time);
+    put_f64(&w, m->tol);
+    for (j = 0; j < PLANT_NX; j++) put_f64(&w, m->y[j]);
+    for (j = 0; j < MODEL_NVARS; j++)
+        if (stored(&MODEL_VARS[j])) put_f64(&w, m->val[MODEL_VARS[j].vr]);
+    plant_disc_pack(&m->d, disc);
+    for (j = 0; j < PLANT_ND; j++) put_f64(&w, disc[j]);
+    for (j = 0; j < SOLVER_NUMS; j++) put_f64(&w, solver[j]);
+    w.n = CRC_AT;
+    put_u32(&w, crc32(0, out + HEADER_BYTES, payload_bytes()));
+}
+
+#define BAD(...) do { fmu_log(c, fmi2Error, LOG_ERROR, __VA_ARGS__); return 0; } while (0)
+
+/* magic, version, sizes, GUID, interface, structure and checksum, each against this FMU's */
+static int header_ok(instance_t *c, const char *fn, const unsigned char *b, size_t len) {
+    static const char *const STRUCT[] = {"value references", "stored variables", "continuous states",
+                                         "event indicators", "discrete-state numbers", "variable layout (CRC)"};
+    const uint32_t mine[6] = {MODEL_NVR, n_stored(), MODEL_NX, MODEL_NZ, PLANT_ND, layout_crc()};
+    static const char *const IFACE[] = {"model exchange", "co-simulation"};
+    rd_t r = {b, 0};
+    char guid[GUID_BYTES + 1];
+    unsigned char mine_guid[GUID_BYTES];
+    uint32_t magic, version, hb, pb, type, crc;
+    int j;
+    if (len < HEADER_BYTES) BAD("%s: %zu bytes are no FMU state: the header alone has %d", fn, len, HEADER_BYTES);
+    magic = get_u32(&r); version = get_u32(&r); hb = get_u32(&r); pb = get_u32(&r);
+    if (magic != STATE_MAGIC) BAD("%s: not a state of this FMU (magic 0x%08x, expected 0x%08x)", fn,
+                                  (unsigned)magic, STATE_MAGIC);
+    if (version != STATE_VERSION) BAD("%s: state format version %u, this FMU reads version %u", fn,
+                                      (unsigned)version, STATE_VERSION);
+    if (hb != HEADER_BYTES || pb != payload_bytes() || len != state_bytes())
+        BAD("%s: state of %zu bytes (header %u + payload %u), a state of this FMU has %zu (%d + %zu)", fn, len,
+            (unsigned)hb, (unsigned)pb, state_bytes(), HEADER_BYTES, payload_bytes());
+    memcpy(guid, b + r.n, GUID_BYTES);
+    guid[GUID_BYTES] = 0;
+    r.n += GUID_BYTES;
+    memset(mine_guid, 0, sizeof mine_guid);
+    memcpy(mine_guid, MODEL_GUID, strlen(MODEL_GUID) < GUID_BYTES ? strlen(MODEL_GUID) : GUID_BYTES - 1);
+    if (memcmp(b + 16, mine_guid, GUID_BYTES) != 0)
+        BAD("%s: the state's GUID %.48s differs from this FMU's %s", fn, guid, MODEL_GUID);
+    type = get_u32(&r);
+    if (type != (uint32_t)c->type)
+        BAD("%s: the state is of %s (interface %u), this instance is %s", fn, type <= 1 ? IFACE[type] : "no interface",
+            (unsigned)type, IFACE[c->type == fmi2CoSimulation]);
+    for (j = 0; j < 6; j++) {
+        uint32_t v = get_u32(&r);
+        if (v != mine[j]) BAD("%s: the state's structure differs: %s %u, this FMU has %u", fn, STRUCT[j],
+                              (unsigned)v, (unsigned)mine[j]);
+    }
+    crc = get_u32(&r);
+    if (crc != crc32(0, b + HEADER_BYTES, payload_bytes()))
+        BAD("%s: checksum 0x%08x does not match the payload's 0x%08x: the state is corrupted", fn, (unsigned)crc,
+            (unsigned)crc32(0, b + HEADER_BYTES, payload_bytes()));
+    return 1;
+}
+
+/* the call-sequence state, flags, times and tolerance */
+static int read_scalars(instance_t *c, const char *fn, rd_t *r, model_t *m) {
+    uint32_t fsm = get_u32(r), flags = get_u32(r);
+    const int allowed = c->type == fmi2CoSimulation ? ST_CS_STATES : ST_ME_STATES;
+    if (fsm == 0 || (fsm & (fsm - 1)) != 0 || !(fsm & (uint32_t)allowed))
+        BAD("%s: call-sequence state 0x%x is not one a state of this interface is saved in", fn, (unsigned)fsm);
+    if (flags & ~(uint32_t)F_ALL) BAD("%s: flags 0x%x: allowed bits 0x%x", fn, (unsigned)flags, (unsigned)F_ALL);
+    m->fsm = (int)fsm;
+    m->stop_defined = (flags & F_STOP) != 0;
+    m->tol_defined = (flags & F_TOL) != 0;
+    m->params_ok = (flags & F_PARAMS) != 0;
+    m->stroke_warned = (flags & F_STROKE) != 0;
+    m->time = get_f64(r);
+    m->t0 = get_f64(r);
+    m->stop_time = get_f64(r);
+    m->tol = get_f64(r);
+    if (!isfinite(m->time) || !isfinite(m->t0) || !isfinite(m->stop_time) || !(m->tol > 0.0 && m->tol < 1.0) ||
+        (m->stop_defined && m->stop_time < m->t0))
+        BAD("%s: time %g, startTime %g, stopTime %g, tolerance %g: allowed finite times, stopTime >= "
+            "startTime, tolerance in (0, 1)", fn, m->time, m->t0, m->stop_time, m->tol);
+    if ((m->fsm & ST_INSTANTIATED) ? m->params_ok : (!(m->fsm & ST_INIT) && !m->params_ok))
+        BAD("%s: parameters-compiled flag %d contradicts the call-sequence state 0x%x", fn, m->params_ok, m->fsm);
+    return 1;
+}
+
+/* continuous states and the stored variables, each through the setter's checks */
+static int read_values(instance_t *c, const char *fn, rd_t *r, model_t *m) {
+    char msg[512];
+    int j;
+    for (j = 0; j < PLANT_NX; j++) {
+        m->y[j] = get_f64(r);
+        if (!isfinite(m->y[j])) BAD("%s: state %s = %g is not finite", fn,
+                                    MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]].name, m->y[j]);
+    }
+    for (j = 0; j < MODEL_NVARS; j++) {
+        const model_var_t *v = &MODEL_VARS[j];
+        double x;
+        if (!stored(v)) continue;
+        x = get_f64(r);
+        if (!params_check_value(v->vr, x, msg, sizeof msg)) BAD("%s: %s", fn, msg);
+        if ((v->type == 'B' && x != 0.0 && x != 1.0) || (v->type == 'I' && x != floor(x)) ||
+            (v->vr == VR_solver_tol && !(x > 0.0 && x < 1.0)))
+            BAD("%s: %s = %g is not a valid %s value", fn, v->name, x, v->type == 'B' ? "Boolean" :
+                (v->type == 'I' ? "Integer" : "Real"));
+        m->val[v->vr] = x;
+    }
+    return 1;
+}
+
+/* discrete state and solver memory; then the parameters compiled and the solver set up again */
+static int read_rest(instance_t *c, const char *fn, rd_t *r, model_t *m) {
+    double disc[PLANT_ND], s[SOLVER_NUMS];
+    char msg[512];
+    int j;
+    for (j = 0; j < PLANT_ND; j++) disc[j] = get_f64(r);
+    for (j = 0; j < SOLVER_NUMS; j++) s[j] = get_f64(r);
+    if (!plant_disc_unpack(disc, &m->d, msg, sizeof msg)) BAD("%s: %s", fn, msg);
+    if (!(s[0] >= 0.0 && s[0] < HUGE_VAL) || !(s[1] >= -14.0 && s[1] <= 0.0))
+        BAD("%s: solver step proposal %g, controller memory %g: allowed a finite step >= 0, memory in "
+            "[-14, 0]", fn, s[0], s[1]);
+    for (j = 2; j < SOLVER_NUMS; j++)
+        if (!(s[j] >= 0.0 && s[j] <= MAX_COUNT && s[j] == floor(s[j])))
+            BAD("%s: solver count %d = %g: allowed an integer in [0, 2^53]", fn, j - 2, s[j]);
+    if (!m->params_ok) return 1;
+    if (!params_compile(m->val, &m->p, msg, sizeof msg)) BAD("%s: %s", fn, msg);
+    if (m->d.k > 0 && (double)m->d.k > (m->time - m->t0) / m->p.Ts + 2.0)
+        BAD("%s: current-loop sample %ld lies after the state's time %.17g s (startTime %.17g s, Ts %g s)", fn,
+            m->d.k, m->time, m->t0, m->p.Ts);
+    fmu_solver_setup(m);
+    m->solver.h = s[0] < m->solver.h_max ? s[0] : m->solver.h_max;
+    m->solver.log2_facold = s[1];
+    m->solver.n_steps = (long)s[2]; m->solver.n_rejected = (long)s[3]; m->solver.n_rhs = (long)s[4];
+    m->solver.n_ind = (long)s[5]; m->solver.n_roots = (long)s[6];
+    return 1;
+}
+
+int state_decode(instance_t *c, const char *fn, const unsigned char *b, size_t len, model_t *out) {
+    rd_t r = {b, HEADER_BYTES};
+    if (!b) BAD("%s: the state is NULL", fn);
+    if (!header_ok(c, fn, b, len)) return 0;
+    fmu_model_defaults(out);
+    if (!read_scalars(c, fn, &r, out) || !read_values(c, fn, &r, out) || !read_rest(c, fn, &r, out)) return 0;
+    params_inputs(out->val, &out->in);
+    out->out_valid = 0;
+    out->solver_restart = 1;
+    return 1;
+}

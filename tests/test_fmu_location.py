@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 import feeddrive
-from feeddrive import fmu
+from feeddrive import fmu, model_description
 from feeddrive.cli import main as cli
 from feeddrive.fmu import FMUNotFoundError, Plant, fmu_path
 
@@ -44,7 +44,7 @@ def test_environment_naming_no_file_is_an_error_not_a_fall_back(monkeypatch, tmp
 
 def test_neither_names_both_places(monkeypatch, tmp_path):
     monkeypatch.delenv("FEEDDRIVE_FMU", raising=False)
-    monkeypatch.setattr(fmu, "DEFAULT_FMU", tmp_path / "LinearMotorFeedDrive.fmu")
+    monkeypatch.setattr(model_description, "DEFAULT_FMU", tmp_path / "LinearMotorFeedDrive.fmu")
     with pytest.raises(FMUNotFoundError) as e:
         Plant()
     msg = str(e.value)

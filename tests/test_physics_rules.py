@@ -8,9 +8,10 @@ import math
 import pytest
 
 from feeddrive.fmu import FMUError, Plant
+from feeddrive.model_description import variables
 from feeddrive.model_file import paper_model
 from feeddrive.paper import paper_parameters
-from feeddrive.physics import ParameterError, compile
+from feeddrive.physics import ParameterError, check_value, compile
 
 PAPER = paper_parameters()
 REALS = [n for n, v in PAPER.items() if not isinstance(v, bool) and n != "friction.N"]
@@ -115,3 +116,41 @@ def test_model_file_and_unknown_names():
     assert P.m == 16.1 and P.friction.nu[-1] == pytest.approx(0.383)
     with pytest.raises(KeyError, match="friction.Fs"):
         compile({"friction.Fs": 1.0})
+
+
+def _declared_ends() -> list[tuple[str, float]]:
+    """Every parameter's declared min and max (modelDescription.xml), at and just beyond."""
+    out = []
+    for name, v in variables().items():
+        if v.causality != "parameter" or v.kind == "Boolean" or name == "solver.tol":
+            continue
+        for end, outward in ((v.lo, -1.0), (v.hi, 1.0)):
+            if math.isinf(end):
+                continue
+            beyond = end + outward if v.kind == "Integer" else \
+                end + outward * max(abs(end) * 1e-6, 1e-300)
+            out.append((name, end))
+            out.append((name, beyond))
+    return out
+
+
+def test_every_declared_end_same_verdict_and_message(plant):
+    """At and beyond each end of every parameter's declared range the FMU's setter and
+    `check_value` agree: both accept, or both refuse with the same message."""
+    ends = _declared_ends()
+    assert len(ends) > 150
+    refused = 0
+    for name, value in ends:
+        fn = "fmi2SetInteger" if variables()[name].kind == "Integer" else "fmi2SetReal"
+        try:
+            check_value(name, value)
+            got = None
+        except ParameterError as e:
+            got = str(e)
+        logged = fmu_verdict(plant, {name: value})     # the set's message, or a whole-set rule's
+        expect = logged if logged is not None and logged.startswith(fn + ": ") else None
+        assert (expect is None) == (got is None), (name, value, expect, got)
+        if got is not None:
+            refused += 1
+            assert expect == f"{fn}: {got}", (name, value)
+    assert refused >= len(ends) // 2          # every beyond-the-end value at least

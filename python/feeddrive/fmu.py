@@ -11,12 +11,10 @@ Two interfaces of the same ``.fmu``:
 from __future__ import annotations
 
 import ctypes
-import os
 import shutil
 import tempfile
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from importlib import resources
 from pathlib import Path
 
 import numpy as np
@@ -24,48 +22,13 @@ from fmpy import extract, read_model_description
 from fmpy.fmi2 import (FMU2Model, FMU2Slave, defaultCallbacks, fmi2CallbackFunctions,
                        fmi2CallbackLoggerTYPE, fmi2Real, fmi2ValueReference)
 
-FMU_ENV = "FEEDDRIVE_FMU"
-DEFAULT_FMU = Path(str(resources.files(__package__) / "LinearMotorFeedDrive.fmu"))
+from .model_description import DEFAULT_FMU, FMU_ENV, FMUNotFoundError, fmu_path  # noqa: F401
+
 OUTPUTS = ("x", "v", "a", "i", "F_motor", "F_cogging", "F_friction", "K_f")
 
 
 class FMUError(RuntimeError):
     """An FMI call failed; the message carries what the FMU logged."""
-
-
-class FMUNotFoundError(FileNotFoundError):
-    """No ``.fmu`` where :func:`fmu_path` looked; the message names every place it looked."""
-
-
-def fmu_path(path: str | Path | None = None) -> Path:
-    """The FMU to load: ``path``, else ``$FEEDDRIVE_FMU``, else the package's own copy.
-
-    The package's copy (:data:`DEFAULT_FMU`, package data of the wheel; `make fmu` places it
-    there in a checkout).  An explicit ``path`` or ``$FEEDDRIVE_FMU`` that names no file is an
-    error, not a fall-back.
-
-    Raises
-    ------
-    FMUNotFoundError
-        One line naming the places looked at.
-    """
-    if path is not None:
-        p = Path(path)
-        if not p.is_file():
-            raise FMUNotFoundError(f"{p}: no FMU there")
-        return p
-    env = os.environ.get(FMU_ENV)
-    if env:
-        p = Path(env)
-        if not p.is_file():
-            raise FMUNotFoundError(f"{FMU_ENV}={env}: no FMU there (the package's own copy, "
-                                   f"used when {FMU_ENV} is unset, would be {DEFAULT_FMU})")
-        return p
-    if not DEFAULT_FMU.is_file():
-        raise FMUNotFoundError(f"no FMU: none in the package ({DEFAULT_FMU}) and {FMU_ENV} is not "
-                               f"set; build it with `make fmu` in the checkout or set {FMU_ENV} "
-                               f"to a LinearMotorFeedDrive.fmu")
-    return DEFAULT_FMU
 
 
 @dataclass

@@ -6,9 +6,11 @@ messages of fmu_src/params.c.
 (missing names keep the FMU's defaults, the paper's values, as an FMU instance does), checks
 every rule of params.c in its order and applies the effect switches once:
 
-- single values (``plant_check_value``; the FMU checks them on fmi2Set*, logging
+- single values (``params_check_value``; the FMU checks them on fmi2Set*, logging
   ``"fmi2SetReal: " + message``): every parameter finite; m, Ts, F_s, V_s, delta, C, k_i,
-  lambda_j in (0, inf); F_c, sigma2 in [0, inf); nu_i in [0, 1]; N in [1, 10];
+  lambda_j in (0, inf); F_c, sigma2 in [0, inf); nu_i in [0, 1]; N in [1, 10]; then the
+  ``min``/``max`` that modelDescription.xml declares (read from the FMU's own file by
+  :mod:`feeddrive.model_description`), the interval that keeps the arithmetic finite;
 - the compiled set (``plant_params_compile``; the FMU checks it when initialisation ends or a
   tunable changes, logging the message itself): sum(current.a) != 1, x_max > x_min,
   F_c <= F_s, with asymmetry the levels and viscous coefficient for v < 0 non-negative,
@@ -27,6 +29,7 @@ from typing import Any, Protocol
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..model_description import variables
 from ..paper import N_ELEMENTS_MAX, paper_parameters
 from .current_loop import CurrentLoop
 from .friction_gms import GMSParameters
@@ -50,31 +53,8 @@ class HasFmuParameters(Protocol):
 
 def _unit(name: str) -> str:
     """The unit of parameter ``name`` as modelDescription.xml declares it ('' for none)."""
-    fixed = {"m": "kg", "Ts": "s", "friction.F_s": "N", "friction.F_c": "N",
-             "friction.V_s": "m/s", "friction.delta": "1", "friction.sigma2": "N.s/m",
-             "friction.C": "N/s", "friction.N": "", "offset.F": "N", "asymmetry.dF": "N",
-             "asymmetry.dsigma2": "N.s/m", "stroke.x_min": "m", "stroke.x_max": "m",
-             "solver.tol": "1"}
-    if name in fixed:
-        return fixed[name]
-    base = name.split("[")[0]
-    if base == "current.a" or base == "friction.nu":
-        return "1"
-    if base == "current.b":
-        return "A/V"
-    if base == "friction.k":
-        return "N/m"
-    if base.endswith(".lambda"):
-        return "m"
-    if base == "cogging.c":
-        return ("N", "N/m", "N/m2", "N/m3")[int(name[10])]
-    if base == "ripple.c":
-        return ("N/A", "N/(A.m)", "N/(A.m2)")[int(name[9])]
-    if base in ("cogging.a", "cogging.b"):
-        return "N"
-    if base in ("ripple.a", "ripple.b"):
-        return "N/A"
-    return ""
+    v = variables().get(name)
+    return v.unit if v is not None else ""
 
 
 # range rules: (lo, lo_open, hi, hi_open), as params.c range_of
@@ -105,6 +85,11 @@ def _num(v: float) -> str:
     return s if float(s) == v else "%.17g" % v
 
 
+def _bound(v: float) -> str:
+    """An interval end as params.c prints it."""
+    return ("-inf" if v < 0 else "inf") if math.isinf(v) else _num(v)
+
+
 def _g(v: float) -> str:
     """C's %g of a non-finite double (glibc prints the sign of a NaN)."""
     if math.isnan(v):
@@ -120,14 +105,15 @@ def check_value(name: str, value: float) -> None:
         raise ParameterError(f"{name} = {_g(v)} is not a finite number: allowed values are "
                              f"finite{' [' + unit + ']' if unit else ''}")
     r = _range_of(name)
-    if r is None:
-        return
-    lo, lo_open, hi, hi_open = r
-    if (v <= lo if lo_open else v < lo) or (v >= hi if hi_open else v > hi):
-        los = "-inf" if math.isinf(lo) else _num(lo)
-        his = "inf" if math.isinf(hi) else _num(hi)
-        rs = f"{'(' if lo_open else '['}{los}, {his}{')' if hi_open else ']'}"
-        raise ParameterError(f"{name} = {_num(v)} is out of range: allowed {rs} {unit}")
+    if r is not None:
+        lo, lo_open, hi, hi_open = r
+        if (v <= lo if lo_open else v < lo) or (v >= hi if hi_open else v > hi):
+            rs = f"{'(' if lo_open else '['}{_bound(lo)}, {_bound(hi)}{')' if hi_open else ']'}"
+            raise ParameterError(f"{name} = {_num(v)} is out of range: allowed {rs} {unit}")
+    declared = variables().get(name)
+    if declared is not None and not declared.lo <= v <= declared.hi:
+        raise ParameterError(f"{name} = {_num(v)} is out of range: allowed "
+                             f"[{_bound(declared.lo)}, {_bound(declared.hi)}] {unit}")
 
 
 @dataclass(frozen=True)

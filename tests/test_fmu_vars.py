@@ -135,3 +135,13 @@ def test_state_nominals_come_from_the_model_description(fmu_path):
         p.fmu.getNominalsOfContinuousStates(buf, len(expected))
         assert list(buf) == expected
     assert expected[:2] == [1e-3, 1e-3] and expected[2:] == [1.0] * 10
+
+
+def test_no_xml_comment_inside_model_variables() -> None:
+    """Some importers (fmipp 2.1) count every child of ModelVariables, comments included, as a
+    ScalarVariable: the list holds ScalarVariable elements only."""
+    text = XML.read_text()
+    block = text[text.index("<ModelVariables>"):text.index("</ModelVariables>")]
+    assert "<!--" not in block
+    children = [c.tag for c in ET.fromstring(text).find("ModelVariables")]
+    assert children and set(children) == {"ScalarVariable"}

@@ -7,23 +7,10 @@
 #include <string.h>
 
 #include "fmi2_instance.h"
+#include "fmi2_log.h"
 
 
 static const char *const CAT_NAME[] = {"logEvents", "logStatusWarning", "logStatusError"};
-
-/* The logger's message is a printf format: pass the formatted text with every '%' doubled, so
- * importers that cannot read variadic arguments (ctypes, JNI) still get the whole message. */
-static void emit(const fmi2CallbackFunctions *cb, const char *name, fmi2Status st, const char *cat,
-                 const char *text) {
-    char esc[2048];
-    size_t i = 0;
-    for (; *text && i + 2 < sizeof esc; text++) {
-        if (*text == '%') esc[i++] = '%';
-        esc[i++] = *text;
-    }
-    esc[i] = 0;
-    cb->logger(cb->componentEnvironment, name, st, cat, esc);
-}
 
 static void log_early(const fmi2CallbackFunctions *cb, const char *name, const char *fmt, ...)
 #if defined(__GNUC__)
@@ -37,7 +24,7 @@ static void log_early(const fmi2CallbackFunctions *cb, const char *name, const c
     va_start(ap, fmt);
     vsnprintf(buf, sizeof buf, fmt, ap);
     va_end(ap);
-    emit(cb, name, fmi2Error, "logStatusError", buf);
+    fmi2_log_emit(cb, name, fmi2Error, "logStatusError", buf);
 }
 
 void fmu_log(instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...) {
@@ -50,7 +37,7 @@ void fmu_log(instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...) {
     va_start(ap, fmt);
     vsnprintf(buf, sizeof buf, fmt, ap);
     va_end(ap);
-    emit(&c->cb, c->name ? c->name : "?", st, CAT_NAME[idx], buf);
+    fmi2_log_emit(&c->cb, c->name ? c->name : "?", st, CAT_NAME[idx], buf);
 }
 
 static instance_t *as_instance(fmi2Component comp) {

@@ -15,9 +15,6 @@
 #include "ctrl_params.h"
 
 #define CTRL_MAGIC 0x46444354u   /* "FDCT" */
-#define LOG_EVENTS 1u
-#define LOG_WARNING 2u
-#define LOG_ERROR 4u
 
 typedef struct {
     unsigned magic;
@@ -34,40 +31,29 @@ typedef struct {
     unsigned log_mask;
 } ctrl_instance_t;
 
-static const char *const CAT_NAME[] = {"logEvents", "logStatusWarning", "logStatusError"};
-
 static void ctrl_log(ctrl_instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 4, 5)))
 #endif
     ;
 static void ctrl_log(ctrl_instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...) {
-    char buf[1024];
     va_list ap;
-    int idx = cat == LOG_EVENTS ? 0 : (cat == LOG_WARNING ? 1 : 2);
-    if (!c || !c->cb.logger) return;
-    if (cat == LOG_EVENTS && !(c->logging_on && (c->log_mask & LOG_EVENTS))) return;
+    if (!c) return;
     va_start(ap, fmt);
-    vsnprintf(buf, sizeof buf, fmt, ap);
+    fmi2_log_v(&c->cb, c->name, c->logging_on, c->log_mask, st, cat, fmt, ap);
     va_end(ap);
-    fmi2_log_emit(&c->cb, c->name ? c->name : "?", st, CAT_NAME[idx], buf);
 }
 
 /* the entry check of fmi2_allowed.h (FMU_ENTER) */
 static ctrl_instance_t *fmu_enter(fmi2Component comp, const char *fn, int iface, int mask) {
-    static const char *const NAMES[] = {"Instantiated", "InitializationMode", "EventMode",
-                                        "ContinuousTimeMode", "StepComplete", "StepFailed",
-                                        "Terminated", "Error", "Fatal"};
     ctrl_instance_t *c = (ctrl_instance_t *)comp;
-    int k = 0;
     if (!c || c->magic != CTRL_MAGIC) return NULL;
     if (!(iface & FOR_CS)) {
         ctrl_log(c, fmi2Error, LOG_ERROR, "%s: only for model exchange; this FMU is co-simulation only", fn);
         return NULL;
     }
     if (mask == ST_ANY || (c->fsm & mask)) return c;
-    while (k < 8 && !(c->fsm & (1 << k))) k++;
-    ctrl_log(c, fmi2Error, LOG_ERROR, "%s: illegal call in state %s", fn, NAMES[k]);
+    ctrl_log(c, fmi2Error, LOG_ERROR, "%s: illegal call in state %s", fn, fmi2_state_name(c->fsm));
     if (c->fsm != ST_FATAL) c->fsm = ST_ERROR;
     return NULL;
 }
@@ -161,7 +147,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     c->magic = CTRL_MAGIC;
     c->cb = *functions;
     c->logging_on = loggingOn != 0;
-    c->log_mask = LOG_EVENTS | LOG_WARNING | LOG_ERROR;
+    c->log_mask = LOG_ALL;
     defaults(c);
     return c;
 }
@@ -179,20 +165,18 @@ void fmi2FreeInstance(fmi2Component comp) {
 fmi2Status fmi2SetDebugLogging(fmi2Component comp, fmi2Boolean loggingOn, size_t nCategories,
                                const fmi2String categories[]) {
     ctrl_instance_t *c = FMU_ENTER(comp, fmi2SetDebugLogging);
-    size_t k;
+    long bad;
     if (!c) return fmi2Error;
     c->logging_on = loggingOn != 0;
-    if (nCategories == 0) { c->log_mask = LOG_EVENTS | LOG_WARNING | LOG_ERROR; return fmi2OK; }
-    if (!categories) return fmi2Error;
-    c->log_mask = LOG_WARNING | LOG_ERROR;
-    for (k = 0; k < nCategories; k++) {
-        if (categories[k] && strcmp(categories[k], "logEvents") == 0) c->log_mask |= LOG_EVENTS;
-        else if (!categories[k] || (strcmp(categories[k], "logStatusWarning") != 0 &&
-                                    strcmp(categories[k], "logStatusError") != 0)) {
-            ctrl_log(c, fmi2Error, LOG_ERROR, "fmi2SetDebugLogging: unknown log category \"%s\" (known: "
-                     "logEvents, logStatusWarning, logStatusError)", categories[k] ? categories[k] : "(null)");
-            return fmi2Error;
-        }
+    if (nCategories > 0 && !categories) {
+        ctrl_log(c, fmi2Error, LOG_ERROR, "fmi2SetDebugLogging: categories is NULL with nCategories = %zu",
+                 nCategories);
+        return fmi2Error;
+    }
+    if ((bad = fmi2_log_mask(nCategories, categories, &c->log_mask)) >= 0) {
+        ctrl_log(c, fmi2Error, LOG_ERROR, "fmi2SetDebugLogging: unknown log category \"%s\" (known: "
+                 "logEvents, logStatusWarning, logStatusError)", categories[bad] ? categories[bad] : "(null)");
+        return fmi2Error;
     }
     return fmi2OK;
 }

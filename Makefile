@@ -96,9 +96,10 @@ test: fmu
 
 # the C benchmark hosts are test code (tests/c); built here and handed to the benchmark
 bench: fmu
-	$(MAKE) -s -C tests/c $(TESTS_C)/bench_cs $(TESTS_C)/cycles
+	$(MAKE) -s -C tests/c $(TESTS_C)/bench_cs $(TESTS_C)/cycles $(TESTS_C)/two_fmus
 	$(PY) -m feeddrive.bench --out $(BUILD)/bench.md --bench-cs $(TESTS_C)/bench_cs \
-	    --cycles $(TESTS_C)/cycles --library $(SO)
+	    --cycles $(TESTS_C)/cycles --library $(SO) --two-fmus $(TESTS_C)/two_fmus \
+	    --controller-library $(CTRL_SO)
 
 wheel: $(PKG_FMU)
 	rm -rf $(BUILD)/feeddrive-*.whl python/build

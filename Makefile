@@ -101,7 +101,7 @@ bench: fmu
 	    --cycles $(TESTS_C)/cycles --library $(SO) --two-fmus $(TESTS_C)/two_fmus \
 	    --controller-library $(CTRL_SO)
 
-wheel: $(PKG_FMU)
+wheel: $(PKG_FMU) $(PKG_CTRL_FMU)
 	rm -rf $(BUILD)/feeddrive-*.whl python/build
 	$(PY) -m pip wheel -q --no-deps -w $(BUILD) ./python
 

@@ -1,6 +1,7 @@
 # feeddrive — build the FMU, run the main job, test, benchmark.
 #   make / make fmu   build build/LinearMotorFeedDrive.fmu (and its copy inside the package,
 #                     python/feeddrive/, git-ignored: the package data of installs and wheels)
+#                     and the controller FMU build/DriveController.fmu
 #   make run          set-up, FMU, the paper's closed-loop reproductions, report (prints the tables)
 #   make test         set-up, FMU, every test
 #   make bench        benchmark table (build/bench.md)
@@ -21,10 +22,21 @@ FMU_CFLAGS := -std=c99 -O3 -fno-math-errno -fPIC -Wall -Wextra -Werror -D_POSIX_
 SRC_C      := $(filter-out %gen_vars.py,$(wildcard fmu_src/*.c))
 SRC_H      := $(wildcard fmu_src/*.h)
 STAMP      := $(VENV)/.installed
+# the controller FMU: its own sources and XML (fmu_src/controller/), the plant's parameters
+# imported as plant.* (value reference + 1000), the plant's physics files compiled in
+CTRL       := DriveController
+CTRL_FMU   := $(BUILD)/$(CTRL).fmu
+PKG_CTRL_FMU := python/feeddrive/$(CTRL).fmu
+CTRL_GEN   := $(GEN)/controller
+CTRL_SO    := $(BUILD)/controller/binaries/linux64/$(CTRL).so
+CTRL_SHARED := fmu_src/params.c fmu_src/current_loop.c fmu_src/position_maps.c fmu_src/friction_gms.c
+CTRL_SRC_C := $(wildcard fmu_src/controller/*.c) $(CTRL_SHARED)
+CTRL_SHARED_H := fmu_src/params.h fmu_src/plant.h fmu_src/fmi2_allowed.h fmu_src/fmi2_log.h
+CTRL_SRC_H := $(wildcard fmu_src/controller/*.h) $(CTRL_SHARED_H)
 
 .PHONY: all fmu run test bench wheel clean venv fuzz-tools
 all: fmu
-fmu: $(FMU) $(PKG_FMU)
+fmu: $(FMU) $(PKG_FMU) $(CTRL_FMU) $(PKG_CTRL_FMU)
 venv: $(STAMP)
 
 $(STAMP): python/pyproject.toml
@@ -54,6 +66,28 @@ $(FMU): $(SO) modelDescription.xml
 $(PKG_FMU): $(FMU)
 	cp $< $@
 
+$(CTRL_GEN)/ctrl_vars.h $(CTRL_GEN)/ctrl_vars.c $(CTRL_GEN)/modelDescription.xml: \
+    fmu_src/controller/modelDescription.xml modelDescription.xml fmu_src/gen_vars.py $(STAMP)
+	$(PY) fmu_src/gen_vars.py --prefix CTRL --import modelDescription.xml plant. 1000 \
+	    fmu_src/controller/modelDescription.xml $(CTRL_GEN)
+
+$(CTRL_SO): $(CTRL_SRC_C) $(CTRL_SRC_H) $(GEN)/model_vars.h $(GEN)/model_vars.c $(CTRL_GEN)/ctrl_vars.h \
+    $(CTRL_GEN)/ctrl_vars.c $(BUILD)/fmi_include
+	mkdir -p $(dir $@)
+	$(CC) $(FMU_CFLAGS) -ffp-contract=off $(CFLAGS) -shared -fvisibility=default -Wl,--no-undefined \
+	    -I fmu_src/controller -I fmu_src -I $(CTRL_GEN) -I $(GEN) -I "$$(cat $(BUILD)/fmi_include)" \
+	    -o $@ $(CTRL_SRC_C) $(GEN)/model_vars.c $(CTRL_GEN)/ctrl_vars.c -lm
+	@! (ldd $@ | grep -v -E 'linux-vdso|libc\.so|libm\.so|ld-linux|not a dynamic' | grep -q .) || \
+	    (echo "error: $@ links more than libc/libm:"; ldd $@; exit 1)
+
+$(CTRL_FMU): $(CTRL_SO) $(CTRL_GEN)/modelDescription.xml
+	$(PY) tools/package_fmu.py --xml $(CTRL_GEN)/modelDescription.xml --so $(CTRL_SO) \
+	    --sources fmu_src/controller $(CTRL_GEN) $(CTRL_SHARED) $(CTRL_SHARED_H) \
+	    $(GEN)/model_vars.h $(GEN)/model_vars.c --out $@
+
+$(PKG_CTRL_FMU): $(CTRL_FMU)
+	cp $< $@
+
 run: fmu
 	$(PY) -m feeddrive.cli run --shared $(SHARED)
 
@@ -69,13 +103,14 @@ test: fmu fuzz-tools
 
 # the C benchmark hosts are test code (tests/c); built here and handed to the benchmark
 bench: fmu
-	$(MAKE) -s -C tests/c $(TESTS_C)/bench_cs $(TESTS_C)/cycles
+	$(MAKE) -s -C tests/c $(TESTS_C)/bench_cs $(TESTS_C)/cycles $(TESTS_C)/two_fmus
 	$(PY) -m feeddrive.bench --out $(BUILD)/bench.md --bench-cs $(TESTS_C)/bench_cs \
-	    --cycles $(TESTS_C)/cycles --library $(SO)
+	    --cycles $(TESTS_C)/cycles --library $(SO) --two-fmus $(TESTS_C)/two_fmus \
+	    --controller-library $(CTRL_SO)
 
-wheel: $(PKG_FMU)
+wheel: $(PKG_FMU) $(PKG_CTRL_FMU)
 	rm -rf $(BUILD)/feeddrive-*.whl python/build
 	$(PY) -m pip wheel -q --no-deps -w $(BUILD) ./python
 
 clean:
-	rm -rf $(BUILD) $(PKG_FMU)
+	rm -rf $(BUILD) $(PKG_FMU) $(PKG_CTRL_FMU)

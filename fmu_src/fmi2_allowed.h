@@ -84,6 +84,16 @@ enum {
 #define SET_TUNABLE (ST_INSTANTIATED | ST_INIT | ST_EVENT | ST_STEP_COMPLETE)
 #define SET_EXACT_STATE (ST_INSTANTIATED | ST_INIT)                    /* states with initial="exact" */
 
+/* the name of the (single-bit) state fsm, for "<function>: illegal call in state <state>" */
+static inline const char *fmi2_state_name(int fsm) {
+    static const char *const NAMES[] = {"Instantiated", "InitializationMode", "EventMode",
+                                        "ContinuousTimeMode", "StepComplete", "StepFailed",
+                                        "Terminated", "Error", "Fatal"};
+    int k = 0;
+    while (k < 8 && !(fsm & (1 << k))) k++;
+    return NAMES[k];
+}
+
 /* the instance behind comp when function F may be called on it now, else NULL (logged) */
 #define FMU_ENTER(comp, F) fmu_enter((comp), #F, ALLOW_##F)
 

@@ -8,23 +8,6 @@
 
 #include "fmi2_instance.h"
 
-
-static const char *const CAT_NAME[] = {"logEvents", "logStatusWarning", "logStatusError"};
-
-/* The logger's message is a printf format: pass the formatted text with every '%' doubled, so
- * importers that cannot read variadic arguments (ctypes, JNI) still get the whole message. */
-static void emit(const fmi2CallbackFunctions *cb, const char *name, fmi2Status st, const char *cat,
-                 const char *text) {
-    char esc[2048];
-    size_t i = 0;
-    for (; *text && i + 2 < sizeof esc; text++) {
-        if (*text == '%') esc[i++] = '%';
-        esc[i++] = *text;
-    }
-    esc[i] = 0;
-    cb->logger(cb->componentEnvironment, name, st, cat, esc);
-}
-
 static void log_early(const fmi2CallbackFunctions *cb, const char *name, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 3, 4)))
@@ -37,20 +20,16 @@ static void log_early(const fmi2CallbackFunctions *cb, const char *name, const c
     va_start(ap, fmt);
     vsnprintf(buf, sizeof buf, fmt, ap);
     va_end(ap);
-    emit(cb, name, fmi2Error, "logStatusError", buf);
+    fmi2_log_emit(cb, name, fmi2Error, "logStatusError", buf);
 }
 
 void fmu_log(instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...) {
-    char buf[1024];
     va_list ap;
-    int idx = cat == LOG_EVENTS ? 0 : (cat == LOG_WARNING ? 1 : 2);
-    if (!c || !c->cb.logger) return;
+    if (!c) return;
     /* errors and warnings are always reported; event traces only when asked for */
-    if (cat == LOG_EVENTS && !(c->logging_on && (c->log_mask & LOG_EVENTS))) return;
     va_start(ap, fmt);
-    vsnprintf(buf, sizeof buf, fmt, ap);
+    fmi2_log_v(&c->cb, c->name, c->logging_on, c->log_mask, st, cat, fmt, ap);
     va_end(ap);
-    emit(&c->cb, c->name ? c->name : "?", st, CAT_NAME[idx], buf);
 }
 
 static instance_t *as_instance(fmi2Component comp) {
@@ -60,13 +39,8 @@ static instance_t *as_instance(fmi2Component comp) {
 
 /* the state check: logs and moves to Error (unless Fatal) when the state is not in mask */
 static int state_allowed(instance_t *c, const char *fn, int mask) {
-    static const char *const NAMES[] = {"Instantiated", "InitializationMode", "EventMode",
-                                        "ContinuousTimeMode", "StepComplete", "StepFailed",
-                                        "Terminated", "Error", "Fatal"};
-    int k = 0;
     if (mask == ST_ANY || (c->m.fsm & mask)) return 1;
-    while (k < 8 && !(c->m.fsm & (1 << k))) k++;
-    fmu_log(c, fmi2Error, LOG_ERROR, "%s: illegal call in state %s", fn, NAMES[k]);
+    fmu_log(c, fmi2Error, LOG_ERROR, "%s: illegal call in state %s", fn, fmi2_state_name(c->m.fsm));
     if (c->m.fsm != ST_FATAL) c->m.fsm = ST_ERROR;
     return 0;
 }
@@ -240,7 +214,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     c->cb = *functions;
     c->type = fmuType;
     c->logging_on = loggingOn != 0;
-    c->log_mask = LOG_EVENTS | LOG_WARNING | LOG_ERROR;
+    c->log_mask = LOG_ALL;
     fmu_model_defaults(&c->m);
     return c;
 }
@@ -258,24 +232,19 @@ void fmi2FreeInstance(fmi2Component comp) {
 fmi2Status fmi2SetDebugLogging(fmi2Component comp, fmi2Boolean loggingOn, size_t nCategories,
                                const fmi2String categories[]) {
     instance_t *c = FMU_ENTER(comp, fmi2SetDebugLogging);
-    size_t k;
+    long bad;
     if (!c) return fmi2Error;
     c->logging_on = loggingOn != 0;
-    if (nCategories == 0) { c->log_mask = LOG_EVENTS | LOG_WARNING | LOG_ERROR; return fmi2OK; }
+    if (nCategories == 0) { c->log_mask = LOG_ALL; return fmi2OK; }
     if (!categories) {
         fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SetDebugLogging: categories is NULL with nCategories = %zu",
                 nCategories);
         return fmi2Error;
     }
-    c->log_mask = LOG_WARNING | LOG_ERROR;
-    for (k = 0; k < nCategories; k++) {
-        if (categories[k] && strcmp(categories[k], "logEvents") == 0) c->log_mask |= LOG_EVENTS;
-        else if (!categories[k] || (strcmp(categories[k], "logStatusWarning") != 0 &&
-                                    strcmp(categories[k], "logStatusError") != 0)) {
-            fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SetDebugLogging: unknown log category \"%s\" (known: "
-                    "logEvents, logStatusWarning, logStatusError)", categories[k] ? categories[k] : "(null)");
-            return fmi2Error;
-        }
+    if ((bad = fmi2_log_mask(nCategories, categories, &c->log_mask)) >= 0) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SetDebugLogging: unknown log category \"%s\" (known: "
+                "logEvents, logStatusWarning, logStatusError)", categories[bad] ? categories[bad] : "(null)");
+        return fmi2Error;
     }
     return fmi2OK;
 }

@@ -5,6 +5,7 @@
 
 #include "fmi2Functions.h"
 #include "fmi2_allowed.h"
+#include "fmi2_log.h"
 #include "params.h"
 #include "plant.h"
 #include "solver_dp45.h"
@@ -41,10 +42,6 @@ typedef struct {
     int logging_on;
     unsigned log_mask;              /* bit 0 events, 1 warnings, 2 errors */
 } instance_t;
-
-#define LOG_EVENTS 1u
-#define LOG_WARNING 2u
-#define LOG_ERROR 4u
 
 void fmu_log(instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...)
 #if defined(__GNUC__)

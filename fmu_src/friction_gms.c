@@ -112,3 +112,68 @@ void gms_retune(const plant_params_t *old, const plant_params_t *p, plant_disc_t
         d->stuck[j] = p->active[j];
     }
 }
+
+/* ---- GMS along a sampled motion (feedforward; Python friction_gms.gms_force, same pieces) */
+void gms_track_init(gms_track_t *g) {
+    int j;
+    for (j = 0; j < PLANT_NE_MAX; j++) { g->F[j] = 0.0; g->stuck[j] = true; }
+    g->x = g->v = g->last_dir = 0.0;
+    g->started = false;
+}
+
+static double sgn_d(double v) { return (double)((v > 0.0) - (v < 0.0)); }
+
+/* one constant-direction piece: displacement dx, direction s, level S, decay factor dec */
+static void gms_track_piece(const plant_params_t *p, gms_track_t *g, double dx, double s, double S,
+                            double dec) {
+    int j;
+    bool rev = s != 0.0 && g->last_dir != 0.0 && g->last_dir == -s;
+    if (s != 0.0) g->last_dir = s;
+    for (j = 0; j < PLANT_NE_MAX; j++) {
+        double lim, t;
+        if (!p->active[j]) continue;
+        if (rev) g->stuck[j] = true;
+        if (s == 0.0) continue;
+        lim = p->nu[j] * S;
+        if (g->stuck[j]) {
+            g->F[j] += p->k[j] * dx;
+            if (s * g->F[j] >= lim) { g->F[j] = s * lim; g->stuck[j] = false; }
+        } else {
+            t = s * lim;
+            g->F[j] = t + (g->F[j] - t) * dec;
+        }
+    }
+}
+
+static void gms_track_part(const plant_params_t *p, gms_track_t *g, double dx, double s, double speed,
+                           double tau) {
+    double S = friction_level(p, speed, s < 0.0);
+    double dec = p->lag ? exp(-p->C * tau / S) : 0.0;
+    gms_track_piece(p, g, dx, s, S, dec);
+}
+
+double gms_track_step(const plant_params_t *p, gms_track_t *g, double x, double v, double dt) {
+    double F = 0.0, rest = 0.0;
+    int j, first = 1;
+    if (g->started) {
+        double v0 = g->v, dx = x - g->x;
+        if (v0 * v < 0.0) {
+            double th = v0 / (v0 - v), dxa = v0 * th * dt / 2;
+            gms_track_part(p, g, dxa, sgn_d(v0), 0.5 * fabs(v0), th * dt);
+            gms_track_part(p, g, dx - dxa, sgn_d(v), 0.5 * fabs(v), (1 - th) * dt);
+        } else {
+            double s = sgn_d(v0 + v);
+            if (s == 0.0) s = sgn_d(dx);
+            gms_track_part(p, g, dx, s, 0.5 * (fabs(v0) + fabs(v)), dt);
+        }
+    }
+    g->started = true;
+    g->x = x;
+    g->v = v;
+    /* numpy's row sum: the first element, then the rest */
+    for (j = 0; j < PLANT_NE_MAX; j++) {
+        if (!p->active[j]) continue;
+        if (first) { F = g->F[j]; first = 0; } else rest += g->F[j];
+    }
+    return F + rest + p->sigma2[v < 0.0] * v;
+}

@@ -2,9 +2,17 @@
 """Generate model_vars.h / model_vars.c from modelDescription.xml (the one list of variables).
 
 Usage: gen_vars.py modelDescription.xml OUTDIR
+       gen_vars.py --prefix CTRL [--import PLANT_XML PREFIX OFFSET] modelDescription.xml OUTDIR
 
 The C code never spells a value reference, a default or a variable name itself: it uses
 VR_<name> macros, VRA_<group>[index] arrays and the MODEL_VARS table written here.
+
+With ``--prefix CTRL`` (the controller FMU) the files are ctrl_vars.h/.c and the names
+CVR_<name>, CVRA_<group>, CVRA2_<group>[i][j] (names like ``ss.Ac[1,2]``), CTRL_VARS, ...,
+so that they can live in one library next to the plant's.  ``--import`` appends every
+parameter of another model description (the plant's) under PREFIX with value reference
+OFFSET + its own, and writes the merged OUTDIR/modelDescription.xml: the plant's parameters
+keep the plant's XML as their one source of truth.
 """
 from __future__ import annotations
 
@@ -25,8 +33,30 @@ def c_double(text: str, typ: str) -> str:
     return repr(float(text))
 
 
-def main(xml_path: str, outdir: str) -> None:
-    root = ET.parse(xml_path).getroot()
+def import_parameters(root: ET.Element, other_xml: str, prefix: str, offset: int) -> None:
+    """Append ``other_xml``'s parameters to ``root``'s ModelVariables, renamed and shifted."""
+    mv = root.find("ModelVariables")
+    for sv in ET.parse(other_xml).getroot().find("ModelVariables").findall("ScalarVariable"):
+        if sv.get("causality") != "parameter":
+            continue
+        sv.set("name", prefix + sv.get("name"))
+        sv.set("valueReference", str(offset + int(sv.get("valueReference"))))
+        sv.set("description", "Nominal plant (feedforward): " + sv.get("description", ""))
+        mv.append(sv)
+
+
+def main(xml_path: str, outdir: str, prefix: str = "MODEL",
+         imports: tuple[str, str, int] | None = None) -> None:
+    tree = ET.parse(xml_path)
+    root = tree.getroot()
+    if imports is not None:
+        import_parameters(root, *imports)
+        Path(outdir).mkdir(parents=True, exist_ok=True)
+        ET.indent(tree)
+        tree.write(Path(outdir) / "modelDescription.xml", encoding="UTF-8", xml_declaration=True)
+    if prefix != "MODEL":
+        _write(root, Path(xml_path).name, outdir, prefix)
+        return
     guid = root.get("guid")
     nz = int(root.get("numberOfEventIndicators"))
     svs = root.find("ModelVariables").findall("ScalarVariable")
@@ -102,5 +132,80 @@ def main(xml_path: str, outdir: str) -> None:
     (out / "model_vars.c").write_text("\n".join(c))
 
 
+def _write(root: ET.Element, src: str, outdir: str, prefix: str) -> None:
+    """The prefixed table of an FMU without continuous states (the controller's)."""
+    svs = root.find("ModelVariables").findall("ScalarVariable")
+    low, vrp = prefix.lower(), "C" + "VR"
+    rows, defines, groups, groups2 = [], [], {}, {}
+    for sv in svs:
+        name, vr = sv.get("name"), int(sv.get("valueReference"))
+        t = sv[0]
+        start, mn, mx = t.get("start"), t.get("min"), t.get("max")
+        caus = sv.get("causality", "local")
+        rows.append((vr, name, t.tag[0], caus[0] if caus != "calculatedParameter" else "c",
+                     sv.get("variability", "continuous")[0],
+                     c_double(start, t.tag) if start is not None else "0.0",
+                     1 if start is not None else 0,
+                     c_double(mn, t.tag) if mn is not None else "-HUGE_VAL",
+                     c_double(mx, t.tag) if mx is not None else "HUGE_VAL", t.get("unit", "")))
+        defines.append(f"#define {vrp}_{c_ident(name)} {vr}u")
+        m1 = re.fullmatch(r"(.*)\[(\d+)\]", name)
+        m2 = re.fullmatch(r"(.*)\[(\d+),(\d+)\]", name)
+        if m1:
+            groups.setdefault(m1.group(1), {})[int(m1.group(2))] = vr
+        elif m2:
+            groups2.setdefault(m2.group(1), {})[(int(m2.group(2)), int(m2.group(3)))] = vr
+    nvr = max(r[0] for r in rows) + 1
+    P = prefix
+    h = [f"/* Generated from {src} by gen_vars.py: do not edit. */",
+         f"#ifndef {P}_VARS_H", f"#define {P}_VARS_H", "",
+         f'#define {P}_GUID "{root.get("guid")}"',
+         f"#define {P}_NVR {nvr}u      /* value references 0..{P}_NVR-1 */",
+         f"#define {P}_NVARS {len(rows)}", "",
+         "typedef struct {",
+         "    unsigned vr; const char *name;",
+         "    char type;          /* 'R' Real, 'I' Integer, 'B' Boolean */",
+         "    char causality;     /* 'p' parameter, 'i' input, 'o' output, 'l' local */",
+         "    char variability;   /* 'f' fixed, 't' tunable, 'd' discrete, 'c' continuous */",
+         "    double start; int has_start; double min, max; const char *unit;",
+         f"}} {low}_var_t;", "",
+         f"extern const {low}_var_t {P}_VARS[{P}_NVARS];",
+         f"extern const short {P}_VR_INDEX[{P}_NVR];   /* vr -> row of {P}_VARS, -1 if none */", ""]
+    h += defines
+    h.append("")
+    for g, members in groups.items():
+        size = max(members) + 1
+        arr = ", ".join(str(members.get(k, 0xFFFFFFFF)) + "u" for k in range(size))
+        h.append(f"static const unsigned {vrp}A_{c_ident(g)}[{size}] = {{{arr}}};  /* {g}[k] */")
+    for g, members in groups2.items():
+        ni = max(i for i, _ in members) + 1
+        nj = max(j for _, j in members) + 1
+        arr = ", ".join("{" + ", ".join(str(members.get((i, j), 0xFFFFFFFF)) + "u"
+                                         for j in range(nj)) + "}" for i in range(ni))
+        h.append(f"static const unsigned {vrp}A2_{c_ident(g)}[{ni}][{nj}] = {{{arr}}};  "
+                 f"/* {g}[i,j] */")
+    h += ["", "#endif", ""]
+    out = Path(outdir)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / f"{low}_vars.h").write_text("\n".join(h))
+    idx = [-1] * nvr
+    for n, r in enumerate(rows):
+        idx[r[0]] = n
+    c = [f"/* Generated from {src} by gen_vars.py: do not edit. */",
+         "#include <math.h>", f'#include "{low}_vars.h"', "",
+         f"const {low}_var_t {P}_VARS[{P}_NVARS] = {{"]
+    for r in rows:
+        c.append(f'    {{{r[0]}u, "{r[1]}", \'{r[2]}\', \'{r[3]}\', \'{r[4]}\', {r[5]}, {r[6]}, '
+                 f'{r[7]}, {r[8]}, "{r[9]}"}},')
+    c += ["};", "", f"const short {P}_VR_INDEX[{P}_NVR] = {{" + ", ".join(map(str, idx)) + "};", ""]
+    (out / f"{low}_vars.c").write_text("\n".join(c))
+
+
 if __name__ == "__main__":
-    main(sys.argv[1], sys.argv[2])
+    args = sys.argv[1:]
+    pre, imp = "MODEL", None
+    if args[:1] == ["--prefix"]:
+        pre, args = args[1], args[2:]
+    if args[:1] == ["--import"]:
+        imp, args = (args[1], args[2], int(args[3])), args[4:]
+    main(args[0], args[1], pre, imp)

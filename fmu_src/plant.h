@@ -98,6 +98,19 @@ int gms_n_stuck(const plant_params_t *p, const plant_disc_t *d);
 /* elements switched on or off by a parameter change (old -> p) start stuck at zero force */
 void gms_retune(const plant_params_t *old, const plant_params_t *p, plant_disc_t *d, double *y);
 
+/* GMS along a sampled motion (the controller's feedforward; Python twin
+ * feeddrive.physics.friction_gms.gms_force): the velocity is linear between samples, an
+ * interval where it changes sign is split at the crossing, each piece is exact. */
+typedef struct {
+    double F[PLANT_NE_MAX];
+    bool stuck[PLANT_NE_MAX];
+    double x, v, last_dir;
+    bool started;
+} gms_track_t;
+void gms_track_init(gms_track_t *g);
+/* advance to (x, v) a time dt after the previous sample; returns F_f there [N] */
+double gms_track_step(const plant_params_t *p, gms_track_t *g, double x, double v, double dt);
+
 /* friction_static.c */
 double static_friction(const plant_params_t *p, const plant_disc_t *d, double v, double F_app);
 double static_indicator(const plant_params_t *p, const plant_disc_t *d, double v, double F_app);

@@ -11,7 +11,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--xml", required=True)
     ap.add_argument("--so", required=True)
-    ap.add_argument("--sources", nargs="+", required=True, help="folders whose *.c/*.h go to sources/")
+    ap.add_argument("--sources", nargs="+", required=True, help="folders whose *.c/*.h (or single files) go to sources/")
     ap.add_argument("--out", required=True)
     a = ap.parse_args()
     so = Path(a.so)
@@ -20,8 +20,8 @@ def main() -> None:
     with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as z:
         z.write(a.xml, "modelDescription.xml")
         z.write(so, f"binaries/linux64/{so.name}")
-        for folder in a.sources:
-            for f in sorted(Path(folder).glob("*.[ch]")):
+        for folder in map(Path, a.sources):
+            for f in [folder] if folder.is_file() else sorted(folder.glob("*.[ch]")):
                 z.write(f, f"sources/{f.name}")
     tmp.replace(out)
     print(f"wrote {out}")

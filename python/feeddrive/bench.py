@@ -13,11 +13,14 @@ from pathlib import Path
 
 import numpy as np
 
-from .bench_c import run_bench_cs, run_cycles
+from .bench_c import run_bench_cs, run_cycles, run_two_fmus
 from .fmu import Plant
+from .harness.controller_fmu import (ControllerFMU, controller_fmu_parameters,
+                                     sinusoid_source)
 from .harness.controllers import make_controller, state_space_spec
 from .harness.references import sinusoid
 from .harness.simulate import simulate_closed_loop
+from .harness.two_fmus import simulate_two_fmus
 from .paper import paper_parameters
 
 
@@ -58,7 +61,37 @@ def python_rows(repeats: int = 5) -> tuple[list[tuple[str, str, str]], dict]:
         ("accuracy: CS vs ME rtol 1e-10, max abs(dF_friction)", f"{dF:.3f} N", ""),
         ("accuracy: ME rtol 1e-6 vs ME rtol 1e-10, max abs(dx)", f"{dx_me * 1e6:.3f} um", ""),
     ]
-    return rows, {"wall_cs": w_cs, "dx": dx}
+    return rows, {"wall_cs": w_cs, "dx": dx, "res_cs": res_cs}
+
+
+def two_fmu_rows(wall_python: float, res_python: dict, repeats: int = 5,
+                 host: Path | None = None, plant_library: Path | None = None,
+                 controller_library: Path | None = None) -> list[tuple[str, str, str]]:
+    """The same 6 s loop as controller FMU + plant FMU (issue 12), stepped from Python and,
+    with the ``two_fmus`` C host, from C."""
+    ref = sinusoid(0.030, 6.0, 0.150, 6.0)
+    values = controller_fmu_parameters(state_space_spec(), quantum=1e-7,
+                                       reference=sinusoid_source(0.030, 6.0, 0.150, 6.0))
+    runs = [simulate_two_fmus(paper_parameters(), values, ref.n, float(ref.x[0]))
+            for _ in range(repeats)]
+    wall = min(float(r["wall"]) for r in runs)
+    dx = float(np.max(np.abs(runs[0]["x"] - res_python["x"])))
+    rows = [("6 s closed loop, controller FMU + plant FMU stepped from Python (best of %d)" % repeats,
+             f"{wall * 1e3:.0f} ms wall, {wall / wall_python:.2f} x the Python-controller run", ""),
+            ("  agreement with the Python-controller run, max abs(dx)", f"{dx * 1e6:.3g} um", "<= 0.01 um")]
+    if host is None or plant_library is None or controller_library is None:
+        return rows + [("  from C", "not measured (no --two-fmus host given)", "")]
+    with ControllerFMU(values) as c:
+        typed = {k: (c.vr(k), c.vars[k].type[0], float(v)) for k, v in values.items()}
+    fig, x = run_two_fmus(host, plant_library, controller_library, typed, ref.n, float(ref.x[0]),
+                          repeats)
+    w = fig["wall_s_best"]
+    dxc = float(np.max(np.abs(np.asarray(x) - res_python["x"])))
+    return rows + [
+        ("6 s closed loop, controller FMU + plant FMU stepped from C (best of %d)" % repeats,
+         f"{w * 1e3:.1f} ms wall, {w / wall_python:.3f} x the Python-controller run",
+         "<= 1/3 (issue 12)"),
+        ("  agreement with the Python-controller run, max abs(dx)", f"{dxc * 1e6:.3g} um", "<= 0.01 um")]
 
 
 def c_rows(bench_cs: Path, cycles: Path | None, library: Path,
@@ -99,10 +132,14 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--bench-cs", default=None, help="the built tests/c bench_cs host (`make bench` passes it)")
     ap.add_argument("--cycles", default=None, help="the built tests/c cycles host (memory figures)")
     ap.add_argument("--library", default=None, help="the FMU's shared library the C hosts load")
+    ap.add_argument("--two-fmus", default=None, help="the built tests/c two_fmus host")
+    ap.add_argument("--controller-library", default=None, help="the controller FMU's shared library")
     a = ap.parse_args(argv)
     if a.bench_cs and not a.library:
         ap.error("--bench-cs needs --library (the FMU's .so)")
-    rows, _ = python_rows(a.repeats)
+    rows, figs = python_rows(a.repeats)
+    rows += two_fmu_rows(figs["wall_cs"], figs["res_cs"], a.repeats,
+                         *(Path(p) if p else None for p in (a.two_fmus, a.library, a.controller_library)))
     if a.bench_cs:
         rows += c_rows(Path(a.bench_cs), Path(a.cycles) if a.cycles else None, Path(a.library), a.repeats)
     else:

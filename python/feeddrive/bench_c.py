@@ -5,7 +5,8 @@ figures of the 30 mm / 6 s closed-loop sinusoid (2 kHz PID, 100 nm scale, one 0.
 ``fmi2DoStep`` per sample): real-time factor, friction events per simulated and per
 wall-clock second, and the wall time of one ``fmi2DoStep`` (median, 99th percentile, max) in µs.
 ``run_cycles(exe, library)`` runs ``cycles``: bytes one instance holds and memory growth over
-many instantiate/simulate/free cycles.  Both take the paths of the built executables; nothing
+many instantiate/simulate/free cycles.  ``run_two_fmus`` runs ``two_fmus``: the closed loop
+as controller FMU + plant FMU stepped from C.  All take the paths of the built executables; nothing
 here builds or locates them.
 """
 from __future__ import annotations
@@ -13,6 +14,7 @@ from __future__ import annotations
 import json
 import re
 import subprocess
+import tempfile
 from pathlib import Path
 
 
@@ -63,3 +65,22 @@ def markdown(fig: dict[str, float]) -> str:
             ("fmi2DoStep of 0.5 ms, 99th percentile", f"{fig['dostep_us_p99']:.2f} µs"),
             ("fmi2DoStep of 0.5 ms, maximum", f"{fig['dostep_us_max']:.1f} µs")]
     return "| quantity | value |\n|---|---|\n" + "\n".join(f"| {a} | {b} |" for a, b in rows) + "\n"
+
+
+def run_two_fmus(exe: str | Path, plant_library: str | Path, controller_library: str | Path,
+                 controller_values: dict[str, tuple[int, str, float]], n: int, x0: float,
+                 repetitions: int = 5) -> tuple[dict[str, float], list[float]]:
+    """Run the ``two_fmus`` host (controller FMU + plant FMU stepped from C).
+
+    ``controller_values``: name -> (value reference, "R"/"I"/"B", value).  Returns the JSON
+    figures (``wall_s_best``, ``wall_s_median``) and x(t_k), k = 0..n.
+    """
+    if not Path(controller_library).is_file():
+        raise FileNotFoundError(f"{controller_library}: no controller FMU shared library there")
+    with tempfile.TemporaryDirectory() as d:
+        params, out = Path(d) / "params.txt", Path(d) / "x.txt"
+        params.write_text("".join(f"{vr} {t} {float(v)!r}\n" for vr, t, v in controller_values.values()))
+        text = _run(Path(exe), Path(plant_library), str(controller_library), str(params), str(int(n)),
+                    repr(float(x0)), str(out), str(int(repetitions)))
+        x = [float(v) for v in out.read_text().split()]
+    return json.loads(text.strip().splitlines()[-1]), x

@@ -6,7 +6,9 @@ registry, the FMU loop, the run maker and the sidecar schema.
 - :mod:`.controllers`: spec <-> controller (``state_space``, ``pid``, ``pid_lead``);
 - :mod:`.simulate`: :func:`simulate_open_loop`, :func:`simulate_closed_loop` on a Plant;
 - :mod:`.runs`: :func:`run_closed_loop` from a spec, :func:`to_run`, :func:`closed_loop_run`;
-- :mod:`.sidecar`: :func:`build_sidecar`, :func:`read_sidecar` (schema ``feeddrive.run/1``).
+- :mod:`.sidecar`: :func:`build_sidecar`, :func:`read_sidecar` (schema ``feeddrive.run/1``);
+- :mod:`.controller_fmu`: a spec -> the controller FMU's parameter set, :class:`ControllerFMU`;
+- :mod:`.two_fmus`: the closed loop as controller FMU + plant FMU.
 """
 from .controllers import (CONTROLLERS, Controller, controller_spec, make_controller, pid_lead_spec,
                           pid_spec, state_space_spec)

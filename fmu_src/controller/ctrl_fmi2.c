@@ -1,0 +1,487 @@
+/* FMI 2.0 co-simulation glue of the controller FMU: the plant's call-sequence table
+ * (fmi2_allowed.h) and logging (fmi2_log.h), the value table of ctrl_vars.h, one controller
+ * sample per sample instant t_k = t0 + k Ts.
+ * Sample convention: u at t_k is the controller's output for the inputs set at t_k (it depends
+ * on x_meas directly): fmi2GetReal computes the pending sample from the current inputs,
+ * fmi2DoStep commits it and takes every further sample inside the step with the inputs held. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "fmi2Functions.h"
+#include "fmi2_allowed.h"
+#include "fmi2_log.h"
+#include "ctrl_params.h"
+
+#define CTRL_MAGIC 0x46444354u   /* "FDCT" */
+
+typedef struct {
+    unsigned magic;
+    int fsm;
+    double time, t0;
+    double val[CTRL_NVR];
+    ctrl_params_t p;
+    int params_ok;
+    ctrl_state_t s, pending;      /* committed state; the sample at the current instant */
+    int pending_ok;
+    fmi2CallbackFunctions cb;
+    char *name;
+    int logging_on;
+    unsigned log_mask;
+} ctrl_instance_t;
+
+static void ctrl_log(ctrl_instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 4, 5)))
+#endif
+    ;
+static void ctrl_log(ctrl_instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...) {
+    va_list ap;
+    if (!c) return;
+    va_start(ap, fmt);
+    fmi2_log_v(&c->cb, c->name, c->logging_on, c->log_mask, st, cat, fmt, ap);
+    va_end(ap);
+}
+
+/* the entry check of fmi2_allowed.h (FMU_ENTER) */
+static ctrl_instance_t *fmu_enter(fmi2Component comp, const char *fn, int iface, int mask) {
+    ctrl_instance_t *c = (ctrl_instance_t *)comp;
+    if (!c || c->magic != CTRL_MAGIC) return NULL;
+    if (!(iface & FOR_CS)) {
+        ctrl_log(c, fmi2Error, LOG_ERROR, "%s: only for model exchange; this FMU is co-simulation only", fn);
+        return NULL;
+    }
+    if (mask == ST_ANY || (c->fsm & mask)) return c;
+    ctrl_log(c, fmi2Error, LOG_ERROR, "%s: illegal call in state %s", fn, fmi2_state_name(c->fsm));
+    if (c->fsm != ST_FATAL) c->fsm = ST_ERROR;
+    return NULL;
+}
+
+static void inputs(const ctrl_instance_t *c, ctrl_in_t *in) {
+    in->x_ref = c->val[CVR_x_ref];
+    in->v_ref = c->val[CVR_v_ref];
+    in->a_ref = c->val[CVR_a_ref];
+    in->x_meas = c->val[CVR_x_meas];
+}
+
+static void store_outputs(ctrl_instance_t *c, const ctrl_state_t *s) {
+    c->val[CVR_u] = s->u;
+    c->val[CVR_x_cmd] = s->x_cmd;
+    c->val[CVR_u_ff] = s->u_ff;
+    c->val[CVR_r_x] = s->r_x;
+}
+
+static double sample_time(const ctrl_instance_t *c, long k) { return c->t0 + (double)k * c->p.Ts; }
+static int due(const ctrl_instance_t *c, double t) {
+    return sample_time(c, c->s.k) <= t + 1e-9 * c->p.Ts;
+}
+
+/* the sample at the current instant from the current inputs (not yet committed) */
+static void evaluate(ctrl_instance_t *c) {
+    ctrl_in_t in;
+    if (c->pending_ok || !due(c, c->time)) return;
+    inputs(c, &in);
+    c->pending = c->s;
+    ctrl_sample(&c->p, &c->pending, &in);
+    store_outputs(c, &c->pending);
+    c->pending_ok = 1;
+}
+
+static fmi2Status compile(ctrl_instance_t *c) {
+    char msg[512];
+    if (!ctrl_compile(c->val, &c->p, msg, sizeof msg)) {
+        ctrl_log(c, fmi2Error, LOG_ERROR, "%s", msg);
+        return fmi2Error;
+    }
+    return fmi2OK;
+}
+
+static fmi2Status initialize(ctrl_instance_t *c) {
+    if (compile(c) != fmi2OK) { c->params_ok = 0; return fmi2Error; }
+    c->params_ok = 1;
+    ctrl_reset(&c->p, &c->s);
+    c->pending_ok = 0;
+    return fmi2OK;
+}
+
+static void defaults(ctrl_instance_t *c) {
+    memset(c->val, 0, sizeof c->val);
+    ctrl_defaults(c->val);
+    c->fsm = ST_INSTANTIATED;
+    c->time = c->t0 = 0.0;
+    c->params_ok = 0;
+    c->pending_ok = 0;
+}
+
+/* ---------------------------------------------------------------- life cycle */
+const char *fmi2GetTypesPlatform(void) { return fmi2TypesPlatform; }
+const char *fmi2GetVersion(void) { return fmi2Version; }
+
+fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2String fmuGUID,
+                              fmi2String fmuResourceLocation, const fmi2CallbackFunctions *functions,
+                              fmi2Boolean visible, fmi2Boolean loggingOn) {
+    ctrl_instance_t *c;
+    size_t len;
+    char buf[512];
+    (void)fmuResourceLocation;
+    (void)visible;
+    if (!functions || !functions->allocateMemory || !functions->freeMemory) return NULL;
+    buf[0] = 0;
+    if (!instanceName || !*instanceName) snprintf(buf, sizeof buf, "fmi2Instantiate: instanceName must be a non-empty string");
+    else if (!fmuGUID || strcmp(fmuGUID, CTRL_GUID) != 0)
+        snprintf(buf, sizeof buf, "fmi2Instantiate: GUID %s does not match this FMU's %s", fmuGUID ? fmuGUID : "(null)", CTRL_GUID);
+    else if (fmuType != fmi2CoSimulation)
+        snprintf(buf, sizeof buf, "fmi2Instantiate: fmuType %d: this FMU is co-simulation (1) only", (int)fmuType);
+    if (buf[0]) {
+        if (functions->logger) fmi2_log_emit(functions, instanceName ? instanceName : "?", fmi2Error, "logStatusError", buf);
+        return NULL;
+    }
+    c = (ctrl_instance_t *)functions->allocateMemory(1, sizeof(ctrl_instance_t));
+    if (!c) return NULL;
+    memset(c, 0, sizeof *c);
+    len = strlen(instanceName) + 1;
+    c->name = (char *)functions->allocateMemory(len, 1);
+    if (!c->name) { functions->freeMemory(c); return NULL; }
+    memcpy(c->name, instanceName, len);
+    c->magic = CTRL_MAGIC;
+    c->cb = *functions;
+    c->logging_on = loggingOn != 0;
+    c->log_mask = LOG_ALL;
+    defaults(c);
+    return c;
+}
+
+void fmi2FreeInstance(fmi2Component comp) {
+    ctrl_instance_t *c = FMU_ENTER(comp, fmi2FreeInstance);
+    fmi2CallbackFreeMemory fr;
+    if (!c) return;
+    fr = c->cb.freeMemory;
+    c->magic = 0;
+    fr(c->name);
+    fr(c);
+}
+
+fmi2Status fmi2SetDebugLogging(fmi2Component comp, fmi2Boolean loggingOn, size_t nCategories,
+                               const fmi2String categories[]) {
+    ctrl_instance_t *c = FMU_ENTER(comp, fmi2SetDebugLogging);
+    long bad;
+    if (!c) return fmi2Error;
+    c->logging_on = loggingOn != 0;
+    if (nCategories > 0 && !categories) {
+        ctrl_log(c, fmi2Error, LOG_ERROR, "fmi2SetDebugLogging: categories is NULL with nCategories = %zu",
+                 nCategories);
+        return fmi2Error;
+    }
+    if ((bad = fmi2_log_mask(nCategories, categories, &c->log_mask)) >= 0) {
+        ctrl_log(c, fmi2Error, LOG_ERROR, "fmi2SetDebugLogging: unknown log category \"%s\" (known: "
+                 "logEvents, logStatusWarning, logStatusError)", categories[bad] ? categories[bad] : "(null)");
+        return fmi2Error;
+    }
+    return fmi2OK;
+}
+
+fmi2Status fmi2SetupExperiment(fmi2Component comp, fmi2Boolean toleranceDefined, fmi2Real tolerance,
+                               fmi2Real startTime, fmi2Boolean stopTimeDefined, fmi2Real stopTime) {
+    ctrl_instance_t *c = FMU_ENTER(comp, fmi2SetupExperiment);
+    (void)toleranceDefined; (void)tolerance;
+    if (!c) return fmi2Error;
+    if (!isfinite(startTime) || (stopTimeDefined && !(stopTime >= startTime))) {
+        ctrl_log(c, fmi2Error, LOG_ERROR, "fmi2SetupExperiment: startTime = %g, stopTime = %g: allowed finite "
+                 "startTime, stopTime >= startTime", startTime, stopTime);
+        return fmi2Error;
+    }
+    c->time = c->t0 = startTime;
+    return fmi2OK;
+}
+
+fmi2Status fmi2EnterInitializationMode(fmi2Component comp) {
+    ctrl_instance_t *c = FMU_ENTER(comp, fmi2EnterInitializationMode);
+    if (!c) return fmi2Error;
+    c->fsm = ST_INIT;
+    c->params_ok = 0;
+    return fmi2OK;
+}
+
+fmi2Status fmi2ExitInitializationMode(fmi2Component comp) {
+    ctrl_instance_t *c = FMU_ENTER(comp, fmi2ExitInitializationMode);
+    if (!c) return fmi2Error;
+    if (!c->params_ok && initialize(c) != fmi2OK) { c->fsm = ST_ERROR; return fmi2Error; }
+    c->fsm = ST_STEP_COMPLETE;
+    return fmi2OK;
+}
+
+fmi2Status fmi2Terminate(fmi2Component comp) {
+    ctrl_instance_t *c = FMU_ENTER(comp, fmi2Terminate);
+    if (!c) return fmi2Error;
+    c->fsm = ST_TERMINATED;
+    return fmi2OK;
+}
+
+fmi2Status fmi2Reset(fmi2Component comp) {
+    ctrl_instance_t *c = FMU_ENTER(comp, fmi2Reset);
+    if (!c) return fmi2Error;
+    defaults(c);
+    return fmi2OK;
+}
+
+/* ---------------------------------------------------------------- get / set */
+static int lookup(ctrl_instance_t *c, const char *fn, fmi2ValueReference vr, char type) {
+    int row;
+    static const char *const TN[] = {"Real", "Integer", "Boolean"};
+    if (vr >= CTRL_NVR || (row = CTRL_VR_INDEX[vr]) < 0) {
+        ctrl_log(c, fmi2Error, LOG_ERROR, "%s: unknown value reference %u", fn, (unsigned)vr);
+        return -1;
+    }
+    if (CTRL_VARS[row].type != type) {
+        ctrl_log(c, fmi2Error, LOG_ERROR, "%s: %s (value reference %u) is not of type %s", fn,
+                 CTRL_VARS[row].name, (unsigned)vr, TN[type == 'R' ? 0 : (type == 'I' ? 1 : 2)]);
+        return -1;
+    }
+    return row;
+}
+
+static fmi2Status get_values(ctrl_instance_t *c, const char *fn, const fmi2ValueReference vr[], size_t nvr,
+                             char type, void *value) {
+    size_t k;
+    if (!c) return fmi2Error;
+    if (nvr > 0 && (!vr || !value)) {
+        ctrl_log(c, fmi2Error, LOG_ERROR, "%s: NULL array with nvr = %zu", fn, nvr);
+        return fmi2Error;
+    }
+    if (c->fsm == ST_INIT && !c->params_ok && initialize(c) != fmi2OK) return fmi2Error;
+    if (c->params_ok && (c->fsm & (ST_INIT | ST_STEP_COMPLETE))) evaluate(c);
+    for (k = 0; k < nvr; k++) {
+        int row = lookup(c, fn, vr[k], type);
+        double v;
+        if (row < 0) return fmi2Error;
+        v = c->val[vr[k]];
+        if (type == 'R') ((fmi2Real *)value)[k] = v;
+        else if (type == 'I') ((fmi2Integer *)value)[k] = (fmi2Integer)v;
+        else ((fmi2Boolean *)value)[k] = v != 0.0 ? fmi2True : fmi2False;
+    }
+    return fmi2OK;
+}
+
+fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[]) {
+    return get_values(FMU_ENTER(c, fmi2GetReal), "fmi2GetReal", vr, nvr, 'R', value);
+}
+fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Integer value[]) {
+    return get_values(FMU_ENTER(c, fmi2GetInteger), "fmi2GetInteger", vr, nvr, 'I', value);
+}
+fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Boolean value[]) {
+    return get_values(FMU_ENTER(c, fmi2GetBoolean), "fmi2GetBoolean", vr, nvr, 'B', value);
+}
+fmi2Status fmi2GetString(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr, fmi2String value[]) {
+    ctrl_instance_t *c = FMU_ENTER(comp, fmi2GetString);
+    (void)vr; (void)value;
+    if (!c) return fmi2Error;
+    if (nvr == 0) return fmi2OK;
+    ctrl_log(c, fmi2Error, LOG_ERROR, "fmi2GetString: this FMU has no String variables");
+    return fmi2Error;
+}
+
+static int settable(ctrl_instance_t *c, const char *fn, int row) {
+    const ctrl_var_t *v = &CTRL_VARS[row];
+    if (v->causality == 'i' && (c->fsm & SET_INPUT)) return 1;
+    if (v->causality == 'p' && (c->fsm & (v->variability == 't' ? SET_TUNABLE : SET_FIXED))) return 1;
+    ctrl_log(c, fmi2Error, LOG_ERROR, "%s: %s (causality %s, variability %s) cannot be set in this state", fn,
+             v->name, v->causality == 'p' ? "parameter" : (v->causality == 'i' ? "input" : "output"),
+             v->variability == 'f' ? "fixed" : (v->variability == 't' ? "tunable" : "discrete/continuous"));
+    return 0;
+}
+
+static double as_double(char type, const void *value, size_t k) {
+    return type == 'R' ? ((const fmi2Real *)value)[k]
+         : type == 'I' ? (double)((const fmi2Integer *)value)[k]
+                       : (((const fmi2Boolean *)value)[k] ? 1.0 : 0.0);
+}
+
+static fmi2Status set_values(ctrl_instance_t *c, const char *fn, const fmi2ValueReference vr[], size_t nvr,
+                             char type, const void *value) {
+    size_t k;
+    int param_changed = 0;
+    char msg[512];
+    if (!c) return fmi2Error;
+    if (nvr > 0 && (!vr || !value)) {
+        ctrl_log(c, fmi2Error, LOG_ERROR, "%s: NULL array with nvr = %zu", fn, nvr);
+        return fmi2Error;
+    }
+    for (k = 0; k < nvr; k++) {   /* every value checked before any is stored */
+        int row = lookup(c, fn, vr[k], type);
+        const ctrl_var_t *mv;
+        double v;
+        if (row < 0 || !settable(c, fn, row)) return fmi2Error;
+        mv = &CTRL_VARS[row];
+        if (type == 'B') {
+            fmi2Boolean b = ((const fmi2Boolean *)value)[k];
+            if (b != fmi2True && b != fmi2False) {
+                ctrl_log(c, fmi2Error, LOG_ERROR, "%s: %s = %d is not a Boolean: allowed 0 or 1", fn, mv->name, (int)b);
+                return fmi2Error;
+            }
+        }
+        v = as_double(type, value, k);
+        if (!ctrl_check_value(vr[k], v, msg, sizeof msg)) {
+            ctrl_log(c, fmi2Error, LOG_ERROR, "%s: %s", fn, msg);
+            return fmi2Error;
+        }
+        if (v < mv->min || v > mv->max) {
+            ctrl_log(c, fmi2Error, LOG_ERROR, "%s: %s = %.17g is out of range: allowed [%.17g, %.17g] %s", fn,
+                     mv->name, v, mv->min, mv->max, mv->unit);
+            return fmi2Error;
+        }
+        if (mv->causality == 'p' && (c->fsm & ST_STEP_COMPLETE)) param_changed = 1;
+    }
+    if (param_changed) {   /* a tunable parameter between steps: recompile, keep the state */
+        ctrl_params_t old = c->p;
+        double save[CTRL_NVR];
+        memcpy(save, c->val, sizeof save);
+        for (k = 0; k < nvr; k++) c->val[vr[k]] = as_double(type, value, k);
+        if (compile(c) != fmi2OK) {
+            memcpy(c->val, save, sizeof save);
+            c->p = old;
+            return fmi2Error;
+        }
+        c->pending_ok = 0;
+        return fmi2OK;
+    }
+    for (k = 0; k < nvr; k++) c->val[vr[k]] = as_double(type, value, k);
+    if (c->fsm & ST_INIT) c->params_ok = 0;
+    c->pending_ok = 0;
+    return fmi2OK;
+}
+
+fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Real value[]) {
+    return set_values(FMU_ENTER(c, fmi2SetReal), "fmi2SetReal", vr, nvr, 'R', value);
+}
+fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Integer value[]) {
+    return set_values(FMU_ENTER(c, fmi2SetInteger), "fmi2SetInteger", vr, nvr, 'I', value);
+}
+fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Boolean value[]) {
+    return set_values(FMU_ENTER(c, fmi2SetBoolean), "fmi2SetBoolean", vr, nvr, 'B', value);
+}
+fmi2Status fmi2SetString(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr, const fmi2String value[]) {
+    ctrl_instance_t *c = FMU_ENTER(comp, fmi2SetString);
+    (void)vr; (void)value;
+    if (!c) return fmi2Error;
+    if (nvr == 0) return fmi2OK;
+    ctrl_log(c, fmi2Error, LOG_ERROR, "fmi2SetString: this FMU has no String variables");
+    return fmi2Error;
+}
+
+/* ---------------------------------------------------------------- co-simulation */
+fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h, fmi2Boolean noSetFMUStatePriorToCurrentPoint) {
+    ctrl_instance_t *c = FMU_ENTER(comp, fmi2DoStep);
+    (void)noSetFMUStatePriorToCurrentPoint;
+    if (!c) return fmi2Error;
+    if (!(h > 0.0) || !isfinite(t) || fabs(t - c->time) > 1e-9 * (fabs(t) > 1.0 ? fabs(t) : 1.0)) {
+        ctrl_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: currentCommunicationPoint = %.17g, step = %.17g: allowed the "
+                 "FMU's time %.17g and a step > 0", t, h, c->time);
+        return fmi2Error;
+    }
+    while (sample_time(c, c->s.k) < t + h - 1e-9 * c->p.Ts) {
+        c->time = fmax(c->time, sample_time(c, c->s.k));
+        evaluate(c);
+        c->s = c->pending;
+        c->pending_ok = 0;
+    }
+    c->time = t + h;
+    return fmi2OK;
+}
+
+fmi2Status fmi2CancelStep(fmi2Component comp) {
+    ctrl_instance_t *c = FMU_ENTER(comp, fmi2CancelStep);
+    if (!c) return fmi2Error;
+    ctrl_log(c, fmi2Error, LOG_ERROR, "fmi2CancelStep: fmi2DoStep never runs asynchronously here");
+    return fmi2Error;
+}
+
+static fmi2Status refuse(fmi2Component comp, const char *fn, int iface, int mask) {
+    ctrl_instance_t *c = fmu_enter(comp, fn, iface, mask);
+    if (c) ctrl_log(c, fmi2Error, LOG_ERROR, "%s: not supported by this FMU", fn);
+    return fmi2Error;
+}
+#define REFUSE(F) refuse(comp, #F, ALLOW_##F)
+
+fmi2Status fmi2SetRealInputDerivatives(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr,
+                                       const fmi2Integer order[], const fmi2Real value[]) {
+    (void)vr; (void)nvr; (void)order; (void)value;
+    return REFUSE(fmi2SetRealInputDerivatives);
+}
+fmi2Status fmi2GetRealOutputDerivatives(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr,
+                                        const fmi2Integer order[], fmi2Real value[]) {
+    (void)vr; (void)nvr; (void)order; (void)value;
+    return REFUSE(fmi2GetRealOutputDerivatives);
+}
+fmi2Status fmi2GetStatus(fmi2Component comp, const fmi2StatusKind s, fmi2Status *value) {
+    (void)s; (void)value;
+    return REFUSE(fmi2GetStatus);
+}
+fmi2Status fmi2GetRealStatus(fmi2Component comp, const fmi2StatusKind s, fmi2Real *value) {
+    ctrl_instance_t *c = FMU_ENTER(comp, fmi2GetRealStatus);
+    if (!c) return fmi2Error;
+    if (s == fmi2LastSuccessfulTime && value) { *value = c->time; return fmi2OK; }
+    ctrl_log(c, fmi2Error, LOG_ERROR, "fmi2GetRealStatus: only fmi2LastSuccessfulTime is known");
+    return fmi2Error;
+}
+fmi2Status fmi2GetIntegerStatus(fmi2Component comp, const fmi2StatusKind s, fmi2Integer *value) {
+    (void)s; (void)value;
+    return REFUSE(fmi2GetIntegerStatus);
+}
+fmi2Status fmi2GetBooleanStatus(fmi2Component comp, const fmi2StatusKind s, fmi2Boolean *value) {
+    (void)s; (void)value;
+    return REFUSE(fmi2GetBooleanStatus);
+}
+fmi2Status fmi2GetStringStatus(fmi2Component comp, const fmi2StatusKind s, fmi2String *value) {
+    (void)s; (void)value;
+    return REFUSE(fmi2GetStringStatus);
+}
+
+/* FMU states and directional derivatives: not offered (canGetAndSetFMUstate is false) */
+fmi2Status fmi2GetFMUstate(fmi2Component comp, fmi2FMUstate *st) { (void)st; return REFUSE(fmi2GetFMUstate); }
+fmi2Status fmi2SetFMUstate(fmi2Component comp, fmi2FMUstate st) { (void)st; return REFUSE(fmi2SetFMUstate); }
+fmi2Status fmi2FreeFMUstate(fmi2Component comp, fmi2FMUstate *st) { (void)st; return REFUSE(fmi2FreeFMUstate); }
+fmi2Status fmi2SerializedFMUstateSize(fmi2Component comp, fmi2FMUstate st, size_t *size) {
+    (void)st; (void)size;
+    return REFUSE(fmi2SerializedFMUstateSize);
+}
+fmi2Status fmi2SerializeFMUstate(fmi2Component comp, fmi2FMUstate st, fmi2Byte b[], size_t size) {
+    (void)st; (void)b; (void)size;
+    return REFUSE(fmi2SerializeFMUstate);
+}
+fmi2Status fmi2DeSerializeFMUstate(fmi2Component comp, const fmi2Byte b[], size_t size, fmi2FMUstate *st) {
+    (void)b; (void)size; (void)st;
+    return REFUSE(fmi2DeSerializeFMUstate);
+}
+fmi2Status fmi2GetDirectionalDerivative(fmi2Component comp, const fmi2ValueReference u[], size_t nu,
+                                        const fmi2ValueReference z[], size_t nz, const fmi2Real dv[], fmi2Real dz[]) {
+    (void)u; (void)nu; (void)z; (void)nz; (void)dv; (void)dz;
+    return REFUSE(fmi2GetDirectionalDerivative);
+}
+
+/* model exchange: not offered */
+fmi2Status fmi2EnterEventMode(fmi2Component comp) { return REFUSE(fmi2EnterEventMode); }
+fmi2Status fmi2NewDiscreteStates(fmi2Component comp, fmi2EventInfo *e) { (void)e; return REFUSE(fmi2NewDiscreteStates); }
+fmi2Status fmi2EnterContinuousTimeMode(fmi2Component comp) { return REFUSE(fmi2EnterContinuousTimeMode); }
+fmi2Status fmi2CompletedIntegratorStep(fmi2Component comp, fmi2Boolean n, fmi2Boolean *e, fmi2Boolean *t) {
+    (void)n; (void)e; (void)t;
+    return REFUSE(fmi2CompletedIntegratorStep);
+}
+fmi2Status fmi2SetTime(fmi2Component comp, fmi2Real t) { (void)t; return REFUSE(fmi2SetTime); }
+fmi2Status fmi2SetContinuousStates(fmi2Component comp, const fmi2Real x[], size_t n) {
+    (void)x; (void)n;
+    return REFUSE(fmi2SetContinuousStates);
+}
+fmi2Status fmi2GetDerivatives(fmi2Component comp, fmi2Real d[], size_t n) { (void)d; (void)n; return REFUSE(fmi2GetDerivatives); }
+fmi2Status fmi2GetEventIndicators(fmi2Component comp, fmi2Real z[], size_t n) {
+    (void)z; (void)n;
+    return REFUSE(fmi2GetEventIndicators);
+}
+fmi2Status fmi2GetContinuousStates(fmi2Component comp, fmi2Real x[], size_t n) {
+    (void)x; (void)n;
+    return REFUSE(fmi2GetContinuousStates);
+}
+fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component comp, fmi2Real x[], size_t n) {
+    (void)x; (void)n;
+    return REFUSE(fmi2GetNominalsOfContinuousStates);
+}

@@ -1,0 +1,176 @@
+/* The controller's value table (ctrl_vars.h, generated from fmu_src/controller/modelDescription.xml
+ * with the plant's parameters imported as plant.*) compiled into ctrl_params_t: the rules of single
+ * values and of their combination, each refusal a message naming the variable, its value and the
+ * allowed range. The nominal plant is compiled by the plant FMU's own params.c. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "ctrl_params.h"
+
+/* value reference of plant.<name> = this offset + the plant's own */
+#define PLANT_VR_OFFSET (CVR_plant_m - VR_m)
+#define COMPILE_CHECK(name, cond) typedef char compile_check_##name[(cond) ? 1 : -1]
+#define COUNT(a) (sizeof(a) / sizeof((a)[0]))
+COMPILE_CHECK(ss_sizes_match_xml, COUNT(CVRA_ss_Cc) == CTRL_NS_MAX + 1 && COUNT(CVRA2_ss_Ac) == CTRL_NS_MAX + 1);
+COMPILE_CHECK(zpetc_sizes_match_xml, COUNT(CVRA_zpetc_b) == CTRL_NZ_MAX + 1 && COUNT(CVRA_zpetc_zi) == CTRL_NZ_MAX);
+COMPILE_CHECK(plant_offset_consistent, CVR_plant_friction_F_s - VR_friction_F_s == PLANT_VR_OFFSET);
+
+const char *ctrl_var_name(unsigned vr) {
+    return (vr < CTRL_NVR && CTRL_VR_INDEX[vr] >= 0) ? CTRL_VARS[CTRL_VR_INDEX[vr]].name : "?";
+}
+
+int ctrl_is_plant_vr(unsigned vr) {
+    return vr >= PLANT_VR_OFFSET && vr - PLANT_VR_OFFSET < MODEL_NVR &&
+           MODEL_VR_INDEX[vr - PLANT_VR_OFFSET] >= 0;
+}
+
+void ctrl_defaults(double *val) {
+    int n;
+    for (n = 0; n < CTRL_NVARS; n++) val[CTRL_VARS[n].vr] = CTRL_VARS[n].start;
+}
+
+bool ctrl_check_value(unsigned vr, double value, char *msg, size_t msglen) {
+    if (!isfinite(value)) {
+        snprintf(msg, msglen, "%s = %g is not a finite number: allowed values are finite", ctrl_var_name(vr), value);
+        return false;
+    }
+    if (ctrl_is_plant_vr(vr)) {
+        char m[480];
+        if (params_check_value(vr - PLANT_VR_OFFSET, value, m, sizeof m)) return true;
+        snprintf(msg, msglen, "plant.%s", m);
+        return false;
+    }
+    return true;
+}
+
+#define FAIL(...) do { snprintf(msg, msglen, __VA_ARGS__); return false; } while (0)
+
+static bool compile_plant(const double *val, ctrl_params_t *p, char *msg, size_t msglen) {
+    double pv[MODEL_NVR];
+    char m[480];
+    unsigned vr;
+    params_defaults(pv);
+    for (vr = 0; vr < MODEL_NVR; vr++)
+        if (MODEL_VR_INDEX[vr] >= 0 && MODEL_VARS[MODEL_VR_INDEX[vr]].causality == 'p')
+            pv[vr] = val[vr + PLANT_VR_OFFSET];
+    if (!params_compile(pv, &p->plant, m, sizeof m)) FAIL("plant.%s", m);
+    return true;
+}
+
+static bool compile_pid(const double *val, ctrl_params_t *p, char *msg, size_t msglen) {
+    double nyq = 0.5 / p->Ts;
+    p->Kp = val[CVR_pid_Kp];
+    p->Kv = val[CVR_pid_Kv];
+    p->Ki = val[CVR_pid_Ki];
+    p->fpv = val[CVR_pid_force_per_volt];
+    p->tf = val[CVR_pid_tf];
+    p->anti_windup = val[CVR_pid_anti_windup] != 0.0;
+    if (!(p->fpv > 0.0)) FAIL("pid.force_per_volt = %.17g: allowed (0, inf) N/V", p->fpv);
+    p->pid_a = p->tf / (p->tf + p->Ts);
+    p->pid_b = p->Kv / (p->tf + p->Ts);
+    p->lead = p->type == CTRL_PID_LEAD;
+    if (p->lead) {
+        double fz = val[CVR_lead_zero_hz], fp = val[CVR_lead_pole_hz], K = 2.0 / p->Ts, wz, wp, a0;
+        if (!(fz > 0.0 && fz < fp))
+            FAIL("lead.zero_hz = %.17g: allowed (0, lead.pole_hz = %.17g) Hz", fz, fp);
+        if (!(fp < nyq)) FAIL("lead.pole_hz = %.17g: allowed (lead.zero_hz = %.17g, %.17g) Hz (Nyquist)", fp, fz, nyq);
+        /* Tustin (s = 2/Ts (z - 1)/(z + 1)) of (1 + s/w_z)/(1 + s/w_p), normalised a0 = 1 */
+        wz = 2 * M_PI * fz;
+        wp = 2 * M_PI * fp;
+        a0 = 1.0 + K / wp;
+        p->lead_b0 = (1.0 + K / wz) / a0;
+        p->lead_b1 = (1.0 - K / wz) / a0;
+        p->lead_a1 = (1.0 - K / wp) / a0;
+    }
+    return true;
+}
+
+static bool compile_state_space(const double *val, ctrl_params_t *p, char *msg, size_t msglen) {
+    int i, j;
+    p->n = (int)val[CVR_ss_n];
+    if (p->n < 1 || p->n > CTRL_NS_MAX) FAIL("ss.n = %d: allowed [1, %d]", p->n, CTRL_NS_MAX);
+    for (i = 0; i < CTRL_NS_MAX; i++) {
+        p->By[i] = val[CVRA_ss_By[i + 1]];
+        p->Br[i] = val[CVRA_ss_Br[i + 1]];
+        p->Bu[i] = val[CVRA_ss_Bu[i + 1]];
+        p->Cc[i] = val[CVRA_ss_Cc[i + 1]];
+        for (j = 0; j < CTRL_NS_MAX; j++) p->Ac[i][j] = val[CVRA2_ss_Ac[i + 1][j + 1]];
+    }
+    p->Dy = val[CVR_ss_Dy];
+    p->Dr = val[CVR_ss_Dr];
+    return true;
+}
+
+static bool compile_zpetc(const double *val, ctrl_params_t *p, char *msg, size_t msglen) {
+    int j;
+    p->zpetc = val[CVR_zpetc_on] != 0.0;
+    p->preview = p->zpetc ? (int)val[CVR_zpetc_preview] : 0;
+    if (p->preview < 0 || p->preview > CTRL_PREVIEW_MAX)
+        FAIL("zpetc.preview = %d: allowed [0, %d] samples", p->preview, CTRL_PREVIEW_MAX);
+    p->nzc = (int)val[CVR_zpetc_order] + 1;
+    if (p->nzc < 2 || p->nzc > CTRL_NZ_MAX) FAIL("zpetc.order = %d: allowed [1, %d]", p->nzc - 1, CTRL_NZ_MAX - 1);
+    for (j = 0; j < CTRL_NZ_MAX; j++) {
+        p->zb[j] = val[CVRA_zpetc_b[j + 1]];
+        p->za[j] = val[CVRA_zpetc_a[j + 1]];
+        p->zi[j] = j < CTRL_NZ_MAX - 1 ? val[CVRA_zpetc_zi[j + 1]] : 0.0;
+    }
+    if (p->zpetc && p->za[0] != 1.0) FAIL("zpetc.a[1] = %.17g: allowed 1 (a normalised denominator)", p->za[0]);
+    return true;
+}
+
+static bool compile_reference(const double *val, ctrl_params_t *p, char *msg, size_t msglen) {
+    double dur = val[CVR_ref_duration], x_end = val[CVR_ref_x_end];
+    p->amp = val[CVR_ref_amplitude];
+    p->centre = val[CVR_ref_centre];
+    p->phase = val[CVR_ref_phase];
+    p->x_start = val[CVR_ref_x_start];
+    p->speed = val[CVR_ref_speed];
+    p->accel = val[CVR_ref_accel];
+    p->dwell = val[CVR_ref_dwell];
+    if (p->source == REF_SINUSOID) {
+        double T = val[CVR_ref_period];
+        if (!(T > 0.0)) FAIL("ref.period = %.17g: allowed (0, inf) s", T);
+        if (!(dur >= 0.0 && dur / p->Ts < 1e12)) FAIL("ref.duration = %.17g: allowed [0, %.17g] s", dur, 1e12 * p->Ts);
+        p->w = 2 * M_PI / T;
+    }
+    if (p->source == REF_POINT_TO_POINT) {
+        if (!(p->speed > 0.0)) FAIL("ref.speed = %.17g: allowed (0, inf) m/s", p->speed);
+        if (!(p->accel > 0.0)) FAIL("ref.accel = %.17g: allowed (0, inf) m/s2", p->accel);
+        if (!(x_end != p->x_start)) FAIL("ref.x_end = %.17g: allowed any position but ref.x_start = %.17g m", x_end, p->x_start);
+    }
+    ref_prepare(p, dur, x_end);
+    return true;
+}
+
+bool ctrl_compile(const double *val, ctrl_params_t *p, char *msg, size_t msglen) {
+    memset(p, 0, sizeof *p);
+    p->Ts = val[CVR_Ts];
+    p->type = (int)val[CVR_ctrl_type];
+    p->source = (int)val[CVR_ref_source];
+    p->u_limit = val[CVR_u_limit];
+    p->quantum = val[CVR_scale_quantum];
+    if (!(p->Ts > 0.0)) FAIL("Ts = %.17g: allowed (0, inf) s", p->Ts);
+    if (p->type < CTRL_STATE_SPACE || p->type > CTRL_PID_LEAD)
+        FAIL("ctrl.type = %d: allowed 1 (state_space), 2 (pid), 3 (pid_lead)", p->type);
+    if (p->source < REF_INPUT || p->source > REF_POINT_TO_POINT)
+        FAIL("ref.source = %d: allowed 0 (inputs), 1 (sinusoid), 2 (point to point)", p->source);
+    if (!(p->u_limit > 0.0)) FAIL("u_limit = %.17g: allowed (0, inf) V", p->u_limit);
+    if (!(p->quantum >= 0.0)) FAIL("scale.quantum = %.17g: allowed [0, inf) m", p->quantum);
+    if (p->type == CTRL_STATE_SPACE) { if (!compile_state_space(val, p, msg, msglen)) return false; }
+    else if (!compile_pid(val, p, msg, msglen)) return false;
+    if (!compile_zpetc(val, p, msg, msglen) || !compile_reference(val, p, msg, msglen)) return false;
+    p->ff = val[CVR_ff_on] != 0.0;
+    p->ff_inertia = val[CVR_ff_inertia] != 0.0;
+    p->ff_cogging = val[CVR_ff_cogging] != 0.0;
+    p->ff_ripple = val[CVR_ff_ripple] != 0.0;
+    p->ff_offset = val[CVR_ff_offset] != 0.0;
+    p->ff_friction = (int)val[CVR_ff_friction];
+    p->v_eps = val[CVR_ff_v_eps];
+    if (p->ff_friction < FF_FRICTION_NONE || p->ff_friction > FF_FRICTION_GMS)
+        FAIL("ff.friction = %d: allowed 0 (none), 1 (static), 2 (gms)", p->ff_friction);
+    if (p->ff && p->ff_friction == FF_FRICTION_STATIC && !(p->v_eps > 0.0))
+        FAIL("ff.v_eps = %.17g: allowed (0, inf) m/s", p->v_eps);
+    if (p->ff && !compile_plant(val, p, msg, msglen)) return false;
+    return true;
+}

@@ -1,0 +1,59 @@
+/* Logging shared by the FMUs' glue (plant and controller): categories, the filter (event
+ * traces only when logging is on and logEvents selected; warnings and errors always), the
+ * fmi2SetDebugLogging category list, and the text handed to the importer's logger as a printf
+ * format with every '%' doubled, so importers that cannot read variadic arguments (ctypes,
+ * JNI) still get the whole message. */
+#ifndef FMI2_LOG_H
+#define FMI2_LOG_H
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "fmi2Functions.h"
+
+#define LOG_EVENTS 1u
+#define LOG_WARNING 2u
+#define LOG_ERROR 4u
+#define LOG_ALL (LOG_EVENTS | LOG_WARNING | LOG_ERROR)
+
+static inline void fmi2_log_emit(const fmi2CallbackFunctions *cb, const char *name, fmi2Status st,
+                                 const char *cat, const char *text) {
+    char esc[2048];
+    size_t i = 0;
+    for (; *text && i + 2 < sizeof esc; text++) {
+        if (*text == '%') esc[i++] = '%';
+        esc[i++] = *text;
+    }
+    esc[i] = 0;
+    cb->logger(cb->componentEnvironment, name, st, cat, esc);
+}
+
+/* format and emit a message of category cat (LOG_*) unless the filter drops it */
+static inline void fmi2_log_v(const fmi2CallbackFunctions *cb, const char *name, int logging_on,
+                              unsigned mask, fmi2Status st, unsigned cat, const char *fmt, va_list ap) {
+    char buf[1024];
+    const char *cname = cat == LOG_EVENTS ? "logEvents" : (cat == LOG_WARNING ? "logStatusWarning"
+                                                                              : "logStatusError");
+    if (!cb->logger) return;
+    if (cat == LOG_EVENTS && !(logging_on && (mask & LOG_EVENTS))) return;
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    fmi2_log_emit(cb, name ? name : "?", st, cname, buf);
+}
+
+/* the mask of fmi2SetDebugLogging's categories (none: all); -1 when every name is known,
+ * else the index of the first unknown one */
+static inline long fmi2_log_mask(size_t n, const fmi2String categories[], unsigned *mask) {
+    size_t k;
+    if (n == 0) { *mask = LOG_ALL; return -1; }
+    *mask = LOG_WARNING | LOG_ERROR;
+    for (k = 0; k < n; k++) {
+        if (categories[k] && strcmp(categories[k], "logEvents") == 0) *mask |= LOG_EVENTS;
+        else if (!categories[k] || (strcmp(categories[k], "logStatusWarning") != 0 &&
+                                    strcmp(categories[k], "logStatusError") != 0))
+            return (long)k;
+    }
+    return -1;
+}
+
+#endif

@@ -1,0 +1,71 @@
+"""The closed loop as two FMUs, controller FMU + plant FMU, stepped from Python.
+
+Connections: plant ``x`` -> controller ``x_meas`` (the controller FMU quantises it at
+``scale.quantum``), controller ``u`` -> plant ``u``.  Macro step = Ts.  Sample convention
+of :func:`~.simulate.simulate_closed_loop`: at t_k the master reads the plant's x(t_k), sets
+it as x_meas, reads u(t_k) (computed from that x_meas, no extra delay), sets it on the plant
+and steps both FMUs over [t_k, t_k+1]; the plant holds u over the step and its current loop
+takes the sample at t_k (its own one-sample delay, Eq. 2).  u[0] is computed from x0 during
+the controller's initialisation and is the plant's start value of ``u``.
+"""
+from __future__ import annotations
+
+import ctypes
+import time
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..fmu import FMUError, Plant, Result
+from .controller_fmu import ControllerFMU
+
+
+def simulate_two_fmus(plant_params: Mapping[str, Any], ctrl_params: Mapping[str, Any], n: int,
+                      x0: float, Ts: float = 5e-4, F_ext: float = 0.0,
+                      controller_path: str | Path | None = None,
+                      plant_path: str | Path | None = None, tolerance: float = 1e-6) -> Result:
+    """Run n samples; returns time, x (the plant's, rows k = 0..n), u and ``wall`` [s].
+
+    ``ctrl_params``: :func:`~.controller_fmu.controller_fmu_parameters` (with ``Ts``).
+    """
+    with ControllerFMU(ctrl_params, path=controller_path) as ctrl, \
+            Plant(plant_params, interface="cs", tolerance=tolerance, path=plant_path) as plant:
+        wall0 = time.perf_counter()     # from initialisation to the end (as the harness's)
+        ctrl.start({"x_meas": float(x0)})
+        cu = ctrl.raw(["u", "x_meas"])
+        u0 = float(cu.get()[0])
+        plant.start({"x": float(x0), "v": 0.0, "u": u0, "F_ext": float(F_ext)}, t0=0.0)
+        px = plant.raw(["x"])
+        cr, pr = ctrl.raw_calls(), plant.raw_calls()
+        cc, pc = cr.component, pr.component
+        c_step, p_step = cr.do_step, pr.do_step
+        c_get, c_set, p_get, p_set = cr.get_real, cr.set_real, pr.get_real, pr.set_real
+        vr_xm = (ctypes.c_uint * 1)(ctrl.vr("x_meas"))
+        vr_u_c = (ctypes.c_uint * 1)(ctrl.vr("u"))
+        vr_u_p = (ctypes.c_uint * 1)(plant.vr("u"))
+        vr_x = px.vr
+        xs = (ctypes.c_double * (n + 1))()
+        us = (ctypes.c_double * (n + 1))()
+        base_x, base_u = ctypes.addressof(xs), ctypes.addressof(us)
+        if p_get(pc, vr_x, 1, base_x) > 1:
+            raise FMUError("plant fmi2GetReal x: " + (plant.messages[-1] if plant.messages else ""))
+        us[0] = u0
+        for k in range(n):
+            t = k * Ts
+            if k > 0:
+                if (c_set(cc, vr_xm, 1, base_x + 8 * k) > 1 or c_get(cc, vr_u_c, 1, base_u + 8 * k) > 1
+                        or p_set(pc, vr_u_p, 1, base_u + 8 * k) > 1):
+                    raise FMUError(f"exchange at t = {t}: "
+                                   + ((ctrl.messages + plant.messages) or [""])[-1])
+            if c_step(cc, t, Ts, 1) > 1 or p_step(pc, t, Ts, 1) > 1:
+                raise FMUError(f"fmi2DoStep at t = {t}: "
+                               + ((ctrl.messages + plant.messages) or [""])[-1])
+            if p_get(pc, vr_x, 1, base_x + 8 * (k + 1)) > 1:
+                raise FMUError(f"plant fmi2GetReal x at t = {t + Ts}: "
+                               + (plant.messages[-1] if plant.messages else ""))
+        us[n] = us[n - 1]
+        wall = time.perf_counter() - wall0
+    return Result({"time": np.arange(n + 1) * Ts, "x": np.array(xs), "u": np.array(us),
+                   "wall": np.array(wall)})

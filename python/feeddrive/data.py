@@ -125,31 +125,120 @@ def sidecar_path(path: str | Path) -> Path:
     return Path(path).with_suffix(".json")
 
 
-def _decode(path: Path, raw: bytes) -> str:
+def _decode_error(path: Path, e: UnicodeDecodeError) -> DataError:
+    """The file's first invalid byte as a DataError with its line (reads the bytes again)."""
+    raw = path.read_bytes()
     try:
-        return raw.decode("utf-8-sig")
-    except UnicodeDecodeError as e:
-        line = raw[: e.start].count(b"\n") + 1
-        raise DataError(path, line, None, f"not UTF-8 text (byte {e.start}: {e.reason})") from None
+        raw.decode("utf-8-sig")
+    except UnicodeDecodeError as err:
+        e = err
+    line = raw[: e.start].count(b"\n") + 1
+    return DataError(path, line, None, f"not UTF-8 text (byte {e.start}: {e.reason})")
 
 
-def _read_rows(path: Path, text: str) -> tuple[list[str], list[list[str]], list[int]]:
-    """Header, data rows and each row's 1-based line number; trailing blank lines ignored."""
-    reader = csv.reader(io.StringIO(text, newline=""), strict=True)
-    rows: list[list[str]] = []
+class _NotPlain(Exception):
+    """The file is not plain numeric CSV (quotes, blank lines, text cells, ragged rows...):
+    the strict reader takes over and finds the problem or reads it exactly."""
+
+
+#: characters of text per chunk (bounds the loader's working memory)
+_CHUNK_CHARS = 1 << 22
+#: records per chunk of the strict reader
+_CHUNK_ROWS = 1 << 15
+
+
+def _open(path: Path):
+    return open(path, encoding="utf-8-sig", newline="")
+
+
+def _read_plain(path: Path) -> tuple[list[str], dict[str, np.ndarray]]:
+    """Fast path: header and every cell as float64 through numpy's C parser, in chunks.
+
+    Raises :class:`_NotPlain` unless every data line is ``width`` unquoted numbers (no blank
+    line, no quote), so that row k of the result is line k + 2 of the file.
+    """
+    parts: list[np.ndarray] = []
+    with _open(path) as f:
+        head = f.readline()
+        if not head.strip() or '"' in head:
+            raise _NotPlain
+        names = _check_header(path, head.rstrip("\r\n").split(","))
+        while lines := f.readlines(_CHUNK_CHARS):
+            if any('"' in ln for ln in lines):
+                raise _NotPlain
+            try:
+                a = np.loadtxt(lines, delimiter=",", comments=None, dtype=float, ndmin=2)
+            except ValueError:
+                raise _NotPlain from None
+            if a.shape != (len(lines), len(names)):
+                raise _NotPlain
+            parts.append(a)
+    cols = {n: np.concatenate([p[:, k] for p in parts]) if parts else np.empty(0)
+            for k, n in enumerate(names)}
+    return names, cols
+
+
+def _read_strict(path: Path) -> tuple[list[str], dict[str, np.ndarray], dict[str, np.ndarray],
+                                      list[int]]:
+    """Exact path (csv module, streaming, chunks of records): header, known columns as
+    float64, other columns (float when every cell is a number, else str), each row's line."""
+    known: dict[str, list[np.ndarray]] = {}
+    text: dict[str, list[str]] = {}
     lines: list[int] = []
-    try:
-        for row in reader:
-            rows.append(row)
-            lines.append(reader.line_num)   # last physical line of the record
-    except csv.Error as e:
-        raise DataError(path, reader.line_num, None, f"malformed CSV: {e}") from None
-    while rows and not rows[-1]:
-        rows.pop()
-        lines.pop()
+    with _open(path) as f:
+        reader = csv.reader(f, strict=True)
+        try:
+            header = next(reader, None)
+            if header is None:
+                raise DataError(path, 1, None, "empty file: no header row")
+            names = _check_header(path, header)
+            width = len(names)
+            known = {n: [] for n in names if n in KNOWN_COLUMNS}
+            text = {n: [] for n in names if n not in KNOWN_COLUMNS}
+            rows: list[list[str]] = []
+            rows_at: list[int] = []
+            blank_at: int | None = None
+            for row in reader:
+                if not row:
+                    blank_at = blank_at or reader.line_num
+                    continue
+                if blank_at is not None:
+                    raise DataError(path, blank_at, names[0], "blank line inside the data")
+                if len(row) != width:
+                    col = names[len(row)] if len(row) < width else f"#{width + 1} (beyond the header)"
+                    raise DataError(path, reader.line_num, col,
+                                    f"{len(row)} fields, the header has {width}")
+                rows.append(row)
+                rows_at.append(reader.line_num)   # last physical line of the record
+                if len(rows) == _CHUNK_ROWS:
+                    _take_chunk(path, names, rows, rows_at, known, text)
+                    lines += rows_at
+                    rows, rows_at = [], []
+            _take_chunk(path, names, rows, rows_at, known, text)
+            lines += rows_at
+        except csv.Error as e:
+            raise DataError(path, reader.line_num, None, f"malformed CSV: {e}") from None
+        except UnicodeDecodeError as e:
+            raise _decode_error(path, e) from None
+    cols = {n: np.concatenate(v) if v else np.empty(0) for n, v in known.items()}
+    extra: dict[str, np.ndarray] = {}
+    for n, cells in text.items():
+        try:
+            extra[n] = np.array(cells, dtype=float)
+        except ValueError:
+            extra[n] = np.array(cells, dtype=str)
+    return names, cols, extra, lines
+
+
+def _take_chunk(path: Path, names: list[str], rows: list[list[str]], rows_at: list[int],
+                known: dict[str, list[np.ndarray]], text: dict[str, list[str]]) -> None:
     if not rows:
-        raise DataError(path, 1, None, "empty file: no header row")
-    return rows[0], rows[1:], lines[1:]
+        return
+    for name, cells in zip(names, zip(*rows)):
+        if name in known:
+            known[name].append(_to_float(path, name, cells, rows_at))
+        else:
+            text[name].extend(cells)
 
 
 def _check_header(path: Path, header: list[str]) -> list[str]:
@@ -253,32 +342,50 @@ def load_run(path: str | Path) -> Run:
         naming the file, line and column.
     """
     path = Path(path)
-    text = _decode(path, path.read_bytes())
-    header, rows, lines = _read_rows(path, text)
-    names = _check_header(path, header)
-    width = len(names)
-    for row, line in zip(rows, lines):
-        if len(row) != width:
-            col = names[len(row)] if len(row) < width else f"#{width + 1} (beyond the header)"
-            if not row:
-                problem = "blank line inside the data"
-            else:
-                problem = f"{len(row)} fields, the header has {width}"
-            raise DataError(path, line, col, problem)
-    cells = list(zip(*rows)) if rows else [() for _ in names]
-    cols: dict[str, np.ndarray] = {}
-    extra: dict[str, np.ndarray] = {}
-    for name, col in zip(names, cells):
-        if name in KNOWN_COLUMNS:
-            cols[name] = _to_float(path, name, col, lines)
-        else:
-            try:
-                extra[name] = np.array(col, dtype=float)
-            except ValueError:
-                extra[name] = np.array(col, dtype=str)
+    try:
+        names, every = _read_plain(path)
+    except _NotPlain:
+        names, cols, extra, lines = _read_strict(path)
+    except UnicodeDecodeError as e:
+        raise _decode_error(path, e) from None
+    else:
+        cols = {n: v for n, v in every.items() if n in KNOWN_COLUMNS}
+        extra = {n: v for n, v in every.items() if n not in KNOWN_COLUMNS}
+        lines = None            # plain file: row k is line k + 2
     _check_values(path, cols, lines)
     meta = _load_sidecar(path)
     return Run(**cols, meta=meta, extra=extra, path=path)
+
+
+#: plausible median sample step [s] (0.1 us .. 1 s: time in seconds, not ms or us)
+SAMPLE_STEP_RANGE: tuple[float, float] = (1e-7, 1.0)
+#: largest deviation of one sample step from the median step (fraction)
+SAMPLE_JITTER = 0.10
+
+
+def check_sampling(run: Run) -> float:
+    """The run's median sample step [s], after checking that the sampling is plausible.
+
+    Raises :class:`DataError` (file, line, column ``time``) when the median step is outside
+    :data:`SAMPLE_STEP_RANGE` (e.g. time in ms) or one step differs from it by more than
+    :data:`SAMPLE_JITTER` (gaps, jitter: the tools assume uniform sampling).
+    """
+    dt = np.diff(run.time)
+    path = run.path if run.path is not None else Path(run.name or "run")
+    if dt.size == 0:
+        raise DataError(path, None, "time", "fewer than 2 samples")
+    Ts = float(np.median(dt))
+    lo, hi = SAMPLE_STEP_RANGE
+    if not lo <= Ts <= hi:
+        raise DataError(path, None, "time", f"median sample step {Ts:g} s is outside {lo:g} .. "
+                        f"{hi:g} s (time must be in seconds)")
+    dev = np.abs(dt - Ts)
+    k = int(np.argmax(dev))
+    if dev[k] > SAMPLE_JITTER * Ts:
+        raise DataError(path, k + 3, "time", f"sample step {float(dt[k]):g} s after line {k + 2} "
+                        f"differs from the median step {Ts:g} s by more than "
+                        f"{SAMPLE_JITTER:.0%} (sampling must be uniform)")
+    return Ts
 
 
 def load_runs(folder: str | Path) -> list[Run]:

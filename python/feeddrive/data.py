@@ -300,6 +300,13 @@ def _check_values(path: Path, cols: dict[str, np.ndarray], lines: list[int] | No
                         "time must increase strictly")
 
 
+def _no_constant(path: Path):
+    """json ``parse_constant`` hook: NaN and Infinity are not JSON (RFC 8259)."""
+    def hook(name: str) -> Any:
+        raise DataError(path, None, None, f"{name} is not a JSON number (non-finite value)")
+    return hook
+
+
 def _load_sidecar(csv_path: Path) -> dict:
     jpath = sidecar_path(csv_path)
     if not jpath.exists():
@@ -309,10 +316,12 @@ def _load_sidecar(csv_path: Path) -> dict:
     except (OSError, UnicodeDecodeError) as e:
         raise DataError(jpath, None, None, f"unreadable sidecar JSON: {e}") from None
     try:
-        meta = json.loads(text)
+        meta = json.loads(text, parse_constant=_no_constant(jpath))
     except json.JSONDecodeError as e:
         raise DataError(jpath, e.lineno, None,
                         f"invalid sidecar JSON at column {e.colno}: {e.msg}") from None
+    except RecursionError:
+        raise DataError(jpath, None, None, "sidecar JSON nested too deeply") from None
     if not isinstance(meta, dict):
         raise DataError(jpath, 1, None,
                         f"sidecar JSON must be an object, got {type(meta).__name__}")
@@ -386,6 +395,34 @@ def check_sampling(run: Run) -> float:
                         f"differs from the median step {Ts:g} s by more than "
                         f"{SAMPLE_JITTER:.0%} (sampling must be uniform)")
     return Ts
+
+
+#: fewest rows a command works with (a few Savitzky-Golay windows of the acceleration)
+MIN_ROWS = 64
+#: largest magnitude of a value in a DATA.md column: its square stays finite
+MAX_ABS = 1e100
+
+
+def check_plausible(run: Run) -> float:
+    """:func:`check_sampling` plus: at least :data:`MIN_ROWS` rows, every value of a DATA.md
+    column within +-:data:`MAX_ABS`, and ``x`` or ``u`` not constant (a run that carries
+    nothing).  Returns the median sample step [s]; raises :class:`DataError` naming the
+    file, the line and the column."""
+    path = run.path if run.path is not None else Path(run.name or "run")
+    if run.n < MIN_ROWS:
+        raise DataError(path, run.n + 1, "time", f"{run.n} data rows; the tools need at least "
+                        f"{MIN_ROWS} (a few acceleration windows)")
+    for name, arr in run.columns().items():
+        if name not in KNOWN_COLUMNS:
+            continue
+        big = np.flatnonzero(np.abs(arr) > MAX_ABS)
+        if big.size:
+            k = int(big[0])
+            raise DataError(path, k + 2, name, f"value {float(arr[k])!r} is beyond +-{MAX_ABS:g} "
+                            "(no physical signal; its square overflows)")
+    if np.ptp(run.x) == 0 and np.ptp(run.u) == 0:
+        raise DataError(path, None, "x", "x and u are constant: the run carries no information")
+    return check_sampling(run)
 
 
 def load_runs(folder: str | Path) -> list[Run]:

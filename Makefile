@@ -55,7 +55,7 @@ $(PKG_FMU): $(FMU)
 	cp $< $@
 
 run: fmu
-	$(PY) -m feeddrive.cli run --shared $(SHARED)
+	$(PY) -m feeddrive.cli run --shared $(SHARED) --force
 
 test: fmu
 	$(PY) -m pytest -q tests

@@ -1,4 +1,5 @@
-"""Every command that reads a run CSV, a sidecar or a model file refuses a bad one with exit
+"""Every command that reads a run CSV, a sidecar or a model file (validate, diagnose, identify,
+experiments, report --runs) refuses a bad one with exit
 status 2 and ONE line on stderr naming the file, never a traceback, modifying no input and
 writing no output (corpus: tests/bad_corpus.py, made from one good closed-loop run)."""
 from __future__ import annotations
@@ -16,8 +17,8 @@ from feeddrive.data import write_run
 from feeddrive.model_file import paper_model, save_model
 
 #: (case, commands that may accept it): not a broken file for that command's purpose
-ACCEPTED = {("csv", "constant_x"): {"validate", "diagnose"},      # x sensor stuck: a gap to show
-            ("sidecar", "kind_unknown"): {"validate", "diagnose"}}  # 'kind' is identify's key
+ACCEPTED = {("csv", "constant_x"): {"validate", "diagnose", "report"},  # x stuck: a gap to show
+            ("sidecar", "kind_unknown"): {"validate", "diagnose", "report"}}  # identify's key
 
 
 @pytest.fixture(scope="module")
@@ -76,9 +77,11 @@ def test_bad_file_refused_by_every_command(tmp_path, capsys, good, group, name):
     out = tmp_path / "out"
     commands = {"validate": ["validate", str(run), "--model", str(model)],
                 "diagnose": ["diagnose", str(run), "--model", str(model), "--out", str(out / "d")],
-                "identify": ["identify", str(d), "--out", str(out / "id.json")]}
+                "identify": ["identify", str(d), "--out", str(out / "id.json")],
+                "report": ["report", "--runs", str(d), "--out", str(out / "r")]}
     if group == "model":
         commands["identify"] += ["--truth", str(model)]
+        del commands["report"]                          # reads no model file
         commands["experiments"] = ["experiments", "--out", str(out / "e"), "--model", str(model)]
     before = _digest(d)
     capsys.readouterr()

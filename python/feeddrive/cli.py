@@ -12,7 +12,7 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-from .data import load_run, sidecar_path
+from .data import load_run, load_runs, sidecar_path
 from .diagnose.emps import emps_baseline_model
 from .diagnose.workflow import diagnose
 from .experiments.campaign import write_campaign
@@ -70,6 +70,9 @@ def _cmd_model(a: argparse.Namespace) -> int:
 
 def _cmd_report(a: argparse.Namespace) -> int:
     fmu_path()      # no FMU: one line before the job starts
+    check_dir(Path(a.out), [a.runs, a.shared], a.force)
+    for run in load_runs(a.runs) if a.runs else ():
+        check_run(run)      # a bad run: one line now, not after the reproductions
     main_job(Path(a.out), print_tables=a.command == "run", runs_dir=Path(a.runs) if a.runs else None,
              shared_dir=Path(a.shared) if a.shared else None, force=a.force)
     return 0

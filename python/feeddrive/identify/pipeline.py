@@ -67,8 +67,8 @@ def classify(run: Run) -> str:
 
 
 def _crossings(u: np.ndarray) -> int:
-    """How often ``u`` crosses its median (0 for a constant signal)."""
-    dev = u - np.median(u)
+    """How often ``u`` crosses its mean (0 for a constant signal)."""
+    dev = u - np.mean(u)
     return int(np.count_nonzero(np.diff(np.sign(dev[dev != 0]))))
 
 
@@ -81,10 +81,10 @@ def _by_signals(run: Run) -> tuple[str | None, str]:
         sw = _crossings(u)
         moving_i = run.i is None or np.ptp(run.i) > 0
         if span > 0 and sw >= 10 and moving_i:
-            return "prbs", f"x held within {span * 1e6:.1f} um, u excites ({sw} median crossings)"
+            return "prbs", f"x held within {span * 1e6:.1f} um, u excites ({sw} mean crossings)"
         return None, (f"x {'constant' if span == 0 else f'held within {span * 1e6:.1f} um'}, u "
-                      f"with {sw} median crossings" + ("" if moving_i else ", i constant")
-                      + ": not a PRBS excitation (x must move a little, u cross its median "
+                      f"with {sw} mean crossings" + ("" if moving_i else ", i constant")
+                      + ": not a PRBS excitation (x must move a little, u cross its mean "
                       ">= 10 times)")
     if np.ptp(u) == 0:
         return None, "u is constant: no experiment of Secs. 2.2-2.4"

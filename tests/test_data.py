@@ -292,3 +292,14 @@ def test_implausible_sampling_refused(tmp_path, time, line, word):
     ok = Run(time=np.arange(50) * 5e-4 + 1e-6 * np.sin(np.arange(50)), u=np.zeros(50),
              x=np.zeros(50))
     assert check_sampling(ok) == pytest.approx(5e-4, rel=0.01)
+
+
+def test_trailing_blank_lines_accepted_blank_or_space_line_inside_refused(tmp_path):
+    run = load_run(_write(tmp_path, GOOD + "\n\r\n\n", "t.csv"))
+    assert run.n == 4
+    with pytest.raises(DataError, match="line 3.*blank line"):
+        load_run(_write(tmp_path, _replace_line(GOOD, 3, "") + "\n", "b.csv"))
+    with pytest.raises(DataError, match="line 3.*1 fields"):
+        load_run(_write(tmp_path, _replace_line(GOOD, 3, "  "), "s.csv"))
+    with pytest.raises(DataError, match="line 6.*blank line"):      # the space line is a row
+        load_run(_write(tmp_path, GOOD + "\n  \n", "e.csv"))

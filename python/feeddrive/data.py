@@ -147,6 +147,9 @@ _CHUNK_CHARS = 1 << 22
 _CHUNK_ROWS = 1 << 15
 
 
+_BLANK = frozenset({"\n", "\r\n", "\r", ""})
+
+
 def _open(path: Path):
     return open(path, encoding="utf-8-sig", newline="")
 
@@ -154,8 +157,8 @@ def _open(path: Path):
 def _read_plain(path: Path) -> tuple[list[str], dict[str, np.ndarray]]:
     """Fast path: header and every cell as float64 through numpy's C parser, in chunks.
 
-    Raises :class:`_NotPlain` unless every data line is ``width`` unquoted numbers (no blank
-    line, no quote), so that row k of the result is line k + 2 of the file.
+    Raises :class:`_NotPlain` unless every data line is ``width`` unquoted numbers (no quote,
+    blank lines only at the end), so that row k of the result is line k + 2 of the file.
     """
     parts: list[np.ndarray] = []
     with _open(path) as f:
@@ -170,8 +173,13 @@ def _read_plain(path: Path) -> tuple[list[str], dict[str, np.ndarray]]:
                 a = np.loadtxt(lines, delimiter=",", comments=None, dtype=float, ndmin=2)
             except ValueError:
                 raise _NotPlain from None
-            if a.shape != (len(lines), len(names)):
+            if a.shape[1:] != (len(names),):
                 raise _NotPlain
+            if a.shape[0] != len(lines):     # blank lines: only at the end of the file
+                k = a.shape[0]
+                if any(ln in _BLANK for ln in lines[:k]) or any(ln not in _BLANK for ln in lines[k:]) \
+                        or any(ln not in _BLANK for ln in f):
+                    raise _NotPlain
             parts.append(a)
     cols = {n: np.concatenate([p[:, k] for p in parts]) if parts else np.empty(0)
             for k, n in enumerate(names)}

@@ -3,8 +3,6 @@ over an input, one run's results per folder, atomic files, numbers range-checked
 from __future__ import annotations
 
 import json
-import os
-from pathlib import Path
 
 import pytest
 

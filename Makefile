@@ -89,7 +89,7 @@ $(PKG_CTRL_FMU): $(CTRL_FMU)
 	cp $< $@
 
 run: fmu
-	$(PY) -m feeddrive.cli run --shared $(SHARED)
+	$(PY) -m feeddrive.cli run --shared $(SHARED) --force
 
 # the coverage-guided fuzz run of the tests needs clang's libFuzzer: installed here from Debian's
 # packages when missing and apt-get is usable (root); otherwise that test is skipped and says why

@@ -8,12 +8,16 @@ import argparse
 import os
 import platform
 import statistics
+import subprocess
+import sys
+import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
 
 from .bench_c import run_bench_cs, run_cycles, run_two_fmus
+from .data import Run, write_run
 from .fmu import Plant
 from .harness.controller_fmu import (ControllerFMU, controller_fmu_parameters,
                                      sinusoid_source)
@@ -125,6 +129,38 @@ def c_rows(bench_cs: Path, cycles: Path | None, library: Path,
     return rows
 
 
+_LOAD_CHILD = ("import sys, time; from feeddrive.data import load_run; t0 = time.perf_counter(); "
+               "run = load_run(sys.argv[1]); print(time.perf_counter() - t0, run.n)")
+# a small interpreter between us and the loader: a child's ru_maxrss starts at its parent's
+# resident size (Linux carries it over fork and exec), so the loader is not our child
+_MEASURE = ("import resource, subprocess, sys; out = subprocess.run([sys.executable, '-c', "
+            "sys.argv[1], sys.argv[2]], check=True, capture_output=True, text=True).stdout; "
+            "print(out.strip(), resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)")
+
+
+def load_rows(rows: int = 2_500_000) -> list[tuple[str, str, str]]:
+    """Loading a ~200 MB DATA.md run (``rows`` rows of the six columns, written by
+    :func:`feeddrive.data.write_run` into a temporary folder): MB/s and the peak resident
+    memory of the process that loads it (``ru_maxrss`` of RUSAGE_CHILDREN)."""
+    rng = np.random.default_rng(0)
+    t = np.arange(rows) * 5e-4
+    x = 0.15 + 0.03 * np.sin(2 * np.pi * t / 6.0) + 1e-7 * rng.standard_normal(rows)
+    run = Run(time=t, u=rng.standard_normal(rows), i=rng.standard_normal(rows), x=x,
+              x_ref=x + 1e-6 * rng.standard_normal(rows), F_load=np.full(rows, 54.9))
+    with tempfile.TemporaryDirectory(prefix="feeddrive_bench_") as d:
+        path = Path(d) / "big.csv"
+        write_run(run, path)
+        del run, t, x
+        size = path.stat().st_size
+        out = subprocess.run([sys.executable, "-c", _MEASURE, _LOAD_CHILD, str(path)], check=True,
+                             capture_output=True, text=True).stdout.split()
+    wall, n, peak_kib = float(out[0]), int(out[1]), int(out[2])
+    return [(f"load_run of a {size / 1e6:.0f} MB CSV ({n} rows, 6 columns)",
+             f"{wall:.2f} s, {size / 1e6 / wall:.0f} MB/s", ""),
+            ("  peak resident memory of the loading process",
+             f"{peak_kib / 1024:.0f} MiB ({peak_kib * 1024 / size:.2f}x the file)", "<= 3x the file")]
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--out", default="build/bench.md")
@@ -137,7 +173,9 @@ def main(argv: list[str] | None = None) -> int:
     a = ap.parse_args(argv)
     if a.bench_cs and not a.library:
         ap.error("--bench-cs needs --library (the FMU's .so)")
-    rows, figs = python_rows(a.repeats)
+    rows = load_rows()
+    py_rows, figs = python_rows(a.repeats)
+    rows += py_rows
     rows += two_fmu_rows(figs["wall_cs"], figs["res_cs"], a.repeats,
                          *(Path(p) if p else None for p in (a.two_fmus, a.library, a.controller_library)))
     if a.bench_cs:

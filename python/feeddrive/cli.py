@@ -12,16 +12,17 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-from .data import load_run
+from .data import load_run, load_runs, sidecar_path
 from .diagnose.emps import emps_baseline_model
 from .diagnose.workflow import diagnose
 from .experiments.campaign import write_campaign
 from .fmu import FMUError, fmu_path
 from .identify.pipeline import identify_folder
 from .model_file import load_model, paper_model, save_model
+from .outputs import check_dir, check_file
 from .report.diagnosis import write_diagnosis
 from .report.main_job import main_job
-from .validation.replay import validate_file
+from .validation.replay import check_run, validate_file
 
 BUILD = Path("build")           # relative to the working directory
 SHARED_ENV = "FEEDDRIVE_SHARED"
@@ -31,8 +32,31 @@ class UsageError(ValueError):
     """A command was given arguments it cannot use."""
 
 
+def _number(kind: type, rule: str, ok):
+    """An argparse type: ``kind`` (int or float) checked by ``ok``; the message says ``rule``."""
+    def parse(text: str):
+        try:
+            value = kind(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not {'an integer' if kind is int else 'a number'}") from None
+        if not ok(value):
+            raise argparse.ArgumentTypeError(f"{text} is out of range: must be {rule}")
+        return value
+    parse.__name__ = "integer" if kind is int else "number"
+    return parse
+
+
+_POSITIVE = _number(float, "a finite number > 0", lambda v: 0 < v < float("inf"))
+_STEPS = _number(int, "an integer >= 1", lambda v: v >= 1)
+_BLOCKS = _number(int, "an integer >= 2", lambda v: v >= 2)
+_WINDOW = _number(int, "an odd integer >= 5 [samples]", lambda v: v >= 5 and v % 2 == 1)
+_SEED = _number(int, "an integer >= 0", lambda v: v >= 0)
+
+
 def _cmd_model(a: argparse.Namespace) -> int:
-    out = Path(a.out)
+    out = check_file(Path(a.out))
+    if a.paper and a.emps:
+        raise UsageError("give one of --paper and --emps")
     if a.paper:
         save_model(paper_model(), out)
         print(f"wrote {out}: the paper's full model; edit its \"effects\" map for reduced models")
@@ -46,8 +70,11 @@ def _cmd_model(a: argparse.Namespace) -> int:
 
 def _cmd_report(a: argparse.Namespace) -> int:
     fmu_path()      # no FMU: one line before the job starts
+    check_dir(Path(a.out), [a.runs, a.shared], a.force)
+    for run in load_runs(a.runs) if a.runs else ():
+        check_run(run)      # a bad run: one line now, not after the reproductions
     main_job(Path(a.out), print_tables=a.command == "run", runs_dir=Path(a.runs) if a.runs else None,
-             shared_dir=Path(a.shared) if a.shared else None)
+             shared_dir=Path(a.shared) if a.shared else None, force=a.force)
     return 0
 
 
@@ -58,12 +85,14 @@ def _cmd_validate(a: argparse.Namespace) -> int:
 
 
 def _cmd_experiments(a: argparse.Namespace) -> int:
-    paths = write_campaign(Path(a.out), model=Path(a.model) if a.model else None, seed=a.seed)
+    paths = write_campaign(Path(a.out), model=Path(a.model) if a.model else None, seed=a.seed,
+                           force=a.force)
     print(f"wrote {len(paths)} runs to {a.out}")
     return 0
 
 
 def _cmd_identify(a: argparse.Namespace) -> int:
+    check_file(Path(a.out), [a.truth])
     truth = load_model(Path(a.truth)).fmu_parameters() if a.truth else None
     res = identify_folder(Path(a.runs), Path(a.out), truth=truth)
     print(res.text())
@@ -71,11 +100,15 @@ def _cmd_identify(a: argparse.Namespace) -> int:
 
 
 def _cmd_diagnose(a: argparse.Namespace) -> int:
+    inputs = [a.model, *a.runs, *(sidecar_path(p) for p in a.runs)]
+    check_dir(a.out, inputs, a.force)
     runs = [load_run(p) for p in a.runs]
+    for run in runs:
+        check_run(run)
     model = load_model(a.model)
     diag = diagnose(runs, model, max_steps=a.max_steps, force_gain=a.force_gain,
                     window=a.window, n_blocks=a.blocks, closed_loop=not a.no_closed_loop)
-    report = write_diagnosis(diag, a.out)
+    report = write_diagnosis(diag, a.out, inputs, a.force)
     for note in diag.notes:
         print(note)
     for k, s in enumerate(diag.steps, 1):
@@ -93,15 +126,21 @@ def _diagnose_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("runs", nargs="+", type=Path, help="measured runs (DATA.md CSV files)")
     p.add_argument("--model", required=True, type=Path, help="starting model file (JSON)")
     p.add_argument("--out", required=True, type=Path, help="output directory")
-    p.add_argument("--max-steps", type=int, default=4, help="at most this many effects")
-    p.add_argument("--force-gain", type=float, default=None,
+    p.add_argument("--max-steps", type=_STEPS, default=4, help="at most this many effects (>= 1)")
+    p.add_argument("--force-gain", type=_POSITIVE, default=None,
                    help="N/V for runs without a current column (else the sidecar's "
                         "'force_gain', else the model's current loop)")
-    p.add_argument("--window", type=int, default=None,
-                   help="Savitzky-Golay window of the acceleration [samples] (default 20 ms)")
-    p.add_argument("--blocks", type=int, default=10, help="held-out blocks over all runs")
+    p.add_argument("--window", type=_WINDOW, default=None,
+                   help="Savitzky-Golay window of the acceleration [samples, odd >= 5] (default 20 ms)")
+    p.add_argument("--blocks", type=_BLOCKS, default=10, help="held-out blocks over all runs (>= 2)")
     p.add_argument("--no-closed-loop", action="store_true",
                    help="skip the closed-loop re-simulation of runs with a known controller")
+    _force_argument(p)
+
+
+def _force_argument(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--force", action="store_true",
+                   help="replace a non-empty --out folder that feeddrive did not write")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -115,6 +154,7 @@ def build_parser() -> argparse.ArgumentParser:
         p.add_argument("--runs", default=None, help="folder of identification runs to add to the report")
         p.add_argument("--shared", default=os.environ.get(SHARED_ENV) or None,
                        help=f"the shared data folder (holds realdata/odrive-cogging); default ${SHARED_ENV}")
+        _force_argument(p)
         p.set_defaults(func=_cmd_report)
     p = sub.add_parser("model", help="write a model file")
     p.add_argument("--paper", action="store_true", help="the paper's full model")
@@ -128,7 +168,8 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("experiments", help="write the identification experiments as virtual runs")
     p.add_argument("--out", required=True)
     p.add_argument("--model", default=None)
-    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--seed", type=_SEED, default=1, help="noise seed (>= 0)")
+    _force_argument(p)
     p.set_defaults(func=_cmd_experiments)
     p = sub.add_parser("identify", help="identify a model file from a folder of runs")
     p.add_argument("runs")

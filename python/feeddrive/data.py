@@ -125,31 +125,128 @@ def sidecar_path(path: str | Path) -> Path:
     return Path(path).with_suffix(".json")
 
 
-def _decode(path: Path, raw: bytes) -> str:
+def _decode_error(path: Path, e: UnicodeDecodeError) -> DataError:
+    """The file's first invalid byte as a DataError with its line (reads the bytes again)."""
+    raw = path.read_bytes()
     try:
-        return raw.decode("utf-8-sig")
-    except UnicodeDecodeError as e:
-        line = raw[: e.start].count(b"\n") + 1
-        raise DataError(path, line, None, f"not UTF-8 text (byte {e.start}: {e.reason})") from None
+        raw.decode("utf-8-sig")
+    except UnicodeDecodeError as err:
+        e = err
+    line = raw[: e.start].count(b"\n") + 1
+    return DataError(path, line, None, f"not UTF-8 text (byte {e.start}: {e.reason})")
 
 
-def _read_rows(path: Path, text: str) -> tuple[list[str], list[list[str]], list[int]]:
-    """Header, data rows and each row's 1-based line number; trailing blank lines ignored."""
-    reader = csv.reader(io.StringIO(text, newline=""), strict=True)
-    rows: list[list[str]] = []
+class _NotPlain(Exception):
+    """The file is not plain numeric CSV (quotes, blank lines, text cells, ragged rows...):
+    the strict reader takes over and finds the problem or reads it exactly."""
+
+
+#: characters of text per chunk (bounds the loader's working memory)
+_CHUNK_CHARS = 1 << 22
+#: records per chunk of the strict reader
+_CHUNK_ROWS = 1 << 15
+
+
+_BLANK = frozenset({"\n", "\r\n", "\r", ""})
+
+
+def _open(path: Path):
+    return open(path, encoding="utf-8-sig", newline="")
+
+
+def _read_plain(path: Path) -> tuple[list[str], dict[str, np.ndarray]]:
+    """Fast path: header and every cell as float64 through numpy's C parser, in chunks.
+
+    Raises :class:`_NotPlain` unless every data line is ``width`` unquoted numbers (no quote,
+    blank lines only at the end), so that row k of the result is line k + 2 of the file.
+    """
+    parts: list[np.ndarray] = []
+    with _open(path) as f:
+        head = f.readline()
+        if not head.strip() or '"' in head:
+            raise _NotPlain
+        names = _check_header(path, head.rstrip("\r\n").split(","))
+        while lines := f.readlines(_CHUNK_CHARS):
+            if any('"' in ln for ln in lines):
+                raise _NotPlain
+            try:
+                a = np.loadtxt(lines, delimiter=",", comments=None, dtype=float, ndmin=2)
+            except ValueError:
+                raise _NotPlain from None
+            if a.shape[1:] != (len(names),):
+                raise _NotPlain
+            if a.shape[0] != len(lines):     # blank lines: only at the end of the file
+                k = a.shape[0]
+                if any(ln in _BLANK for ln in lines[:k]) or any(ln not in _BLANK for ln in lines[k:]) \
+                        or any(ln not in _BLANK for ln in f):
+                    raise _NotPlain
+            parts.append(a)
+    cols = {n: np.concatenate([p[:, k] for p in parts]) if parts else np.empty(0)
+            for k, n in enumerate(names)}
+    return names, cols
+
+
+def _read_strict(path: Path) -> tuple[list[str], dict[str, np.ndarray], dict[str, np.ndarray],
+                                      list[int]]:
+    """Exact path (csv module, streaming, chunks of records): header, known columns as
+    float64, other columns (float when every cell is a number, else str), each row's line."""
+    known: dict[str, list[np.ndarray]] = {}
+    text: dict[str, list[str]] = {}
     lines: list[int] = []
-    try:
-        for row in reader:
-            rows.append(row)
-            lines.append(reader.line_num)   # last physical line of the record
-    except csv.Error as e:
-        raise DataError(path, reader.line_num, None, f"malformed CSV: {e}") from None
-    while rows and not rows[-1]:
-        rows.pop()
-        lines.pop()
+    with _open(path) as f:
+        reader = csv.reader(f, strict=True)
+        try:
+            header = next(reader, None)
+            if header is None:
+                raise DataError(path, 1, None, "empty file: no header row")
+            names = _check_header(path, header)
+            width = len(names)
+            known = {n: [] for n in names if n in KNOWN_COLUMNS}
+            text = {n: [] for n in names if n not in KNOWN_COLUMNS}
+            rows: list[list[str]] = []
+            rows_at: list[int] = []
+            blank_at: int | None = None
+            for row in reader:
+                if not row:
+                    blank_at = blank_at or reader.line_num
+                    continue
+                if blank_at is not None:
+                    raise DataError(path, blank_at, names[0], "blank line inside the data")
+                if len(row) != width:
+                    col = names[len(row)] if len(row) < width else f"#{width + 1} (beyond the header)"
+                    raise DataError(path, reader.line_num, col,
+                                    f"{len(row)} fields, the header has {width}")
+                rows.append(row)
+                rows_at.append(reader.line_num)   # last physical line of the record
+                if len(rows) == _CHUNK_ROWS:
+                    _take_chunk(path, names, rows, rows_at, known, text)
+                    lines += rows_at
+                    rows, rows_at = [], []
+            _take_chunk(path, names, rows, rows_at, known, text)
+            lines += rows_at
+        except csv.Error as e:
+            raise DataError(path, reader.line_num, None, f"malformed CSV: {e}") from None
+        except UnicodeDecodeError as e:
+            raise _decode_error(path, e) from None
+    cols = {n: np.concatenate(v) if v else np.empty(0) for n, v in known.items()}
+    extra: dict[str, np.ndarray] = {}
+    for n, cells in text.items():
+        try:
+            extra[n] = np.array(cells, dtype=float)
+        except ValueError:
+            extra[n] = np.array(cells, dtype=str)
+    return names, cols, extra, lines
+
+
+def _take_chunk(path: Path, names: list[str], rows: list[list[str]], rows_at: list[int],
+                known: dict[str, list[np.ndarray]], text: dict[str, list[str]]) -> None:
     if not rows:
-        raise DataError(path, 1, None, "empty file: no header row")
-    return rows[0], rows[1:], lines[1:]
+        return
+    for name, cells in zip(names, zip(*rows)):
+        if name in known:
+            known[name].append(_to_float(path, name, cells, rows_at))
+        else:
+            text[name].extend(cells)
 
 
 def _check_header(path: Path, header: list[str]) -> list[str]:
@@ -211,6 +308,13 @@ def _check_values(path: Path, cols: dict[str, np.ndarray], lines: list[int] | No
                         "time must increase strictly")
 
 
+def _no_constant(path: Path):
+    """json ``parse_constant`` hook: NaN and Infinity are not JSON (RFC 8259)."""
+    def hook(name: str) -> Any:
+        raise DataError(path, None, None, f"{name} is not a JSON number (non-finite value)")
+    return hook
+
+
 def _load_sidecar(csv_path: Path) -> dict:
     jpath = sidecar_path(csv_path)
     if not jpath.exists():
@@ -220,10 +324,12 @@ def _load_sidecar(csv_path: Path) -> dict:
     except (OSError, UnicodeDecodeError) as e:
         raise DataError(jpath, None, None, f"unreadable sidecar JSON: {e}") from None
     try:
-        meta = json.loads(text)
+        meta = json.loads(text, parse_constant=_no_constant(jpath))
     except json.JSONDecodeError as e:
         raise DataError(jpath, e.lineno, None,
                         f"invalid sidecar JSON at column {e.colno}: {e.msg}") from None
+    except RecursionError:
+        raise DataError(jpath, None, None, "sidecar JSON nested too deeply") from None
     if not isinstance(meta, dict):
         raise DataError(jpath, 1, None,
                         f"sidecar JSON must be an object, got {type(meta).__name__}")
@@ -253,32 +359,78 @@ def load_run(path: str | Path) -> Run:
         naming the file, line and column.
     """
     path = Path(path)
-    text = _decode(path, path.read_bytes())
-    header, rows, lines = _read_rows(path, text)
-    names = _check_header(path, header)
-    width = len(names)
-    for row, line in zip(rows, lines):
-        if len(row) != width:
-            col = names[len(row)] if len(row) < width else f"#{width + 1} (beyond the header)"
-            if not row:
-                problem = "blank line inside the data"
-            else:
-                problem = f"{len(row)} fields, the header has {width}"
-            raise DataError(path, line, col, problem)
-    cells = list(zip(*rows)) if rows else [() for _ in names]
-    cols: dict[str, np.ndarray] = {}
-    extra: dict[str, np.ndarray] = {}
-    for name, col in zip(names, cells):
-        if name in KNOWN_COLUMNS:
-            cols[name] = _to_float(path, name, col, lines)
-        else:
-            try:
-                extra[name] = np.array(col, dtype=float)
-            except ValueError:
-                extra[name] = np.array(col, dtype=str)
+    try:
+        names, every = _read_plain(path)
+    except _NotPlain:
+        names, cols, extra, lines = _read_strict(path)
+    except UnicodeDecodeError as e:
+        raise _decode_error(path, e) from None
+    else:
+        cols = {n: v for n, v in every.items() if n in KNOWN_COLUMNS}
+        extra = {n: v for n, v in every.items() if n not in KNOWN_COLUMNS}
+        lines = None            # plain file: row k is line k + 2
     _check_values(path, cols, lines)
     meta = _load_sidecar(path)
     return Run(**cols, meta=meta, extra=extra, path=path)
+
+
+#: plausible median sample step [s] (0.1 us .. 1 s: time in seconds, not ms or us)
+SAMPLE_STEP_RANGE: tuple[float, float] = (1e-7, 1.0)
+#: largest deviation of one sample step from the median step (fraction)
+SAMPLE_JITTER = 0.10
+
+
+def check_sampling(run: Run) -> float:
+    """The run's median sample step [s], after checking that the sampling is plausible.
+
+    Raises :class:`DataError` (file, line, column ``time``) when the median step is outside
+    :data:`SAMPLE_STEP_RANGE` (e.g. time in ms) or one step differs from it by more than
+    :data:`SAMPLE_JITTER` (gaps, jitter: the tools assume uniform sampling).
+    """
+    dt = np.diff(run.time)
+    path = run.path if run.path is not None else Path(run.name or "run")
+    if dt.size == 0:
+        raise DataError(path, None, "time", "fewer than 2 samples")
+    Ts = float(np.median(dt))
+    lo, hi = SAMPLE_STEP_RANGE
+    if not lo <= Ts <= hi:
+        raise DataError(path, None, "time", f"median sample step {Ts:g} s is outside {lo:g} .. "
+                        f"{hi:g} s (time must be in seconds)")
+    dev = np.abs(dt - Ts)
+    k = int(np.argmax(dev))
+    if dev[k] > SAMPLE_JITTER * Ts:
+        raise DataError(path, k + 3, "time", f"sample step {float(dt[k]):g} s after line {k + 2} "
+                        f"differs from the median step {Ts:g} s by more than "
+                        f"{SAMPLE_JITTER:.0%} (sampling must be uniform)")
+    return Ts
+
+
+#: fewest rows a command works with (a few Savitzky-Golay windows of the acceleration)
+MIN_ROWS = 64
+#: largest magnitude of a value in a DATA.md column: its square stays finite
+MAX_ABS = 1e100
+
+
+def check_plausible(run: Run) -> float:
+    """:func:`check_sampling` plus: at least :data:`MIN_ROWS` rows, every value of a DATA.md
+    column within +-:data:`MAX_ABS`, and ``x`` or ``u`` not constant (a run that carries
+    nothing).  Returns the median sample step [s]; raises :class:`DataError` naming the
+    file, the line and the column."""
+    path = run.path if run.path is not None else Path(run.name or "run")
+    if run.n < MIN_ROWS:
+        raise DataError(path, run.n + 1, "time", f"{run.n} data rows; the tools need at least "
+                        f"{MIN_ROWS} (a few acceleration windows)")
+    for name, arr in run.columns().items():
+        if name not in KNOWN_COLUMNS:
+            continue
+        big = np.flatnonzero(np.abs(arr) > MAX_ABS)
+        if big.size:
+            k = int(big[0])
+            raise DataError(path, k + 2, name, f"value {float(arr[k])!r} is beyond +-{MAX_ABS:g} "
+                            "(no physical signal; its square overflows)")
+    if np.ptp(run.x) == 0 and np.ptp(run.u) == 0:
+        raise DataError(path, None, "x", "x and u are constant: the run carries no information")
+    return check_sampling(run)
 
 
 def load_runs(folder: str | Path) -> list[Run]:

@@ -56,7 +56,9 @@ class Plant:
         :meth:`feeddrive.model_file.ModelFile.fmu_parameters`; unspecified ones keep the
         FMU's defaults (the paper's model).
     interface : ``"cs"`` or ``"me"``.
-    tolerance : relative tolerance of the integrator (CS: the FMU's DP45; ME: CVode).
+    tolerance : relative tolerance of the integrator (CS: the FMU's DP45; ME: CVode); a
+        ``solver.tol`` in ``parameters`` takes its place (it is passed as the experiment's
+        tolerance, which the FMU would otherwise use instead of ``solver.tol``).
     path : the ``.fmu``; default ``$FEEDDRIVE_FMU``, else the package's copy (:func:`fmu_path`).
     """
 
@@ -67,10 +69,10 @@ class Plant:
             raise ValueError(f"interface = {interface!r}: allowed 'cs' or 'me'")
         self.path = fmu_path(path)
         self.interface = interface
-        self.tolerance = tolerance
+        self.parameters = dict(parameters or {})
+        self.tolerance = float(self.parameters.get("solver.tol", tolerance))
         self.md = read_model_description(str(self.path))
         self.vars = {v.name: v for v in self.md.modelVariables}
-        self.parameters = dict(parameters or {})
         for name in self.parameters:
             if name not in self.vars:
                 raise KeyError(f"parameter {name!r} is not a variable of {self.path.name}")

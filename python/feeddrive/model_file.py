@@ -32,6 +32,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
+from feeddrive.outputs import write_text
 from feeddrive.paper import EFFECT_IDS, PAPER_EFFECTS, SWITCHABLE_EFFECTS, paper_parameters
 from feeddrive.physics import ParameterError, compile
 
@@ -228,6 +229,8 @@ def load_model(path: str | Path) -> ModelFile:
     except json.JSONDecodeError as e:
         raise ModelFileError(src, None, f"invalid JSON at line {e.lineno}, column {e.colno}: "
                                         f"{e.msg}") from None
+    except RecursionError:
+        raise ModelFileError(src, None, "JSON nested too deeply") from None
     if not isinstance(raw, dict):
         raise ModelFileError(src, None, f"must be a JSON object, got {type(raw).__name__}")
     for k in raw:
@@ -248,10 +251,12 @@ def load_model(path: str | Path) -> ModelFile:
                      description=description, defaulted=filled)
 
 
-def save_model(model: ModelFile, path: str | Path) -> None:
+def save_model(model: ModelFile, path: str | Path, inputs: tuple[str | Path, ...] = ()) -> None:
     """Write ``model`` as a JSON model file: every effect id and every parameter, floats
     with ``repr`` precision so :func:`load_model` gives back the same values.  The model is
-    validated first (it may have been edited in place); errors name ``path`` and the key."""
+    validated first (it may have been edited in place); errors name ``path`` and the key.
+    The file is replaced atomically (:func:`feeddrive.outputs.write_text`); ``path`` must be
+    none of ``inputs`` (:class:`feeddrive.outputs.OutputError`)."""
     src = str(path)
     effects = _check_effects(dict(model.effects), src)      # the model may have been edited
     parameters, _ = _check_parameters(dict(model.parameters), effects, src)
@@ -259,4 +264,4 @@ def save_model(model: ModelFile, path: str | Path) -> None:
     doc = {"name": model.name, "description": model.description,
            "effects": effects, "parameters": parameters}
     text = json.dumps(doc, indent=2, allow_nan=False)
-    Path(path).write_text(text + "\n", encoding="utf-8")
+    write_text(path, text + "\n", inputs)

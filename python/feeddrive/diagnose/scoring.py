@@ -114,11 +114,12 @@ def score(ctx: Context, var: Variant) -> Score:
     sd = float(np.std(d, ddof=1)) if B > 1 else 0.0
     t = float(np.mean(d) / (sd / np.sqrt(B))) if sd > 0 else (np.inf if np.mean(d) > 0 else 0.0)
     tot = float(sb.sum())
+    rr = float(r @ r)
     refused = admissible(var, theta)
     return Score(variant=var, improvement=1.0 - float(sa.sum()) / tot if tot > 0 else 0.0,
                  t=t, sse_before=sb, sse_after=sa,
                  improvement_in_sample=-np.inf if refused else
-                 1.0 - float(r_fit @ r_fit) / float(r @ r),
+                 1.0 - float(r_fit @ r_fit) / rr if rr > 0 else 0.0,
                  theta=theta, r_fit=r_fit, r_heldout=r_ho, refused=refused)
 
 

@@ -27,6 +27,7 @@ from tqdm import tqdm
 from ..data import Run, write_run
 from ..harness.sensors import Sensors
 from ..model_file import ModelFile, load_model, paper_model
+from ..outputs import output_dir
 from .constant_speed import (PAPER_LOADS, PAPER_SPEED, STRIBECK_SPEEDS, constant_speed_runs,
                              run_seed, stribeck_runs)
 from .force_open_loop import force_open_loop_runs
@@ -103,27 +104,30 @@ def _parameters(model: Path | str | ModelFile | Mapping[str, Any] | None) -> dic
 
 
 def write_campaign(out_dir: Path, model: Path | ModelFile | Mapping[str, Any] | None = None,
-                   seed: int = 1, quick: bool = False) -> list[Path]:
+                   seed: int = 1, quick: bool = False, force: bool = False) -> list[Path]:
     """Run the campaign on ``model`` (default: the paper's) and write every run.
 
     Parameters
     ----------
-    out_dir : folder for ``<name>.csv`` + ``<name>.json`` (created if missing).
+    out_dir : folder for ``<name>.csv`` + ``<name>.json``: checked before the campaign runs,
+        written whole at the end (:func:`feeddrive.outputs.output_dir`: it then holds this
+        campaign's runs only; a non-empty folder we did not write is refused unless ``force``).
     model : a model file path, a :class:`ModelFile`, FMU parameters, or None (paper).
     seed : campaign seed (sensor noise); quick : short runs (tests).
 
     Returns the CSV paths written, in campaign order.
     """
     params = _parameters(model)
-    runs = campaign(params, Sensors(seed=int(seed)), quick=quick)
     out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
-    paths = []
-    for group in GROUPS:
-        for run in runs[group]:
-            path = out_dir / f"{run.meta['name']}.csv"
-            if path in paths:
-                raise ValueError(f"write_campaign: two runs named {path.name}")
-            write_run(run, path)
-            paths.append(path)
-    return paths
+    inputs = (model,) if isinstance(model, (str, Path)) else ()
+    with output_dir(out_dir, inputs, force, what="experiments") as stage:
+        runs = campaign(params, Sensors(seed=int(seed)), quick=quick)
+        names: list[str] = []
+        for group in GROUPS:
+            for run in runs[group]:
+                name = f"{run.meta['name']}.csv"
+                if name in names:
+                    raise ValueError(f"write_campaign: two runs named {name}")
+                write_run(run, stage / name)
+                names.append(name)
+    return [out_dir / n for n in names]

@@ -29,8 +29,10 @@ from typing import Any
 
 import numpy as np
 
-from ..data import Run, load_runs
+from ..data import Run, load_runs, sidecar_path
 from ..model_file import ModelFile, load_model, paper_model, save_model
+from ..outputs import check_file
+from ..validation.replay import check_run
 from ..paper import PAPER_EFFECTS
 from ..physics import CurrentLoop, run_load_mean
 from ..signals import run_label, sample_time
@@ -60,38 +62,87 @@ SPEED_TOL = 0.1         #: relative speed difference within which runs share a s
 
 
 def classify(run: Run) -> str:
-    """The experiment kind of a run: ``meta['kind']``, else from the file stem, else from
-    the signals (position nearly constant: 'prbs'; no x_ref: 'force_open_loop'; reversing:
-    'prerolling'; monotonic with a steady speed: 'constant_speed', else 'variable_speed')."""
+    """The experiment kind of a run (:func:`classify_why` without the reason)."""
+    return classify_why(run)[0]
+
+
+def _crossings(u: np.ndarray) -> int:
+    """How often ``u`` crosses its mean (0 for a constant signal)."""
+    dev = u - np.mean(u)
+    return int(np.count_nonzero(np.diff(np.sign(dev[dev != 0]))))
+
+
+def _by_signals(run: Run) -> tuple[str | None, str]:
+    """The kind the signals show, or None, and why (every test fails for a constant signal)."""
+    x = np.asarray(run.x, dtype=float)
+    u = np.asarray(run.u, dtype=float)
+    span = float(np.ptp(x))
+    if span < 1e-4:
+        sw = _crossings(u)
+        moving_i = run.i is None or np.ptp(run.i) > 0
+        if span > 0 and sw >= 10 and moving_i:
+            return "prbs", f"x held within {span * 1e6:.1f} um, u excites ({sw} mean crossings)"
+        return None, (f"x {'constant' if span == 0 else f'held within {span * 1e6:.1f} um'}, u "
+                      f"with {sw} mean crossings" + ("" if moving_i else ", i constant")
+                      + ": not a PRBS excitation (x must move a little, u cross its mean "
+                      ">= 10 times)")
+    if np.ptp(u) == 0:
+        return None, "u is constant: no experiment of Secs. 2.2-2.4"
+    if run.x_ref is None:
+        return "force_open_loop", f"no x_ref column (open loop), x spans {span * 1e3:.2f} mm"
+    dx = np.diff(x)
+    back = min(np.sum(dx[dx > 0]), -np.sum(dx[dx < 0]))
+    if back > 0.3 * span:
+        return "prerolling", f"x reverses ({back * 1e6:.0f} um back over a {span * 1e6:.0f} um span)"
+    Ts = sample_time(run.time, label=run_label(run))
+    seg, v = steady_segment(x, Ts, label=run_label(run))
+    share = (seg.stop - seg.start) / len(x)
+    if share > 0.3:
+        return "constant_speed", f"monotonic, steady speed {abs(v) * 1e3:.3g} mm/s over {share:.0%} of the run"
+    return "variable_speed", f"monotonic, no steady speed over 30 % of the run ({share:.0%})"
+
+
+def classify_why(run: Run) -> tuple[str, str]:
+    """The experiment kind of a run and why it was put there.
+
+    The sidecar's ``kind`` when given (one of :data:`KINDS`); else the signals (held
+    position and a two-level u: 'prbs'; no x_ref: 'force_open_loop'; reversing:
+    'prerolling'; monotonic with a steady speed: 'constant_speed', else 'variable_speed'),
+    and a file stem that names a kind must agree with them.  ValueError naming the run
+    when neither tells the kind (e.g. a constant signal).
+    """
     kind = (run.meta or {}).get("kind")
+    where = run_label(run)
     if kind is not None:
         if kind not in KINDS:
-            raise ValueError(f"{run_label(run)}: meta['kind'] = {kind!r} is not one of "
-                             f"{', '.join(KINDS)}")
-        return str(kind)
+            side = sidecar_path(run.path) if run.path is not None else f"{where}: sidecar"
+            raise ValueError(f"{side}: kind = {kind!r} is not one of {', '.join(KINDS)}")
+        return str(kind), "the sidecar's kind"
+    found, why = _by_signals(run)
     stem = Path(run.path).stem if getattr(run, "path", None) is not None \
         else str((run.meta or {}).get("name", ""))
-    for k, pattern in _STEMS:
-        if re.match(pattern, stem):
-            return k
-    x = np.asarray(run.x, dtype=float)
-    if np.ptp(x) < 1e-4:
-        return "prbs"
-    if run.x_ref is None:
-        return "force_open_loop"
-    dx = np.diff(x)
-    if min(np.sum(dx[dx > 0]), -np.sum(dx[dx < 0])) > 0.3 * np.ptp(x):
-        return "prerolling"
-    Ts = sample_time(run.time, label=run_label(run))
-    seg, _ = steady_segment(x, Ts, label=run_label(run))
-    return "constant_speed" if (seg.stop - seg.start) > 0.3 * len(x) else "variable_speed"
+    named = next((k for k, pattern in _STEMS if re.match(pattern, stem)), None)
+    if named is not None and found is not None and named != found \
+            and {named, found} != {"constant_speed", "variable_speed"}:
+        raise ValueError(f"{where}: the file name says {named} but the signals say {found} "
+                         f"({why}); add a sidecar 'kind' or rename the file")
+    if named is not None and found is not None:
+        return named, f"file name and signals ({why})"
+    if found is None:
+        raise ValueError(f"{where}: cannot tell which experiment this is: no sidecar 'kind' and "
+                         f"{why}; add a sidecar 'kind' ({', '.join(KINDS)}) or remove the run")
+    return found, f"signals: {why}"
 
 
-def group_runs(runs: Sequence[Run]) -> dict[str, list[Run]]:
-    """Runs by kind (every key of :data:`KINDS`, possibly empty), in the given order."""
+def group_runs(runs: Sequence[Run], why: list[str] | None = None) -> dict[str, list[Run]]:
+    """Runs by kind (every key of :data:`KINDS`, possibly empty), in the given order; with
+    ``why`` a list, one line per run saying where it went and why is appended to it."""
     out: dict[str, list[Run]] = {k: [] for k in KINDS}
     for r in runs:
-        out[classify(r)].append(r)
+        kind, reason = classify_why(r)
+        out[kind].append(r)
+        if why is not None:
+            why.append(f"  {r.name}: {kind} ({reason})")
     return out
 
 
@@ -131,11 +182,14 @@ class IdentificationResult:
     truth: ModelFile | None = None
     table: list[TruthRow] = field(default_factory=list)
     out_path: Path | None = None
+    #: one line per run: the kind it was given and why
+    placement: list[str] = field(default_factory=list)
 
     def text(self) -> str:
         """A plain-text account: runs used, each step's result, the truth table if any."""
         L = [f"identification from {sum(len(v) for v in self.groups.values())} runs: "
              + ", ".join(f"{k} {len(v)}" for k, v in self.groups.items())]
+        L += self.placement
         p = self.model.parameters
         if self.current_loop is not None:
             c = self.current_loop
@@ -245,9 +299,10 @@ def identify_runs(runs: Sequence[Run], truth: ModelFile | Mapping[str, Any] | st
     min_map_span : the maps are refused (ValueError) when the runs share a shorter stroke
         [m]: a cubic fitted over a few mm is meaningless over the whole stroke.
     """
-    groups = group_runs(runs)
+    placed: list[str] = []
+    groups = group_runs(runs, placed)
     base = paper_model()
-    res = IdentificationResult(model=base, groups=groups)
+    res = IdentificationResult(model=base, groups=groups, placement=placed)
     acc = _Collected(dict(base.parameters))
     all_runs = [r for g in groups.values() for r in g]
     if not all_runs:
@@ -372,13 +427,19 @@ def identify_folder(runs_dir: str | Path, out: str | Path | None = None,
     """Load every run of ``runs_dir``, identify, and write the model file to ``out``.
 
     ``truth``: optional model the runs were generated from (adds the comparison table).
-    Other keywords go to :func:`identify_runs`.
+    Other keywords go to :func:`identify_runs`.  ``out`` is checked before any work
+    (:func:`feeddrive.outputs.check_file`: writable, not an input) and replaced atomically.
     """
+    inputs = (truth,) if isinstance(truth, (str, Path)) else ()
+    if out is not None:
+        check_file(out, inputs)
     runs = load_runs(runs_dir)
     if not runs:
         raise ValueError(f"identify: {runs_dir} holds no *.csv run")
+    for run in runs:
+        check_run(run)
     res = identify_runs(runs, truth=truth, **kw)
     if out is not None:
-        save_model(res.model, out)
+        save_model(res.model, out, inputs)
         res.out_path = Path(out)
     return res

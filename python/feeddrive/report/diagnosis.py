@@ -7,7 +7,7 @@ spatial spectrum of the starting residual, and one overlay per step.
 """
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import Any
 
@@ -18,6 +18,7 @@ from ..diagnose.localise import displacement_since_reversal, spatial_spectrum
 from ..diagnose.output import write_files
 from ..diagnose.residual import RunResidual
 from ..diagnose.workflow import Diagnosis
+from ..outputs import output_dir
 from .page import Page
 
 #: How a residual is plotted: x values, line style, log x axis.
@@ -96,10 +97,21 @@ def _step_row(k: int, s: dict) -> list[list[str]]:
              f"(held-out {_fmt(ga.get('force_rms_heldout_N'))} N)"]]
 
 
-def write_diagnosis(diag: Diagnosis, out_dir: str | Path) -> Path:
+def write_diagnosis(diag: Diagnosis, out_dir: str | Path,
+                    inputs: Iterable[str | Path | None] = (), force: bool = False) -> Path:
     """diagnosis.json, model.json (+ one per step) and report.html with PNGs in ``out_dir``;
-    returns the path of report.html."""
-    out = Path(out_dir)
+    returns the path of report.html.
+
+    The folder then holds this diagnosis only (written beside it, moved into place:
+    :func:`feeddrive.outputs.output_dir`); it may not hold one of ``inputs`` (the runs, the
+    start model); a non-empty folder we did not write is refused unless ``force``.
+    """
+    with output_dir(out_dir, inputs, force, what="diagnosis") as stage:
+        _write_diagnosis(diag, stage)
+    return Path(out_dir) / "report.html"
+
+
+def _write_diagnosis(diag: Diagnosis, out: Path) -> Path:
     doc = write_files(diag, out)
     page = Page(out, "Discrepancy diagnosis")
     page.lines([f"Runs: {', '.join(doc['runs'])}. Start model: {doc['model_start']}. "

@@ -7,6 +7,7 @@ from pathlib import Path
 
 from tqdm import tqdm
 
+from ..outputs import output_dir
 from ..harness.controllers import make_controller, state_space_spec
 from ..harness.references import Reference, sinusoid
 from ..harness.runs import run_closed_loop
@@ -21,14 +22,25 @@ ODRIVE = Path("realdata") / "odrive-cogging"     # inside the shared data folder
 
 
 def main_job(out_dir: Path, print_tables: bool = True, runs_dir: Path | None = None,
-             shared_dir: Path | None = None) -> dict:
+             shared_dir: Path | None = None, force: bool = False) -> dict:
     """Run Secs. 3 and 4, write ``out_dir/index.html``; return the tables' rows.
 
     With ``runs_dir`` (a folder of identification runs, e.g. from ``feeddrive experiments``)
     the page also gets the identification figures (Figs. 5-13 analogues); when the ODrive
     measured data sit in ``shared_dir/realdata/odrive-cogging``, their position-spectrum findings
-    are added (else the page says why the section was skipped)."""
+    are added (else the page says why the section was skipped).
+
+    ``out_dir`` is checked first and written whole at the end (it then holds this report
+    only: :func:`feeddrive.outputs.output_dir`; a non-empty folder we did not write, or one
+    holding ``runs_dir``, is refused unless ``force``)."""
     out_dir = Path(out_dir)
+    with output_dir(out_dir, (runs_dir, shared_dir), force, what="report") as stage:
+        return _main_job(stage, out_dir, print_tables, runs_dir, shared_dir)
+
+
+def _main_job(out_dir: Path, final_dir: Path, print_tables: bool, runs_dir: Path | None,
+              shared_dir: Path | None) -> dict:
+    """:func:`main_job` writing into ``out_dir`` (moved to ``final_dir`` afterwards)."""
     page = Page(out_dir, "feeddrive: the linear-motor feed drive of Villegas et al. (2014)")
     t0 = time.perf_counter()
     steps = tqdm(total=3, desc="feeddrive run", unit="stage", disable=not print_tables)
@@ -72,7 +84,7 @@ def main_job(out_dir: Path, print_tables: bool = True, runs_dir: Path | None = N
         page.pre(findings_text(analyse(odrive)))
     else:
         page.text(skipped)
-    path = page.write()
+    path = final_dir / page.write().name
     wall = time.perf_counter() - t0
     if print_tables:
         print(design)

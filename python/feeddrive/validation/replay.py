@@ -8,10 +8,14 @@ from pathlib import Path
 
 import numpy as np
 
-from ..data import Run, load_run
+import math
+
+from ..data import DataError, Run, check_plausible, load_run, sidecar_path
 from ..diagnose.residual import force_residual
+from ..harness.controllers import make_controller
+from ..harness.references import from_positions
 from ..harness.runs import replay
-from ..harness.sidecar import read_sidecar
+from ..harness.sidecar import Sidecar, read_sidecar
 from ..model_file import ModelFile, load_model, paper_model
 from .metrics import ErrorSummary, reversal_mask, summarise
 
@@ -38,12 +42,46 @@ class ValidationReport:
         return "\n".join(lines)
 
 
+def check_run(run: Run) -> Sidecar:
+    """The refusals every command that reads a measured run applies before any work.
+
+    :func:`feeddrive.data.check_plausible` (rows, magnitudes, sampling, a run that carries
+    something), then the sidecar: the schema's fields (:func:`read_sidecar`), a controller
+    the harness can build from it, ``force_gain`` a number > 0.  Returns the read sidecar;
+    raises ValueError naming the CSV or the JSON file and the field.
+    """
+    check_plausible(run)
+    where = str(sidecar_path(run.path)) if run.path is not None else f"{run.name}: sidecar"
+    side = read_sidecar(run.meta, where=where)
+    if side.controller is not None:
+        Ts = side.Ts if side.Ts is not None else run.Ts
+        x = run.x_ref if run.x_ref is not None else run.x
+        try:
+            make_controller(side.controller, from_positions(x[:8], Ts))
+        except (ValueError, TypeError, KeyError) as e:
+            raise ValueError(f"{where}: controller: {e}") from None
+    g = run.meta.get("force_gain")
+    if g is not None and (isinstance(g, bool) or not isinstance(g, (int, float))
+                          or not (math.isfinite(g) and g > 0)):
+        raise ValueError(f"{where}: force_gain = {g!r} must be a number > 0 [N/V]")
+    return side
+
+
 def force_residual_summary(run: Run, model: ModelFile) -> tuple[dict[str, float], list[str]]:
     """rms/peak of the force residual along the measured trajectory, near reversals and elsewhere."""
     fr = force_residual(run, model)
     r = np.asarray(fr.r)
     notes = [] if run.has_current else [f"no measured current: motor force from {fr.force_source}"]
-    ok = np.isfinite(r) & np.asarray(fr.valid, bool)
+    valid = np.asarray(fr.valid, bool)
+    lost = np.flatnonzero(valid & ~np.isfinite(r))
+    if lost.size:       # never an answer from the samples that happen to stay finite
+        raise DataError(run.path or run.name, int(lost[0]) + 2, None,
+                        f"the force residual is not finite on {lost.size} of {valid.sum()} "
+                        "samples (values too large for the model)")
+    ok = np.isfinite(r) & valid
+    if not ok.any():
+        raise DataError(run.path or run.name, None, None, "no sample where the force "
+                        "residual can be computed (run shorter than the acceleration window?)")
     out = {"rms": float(np.sqrt(np.mean(r[ok] ** 2))), "peak": float(np.abs(r[ok]).max())}
     if run.x_ref is not None:
         near, far = reversal_mask(run.x_ref, run.Ts)
@@ -81,5 +119,6 @@ def validate(run: Run, model: ModelFile) -> ValidationReport:
 def validate_file(measured: Path, model_path: Path | None = None) -> ValidationReport:
     """CLI entry: load the run and the model file (default: the paper's model)."""
     run = load_run(measured)
+    check_run(run)
     model = load_model(model_path) if model_path else paper_model()
     return validate(run, model)

@@ -7,13 +7,21 @@ Two interfaces of the same ``.fmu``:
   handles on the library fmpy loaded, on pre-built arrays: three calls per controller sample.
 * ``"me"``: model exchange integrated by fmpy's CVode (SUNDIALS) between samples, with the
   state events and time events handled here as FMI 2.0 prescribes.  The reference path.
+
+Every :class:`Plant` of one ``.fmu`` file (same path, same modification time and size) in a
+process shares one extraction and one parsed model description (:func:`unpacked`); each Plant
+still has its own fmpy wrapper and FMI instance (the library is loaded once: ``dlopen`` of
+the same file counts references, and fmpy's ``freeInstance`` drops one).  The extractions are
+removed when the process that made them exits.
 """
 from __future__ import annotations
 
+import atexit
 import ctypes
 import os
 import shutil
 import tempfile
+import threading
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from importlib import resources
@@ -21,6 +29,7 @@ from pathlib import Path
 
 import numpy as np
 from fmpy import extract, read_model_description
+from fmpy.model_description import ModelDescription, ScalarVariable
 from fmpy.fmi2 import (FMU2Model, FMU2Slave, defaultCallbacks, fmi2CallbackFunctions,
                        fmi2CallbackLoggerTYPE, fmi2Real, fmi2ValueReference)
 
@@ -68,6 +77,59 @@ def fmu_path(path: str | Path | None = None) -> Path:
     return DEFAULT_FMU
 
 
+@dataclass(frozen=True)
+class Unpacked:
+    """One extraction of an ``.fmu``: its folder and parsed model description (shared, read-only)."""
+
+    path: Path
+    directory: str
+    md: ModelDescription
+    vars: Mapping[str, ScalarVariable]
+
+
+class _ExtractionCache:
+    """Extractions by (resolved path, mtime, size), made once per process, removed at exit."""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._entries: dict[tuple[str, int, int], Unpacked] = {}
+        self._owner = os.getpid()      # a forked child must not remove its parent's folders
+        atexit.register(self.clear)
+
+    def get(self, path: Path) -> Unpacked:
+        st = path.stat()
+        key = (str(path.resolve()), st.st_mtime_ns, st.st_size)
+        with self._lock:
+            hit = self._entries.get(key)
+            if hit is None:
+                md = read_model_description(str(path))
+                directory = tempfile.mkdtemp(prefix="feeddrive_fmu_")
+                extract(str(path), directory)
+                hit = Unpacked(path, directory, md, {v.name: v for v in md.modelVariables})
+                self._entries[key] = hit
+            return hit
+
+    def clear(self) -> None:
+        """Remove the extractions (at exit; a Plant still open keeps its loaded library)."""
+        with self._lock:
+            entries, self._entries = self._entries, {}
+        if os.getpid() == self._owner:
+            for e in entries.values():
+                shutil.rmtree(e.directory, ignore_errors=True)
+
+
+_CACHE = _ExtractionCache()
+
+
+def unpacked(path: str | Path) -> Unpacked:
+    """The process's extraction of the ``.fmu`` at ``path`` (made on first use).
+
+    A file changed since (another mtime or size) is extracted again; the previous
+    extraction stays until exit for the Plants that use it.
+    """
+    return _CACHE.get(Path(path))
+
+
 @dataclass
 class Result(Mapping):
     """Recorded signals of one run: ``res["x"]`` etc. are numpy arrays over ``res["time"]``."""
@@ -105,14 +167,14 @@ class Plant:
         self.path = fmu_path(path)
         self.interface = interface
         self.tolerance = tolerance
-        self.md = read_model_description(str(self.path))
-        self.vars = {v.name: v for v in self.md.modelVariables}
+        shared = unpacked(self.path)
+        self.md = shared.md
+        self.vars = shared.vars
         self.parameters = dict(parameters or {})
         for name in self.parameters:
             if name not in self.vars:
                 raise KeyError(f"parameter {name!r} is not a variable of {self.path.name}")
-        self._dir = tempfile.mkdtemp(prefix="feeddrive_fmu_")
-        extract(str(self.path), self._dir)
+        self._dir = shared.directory
         self.messages: list[str] = []
         self._log = log
         cls = FMU2Slave if interface == "cs" else FMU2Model
@@ -121,6 +183,7 @@ class Plant:
                        else self.md.modelExchange.modelIdentifier,
                        instanceName="feeddrive")
         self._instantiated = False
+        self._library_held = True      # this wrapper's dlopen reference
 
     # ------------------------------------------------------------------ helpers
     def vr(self, name: str) -> int:
@@ -194,15 +257,19 @@ class Plant:
         self.time = t0
 
     def close(self) -> None:
-        """Free the instance and the extracted files."""
+        """Free the instance and this Plant's hold on the library (fmpy's ``freeInstance``;
+        the shared extraction stays for the process's other Plants)."""
         if self._instantiated:
             try:
                 self.fmu.terminate()
             except Exception:
                 pass
-            self.fmu.freeInstance()
+            self.fmu.freeInstance()            # fmi2FreeInstance, then dlclose
             self._instantiated = False
-        shutil.rmtree(self._dir, ignore_errors=True)
+            self._library_held = False
+        elif self._library_held:
+            self.fmu.freeLibrary()
+            self._library_held = False
 
     def __enter__(self) -> "Plant":
         return self

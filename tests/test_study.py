@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 from distributed import LocalCluster
 
+from feeddrive.bench import study_rows
 from feeddrive.data import write_run
 from feeddrive.harness import closed_loop_run, pid_spec, sinusoid
 from feeddrive.harness.sensors import Sensors
@@ -216,3 +217,12 @@ def test_sweep_command_prints_the_sensitivity_table(tmp_path: Path) -> None:
     assert "change at low" in out.stdout and "rms_error_m" in out.stdout
     assert (tmp_path / "o" / "report.html").is_file()
     assert (tmp_path / "o" / "results.parquet").is_file()
+
+
+def test_bench_study_rows_give_figures() -> None:
+    """`make bench`'s study rows run (tiny study here; the figures are not judged)."""
+    rows = study_rows(n_runs=8)
+    names = [r[0] for r in rows]
+    assert any("memory per live instance" in n for n in names)
+    assert any("speed-up" in n for n in names)
+    assert all("0 failed" in r[1] for r in rows if r[0].startswith("study of 8 runs"))

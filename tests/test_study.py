@@ -226,3 +226,15 @@ def test_bench_study_rows_give_figures() -> None:
     assert any("memory per live instance" in n for n in names)
     assert any("speed-up" in n for n in names)
     assert all("0 failed" in r[1] for r in rows if r[0].startswith("study of 8 runs"))
+
+
+def test_readme_example_study_runs(tmp_path: Path) -> None:
+    text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    section = text.split("## Parameter studies", 1)[1]
+    doc = json.loads(section.split("```json", 1)[1].split("```", 1)[0])
+    doc["experiment"]["reference"]["duration"] = 0.6      # shorter here: one top reversal
+    res = run_study(parse_study(doc, "README.md", tmp_path), tmp_path / "o", parallel=False)
+    assert res.failed == 0 and len(res.rows) == 1 + 2 * len(doc["parameters"])
+    top = [s for s in res.sensitivities if s.metric == "reversal_error_m"]
+    # more Coulomb friction, more error at the reversal; a heavier stage lags more
+    assert all(s.low < 0 < s.high for s in top if s.parameter in ("friction.F_c", "m"))

@@ -95,8 +95,13 @@ def _cmd_sweep(a: argparse.Namespace) -> int:
     study = load_study(a.study)
     if a.workers is not None and a.workers < 1:
         raise UsageError(f"--workers {a.workers}: must be >= 1")
-    res = run_study(study, a.out, scheduler=a.scheduler, workers=a.workers, resume=a.resume,
-                    progress=not a.no_progress, parallel=not a.serial)
+    try:
+        res = run_study(study, a.out, scheduler=a.scheduler, workers=a.workers, resume=a.resume,
+                        progress=not a.no_progress, parallel=not a.serial)
+    except KeyboardInterrupt:
+        print(f"feeddrive sweep: interrupted; the finished runs are in {a.out / 'results.csv'}: "
+              f"run again with --resume", file=sys.stderr)
+        return 130
     report = write_study_report(res, a.out)
     print(res.summary())
     print(f"wrote {report}")

@@ -318,8 +318,8 @@ def parse_study(raw: Any, source: str, folder: Path) -> Study:
     praw = _object(raw["parameters"], source, "parameters")
     if not praw:
         raise StudyError(source, "parameters", "no parameter is varied")
-    params = tuple(_parameter(n, v, float(model.parameters[n]), source) if n in PARAMETER_NAMES
-                   else _parameter(n, v, 0.0, source) for n, v in praw.items())
+    params = tuple(_parameter(n, v, float(model.parameters.get(n, 0.0)), source)
+                   for n, v in praw.items())
     design = _design(raw["design"], source, params)
     metrics = raw["metrics"]
     if not isinstance(metrics, list) or not metrics:

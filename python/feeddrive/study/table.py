@@ -16,7 +16,6 @@ from __future__ import annotations
 import csv
 import hashlib
 import json
-import math
 import os
 from collections.abc import Iterable
 from pathlib import Path
@@ -134,7 +133,3 @@ def read_table(path: str | Path) -> list[dict[str, Any]]:
     t = pq.read_table(path)
     return t.to_pylist()
 
-
-def finite(values: Iterable[float]) -> list[float]:
-    """The finite values (a failed run's metrics are NaN)."""
-    return [v for v in values if isinstance(v, (int, float)) and math.isfinite(v)]

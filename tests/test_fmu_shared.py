@@ -42,7 +42,7 @@ def test_instances_on_one_library_are_independent(fmu_path: Path) -> None:
     both_b = _run(b, ref)
     b.close()
     np.testing.assert_array_equal(both_b, alone_b)
-    unused = Plant(path=fmu_path)          # never started: close drops its library reference
+    unused = Plant(path=fmu_path)          # never started
     unused.close()
     with Plant({"m": 16.1}, path=fmu_path) as p:
         np.testing.assert_array_equal(_run(p, ref), alone_a)

@@ -11,7 +11,8 @@ Two interfaces of the same ``.fmu``:
 Every :class:`Plant` of one ``.fmu`` file (same path, same modification time and size) in a
 process shares one extraction and one parsed model description (:func:`unpacked`); each Plant
 still has its own fmpy wrapper and FMI instance (the library is loaded once: ``dlopen`` of
-the same file counts references, and fmpy's ``freeInstance`` drops one).  The extractions are
+the same file counts references, fmpy's ``freeInstance`` drops one, and the cache holds one
+for the process).  The extractions are
 removed when the process that made them exits.
 """
 from __future__ import annotations
@@ -28,7 +29,8 @@ from importlib import resources
 from pathlib import Path
 
 import numpy as np
-from fmpy import extract, read_model_description
+from fmpy import extract, read_model_description, sharedLibraryExtension
+from fmpy import platform as fmpy_platform
 from fmpy.model_description import ModelDescription, ScalarVariable
 from fmpy.fmi2 import (FMU2Model, FMU2Slave, defaultCallbacks, fmi2CallbackFunctions,
                        fmi2CallbackLoggerTYPE, fmi2Real, fmi2ValueReference)
@@ -85,6 +87,9 @@ class Unpacked:
     directory: str
     md: ModelDescription
     vars: Mapping[str, ScalarVariable]
+    #: the process's own reference on the shared libraries: a Plant's ``freeInstance``
+    #: (dlclose) never unloads a library other Plants use
+    libraries: tuple[ctypes.CDLL, ...] = ()
 
 
 class _ExtractionCache:
@@ -105,7 +110,11 @@ class _ExtractionCache:
                 md = read_model_description(str(path))
                 directory = tempfile.mkdtemp(prefix="feeddrive_fmu_")
                 extract(str(path), directory)
-                hit = Unpacked(path, directory, md, {v.name: v for v in md.modelVariables})
+                ids = {i.modelIdentifier for i in (md.coSimulation, md.modelExchange) if i}
+                libs = tuple(ctypes.CDLL(os.path.join(directory, "binaries", fmpy_platform,
+                                                      i + sharedLibraryExtension))
+                             for i in sorted(ids))
+                hit = Unpacked(path, directory, md, {v.name: v for v in md.modelVariables}, libs)
                 self._entries[key] = hit
             return hit
 
@@ -183,7 +192,6 @@ class Plant:
                        else self.md.modelExchange.modelIdentifier,
                        instanceName="feeddrive")
         self._instantiated = False
-        self._library_held = True      # this wrapper's dlopen reference
 
     # ------------------------------------------------------------------ helpers
     def vr(self, name: str) -> int:
@@ -266,10 +274,6 @@ class Plant:
                 pass
             self.fmu.freeInstance()            # fmi2FreeInstance, then dlclose
             self._instantiated = False
-            self._library_held = False
-        elif self._library_held:
-            self.fmu.freeLibrary()
-            self._library_held = False
 
     def __enter__(self) -> "Plant":
         return self

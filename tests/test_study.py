@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from distributed import LocalCluster
 
-from feeddrive.bench import study_rows
+from feeddrive.bench_study import study_rows
 from feeddrive.data import write_run
 from feeddrive.harness import closed_loop_run, pid_spec, sinusoid
 from feeddrive.harness.sensors import Sensors

@@ -16,12 +16,13 @@ from distributed import LocalCluster
 
 from feeddrive.bench_study import study_rows
 from feeddrive.data import write_run
-from feeddrive.harness import closed_loop_run, pid_spec, sinusoid
+from feeddrive.harness import closed_loop_run, pid_spec, run_closed_loop, sinusoid
 from feeddrive.harness.sensors import Sensors
 from feeddrive.paper import paper_parameters
 from feeddrive.report.study import write_study_report
-from feeddrive.study import (FAILED, OK, StudyError, cases, load_study, parse_study, read_table,
-                             run_study)
+from feeddrive.study import (FAILED, OK, Case, RunTask, StudyError, cases, load_study, parse_study,
+                             read_table, run_case, run_study)
+from feeddrive.study.run import make_reference
 
 BASE = {"schema": "feeddrive.study/1", "name": "t",
         "experiment": {"reference": {"type": "sinusoid", "amplitude": 0.005, "period": 0.4,
@@ -238,3 +239,26 @@ def test_readme_example_study_runs(tmp_path: Path) -> None:
     top = [s for s in res.sensitivities if s.metric == "reversal_error_m"]
     # more Coulomb friction, more error at the reversal; a heavier stage lags more
     assert all(s.low < 0 < s.high for s in top if s.parameter in ("friction.F_c", "m"))
+
+
+def test_a_run_equals_a_fresh_closed_loop(tmp_path: Path) -> None:
+    """The process's reused Plant and controller give what a fresh harness run gives, also
+    after a failed run and runs with other parameters."""
+    doc = copy.deepcopy(BASE)
+    doc["experiment"]["sensors"] = {"quantum": 1e-7, "current_noise": 0.01, "seed": 4}
+    study = parse_study(doc, "s", tmp_path)
+    task = RunTask.of(study)
+    values = {"friction.F_s": 30.0, "m": 18.0}
+    first = run_case(task, Case(0, "", values))
+    run_case(task, Case(1, "", {"friction.F_s": 10.0, "m": 18.0}))     # refused: F_s < F_c
+    run_case(task, Case(2, "", {"friction.F_s": 25.0, "m": 14.0}))
+    again = run_case(task, Case(3, "", values))
+    ref = make_reference(study.experiment.reference)
+    p = dict(paper_parameters(), **values)
+    sens = study.experiment.sensors
+    res = run_closed_loop(p, study.experiment.controller, ref, sensors=sens)
+    e = ref.x - res["x"]
+    k0 = int(round(0.05 / ref.Ts))
+    assert first["status"] == again["status"] == OK
+    assert first["max_error_m"] == again["max_error_m"] == float(np.max(np.abs(e[k0:])))
+    assert first["rms_error_m"] == again["rms_error_m"]

@@ -2,9 +2,9 @@
 the metrics; a run that fails is a row with its status and message, never an exception.
 
 Each process builds the reference and the controller of an experiment once and resets the
-controller before every run (:func:`feeddrive.harness.simulate_closed_loop` does), and reads a
-measured run once; the FMU extraction is shared by the process's Plants
-(:func:`feeddrive.fmu.unpacked`).
+controller before every run (:func:`feeddrive.harness.simulate_closed_loop` does), keeps one
+Plant per tolerance (each run starts a fresh FMI instance on it with the run's parameters:
+no new fmpy wrapper per run), and reads a measured run once.
 """
 from __future__ import annotations
 
@@ -56,6 +56,15 @@ class _ProcessCache:
     def __init__(self) -> None:
         self.loops: dict[str, tuple[Reference, Controller]] = {}
         self.runs: dict[str, Run] = {}
+        self.plants: dict[float, Plant] = {}
+
+    def plant(self, parameters: dict[str, Any], tolerance: float) -> Plant:
+        """The process's Plant at ``tolerance``, to be started with ``parameters``."""
+        if tolerance not in self.plants:
+            self.plants[tolerance] = Plant(tolerance=tolerance)
+        plant = self.plants[tolerance]
+        plant.parameters = dict(parameters)      # applied by the next start()
+        return plant
 
     def loop(self, exp: Experiment) -> tuple[Reference, Controller]:
         key = json.dumps([exp.reference, exp.controller], sort_keys=True, default=str)
@@ -79,9 +88,9 @@ _CACHE = _ProcessCache()
 def _simulate(model: ModelFile, exp: Experiment) -> dict[str, float]:
     ref, ctrl = _CACHE.loop(exp)
     F = exp.F_load + exp.sensors.force_disturbance(ref.n + 1)
-    with Plant(model.fmu_parameters(), tolerance=exp.tolerance) as plant:
-        res = simulate_closed_loop(plant, ctrl, ref.n, float(ref.x[0]), Ts=ref.Ts,
-                                   quantum=exp.sensors.quantum, F_ext=F)
+    plant = _CACHE.plant(model.fmu_parameters(), exp.tolerance)
+    res = simulate_closed_loop(plant, ctrl, ref.n, float(ref.x[0]), Ts=ref.Ts,
+                               quantum=exp.sensors.quantum, F_ext=F)
     return tracking_metrics(ref.x, res["x"], ref.Ts, exp)
 
 

@@ -51,7 +51,8 @@ def make_reference(spec: dict[str, Any]) -> Reference:
 
 
 class _ProcessCache:
-    """Reference + controller per experiment, measured runs per path, in this process."""
+    """Reference + controller per experiment, one Plant per tolerance, measured runs per path,
+    in this process."""
 
     def __init__(self) -> None:
         self.loops: dict[str, tuple[Reference, Controller]] = {}

@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from .bench_c import run_bench_cs, run_cycles, run_two_fmus
+from .bench_study import study_rows
 from .data import Run, write_run
 from .fmu import Plant
 from .harness.controller_fmu import (ControllerFMU, controller_fmu_parameters,
@@ -170,6 +171,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--library", default=None, help="the FMU's shared library the C hosts load")
     ap.add_argument("--two-fmus", default=None, help="the built tests/c two_fmus host")
     ap.add_argument("--controller-library", default=None, help="the controller FMU's shared library")
+    ap.add_argument("--study-runs", type=int, default=1000, help="runs of the benchmark study")
     a = ap.parse_args(argv)
     if a.bench_cs and not a.library:
         ap.error("--bench-cs needs --library (the FMU's .so)")
@@ -178,6 +180,7 @@ def main(argv: list[str] | None = None) -> int:
     rows += py_rows
     rows += two_fmu_rows(figs["wall_cs"], figs["res_cs"], a.repeats,
                          *(Path(p) if p else None for p in (a.two_fmus, a.library, a.controller_library)))
+    rows += study_rows(a.study_runs)
     if a.bench_cs:
         rows += c_rows(Path(a.bench_cs), Path(a.cycles) if a.cycles else None, Path(a.library), a.repeats)
     else:

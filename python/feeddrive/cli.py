@@ -22,6 +22,8 @@ from .model_file import load_model, paper_model, save_model
 from .outputs import check_dir, check_file
 from .report.diagnosis import write_diagnosis
 from .report.main_job import main_job
+from .report.study import write_study_report
+from .study import load_study, run_study
 from .validation.replay import check_run, validate_file
 
 BUILD = Path("build")           # relative to the working directory
@@ -122,6 +124,23 @@ def _cmd_diagnose(a: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_sweep(a: argparse.Namespace) -> int:
+    study = load_study(a.study)
+    if a.workers is not None and a.workers < 1:
+        raise UsageError(f"--workers {a.workers}: must be >= 1")
+    try:
+        res = run_study(study, a.out, scheduler=a.scheduler, workers=a.workers, resume=a.resume,
+                        progress=not a.no_progress, parallel=not a.serial)
+    except KeyboardInterrupt:
+        print(f"feeddrive sweep: interrupted; the finished runs are in {a.out / 'results.csv'}: "
+              f"run again with --resume", file=sys.stderr)
+        return 130
+    report = write_study_report(res, a.out)
+    print(res.summary())
+    print(f"wrote {report}")
+    return 0
+
+
 def _diagnose_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("runs", nargs="+", type=Path, help="measured runs (DATA.md CSV files)")
     p.add_argument("--model", required=True, type=Path, help="starting model file (JSON)")
@@ -179,6 +198,15 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("diagnose", help="find the effects the model lacks (force residual, held-out blocks)")
     _diagnose_arguments(p)
     p.set_defaults(func=_cmd_diagnose)
+    p = sub.add_parser("sweep", help="a parameter study (STUDY.json) on Dask: table, sensitivities, report")
+    p.add_argument("study", type=Path, help="study file (JSON, schema feeddrive.study/1)")
+    p.add_argument("--out", required=True, type=Path, help="output folder (results.csv/.parquet, report.html)")
+    p.add_argument("--scheduler", default=None, help="address of a Dask scheduler (default: a LocalCluster)")
+    p.add_argument("--workers", type=int, default=None, help="LocalCluster worker processes (default: one per core)")
+    p.add_argument("--resume", action="store_true", help="keep the finished rows in --out, compute the missing runs")
+    p.add_argument("--serial", action="store_true", help="every run in this process (no Dask)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.set_defaults(func=_cmd_sweep)
     return ap
 
 

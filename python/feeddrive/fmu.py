@@ -7,18 +7,30 @@ Two interfaces of the same ``.fmu``:
   handles on the library fmpy loaded, on pre-built arrays: three calls per controller sample.
 * ``"me"``: model exchange integrated by fmpy's CVode (SUNDIALS) between samples, with the
   state events and time events handled here as FMI 2.0 prescribes.  The reference path.
+
+Every :class:`Plant` of one ``.fmu`` file (same path, same modification time and size) in a
+process shares one extraction and one parsed model description (:func:`unpacked`); each Plant
+still has its own fmpy wrapper and FMI instance (the library is loaded once: ``dlopen`` of
+the same file counts references, fmpy's ``freeInstance`` drops one, and the cache holds one
+for the process).  The extractions are
+removed when the process that made them exits.
 """
 from __future__ import annotations
 
+import atexit
 import ctypes
+import os
 import shutil
 import tempfile
+import threading
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from fmpy import extract, read_model_description
+from fmpy import extract, read_model_description, sharedLibraryExtension
+from fmpy import platform as fmpy_platform
+from fmpy.model_description import ModelDescription, ScalarVariable
 from fmpy.fmi2 import (FMU2Model, FMU2Slave, defaultCallbacks, fmi2CallbackFunctions,
                        fmi2CallbackLoggerTYPE, fmi2Real, fmi2ValueReference)
 
@@ -29,6 +41,66 @@ OUTPUTS = ("x", "v", "a", "i", "F_motor", "F_cogging", "F_friction", "K_f")
 
 class FMUError(RuntimeError):
     """An FMI call failed; the message carries what the FMU logged."""
+
+
+@dataclass(frozen=True)
+class Unpacked:
+    """One extraction of an ``.fmu``: its folder and parsed model description (shared, read-only)."""
+
+    path: Path
+    directory: str
+    md: ModelDescription
+    vars: Mapping[str, ScalarVariable]
+    #: the process's own reference on the shared libraries: a Plant's ``freeInstance``
+    #: (dlclose) never unloads a library other Plants use
+    libraries: tuple[ctypes.CDLL, ...] = ()
+
+
+class _ExtractionCache:
+    """Extractions by (resolved path, mtime, size), made once per process, removed at exit."""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._entries: dict[tuple[str, int, int], Unpacked] = {}
+        self._owner = os.getpid()      # a forked child must not remove its parent's folders
+        atexit.register(self.clear)
+
+    def get(self, path: Path) -> Unpacked:
+        st = path.stat()
+        key = (str(path.resolve()), st.st_mtime_ns, st.st_size)
+        with self._lock:
+            hit = self._entries.get(key)
+            if hit is None:
+                md = read_model_description(str(path))
+                directory = tempfile.mkdtemp(prefix="feeddrive_fmu_")
+                extract(str(path), directory)
+                ids = {i.modelIdentifier for i in (md.coSimulation, md.modelExchange) if i}
+                libs = tuple(ctypes.CDLL(os.path.join(directory, "binaries", fmpy_platform,
+                                                      i + sharedLibraryExtension))
+                             for i in sorted(ids))
+                hit = Unpacked(path, directory, md, {v.name: v for v in md.modelVariables}, libs)
+                self._entries[key] = hit
+            return hit
+
+    def clear(self) -> None:
+        """Remove the extractions (at exit; a Plant still open keeps its loaded library)."""
+        with self._lock:
+            entries, self._entries = self._entries, {}
+        if os.getpid() == self._owner:
+            for e in entries.values():
+                shutil.rmtree(e.directory, ignore_errors=True)
+
+
+_CACHE = _ExtractionCache()
+
+
+def unpacked(path: str | Path) -> Unpacked:
+    """The process's extraction of the ``.fmu`` at ``path`` (made on first use).
+
+    A file changed since (another mtime or size) is extracted again; the previous
+    extraction stays until exit for the Plants that use it.
+    """
+    return _CACHE.get(Path(path))
 
 
 @dataclass
@@ -71,13 +143,13 @@ class Plant:
         self.interface = interface
         self.parameters = dict(parameters or {})
         self.tolerance = float(self.parameters.get("solver.tol", tolerance))
-        self.md = read_model_description(str(self.path))
-        self.vars = {v.name: v for v in self.md.modelVariables}
+        shared = unpacked(self.path)
+        self.md = shared.md
+        self.vars = shared.vars
         for name in self.parameters:
             if name not in self.vars:
                 raise KeyError(f"parameter {name!r} is not a variable of {self.path.name}")
-        self._dir = tempfile.mkdtemp(prefix="feeddrive_fmu_")
-        extract(str(self.path), self._dir)
+        self._dir = shared.directory
         self.messages: list[str] = []
         self._log = log
         cls = FMU2Slave if interface == "cs" else FMU2Model
@@ -159,15 +231,15 @@ class Plant:
         self.time = t0
 
     def close(self) -> None:
-        """Free the instance and the extracted files."""
+        """Free the instance and this Plant's hold on the library (fmpy's ``freeInstance``;
+        the shared extraction stays for the process's other Plants)."""
         if self._instantiated:
             try:
                 self.fmu.terminate()
             except Exception:
                 pass
-            self.fmu.freeInstance()
+            self.fmu.freeInstance()            # fmi2FreeInstance, then dlclose
             self._instantiated = False
-        shutil.rmtree(self._dir, ignore_errors=True)
 
     def __enter__(self) -> "Plant":
         return self

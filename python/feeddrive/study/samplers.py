@@ -1,0 +1,74 @@
+"""The runs of a study: parameter values per run from its design.
+
+- ``grid``: the full factorial of ``levels`` points over each range (or the given values);
+- ``lhs``: scipy.stats.qmc.LatinHypercube (seeded), mapped through each parameter's
+  distribution (``ppf``; a range is uniform);
+- ``monte_carlo``: independent draws of each parameter's scipy.stats distribution (seeded);
+- ``oat``: one at a time: the base point (the model's values), then each parameter at its
+  low and its high end with the others at base.
+
+Integer parameters (``friction.N``) are rounded to the nearest integer.
+"""
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.stats import qmc
+
+from ..model_file import INTEGER_PARAMETERS
+from .schema import ParameterSpec, Study
+
+
+@dataclass(frozen=True)
+class Case:
+    """One run of a study: its id, a label (``oat``: which end of which parameter) and values."""
+
+    run: int
+    label: str
+    values: dict[str, float | int]
+
+
+def _typed(name: str, v: float) -> float | int:
+    return int(round(v)) if name in INTEGER_PARAMETERS else float(v)
+
+
+def _grid(params: tuple[ParameterSpec, ...], levels: int) -> np.ndarray:
+    axes = [np.asarray(p.values) if p.values is not None else np.linspace(p.low, p.high, levels)
+            for p in params]
+    return np.array(list(itertools.product(*axes)), dtype=float)
+
+
+def _lhs(params: tuple[ParameterSpec, ...], runs: int, seed: int) -> np.ndarray:
+    u = qmc.LatinHypercube(d=len(params), seed=np.random.default_rng(seed)).random(runs)
+    return np.column_stack([p.frozen_distribution().ppf(u[:, j]) for j, p in enumerate(params)])
+
+
+def _monte_carlo(params: tuple[ParameterSpec, ...], runs: int, seed: int) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    return np.column_stack([p.frozen_distribution().rvs(size=runs, random_state=rng)
+                            for p in params])
+
+
+def cases(study: Study) -> list[Case]:
+    """Every run of ``study`` in order (run ids 0..n-1), the same on every call."""
+    params = study.parameters
+    names = study.parameter_names
+    d = study.design
+    if d["type"] == "oat":
+        base = {p.name: _typed(p.name, p.base) for p in params}
+        out = [Case(0, "base", dict(base))]
+        for p in params:
+            for end, v in (("low", p.low), ("high", p.high)):
+                values = dict(base)
+                values[p.name] = _typed(p.name, float(v))
+                out.append(Case(len(out), f"{p.name}={end}", values))
+        return out
+    if d["type"] == "grid":
+        x = _grid(params, d["levels"])
+    elif d["type"] == "lhs":
+        x = _lhs(params, d["runs"], d["seed"])
+    else:
+        x = _monte_carlo(params, d["runs"], d["seed"])
+    return [Case(k, "", {n: _typed(n, v) for n, v in zip(names, row)}) for k, row in enumerate(x)]

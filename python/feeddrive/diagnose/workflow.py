@@ -10,7 +10,7 @@ the improvement, or after ``max_steps``.
 
 Significant means held-out significant (:mod:`scoring`) *and* above the absolute gates of
 :mod:`significance`: the force the candidate explains on held-out blocks must exceed 3 x
-the run's noise floor (:mod:`noise_floor`) and 1 % of the Coulomb level.  A step's
+the run's noise floor (:mod:`noise_floor`) and 0.5 % of the Coulomb level.  A step's
 ``decision`` is ``missing_effect`` (the effect was off and is switched on), ``refinement``
 (the values of an effect already on, with the old and new values and the force the change
 makes) or ``ambiguous`` (the group the data cannot separate).  The final ``verdict`` is
@@ -423,7 +423,7 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
             stop = _stop(f"no candidate removes >= {I_MIN:.0%} of the residual energy on "
                          f"held-out blocks with t >= {T_MIN:g} and explains at least "
                          f"{gate.threshold_N:.3g} N (the larger of {NOISE_FACTOR:g} x the noise "
-                         f"floor {gate.floor_N:.3g} N and {PRACTICAL_SHARE:.0%} of the friction "
+                         f"floor {gate.floor_N:.3g} N and {PRACTICAL_SHARE:.1%} of the friction "
                          f"level {gate.level_N:.3g} N)", ranking, res, gate)
             break
         tried = [lead] + [s for s in ranking if passes(s, gate) and s is not lead]

@@ -143,7 +143,7 @@ def write_diagnosis(diag: Diagnosis, out_dir: str | Path) -> Path:
     page.lines([f"Overall noise floor {_fmt(nf['rms_N'])} N rms. A candidate is named only "
                 f"when it explains at least {_fmt(sig['threshold_N'])} N rms on held-out "
                 f"blocks: {_fmt(sig['noise_factor'])} x the floor "
-                f"({_fmt(sig['noise_threshold_N'])} N) and {sig['practical_share']:.0%} of "
+                f"({_fmt(sig['noise_threshold_N'])} N) and {sig['practical_share']:.1%} of "
                 f"the friction level {_fmt(sig['level_N'])} N ({sig['level_source']})."])
     page.heading("Steps")
     page.cells(["#", "effect", "evidence", "parameters", "force gap (rms)"],

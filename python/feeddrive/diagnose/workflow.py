@@ -370,9 +370,10 @@ def verdict(res: list[RunResidual], floors: list[NoiseFloor], gate: Gate) -> dic
            "x_noise_floor": g / max(gate.floor_N, 1e-300), "threshold_N": gate.threshold_N}
     if e < gate.threshold_N:
         out["verdict"] = "explained"
-        out["sentence"] = (f"Explained: the residual left ({g:.3g} N rms) is within the noise "
-                           f"floor ({gate.floor_N:.3g} N) and the practical threshold "
-                           f"({gate.threshold_N:.3g} N).")
+        out["sentence"] = (f"Explained: the residual left ({g:.3g} N rms, "
+                           f"{out['x_noise_floor']:.1f} x the noise floor {gate.floor_N:.3g} N) "
+                           f"exceeds the floor by {e:.3g} N, less than the {gate.threshold_N:.3g} N "
+                           "a named effect must explain.")
         return out
     loc = excess_location(res, [f.sigma for f in floors])
     out["verdict"] = "unexplained_residual"

@@ -140,6 +140,11 @@ def write_diagnosis(diag: Diagnosis, out_dir: str | Path) -> Path:
     page.table([{"run": name, **row} for name, row in nf["runs"].items()],
                caption="noise floor per run: position step, force noise, timing jitter and "
                        "the force each leaves in the residual [N]")
+    ls, lf = doc["localisation_start"]["regimes"], doc["localisation_final"]["regimes"]
+    page.table([{"regime": k, "noise floor [N]": f, "start model [N]": ls.get(k, {}).get("rms"),
+                 "final model [N]": lf.get(k, {}).get("rms")}
+                for k, f in nf["regimes_rms_N"].items()],
+               caption="noise floor and residual per regime (rms)")
     page.lines([f"Overall noise floor {_fmt(nf['rms_N'])} N rms. A candidate is named only "
                 f"when it explains at least {_fmt(sig['threshold_N'])} N rms on held-out "
                 f"blocks: {_fmt(sig['noise_factor'])} x the floor "

@@ -21,7 +21,7 @@ from feeddrive.data import Run, write_run
 from feeddrive.diagnose.noise_floor import force_noise, noise_floor, position_quantum
 from feeddrive.diagnose.residual import force_residual
 from feeddrive.diagnose.workflow import diagnose
-from feeddrive.harness import Reference, point_to_point, sinusoid
+from feeddrive.harness import Reference, back_and_forth, point_to_point, sinusoid, state_space_spec
 from feeddrive.model_file import paper_model, save_model
 from feeddrive.physics import compile
 from diagnosis_runs import make_runs, simulate_run, sinusoid_reference
@@ -213,3 +213,18 @@ def test_a_resonance_is_not_absorbed_into_mass_and_is_reported_in_its_band():
     assert v["verdict"] == "unexplained_residual", v
     fb = v["where"]["frequency_band"]
     assert fb["f_lo_Hz"] <= 40.0 < fb["f_hi_Hz"], fb
+
+
+def test_complete_model_under_the_state_space_controller_on_a_coarse_scale():
+    # another controller and a 500 nm scale: the floor grows with the quantisation and the
+    # controller's own high-frequency output (counted as noise: the floor errs high), and the
+    # complete model still gets nothing named
+    spec = state_space_spec()
+    runs = [simulate_run(PAPER, sinusoid_reference(6.0), current_noise=0.003, quantum=5e-7,
+                         seed=95, name="ss_sinusoid", spec=spec),
+            simulate_run(PAPER, back_and_forth([0.005, 0.02, 0.05], stroke=0.02),
+                         current_noise=0.003, quantum=5e-7, seed=96, name="ss_moves", spec=spec)]
+    diag = diagnose(runs, PAPER, closed_loop=False)
+    _nothing_named(diag)
+    assert all(f.quantum_m == 5e-7 for f in diag.floors)
+    assert all(f.quantisation_N > 0.02 for f in diag.floors)     # m q / sqrt(12) ||c||

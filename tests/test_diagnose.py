@@ -64,6 +64,8 @@ def test_complete_model_gets_nothing_named(tmp_path):
     assert diag.steps == []
     doc = json.loads((tmp_path / "diagnosis.json").read_text())
     assert doc["steps"] == [] and "no candidate" in doc["stop"]["reason"]
+    assert doc["verdict"]["verdict"] == "explained"
+    assert doc["verdict"]["x_noise_floor"] < 3.0
     assert load_model(tmp_path / "model.json").parameters == PAPER.parameters
 
 
@@ -82,6 +84,9 @@ def test_two_hidden_effects_are_found_in_turn(tmp_path):
     # outputs
     doc = json.loads((tmp_path / "diagnosis.json").read_text())
     assert [s["effect"] for s in doc["steps"]] == ["asymmetric_friction", "mass"]
+    assert [s["decision"] for s in doc["steps"]] == ["missing_effect", "refinement"]
+    assert doc["steps"][1]["refinement"]["force_change_rms_N"] > 0.0
+    assert doc["verdict"]["verdict"] == "explained"
     s0 = doc["steps"][0]
     for key in ("effect", "evidence", "parameters", "gap_before", "gap_after"):
         assert key in s0
@@ -145,7 +150,8 @@ def test_diagnose_command_writes_its_files_and_refuses_bad_input(tmp_path, capsy
     assert feeddrive_cli(["diagnose", str(tmp_path / "short.csv"), "--model",
                           str(tmp_path / "paper.json"), "--out", str(tmp_path / "o"),
                           "--max-steps", "1"]) == 0
-    assert "stopped: no candidate" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "stopped: no candidate" in out and "verdict: explained" in out
     assert json.loads((tmp_path / "o" / "diagnosis.json").read_text())["steps"] == []
     assert (tmp_path / "o" / "report.html").stat().st_size > 500
     assert feeddrive_cli(["diagnose", str(tmp_path / "missing.csv"), "--model",

@@ -62,3 +62,12 @@ def test_emps_diagnosis(run, tmp_path):
     assert g_end["force_rms_N"] < 0.8 * g0
     assert g_end["force_rms_heldout_N"] < 0.8 * g0
     assert (tmp_path / "report.html").exists()
+    # the noise floor of a measured run (50 nm scale step from the data, noise of u) is far
+    # below what is left: an unexplained residual, and the final model predicts the
+    # held-out blocks no worse than the first step's
+    v = diag.verdict
+    assert diag.floors[0].quantum_source == "data"
+    assert diag.floors[0].quantum_m == pytest.approx(5e-8, rel=1e-3)
+    assert 0.02 < v["noise_floor_N"] < 0.2
+    assert v["verdict"] == "unexplained_residual" and v["x_noise_floor"] > 10
+    assert g_end["force_rms_heldout_N"] <= s.gap_after["force_rms_heldout_N"]

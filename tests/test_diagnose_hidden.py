@@ -28,6 +28,10 @@ def check_first(diag, effect: str, shrink: float = 0.7):
     assert diag.steps, f"nothing named; stop: {diag.stop}"
     s = diag.steps[0]
     assert effect == s.effect or effect in s.ambiguous_with, (s.effect, s.ambiguous_with)
+    # the decision says what the step is: a group, a value corrected, or an effect switched on
+    assert s.decision == ("ambiguous" if s.ambiguous_with else
+                          "refinement" if s.effect_was_on else "missing_effect"), s.decision
+    assert s.evidence["explained_force_N"] >= s.evidence["threshold_N"]
     g0, g1 = s.gap_before["force_rms_N"], s.gap_after["force_rms_N"]
     assert g1 <= (1 - shrink) * g0, (g0, g1)
     assert s.evidence["heldout_improvement"] >= 0.7
@@ -58,7 +62,7 @@ def test_wrong_mass_is_named():
     diag = diagnose(runs, PAPER.with_effect("mass", True, m=13.0), max_steps=2,
                     closed_loop=False)
     s = check_first(diag, "mass")
-    assert s.effect == "mass"
+    assert s.effect == "mass" and s.decision == "refinement"
     # 3.1 kg error, accelerations up to 2 m/s^2 in the constant-speed run: within 2 %
     assert abs(diag.model.parameters["m"] - 16.1) < 0.3
 
@@ -145,7 +149,7 @@ def test_missing_viscous_is_named():
     diag = diagnose(make_runs(PAPER, seed=18, quantum=5e-8), PAPER.with_effect("viscous", False),
                     max_steps=2, closed_loop=False)
     s = check_first(diag, "viscous")
-    assert s.effect == "viscous"
+    assert s.effect == "viscous" and s.decision == "missing_effect"
     assert s.evidence["where"][0]["regime"] == "high_speed"
     assert abs(diag.model.parameters["friction.sigma2"] - 54.0) < 3.0
 

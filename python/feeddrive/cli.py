@@ -115,11 +115,12 @@ def _cmd_diagnose(a: argparse.Namespace) -> int:
         print(note)
     for k, s in enumerate(diag.steps, 1):
         amb = f" (cannot be told from {', '.join(s.ambiguous_with)})" if s.ambiguous_with else ""
-        print(f"step {k}: {s.effect}{amb}: held-out improvement "
+        print(f"step {k}: {s.decision} {s.effect}{amb}: held-out improvement "
               f"{s.evidence['heldout_improvement']:.1%}, t = {s.evidence['t_blocks']:.1f}; "
               f"force gap {s.gap_before['force_rms_N']:.3g} N -> "
               f"{s.gap_after['force_rms_N']:.3g} N")
     print(f"stopped: {diag.stop.get('reason')}")
+    print(f"verdict: {diag.verdict['verdict']}: {diag.verdict['sentence']}")
     print(f"wrote {a.out / 'diagnosis.json'}, {a.out / 'model.json'}, {report}")
     return 0
 

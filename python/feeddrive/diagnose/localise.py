@@ -214,3 +214,88 @@ def spectral_peaks(lams: np.ndarray, amps: np.ndarray, exclude: Sequence[float] 
         if len(out) >= n_peaks:
             break
     return out
+
+
+#: Octave bands of the temporal spectrum of a residual [Hz] (lower edges; the last one ends
+#: at the Nyquist frequency).
+FREQ_BANDS = (0.0, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0)
+
+
+def _excess_stats(r: np.ndarray, s: np.ndarray, mask: np.ndarray, total: float, n: int) -> dict:
+    """rms residual, rms floor and the share of the excess energy (r^2 - s^2) in ``mask``."""
+    if not mask.any():
+        return {"n": 0}
+    e = float(np.sum(r[mask] ** 2 - s[mask] ** 2))
+    share_n = float(mask.sum()) / n
+    share_e = e / total if total > 0 else 0.0
+    return {"n": int(mask.sum()), "rms_N": float(np.sqrt(np.mean(r[mask] ** 2))),
+            "floor_N": float(np.sqrt(np.mean(s[mask] ** 2))), "excess_share": share_e,
+            "sample_share": share_n, "concentration": share_e / share_n}
+
+
+def frequency_bands(res: Sequence[RunResidual], r: Sequence[np.ndarray] | None = None
+                    ) -> list[dict]:
+    """Share of a residual's energy per octave band (:data:`FREQ_BANDS`) of its periodogram,
+    over the valid part of every run."""
+    energy: dict[tuple[float, float], float] = {}
+    for j, q in enumerate(res):
+        rr = (q.r if r is None else r[j])[q.valid]
+        if rr.size < 16:
+            continue
+        f = np.fft.rfftfreq(rr.size, q.Ts)
+        p = np.abs(np.fft.rfft(rr)) ** 2
+        edges = [*FREQ_BANDS, 0.5 / q.Ts]
+        for lo, hi in zip(edges[:-1], edges[1:]):
+            energy[(lo, hi)] = energy.get((lo, hi), 0.0) + float(p[(f >= lo) & (f < hi)].sum())
+    tot = sum(energy.values())
+    return [{"f_lo_Hz": lo, "f_hi_Hz": hi, "energy_share": e / tot if tot > 0 else 0.0}
+            for (lo, hi), e in sorted(energy.items())]
+
+
+def excess_location(res: Sequence[RunResidual], sigma: Sequence[np.ndarray],
+                    n_pos_bins: int = 12) -> dict:
+    """Where the part of the residual above the noise floor ``sigma`` (per run, per sample
+    [N]) sits: the stroke band, speed regime, direction and travel since reversal with the
+    highest concentration of excess energy, the octave band holding most of the residual's
+    energy and the strongest spatial wavelength (cogging-like)."""
+    masks = [regime_masks(q) for q in res]
+    r = np.concatenate([q.r[q.valid] for q in res])
+    s = np.concatenate([sj[q.valid] for sj, q in zip(sigma, res)])
+    n = r.size
+    total = float(np.sum(r**2 - s**2))
+
+    def regime(name: str) -> np.ndarray:
+        return np.concatenate([mj.get(name, np.zeros(len(q.r), bool))[q.valid]
+                               for mj, q in zip(masks, res)])
+
+    def best(names: Sequence[str]) -> dict:
+        rows = {k: _excess_stats(r, s, regime(k), total, n) for k in names}
+        rows = {k: v for k, v in rows.items() if v.get("n")}
+        top = max(rows, key=lambda k: rows[k]["concentration"]) if rows else None
+        return {"regime": top, "table": rows}
+
+    xs = np.concatenate([q.x[q.valid] for q in res])
+    bins = position_bins(res, n_pos_bins)
+    pos = [_excess_stats(r, s, (xs >= lo) & (xs < hi), total, n) | {"x_lo": lo, "x_hi": hi}
+           for lo, hi in bins]
+    conc = np.array([p.get("concentration", 0.0) for p in pos])
+    k0 = int(np.argmax(conc))
+    lo_k = hi_k = k0
+    while lo_k > 0 and conc[lo_k - 1] >= 1.0:
+        lo_k -= 1
+    while hi_k < len(conc) - 1 and conc[hi_k + 1] >= 1.0:
+        hi_k += 1
+    band = (xs >= bins[lo_k][0]) & (xs < bins[hi_k][1])
+    stroke = {"x_lo_m": bins[lo_k][0], "x_hi_m": bins[hi_k][1],
+              **_excess_stats(r, s, band, total, n)}
+    since = [k for k in masks[0] if k.startswith("since_reversal")]
+    freq = frequency_bands(res)
+    lams, amps = spatial_spectrum(res)
+    peaks = spectral_peaks(lams, amps, n_peaks=1)
+    return {"stroke_band": stroke,
+            "speed": best(["low_speed", "middle_speed", "high_speed"]),
+            "direction": best(["forward", "backward"]),
+            "since_reversal": best(since),
+            "frequency_band": max(freq, key=lambda b: b["energy_share"]) if freq else None,
+            "wavelength": ({"wavelength_m": peaks[0][0], "amplitude_N": peaks[0][1]}
+                           if peaks else None)}

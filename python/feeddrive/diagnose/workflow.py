@@ -7,6 +7,15 @@ on all data, re-computes the residual with the new model (the full model, not th
 prediction) and records the gap before and after, overall and where the candidate acted.
 The loop stops when nothing is significant, when the re-computed residual does not confirm
 the improvement, or after ``max_steps``.
+
+Significant means held-out significant (:mod:`scoring`) *and* above the absolute gates of
+:mod:`significance`: the force the candidate explains on held-out blocks must exceed 3 x
+the run's noise floor (:mod:`noise_floor`) and 0.5 % of the Coulomb level.  A step's
+``decision`` is ``missing_effect`` (the effect was off and is switched on), ``refinement``
+(the values of an effect already on, with the old and new values and the force the change
+makes) or ``ambiguous`` (the group the data cannot separate).  The final ``verdict`` is
+``explained`` when the residual's excess over the floor is below the same gates, else
+``unexplained_residual`` with its size and where it sits (:func:`localise.excess_location`).
 """
 from __future__ import annotations
 
@@ -19,12 +28,16 @@ from ..harness.controllers import CONTROLLERS
 from ..harness.runs import replay
 from ..harness.sidecar import read_sidecar
 from ..model_file import ModelFile
+from ..physics import compile
 from .candidates import CANDIDATES
 from .context import DEFAULT_BLOCKS, Context
-from .localise import (displacement_since_reversal, localise, spatial_spectrum, spectral_peaks,
-                       where)
+from .localise import (displacement_since_reversal, excess_location, localise, spatial_spectrum,
+                       spectral_peaks, where)
+from .noise_floor import NoiseFloor, floor_table, noise_floor
 from .residual import RunResidual, gap, residuals
 from .scoring import I_MIN, T_MIN, Score, score, separable
+from .significance import (NOISE_FACTOR, PRACTICAL_SHARE, Gate, excess, explained_force,
+                           make_gate, passes)
 
 #: Travel after a reversal [m] within which the closed-loop error counts as reversal error.
 REVERSAL_ZONE = 1e-3
@@ -72,12 +85,31 @@ def changed_parameters(before: ModelFile, after: ModelFile) -> dict:
     return out
 
 
+def parameter_changes(params: dict) -> dict:
+    """``changed_parameters`` with the relative change of each value [%] (None from 0)."""
+    out = {}
+    for k, p in params.items():
+        v, b = p["value"], p["before"]
+        pct = None
+        if isinstance(v, (int, float)) and isinstance(b, (int, float)) and b != 0 \
+                and not isinstance(v, bool):
+            pct = 100.0 * (float(v) - float(b)) / abs(float(b))
+        out[k] = {**p, "change_percent": pct}
+    return out
+
+
+def force_change(before: list[RunResidual], after: list[RunResidual]) -> float:
+    """rms over all runs of the change of the model force between two models [N]."""
+    d = np.concatenate([(qb.r - qa.r)[qb.valid & qa.valid] for qb, qa in zip(before, after)])
+    return float(np.sqrt(np.mean(d**2))) if d.size else 0.0
+
+
 @dataclass
 class Step:
     """One named effect: evidence, identified parameters, gap before and after."""
 
     effect: str | None
-    decision: str                      #: "named" or "ambiguous"
+    decision: str                      #: "missing_effect", "refinement" or "ambiguous"
     ambiguous_with: list[str]
     evidence: dict
     parameters: dict
@@ -89,11 +121,18 @@ class Step:
     residual_after: list[RunResidual] = field(default_factory=list, repr=False)
 
     def to_json(self) -> dict:
-        return {"effect": self.effect, "decision": self.decision,
-                "ambiguous_with": self.ambiguous_with, "effect_was_on": self.effect_was_on,
-                "evidence": self.evidence,
-                "parameters": self.parameters, "gap_before": self.gap_before,
-                "gap_after": self.gap_after}
+        out = {"effect": self.effect, "decision": self.decision,
+               "ambiguous_with": self.ambiguous_with, "effect_was_on": self.effect_was_on,
+               "evidence": self.evidence,
+               "parameters": self.parameters, "gap_before": self.gap_before,
+               "gap_after": self.gap_after}
+        if self.effect_was_on:
+            fc = force_change(self.residual_before, self.residual_after)
+            out["refinement"] = {
+                "force_change_rms_N": fc,
+                "force_change_percent_of_gap": 100.0 * fc / max(
+                    self.gap_before["force_rms_N"], 1e-300)}
+        return out
 
 
 @dataclass
@@ -108,6 +147,9 @@ class Diagnosis:
     notes: list[str]
     residual_start: list[RunResidual] = field(default_factory=list, repr=False)
     residual_final: list[RunResidual] = field(default_factory=list, repr=False)
+    floors: list[NoiseFloor] = field(default_factory=list, repr=False)
+    gate: Gate | None = None
+    verdict: dict = field(default_factory=dict)
 
     @property
     def named(self) -> list[str]:
@@ -115,8 +157,12 @@ class Diagnosis:
         return [s.effect for s in self.steps if s.effect is not None]
 
     def to_json(self) -> dict:
-        return {"schema": "feeddrive.diagnosis/1", "runs": self.runs,
+        return {"schema": "feeddrive.diagnosis/2", "runs": self.runs,
                 "model_start": self.model_start.name, "notes": self.notes,
+                "verdict": self.verdict,
+                "noise_floor": floor_table(self.residual_start, self.floors)
+                if self.floors else {},
+                "significance": self.gate.to_json() if self.gate else {},
                 "localisation_start": localisation_summary(self.residual_start),
                 "steps": [s.to_json() for s in self.steps], "stop": self.stop,
                 "final_model": self.model.name,
@@ -196,14 +242,15 @@ def rank(ctx: Context, skip: set[str] = frozenset()) -> list[Score]:
     return best
 
 
-def choose(ranking: list[Score]) -> tuple[Score | None, list[Score]]:
+def choose(ranking: list[Score], gate: Gate) -> tuple[Score | None, list[Score]]:
     """The effect to add and the candidates the data cannot separate from it.
 
-    Among significant candidates the best held-out improvement leads; every significant
+    Among candidates that pass (held-out significant and above the ``gate``,
+    :func:`significance.passes`) the best held-out improvement leads; every passing
     candidate not :func:`separable` from it joins its group; the group member with the
     fewest parameters (then the best improvement) is added, the others are reported.
     """
-    sig = [s for s in ranking if s.significant]
+    sig = [s for s in ranking if passes(s, gate)]
     if not sig:
         return None, []
     lead = sig[0]
@@ -237,32 +284,38 @@ def polish(runs: list[Run], effect: str, model: ModelFile, res: list[RunResidual
     return model, res, n
 
 
-def _summary(s: Score) -> dict:
-    return {"effect": s.variant.effect, "variant": s.variant.label,
-            "heldout_improvement": s.improvement, "t_blocks": s.t,
-            "blocks_improved": s.blocks_improved, "significant": s.significant,
-            "refinement": s.variant.refine}
+def _summary(s: Score, gate: Gate | None = None) -> dict:
+    out = {"effect": s.variant.effect, "variant": s.variant.label,
+           "heldout_improvement": s.improvement, "t_blocks": s.t,
+           "blocks_improved": s.blocks_improved, "significant": s.significant,
+           "refinement": s.variant.refine, "explained_force_N": explained_force(s)}
+    if gate is not None:
+        out["above_threshold"] = explained_force(s) >= gate.threshold_N
+    return out
 
 
-def _stop(reason: str, ranking: list[Score], res: list[RunResidual]) -> dict:
-    return {"reason": reason, "ranking": [_summary(s) for s in ranking[:6]], "gap": gap(res)}
+def _stop(reason: str, ranking: list[Score], res: list[RunResidual], gate: Gate) -> dict:
+    return {"reason": reason, "ranking": [_summary(s, gate) for s in ranking[:6]],
+            "gap": gap(res)}
 
 
 def _evidence(cand: Score, ctx: Context, ranking: list[Score], n_polish: int,
-              wh: list[dict]) -> dict:
+              wh: list[dict], gate: Gate) -> dict:
     """What a step's decision rests on (diagnosis.json ``evidence``)."""
     return {"statistic": "held-out share of force-residual energy removed (blocks)",
             "heldout_improvement": cand.improvement, "t_blocks": cand.t,
+            "explained_force_N": explained_force(cand), "threshold_N": gate.threshold_N,
+            "x_noise_floor": explained_force(cand) / max(gate.floor_N, 1e-300),
             "blocks_improved": f"{cand.blocks_improved}/{ctx.blocks}",
             "in_sample_improvement": cand.improvement_in_sample,
             "variant": cand.variant.label, "refinement": cand.variant.refine,
             "polish_iterations": n_polish,
-            "where": wh, "ranking": [_summary(s) for s in ranking[:6]]}
+            "where": wh, "ranking": [_summary(s, gate) for s in ranking[:6]]}
 
 
 def confirm_step(runs: list[Run], ctx: Context, cand: Score, group: list[Score],
                  ranking: list[Score], cl: dict | None, name: str, n_blocks: int,
-                 kw: dict) -> tuple[Step, dict | None] | None:
+                 kw: dict, gate: Gate) -> tuple[Step, dict | None] | None:
     """Add ``cand`` to the context's model, identify it on all data (with polishing) and
     re-compute the residual; the step and the new closed-loop gap when the gap shrinks by
     at least ``CONFIRM``, else None.  ``group``: ``cand`` and the candidates it cannot be
@@ -280,15 +333,55 @@ def confirm_step(runs: list[Run], ctx: Context, cand: Score, group: list[Score],
     cl_after = closed_loop_gap(runs, new_model) if cl is not None else None
     ga = _gap_record(new_res, regimes, cl_after)
     ga["force_rms_heldout_N"] = float(np.sqrt(np.mean(cand.r_heldout**2)))
-    step = Step(effect=cand.variant.effect,
-                decision="ambiguous" if len(group) > 1 else "named",
+    was_on = bool(current.effects[cand.variant.effect])
+    decision = "ambiguous" if len(group) > 1 else "refinement" if was_on else "missing_effect"
+    step = Step(effect=cand.variant.effect, decision=decision,
                 ambiguous_with=[s.variant.effect for s in group[1:]],
-                evidence=_evidence(cand, ctx, ranking, n_polish, wh),
-                parameters=changed_parameters(current, new_model),
+                evidence=_evidence(cand, ctx, ranking, n_polish, wh, gate),
+                parameters=parameter_changes(changed_parameters(current, new_model)),
                 gap_before=_gap_record(res, regimes, cl), gap_after=ga, model_after=new_model,
-                effect_was_on=bool(current.effects[cand.variant.effect]),
+                effect_was_on=was_on,
                 residual_before=res, residual_after=new_res)
     return step, cl_after
+
+
+def _where_text(loc: dict) -> str:
+    """One phrase of where an excess sits (verdict sentence)."""
+    sb = loc["stroke_band"]
+    parts = [f"x {sb['x_lo_m'] * 1e3:.1f}-{sb['x_hi_m'] * 1e3:.1f} mm"]
+    for key in ("speed", "direction", "since_reversal"):
+        if loc[key]["regime"]:
+            parts.append(loc[key]["regime"])
+    fb = loc["frequency_band"]
+    if fb:
+        parts.append(f"{fb['f_lo_Hz']:g}-{fb['f_hi_Hz']:g} Hz")
+    wl = loc["wavelength"]
+    if wl:
+        parts.append(f"wavelength {wl['wavelength_m'] * 1e3:.3g} mm")
+    return ", ".join(parts)
+
+
+def verdict(res: list[RunResidual], floors: list[NoiseFloor], gate: Gate) -> dict:
+    """``explained`` when the final residual's excess over the noise floor is below the gate
+    (:mod:`significance`), else ``unexplained_residual`` with its size and location."""
+    g = gap(res)
+    e = excess(g, gate.floor_N)
+    out = {"gap_N": g, "noise_floor_N": gate.floor_N, "excess_N": e,
+           "x_noise_floor": g / max(gate.floor_N, 1e-300), "threshold_N": gate.threshold_N}
+    if e < gate.threshold_N:
+        out["verdict"] = "explained"
+        out["sentence"] = (f"Explained: the residual left ({g:.3g} N rms, "
+                           f"{out['x_noise_floor']:.1f} x the noise floor {gate.floor_N:.3g} N) "
+                           f"exceeds the floor by {e:.3g} N, less than the {gate.threshold_N:.3g} N "
+                           "a named effect must explain.")
+        return out
+    loc = excess_location(res, [f.sigma for f in floors])
+    out["verdict"] = "unexplained_residual"
+    out["where"] = loc
+    out["sentence"] = (f"Unexplained residual: {g:.3g} N rms ({out['x_noise_floor']:.1f} x the "
+                       f"noise floor {gate.floor_N:.3g} N) that no catalogue effect explains, "
+                       f"mostly at {_where_text(loc)}.")
+    return out
 
 
 def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
@@ -311,6 +404,11 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
     kw = {"force_gain": force_gain, "window": window}
     current = model
     res = start_res = residuals(runs, current, **kw)
+    plant = compile(model)
+    floors = [noise_floor(run, q, plant, force_gain) for run, q in zip(runs, res)]
+    floor_N = float(np.sqrt(np.mean(np.concatenate([f.sigma[q.valid] ** 2
+                                                     for f, q in zip(floors, res)]))))
+    gate = make_gate(model, res, floor_N)
     notes = sorted({q.force_source for q in res})
     steps: list[Step] = []
     cl = closed_loop_gap(runs, current) if closed_loop else None
@@ -321,22 +419,26 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
     for _ in range(max_steps):
         ctx = Context(res, current, n_blocks=n_blocks)
         ranking = rank(ctx)
-        lead, others = choose(ranking)
+        lead, others = choose(ranking, gate)
         if lead is None:
             stop = _stop(f"no candidate removes >= {I_MIN:.0%} of the residual energy on "
-                         f"held-out blocks with t >= {T_MIN:g}", ranking, res)
+                         f"held-out blocks with t >= {T_MIN:g} and explains at least "
+                         f"{gate.threshold_N:.3g} N (the larger of {NOISE_FACTOR:g} x the noise "
+                         f"floor {gate.floor_N:.3g} N and {PRACTICAL_SHARE:.1%} of the friction "
+                         f"level {gate.level_N:.3g} N)", ranking, res, gate)
             break
-        tried = [lead] + [s for s in ranking if s.significant and s is not lead]
+        tried = [lead] + [s for s in ranking if passes(s, gate) and s is not lead]
         found = None
         for cand in tried[:3]:
             name = f"{model.name}+{'+'.join([*(s.effect for s in steps), cand.variant.effect])}"
             group = [cand] + (list(others) if cand is lead else [])
-            found = confirm_step(runs, ctx, cand, group, ranking, cl, name, n_blocks, kw)
+            found = confirm_step(runs, ctx, cand, group, ranking, cl, name, n_blocks, kw,
+                                 gate)
             if found is not None:
                 break
         if found is None:
             stop = _stop("the significant candidates did not shrink the re-computed residual "
-                         f"by {CONFIRM:.0%}", ranking, res)
+                         f"by {CONFIRM:.0%}", ranking, res, gate)
             break
         step, cl = found
         steps.append(step)
@@ -345,4 +447,5 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
         stop["gap"] = gap(res)
     return Diagnosis(steps=steps, stop=stop, model_start=model, model=current,
                      runs=[r.name or f"run{j}" for j, r in enumerate(runs)], notes=notes,
-                     residual_start=start_res, residual_final=res)
+                     residual_start=start_res, residual_final=res, floors=floors, gate=gate,
+                     verdict=verdict(res, floors, gate))

@@ -1,9 +1,11 @@
 """The diagnosis report: report.html with the residual plots, beside the diagnosis files.
 
 ``write_diagnosis(diag, out_dir)`` writes diagnosis.json, model.json and model_stepK.json
-(:func:`feeddrive.diagnose.output.write_files`) and then report.html with PNGs: the residual
-of the start and final models against time, position and displacement since reversal, the
-spatial spectrum of the starting residual, and one overlay per step.
+(:func:`feeddrive.diagnose.output.write_files`) and then report.html with PNGs: the verdict
+in one sentence at the top, the noise floor per run, the residual of the start and final
+models against time, position and displacement since reversal, the spatial spectrum of the
+starting residual, and one overlay per step: the residual before and after against the
+noise band (+-1 and +-3 x the per-sample noise floor).
 """
 from __future__ import annotations
 
@@ -17,6 +19,7 @@ import numpy as np
 from ..diagnose.localise import displacement_since_reversal, spatial_spectrum
 from ..diagnose.output import write_files
 from ..diagnose.residual import RunResidual
+from ..diagnose.significance import NOISE_FACTOR
 from ..diagnose.workflow import Diagnosis
 from ..outputs import output_dir
 from .page import Page
@@ -40,13 +43,21 @@ def _vs_dsr(q: RunResidual) -> tuple[np.ndarray, dict, bool]:
 
 def residual_figure(axis: Axis, before: list[RunResidual], after: list[RunResidual],
                     title: str, xlabel: str, label_b: str = "before",
-                    label_a: str = "after") -> plt.Figure:
-    """One panel per run: the residual before and after against ``axis``."""
+                    label_a: str = "after", band: list[np.ndarray] | None = None,
+                    factor: float = NOISE_FACTOR) -> plt.Figure:
+    """One panel per run: the residual before and after against ``axis``; with ``band``
+    (per run, per-sample noise floor [N]) also +-band and +-``factor`` x band."""
     n = len(before)
     fig, axes = plt.subplots(n, 1, figsize=(9, 2.6 * n + 0.6), squeeze=False)
     for j, (qb, qa) in enumerate(zip(before, after)):
         ax = axes[j, 0]
         xb, kw, log = axis(qb)
+        if band is not None and not log and not kw:
+            ok = qb.valid
+            for f, alpha, lab in ((factor, 0.15, f"{factor:g} x noise floor"),
+                                  (1.0, 0.3, "noise floor")):
+                ax.fill_between(xb[ok], -f * band[j][ok], f * band[j][ok], color="grey",
+                                alpha=alpha, lw=0, label=lab if j == 0 else None)
         ax.plot(xb[qb.valid], qb.r[qb.valid], lw=0.6, label=label_b, **kw)
         xa, kw, log = axis(qa)
         ax.plot(xa[qa.valid], qa.r[qa.valid], lw=0.6, label=label_a, alpha=0.8, **kw)
@@ -88,10 +99,16 @@ def _step_row(k: int, s: dict) -> list[list[str]]:
     params = [f"{n} = {_fmt(p['value'])} {p['unit']} (was {_fmt(p['before'])})"
               for n, p in s["parameters"].items()]
     ga, gb = s["gap_after"], s["gap_before"]
+    ref = s.get("refinement")
+    change = [f"refinement: the model force changes by {_fmt(ref['force_change_rms_N'])} N rms"] \
+        if ref else []
     return [[str(k)],
-            [s["effect"], f"{s['decision']}; cannot be told from: {amb}"],
+            [s["effect"], s["decision"], f"cannot be told from: {amb}", *change],
             [f"held-out improvement {_fmt(ev['heldout_improvement'])}, t = {_fmt(ev['t_blocks'])}, "
-             f"blocks improved {ev['blocks_improved']}", ev["variant"], f"where: {where}"],
+             f"blocks improved {ev['blocks_improved']}",
+             f"explains {_fmt(ev['explained_force_N'])} N rms on held-out blocks "
+             f"({_fmt(ev['x_noise_floor'])} x noise floor; threshold {_fmt(ev['threshold_N'])} N)",
+             ev["variant"], f"where: {where}"],
             params or ["-"],
             [f"{_fmt(gb['force_rms_N'])} N -> {_fmt(ga['force_rms_N'])} N "
              f"(held-out {_fmt(ga.get('force_rms_heldout_N'))} N)"]]
@@ -114,25 +131,56 @@ def write_diagnosis(diag: Diagnosis, out_dir: str | Path,
 def _write_diagnosis(diag: Diagnosis, out: Path) -> Path:
     doc = write_files(diag, out)
     page = Page(out, "Discrepancy diagnosis")
+    page.text(f"Verdict: {doc['verdict']['sentence']}")
+    loc = doc["verdict"].get("where")
+    if loc:
+        rows = [{"where": key, "regime": loc[key]["regime"],
+                 **{k: v for k, v in loc[key]["table"].get(loc[key]["regime"], {}).items()
+                    if k != "n"}} for key in ("speed", "direction", "since_reversal")]
+        sb = loc["stroke_band"]
+        rows.insert(0, {"where": "stroke band",
+                        "regime": f"{sb['x_lo_m'] * 1e3:.1f}-{sb['x_hi_m'] * 1e3:.1f} mm",
+                        **{k: sb[k] for k in ("rms_N", "floor_N", "excess_share",
+                                              "sample_share", "concentration") if k in sb}})
+        page.table(rows, caption="where the residual above the noise floor sits "
+                                 "(concentration: share of the excess energy / share of samples)")
     page.lines([f"Runs: {', '.join(doc['runs'])}. Start model: {doc['model_start']}. "
                 f"Final model: {doc['final_model']} (model.json)."])
     page.lines(doc["notes"])
+    nf, sig = doc["noise_floor"], doc["significance"]
+    page.heading("Noise floor")
+    page.table([{"run": name, **row} for name, row in nf["runs"].items()],
+               caption="noise floor per run: position step, force noise, timing jitter and "
+                       "the force each leaves in the residual [N]")
+    ls, lf = doc["localisation_start"]["regimes"], doc["localisation_final"]["regimes"]
+    page.table([{"regime": k, "noise floor [N]": f, "start model [N]": ls.get(k, {}).get("rms"),
+                 "final model [N]": lf.get(k, {}).get("rms")}
+                for k, f in nf["regimes_rms_N"].items()],
+               caption="noise floor and residual per regime (rms)")
+    page.lines([f"Overall noise floor {_fmt(nf['rms_N'])} N rms. A candidate is named only "
+                f"when it explains at least {_fmt(sig['threshold_N'])} N rms on held-out "
+                f"blocks: {_fmt(sig['noise_factor'])} x the floor "
+                f"({_fmt(sig['noise_threshold_N'])} N) and {sig['practical_share']:.1%} of "
+                f"the friction level {_fmt(sig['level_N'])} N ({sig['level_source']})."])
     page.heading("Steps")
     page.cells(["#", "effect", "evidence", "parameters", "force gap (rms)"],
                [_step_row(k, s) for k, s in enumerate(doc["steps"], 1)])
     page.lines([f"Stopped: {doc['stop'].get('reason')}"])
     page.heading("Plots")
     r0, r1 = diag.residual_start, diag.residual_final
+    band = [f.sigma for f in diag.floors] if diag.floors else None
     for name, axis, xl, title in (
             ("residual_time", _vs_time, "time [s]", "force residual against time"),
             ("residual_position", _vs_position, "position [mm]", "force residual against position"),
             ("residual_reversal", _vs_dsr, "displacement since reversal [um]",
              "force residual against displacement since reversal")):
         page.figure(residual_figure(axis, r0, r1, title + " (start model / final model)", xl,
-                                    "start model", "final model"), name, title, dpi=90)
+                                    "start model", "final model", band=band), name, title,
+                    dpi=90)
     page.figure(spectrum_figure(r0), "spectrum", "spatial spectrum", dpi=90)
     for k, st in enumerate(diag.steps, 1):
         page.figure(residual_figure(_vs_time, st.residual_before, st.residual_after,
-                                    f"step {k}: {st.effect} - residual before / after", "time [s]"),
+                                    f"step {k}: {st.decision} {st.effect} - residual before / "
+                                    "after against the noise band", "time [s]", band=band),
                     f"step{k}_{st.effect}", f"step {k} overlay", dpi=90)
     return page.write("report.html")

@@ -175,12 +175,13 @@ def main(argv: list[str] | None = None) -> int:
     a = ap.parse_args(argv)
     if a.bench_cs and not a.library:
         ap.error("--bench-cs needs --library (the FMU's .so)")
+    study = study_rows(a.study_runs)   # first: a worker's peak RSS counts from this process's
     rows = load_rows()
     py_rows, figs = python_rows(a.repeats)
     rows += py_rows
     rows += two_fmu_rows(figs["wall_cs"], figs["res_cs"], a.repeats,
                          *(Path(p) if p else None for p in (a.two_fmus, a.library, a.controller_library)))
-    rows += study_rows(a.study_runs)
+    rows += study
     if a.bench_cs:
         rows += c_rows(Path(a.bench_cs), Path(a.cycles) if a.cycles else None, Path(a.library), a.repeats)
     else:

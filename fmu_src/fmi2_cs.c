@@ -8,9 +8,9 @@
 #include "fmi2_instance.h"
 
 static void rhs(void *ctx, double t, const double *y, double *dydt) {
-    const model_t *m = (const model_t *)ctx;
+    model_t *m = (model_t *)ctx;
     (void)t;
-    plant_derivatives(&m->p, &m->d, y, &m->in, dydt);
+    plant_derivatives_memo(&m->p, &m->d, y, &m->in, &m->memo, dydt);
 }
 
 static void indicators(void *ctx, double t, const double *y, double *z) {

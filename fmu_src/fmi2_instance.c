@@ -79,8 +79,8 @@ void fmu_update_outputs(instance_t *c) {
     model_t *m = &c->m;
     if (m->out_valid) return;
     params_inputs(m->val, &m->in);
-    plant_outputs(&m->p, &m->d, m->y, &m->in, &m->out);
-    plant_derivatives(&m->p, &m->d, m->y, &m->in, m->dydt);
+    plant_outputs_memo(&m->p, &m->d, m->y, &m->in, &m->memo, &m->out);
+    plant_state_derivatives(&m->p, &m->d, m->y, &m->out, m->dydt);
     params_store_outputs(m->val, m->y, m->dydt, &m->out, &m->d);
     m->val[VR_stats_n_steps] = (double)m->solver.n_steps;
     m->val[VR_stats_n_rhs] = (double)m->solver.n_rhs;
@@ -155,6 +155,7 @@ fmi2Status fmu_recompile(instance_t *c, const double *backup_val) {
     model_t *m = &c->m;
     char msg[512];
     plant_params_t old = m->p;
+    m->memo.valid = 0;
     if (!params_compile(m->val, &m->p, msg, sizeof msg)) {
         fmu_log(c, fmi2Error, LOG_ERROR, "%s", msg);
         if (backup_val) memcpy(m->val, backup_val, sizeof m->val);
@@ -280,8 +281,12 @@ fmi2Status fmi2EnterInitializationMode(fmi2Component comp) {
 void fmu_solver_setup(model_t *m) {
     double atol[PLANT_NX];
     int j;
+    m->memo.valid = 0;   /* called after every compile of the parameters but fmu_recompile's */
     for (j = 0; j < PLANT_NX; j++) atol[j] = m->tol * MODEL_STATE_NOMINAL(j);   /* XML nominals */
-    dp45_init(&m->solver, PLANT_NX, PLANT_NZ, m->tol, atol, m->p.Ts);
+    /* x, v and the forces of the N elements in use: the slots past N stay 0 (their derivative is 0);
+     * the error norm still counts all PLANT_NX states, so the steps are those of a 12-state run */
+    dp45_init(&m->solver, 2 + m->p.N, PLANT_NZ, m->tol, atol, m->p.Ts);
+    m->solver.n_norm = PLANT_NX;
 }
 
 /* compile parameters and initialise the plant from the current values */

@@ -32,6 +32,7 @@ typedef struct {
     int stroke_warned;
     dp45_t solver;
     int solver_restart;
+    plant_memo_t memo;              /* the maps at the last position evaluated (valid = 0 after a compile) */
 } model_t;
 
 typedef struct {

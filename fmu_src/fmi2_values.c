@@ -31,6 +31,16 @@ static int args_ok(instance_t *c, const char *fn, const void *vr, size_t nvr, co
     return 1;
 }
 
+/* Every value asked for is the position or velocity (a controller's read between steps): these are
+ * the states themselves, so nothing else need be computed (outputs are computed when read). */
+static int states_only(const model_t *m, const fmi2ValueReference vr[], size_t nvr, char type) {
+    size_t k;
+    if (type != 'R' || m->out_valid || !m->params_ok || nvr == 0) return 0;
+    for (k = 0; k < nvr; k++)
+        if (vr[k] != VR_x && vr[k] != VR_v) return 0;
+    return 1;
+}
+
 /* c: the instance admitted by FMU_ENTER (NULL: the call was refused) */
 static fmi2Status get_values(instance_t *c, const char *fn, const fmi2ValueReference vr[], size_t nvr,
                              char type, void *value) {
@@ -40,6 +50,18 @@ static fmi2Status get_values(instance_t *c, const char *fn, const fmi2ValueRefer
     if (c->m.fsm == ST_INIT && !c->m.params_ok) {
         /* initialization mode: compute with the values set so far */
         if (fmu_initialize_plant(c) != fmi2OK) return fmi2Error;
+    }
+    if (states_only(&c->m, vr, nvr, type)) {
+        for (k = 0; k < nvr; k++) {
+            double v = c->m.y[vr[k] == VR_x ? PLANT_IX : PLANT_IV];
+            if (!isfinite(v)) {
+                fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s = %g is not finite (the simulation overflowed)", fn,
+                        vr[k] == VR_x ? "x" : "v", v);
+                return fmi2Error;
+            }
+            ((fmi2Real *)value)[k] = v;
+        }
+        return fmi2OK;
     }
     if (c->m.params_ok) fmu_update_outputs(c);
     for (k = 0; k < nvr; k++) {

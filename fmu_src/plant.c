@@ -12,11 +12,28 @@ static double applied_force(const plant_params_t *p, const plant_out_t *o, const
     return o->F_motor - o->F_cg - in->F_ext - p->F_off;
 }
 
-void plant_outputs(const plant_params_t *p, const plant_disc_t *d, const double *y,
-                   const plant_in_t *in, plant_out_t *o) {
+/* K_f and F_cg at the clamped position xc, from the memo when it holds that very position */
+static void maps_at(const plant_params_t *p, double xc, plant_memo_t *memo, plant_out_t *o) {
+    if (memo && memo->valid && memo->x == xc) {
+        o->K_f = memo->K_f;
+        o->F_cg = memo->F_cg;
+        return;
+    }
+    posmap_eval_pair(&p->rip, &p->cog, xc, &o->K_f, &o->F_cg);
+    if (memo) {
+        memo->valid = 1;
+        memo->x = xc;
+        memo->K_f = o->K_f;
+        memo->F_cg = o->F_cg;
+    }
+}
+
+/* Eq. 1's forces and acceleration: every output but n_stuck (the right-hand side needs no count) */
+static void plant_forces(const plant_params_t *p, const plant_disc_t *d, const double *y,
+                         const plant_in_t *in, plant_memo_t *memo, plant_out_t *o) {
     double xc = clamp(y[PLANT_IX], p->x_min, p->x_max), v = y[PLANT_IV], F_app;
     int j;
-    posmap_eval_pair(&p->rip, &p->cog, xc, &o->K_f, &o->F_cg);
+    maps_at(p, xc, memo, o);
     o->i = current_loop_output(p, d, in->u);
     o->F_motor = o->K_f * o->i;
     F_app = applied_force(p, o, in);
@@ -30,18 +47,38 @@ void plant_outputs(const plant_params_t *p, const plant_disc_t *d, const double 
         o->F_fric = static_friction(p, d, v, F_app);
         o->a = d->st_stuck ? 0.0 : (F_app - o->F_fric) / p->m;
     }
+}
+
+void plant_outputs_memo(const plant_params_t *p, const plant_disc_t *d, const double *y,
+                        const plant_in_t *in, plant_memo_t *memo, plant_out_t *o) {
+    plant_forces(p, d, y, in, memo, o);
     o->n_stuck = plant_n_stuck(p, d);
+}
+
+void plant_outputs(const plant_params_t *p, const plant_disc_t *d, const double *y,
+                   const plant_in_t *in, plant_out_t *o) {
+    plant_outputs_memo(p, d, y, in, NULL, o);
+}
+
+void plant_state_derivatives(const plant_params_t *p, const plant_disc_t *d, const double *y,
+                             const plant_out_t *o, double *dydt) {
+    int j;
+    dydt[PLANT_IX] = y[PLANT_IV];
+    dydt[PLANT_IV] = o->a;
+    if (p->prerolling) gms_derivatives(p, d, y, dydt + PLANT_IF);
+    else for (j = 0; j < PLANT_NE_MAX; j++) dydt[PLANT_IF + j] = 0.0;
+}
+
+void plant_derivatives_memo(const plant_params_t *p, const plant_disc_t *d, const double *y,
+                            const plant_in_t *in, plant_memo_t *memo, double *dydt) {
+    plant_out_t o;
+    plant_forces(p, d, y, in, memo, &o);
+    plant_state_derivatives(p, d, y, &o, dydt);
 }
 
 void plant_derivatives(const plant_params_t *p, const plant_disc_t *d, const double *y,
                        const plant_in_t *in, double *dydt) {
-    plant_out_t o;
-    int j;
-    plant_outputs(p, d, y, in, &o);
-    dydt[PLANT_IX] = y[PLANT_IV];
-    dydt[PLANT_IV] = o.a;
-    if (p->prerolling) gms_derivatives(p, d, y, dydt + PLANT_IF);
-    else for (j = 0; j < PLANT_NE_MAX; j++) dydt[PLANT_IF + j] = 0.0;
+    plant_derivatives_memo(p, d, y, in, NULL, dydt);
 }
 
 void plant_indicators(const plant_params_t *p, const plant_disc_t *d, const double *y,
@@ -51,7 +88,7 @@ void plant_indicators(const plant_params_t *p, const plant_disc_t *d, const doub
     for (j = 0; j < PLANT_NE_MAX; j++) z[j] = 1.0;
     {
         plant_out_t o;
-        plant_outputs(p, d, y, in, &o);
+        plant_forces(p, d, y, in, NULL, &o);
         z[PLANT_NE_MAX] = static_indicator(p, d, y[PLANT_IV], applied_force(p, &o, in));
     }
 }

@@ -76,6 +76,11 @@ typedef struct {
     int n_stuck;
 } plant_out_t;
 
+/* The last evaluation of both position maps (K_f, F_cg at a clamped position), owned by the caller:
+ * a step's last stage, the outputs read there and the next step's first stage share the position.
+ * The caller sets valid = 0 whenever the parameters are compiled again. */
+typedef struct { int valid; double x, K_f, F_cg; } plant_memo_t;
+
 /* position_maps.c */
 double posmap_eval(const posmap_t *m, double x);
 void posmap_prepare(posmap_t *m);
@@ -129,6 +134,14 @@ void plant_outputs(const plant_params_t *p, const plant_disc_t *d, const double 
                    const plant_in_t *in, plant_out_t *o);
 void plant_derivatives(const plant_params_t *p, const plant_disc_t *d, const double *y,
                        const plant_in_t *in, double *dydt);
+/* the same with the maps' memo (may be NULL) */
+void plant_outputs_memo(const plant_params_t *p, const plant_disc_t *d, const double *y,
+                        const plant_in_t *in, plant_memo_t *memo, plant_out_t *o);
+void plant_derivatives_memo(const plant_params_t *p, const plant_disc_t *d, const double *y,
+                            const plant_in_t *in, plant_memo_t *memo, double *dydt);
+/* the same derivatives from outputs o already computed at (d, y) (no second evaluation) */
+void plant_state_derivatives(const plant_params_t *p, const plant_disc_t *d, const double *y,
+                             const plant_out_t *o, double *dydt);
 void plant_indicators(const plant_params_t *p, const plant_disc_t *d, const double *y,
                       const plant_in_t *in, double *z);
 /* Event update at time t: processes the current-loop sample when sample_due, then every

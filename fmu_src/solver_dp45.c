@@ -116,6 +116,7 @@ void dp45_init(dp45_t *s, int n, int ng, double rtol, const double *atol, double
     int j;
     memset(s, 0, sizeof *s);
     s->n = n;
+    s->n_norm = n;
     s->ng = ng;
     s->rtol = rtol;
     for (j = 0; j < n && j < DP45_MAX_N; ++j) {
@@ -184,7 +185,7 @@ static double scaled_rms(const dp45_t *s, const double *y, const double *v)
         const double q = v[j] / (s->atol[j] + s->rtol * fabs(y[j]));
         sum += q * q;
     }
-    return sqrt(sum / s->n);
+    return sqrt(sum / s->n_norm);
 }
 
 /* Initial step-size estimate (Hairer, HINIT in DOPRI5), capped by h_max and by
@@ -331,7 +332,7 @@ static int advance_args_ok(const dp45_t *s, dp45_rhs_fn f, int ng, const int *ro
                            double t_end)
 {
     int j;
-    if (s->n < 1 || s->n > DP45_MAX_N || s->ng < 0 || s->ng > DP45_MAX_G || f == NULL ||
+    if (s->n < 1 || s->n > DP45_MAX_N || s->n_norm < s->n || s->ng < 0 || s->ng > DP45_MAX_G || f == NULL ||
         (ng > 0 && roots == NULL) || !(t_end >= tc) || !(t_end - tc < HUGE_VAL)) {
         return 0;
     }
@@ -437,7 +438,7 @@ static double dopri_step(dp45_t *s, void *ctx, dp45_rhs_fn f, double tc, double 
         sum += q * q;
         chk += yn[j] * 0.0 + k7[j] * 0.0;
     }
-    return (chk != 0.0) ? HUGE_VAL : sum / n;
+    return (chk != 0.0) ? HUGE_VAL : sum / s->n_norm;
 }
 
 /* Factor by which a rejected step shrinks: hard for non-finite values, else 0.9 err^-0.17

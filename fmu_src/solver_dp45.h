@@ -44,6 +44,8 @@ enum { DP45_REACHED = 0, DP45_ROOT = 1, DP45_ERROR = -1 };
 typedef struct {
     /* ---- configuration (set by dp45_init, may be changed between calls) ---- */
     int n, ng;              /* number of states (1..DP45_MAX_N), indicators (0..DP45_MAX_G) */
+    int n_norm;             /* the error norms are RMS over n_norm >= n states (dp45_init: n); the
+                             * n_norm - n not integrated are constant and add zero error */
     double rtol;            /* relative tolerance */
     double atol[DP45_MAX_N];/* absolute tolerance per state */
     double h;               /* next step-size proposal (<= h_max); <= 0: estimate at next advance */

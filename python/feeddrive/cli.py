@@ -21,6 +21,8 @@ from .identify.pipeline import identify_folder
 from .model_file import load_model, paper_model, save_model
 from .report.diagnosis import write_diagnosis
 from .report.main_job import main_job
+from .systems import sec3_system, sec4_system, write_all
+from .systems.compare import compare_engines
 from .validation.replay import validate_file
 
 BUILD = Path("build")           # relative to the working directory
@@ -48,6 +50,21 @@ def _cmd_report(a: argparse.Namespace) -> int:
     fmu_path()      # no FMU: one line before the job starts
     main_job(Path(a.out), print_tables=a.command == "run", runs_dir=Path(a.runs) if a.runs else None,
              shared_dir=Path(a.shared) if a.shared else None)
+    return 0
+
+
+SYSTEMS = {"sec3": sec3_system, "sec4_gms": lambda: sec4_system("gms"),
+           "sec4_static": lambda: sec4_system("static")}
+
+
+def _cmd_system(a: argparse.Namespace) -> int:
+    fmu_path()
+    system = SYSTEMS[a.case]()
+    files = write_all(system, Path(a.out))
+    for kind, path in files.items():
+        print(f"wrote {path} ({kind})")
+    if a.run:
+        print("\n".join(compare_engines(system, files)))
     return 0
 
 
@@ -121,6 +138,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--emps", action="store_true", help="the EMPS benchmark authors' rigid baseline")
     p.add_argument("--out", default="model.json")
     p.set_defaults(func=_cmd_model)
+    p = sub.add_parser("system", help="write the closed loop as SSP, OSP and container FMU")
+    p.add_argument("--case", choices=sorted(SYSTEMS), default="sec3")
+    p.add_argument("--out", default=str(BUILD / "system"))
+    p.add_argument("--run", action="store_true",
+                   help="run them in libcosim and fmpy and compare with the harness")
+    p.set_defaults(func=_cmd_system)
     p = sub.add_parser("validate", help="replay a measured run through model and controller")
     p.add_argument("measured")
     p.add_argument("--model", default=None)

@@ -115,3 +115,15 @@ def run_container(path: str | Path, n: int, Ts: float) -> Result:
     wall = time.perf_counter() - wall0
     return Result({"time": np.asarray(out["time"][:n + 1]), "x": np.asarray(out["x"][:n + 1]),
                    "u": np.asarray(out["u"][:n + 1]), "wall": np.array(wall)})
+
+
+def time_libcosim_osp(directory: str | Path, stop_time: float) -> float:
+    """Wall time [s] of libcosim's ``simulate_until(stop_time)`` on the OSP structure, no
+    observer (execution creation -- loading and instantiating the FMUs -- not counted)."""
+    from libcosimpy.CosimExecution import CosimExecution   # optional: the test extra
+    quiet_libcosim()
+    execution = CosimExecution.from_osp_config_file(str(directory))
+    wall0 = time.perf_counter()
+    if not execution.simulate_until(int(round(stop_time * 1e9))):
+        raise RuntimeError(f"libcosim: simulate_until({stop_time}) failed")
+    return time.perf_counter() - wall0

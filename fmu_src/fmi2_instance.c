@@ -136,7 +136,7 @@ int fmu_event_update(instance_t *c, const char *fn, double tau, double slack, fm
         n += plant_event_update(&m->p, &m->d, m->y, &m->in, due != 0, &changed);
         samples += due;
         if (due)
-            fmu_log(c, fmi2OK, LOG_EVENTS, "t = %.9g s: current-loop sample %ld, i = %.9g A", m->time,
+            fmu_log(c, fmi2OK, LOG_DEBUG, "t = %.9g s: current-loop sample %ld, i = %.9g A", m->time,
                     m->d.k, m->d.i);
     } while (fmu_sample_due(m, tau, slack) && samples <= BUDGET_OVERDUE_SAMPLES);
     if (samples > 1)

@@ -1,5 +1,7 @@
 /* Logging shared by the FMUs' glue (plant and controller): categories, the filter (event
- * traces only when logging is on and logEvents selected; warnings and errors always), the
+ * traces only when logging is on and logEvents selected; per-sample traces only when logDebug
+ * is named in fmi2SetDebugLogging -- not part of "all categories", so a system run with
+ * logging on is not drowned by 2 000 lines per second; warnings and errors always), the
  * fmi2SetDebugLogging category list, and the text handed to the importer's logger as a printf
  * format with every '%' doubled, so importers that cannot read variadic arguments (ctypes,
  * JNI) still get the whole message. */
@@ -15,7 +17,8 @@
 #define LOG_EVENTS 1u
 #define LOG_WARNING 2u
 #define LOG_ERROR 4u
-#define LOG_ALL (LOG_EVENTS | LOG_WARNING | LOG_ERROR)
+#define LOG_DEBUG 8u
+#define LOG_ALL (LOG_EVENTS | LOG_WARNING | LOG_ERROR)   /* logDebug only when named */
 
 static inline void fmi2_log_emit(const fmi2CallbackFunctions *cb, const char *name, fmi2Status st,
                                  const char *cat, const char *text) {
@@ -33,10 +36,10 @@ static inline void fmi2_log_emit(const fmi2CallbackFunctions *cb, const char *na
 static inline void fmi2_log_v(const fmi2CallbackFunctions *cb, const char *name, int logging_on,
                               unsigned mask, fmi2Status st, unsigned cat, const char *fmt, va_list ap) {
     char buf[1024];
-    const char *cname = cat == LOG_EVENTS ? "logEvents" : (cat == LOG_WARNING ? "logStatusWarning"
-                                                                              : "logStatusError");
+    const char *cname = cat == LOG_EVENTS ? "logEvents" : cat == LOG_DEBUG ? "logDebug"
+                        : (cat == LOG_WARNING ? "logStatusWarning" : "logStatusError");
     if (!cb->logger) return;
-    if (cat == LOG_EVENTS && !(logging_on && (mask & LOG_EVENTS))) return;
+    if ((cat == LOG_EVENTS || cat == LOG_DEBUG) && !(logging_on && (mask & cat))) return;
     vsnprintf(buf, sizeof buf, fmt, ap);
     fmi2_log_emit(cb, name ? name : "?", st, cname, buf);
 }
@@ -49,6 +52,7 @@ static inline long fmi2_log_mask(size_t n, const fmi2String categories[], unsign
     *mask = LOG_WARNING | LOG_ERROR;
     for (k = 0; k < n; k++) {
         if (categories[k] && strcmp(categories[k], "logEvents") == 0) *mask |= LOG_EVENTS;
+        else if (categories[k] && strcmp(categories[k], "logDebug") == 0) *mask |= LOG_DEBUG;
         else if (!categories[k] || (strcmp(categories[k], "logStatusWarning") != 0 &&
                                     strcmp(categories[k], "logStatusError") != 0))
             return (long)k;

@@ -26,10 +26,18 @@ fmi2Status fmi2EnterEventMode(fmi2Component comp) {
 fmi2Status fmi2NewDiscreteStates(fmi2Component comp, fmi2EventInfo *info) {
     instance_t *c = FMU_ENTER(comp, fmi2NewDiscreteStates);
     fmi2Boolean changed = fmi2False;
+    long k_before;
+    int switches;
     if (!c) return fmi2Error;
     if (!info) { fmu_log(c, fmi2Error, LOG_ERROR, "fmi2NewDiscreteStates: eventInfo is NULL"); return fmi2Error; }
-    if (fmu_event_update(c, "fmi2NewDiscreteStates", c->m.time - c->m.t0, fmu_ulp_slack(c->m.time), &changed) < 0)
-        return fmi2Error;
+    k_before = c->m.d.k;
+    switches = fmu_event_update(c, "fmi2NewDiscreteStates", c->m.time - c->m.t0, fmu_ulp_slack(c->m.time), &changed);
+    if (switches < 0) return fmi2Error;
+    /* the right-hand side is discontinuous at a friction switch and at a current-loop sample
+     * (i jumps): report it, so importers that keep integrator history unless told (C fmusim's
+     * CVODE) restart there; FMI 2.0 allows false, but only an importer that always resets
+     * would then be right */
+    if (switches > 0 || c->m.d.k != k_before) changed = fmi2True;
     info->newDiscreteStatesNeeded = fmi2False;
     info->terminateSimulation = fmi2False;
     info->nominalsOfContinuousStatesChanged = fmi2False;

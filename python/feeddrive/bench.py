@@ -27,6 +27,8 @@ from .harness.references import sinusoid
 from .harness.simulate import simulate_closed_loop
 from .harness.two_fmus import simulate_two_fmus
 from .paper import paper_parameters
+from .systems import run_container, sec3_system, write_all
+from .systems.engines import time_libcosim_osp
 
 
 def _closed_loop(interface: str, tolerance: float, ref) -> tuple[float, dict]:
@@ -162,6 +164,28 @@ def load_rows(rows: int = 2_500_000) -> list[tuple[str, str, str]]:
              f"{peak_kib / 1024:.0f} MiB ({peak_kib * 1024 / size:.2f}x the file)", "<= 3x the file")]
 
 
+def engine_rows(wall_python: float, res_python: dict, repeats: int = 5) -> list[tuple[str, str, str]]:
+    """The same 6 s loop with the controller FMU in engines: libcosim (OSP structure, macro
+    step Ts/10, simulate_until) and fmpy's container FMU (simulate_fmu)."""
+    s = sec3_system()
+    with tempfile.TemporaryDirectory() as tmp:
+        files = write_all(s, tmp)
+        try:
+            w_lc = min(time_libcosim_osp(files["osp"].parent, s.stop_time) for _ in range(repeats))
+            lc = (f"{w_lc * 1e3:.0f} ms wall, {w_lc / wall_python:.2f} x the Python-controller run",
+                  "<= 1/3 (issue 12)")
+        except ImportError:
+            lc = ("not measured (libcosimpy not installed: pip install 'python[test]')", "")
+        runs = [run_container(files["container"], s.n, s.Ts) for _ in range(repeats)]
+    w_c = min(float(r["wall"]) for r in runs)
+    dx = float(np.max(np.abs(runs[0]["x"] - res_python["x"])))
+    return [(f"6 s closed loop, controller FMU in libcosim (OSP, macro step Ts/{s.jacobi_substeps}, "
+             f"best of {repeats})", *lc),
+            (f"same, fmpy container FMU under simulate_fmu (step Ts, best of {repeats})",
+             f"{w_c * 1e3:.0f} ms wall, {w_c / wall_python:.2f} x the Python-controller run, "
+             f"max abs(dx) {dx * 1e6:.3g} um", "<= 1/3 (issue 12)")]
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--out", default="build/bench.md")
@@ -182,6 +206,7 @@ def main(argv: list[str] | None = None) -> int:
     rows += two_fmu_rows(figs["wall_cs"], figs["res_cs"], a.repeats,
                          *(Path(p) if p else None for p in (a.two_fmus, a.library, a.controller_library)))
     rows += study
+    rows += engine_rows(figs["wall_cs"], figs["res_cs"], a.repeats)
     if a.bench_cs:
         rows += c_rows(Path(a.bench_cs), Path(a.cycles) if a.cycles else None, Path(a.library), a.repeats)
     else:

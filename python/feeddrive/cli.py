@@ -24,6 +24,8 @@ from .report.diagnosis import write_diagnosis
 from .report.main_job import main_job
 from .report.study import write_study_report
 from .study import load_study, run_study
+from .systems import sec3_system, sec4_system, write_all
+from .systems.compare import compare_engines
 from .validation.replay import check_run, validate_file
 
 BUILD = Path("build")           # relative to the working directory
@@ -77,6 +79,21 @@ def _cmd_report(a: argparse.Namespace) -> int:
         check_run(run)      # a bad run: one line now, not after the reproductions
     main_job(Path(a.out), print_tables=a.command == "run", runs_dir=Path(a.runs) if a.runs else None,
              shared_dir=Path(a.shared) if a.shared else None, force=a.force)
+    return 0
+
+
+SYSTEMS = {"sec3": sec3_system, "sec4_gms": lambda: sec4_system("gms"),
+           "sec4_static": lambda: sec4_system("static")}
+
+
+def _cmd_system(a: argparse.Namespace) -> int:
+    fmu_path()
+    system = SYSTEMS[a.case]()
+    files = write_all(system, Path(a.out))
+    for kind, path in files.items():
+        print(f"wrote {path} ({kind})")
+    if a.run:
+        print("\n".join(compare_engines(system, files)))
     return 0
 
 
@@ -181,6 +198,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--emps", action="store_true", help="the EMPS benchmark authors' rigid baseline")
     p.add_argument("--out", default="model.json")
     p.set_defaults(func=_cmd_model)
+    p = sub.add_parser("system", help="write the closed loop as SSP, OSP and container FMU")
+    p.add_argument("--case", choices=sorted(SYSTEMS), default="sec3")
+    p.add_argument("--out", default=str(BUILD / "system"))
+    p.add_argument("--run", action="store_true",
+                   help="run them in libcosim and fmpy and compare with the harness")
+    p.set_defaults(func=_cmd_system)
     p = sub.add_parser("validate", help="replay a measured run through model and controller")
     p.add_argument("measured")
     p.add_argument("--model", default=None)
@@ -218,6 +241,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         return int(a.func(a) or 0)
     except (ValueError, OSError, FMUError) as e:
         print(f"feeddrive {a.command}: {e}", file=sys.stderr)
+        return 2
+    except ImportError as e:            # an optional engine (libcosimpy) is not installed
+        print(f"feeddrive {a.command}: {e.name or e} is not installed "
+              "(pip install 'feeddrive[test]' brings the engines)", file=sys.stderr)
         return 2
 
 

@@ -1,0 +1,80 @@
+"""The closed loop as a system: two FMUs, their start values, the connections.
+
+Connections: plant ``x`` -> controller ``x_meas``, controller ``u`` -> plant ``u``.  The
+reference is the controller FMU's internal generator (``ref.source`` 1), so the system has no
+external input.  Start values: the plant's parameters, ``x`` = the reference's first value,
+``solver.tol`` (the tolerance the harness gives through fmi2SetupExperiment, which an engine
+may not), the controller's parameter set (:func:`~..harness.controller_fmu.controller_fmu_parameters`)
+and ``x_meas`` = the same first value.
+"""
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..control.feedforward import FeedforwardOptions
+from ..fmu import fmu_path
+from ..harness.controller_fmu import (controller_fmu_parameters, controller_fmu_path,
+                                      sinusoid_source)
+from ..harness.controllers import state_space_spec
+from ..paper import paper_parameters
+from ..validation import sec3, sec4
+
+Values = dict[str, float | int | bool]
+#: (start component, start connector, end component, end connector)
+CONNECTIONS = (("plant", "x", "controller", "x_meas"), ("controller", "u", "plant", "u"))
+
+
+@dataclass
+class ClosedLoopSystem:
+    """Everything an engine needs: FMU files, start values per component, timing."""
+    name: str
+    plant: Values
+    controller: Values
+    x0: float
+    stop_time: float
+    Ts: float = 5e-4
+    plant_fmu: Path = field(default_factory=fmu_path)
+    controller_fmu: Path = field(default_factory=controller_fmu_path)
+    tolerance: float = 1e-6
+    #: macro steps per sample Ts of the Jacobi engines (libcosim, simulate_ssp): their
+    #: outputs reach the inputs one macro step late; with a whole Ts the loop is unstable
+    jacobi_substeps: int = 10
+
+    @property
+    def n(self) -> int:
+        """Number of controller samples (of Ts)."""
+        return int(round(self.stop_time / self.Ts))
+
+    @property
+    def jacobi_step(self) -> float:
+        """The Jacobi engines' macro step [s] (the container FMU's is Ts)."""
+        return self.Ts / self.jacobi_substeps
+
+    def start_values(self) -> dict[str, Values]:
+        """Start values by component name (``plant``, ``controller``)."""
+        plant: Values = {**self.plant, "x": self.x0, "v": 0.0, "solver.tol": self.tolerance}
+        return {"plant": plant, "controller": {**self.controller, "x_meas": self.x0}}
+
+
+def _system(name: str, plant: Mapping[str, float | int | bool], spec: Mapping,
+            amplitude: float, period: float, centre: float, duration: float) -> ClosedLoopSystem:
+    ctrl = controller_fmu_parameters(spec, reference=sinusoid_source(amplitude, period, centre,
+                                                                     duration), quantum=1e-7)
+    return ClosedLoopSystem(name=name, plant=dict(plant), controller=ctrl,
+                            x0=centre - amplitude, stop_time=duration, Ts=float(ctrl["Ts"]))
+
+
+def sec3_system() -> ClosedLoopSystem:
+    """Sec. 3: state space + ZPETC on the paper's plant, 30 mm / 6 s sinusoid, 100 nm scale."""
+    return _system("sec3", paper_parameters(), state_space_spec(), sec3.AMPLITUDE, sec3.PERIOD,
+                   sec3.CENTRE, sec3.PERIOD)
+
+
+def sec4_system(friction: str = "gms", duration: float = sec4.DURATION) -> ClosedLoopSystem:
+    """Sec. 4: feedforward (``friction`` static/gms, with cogging and ripple) on the paper's
+    nominal parameters, the perturbed plant, 5 mm / 6 s sinusoid, 100 nm scale."""
+    spec = state_space_spec(paper_parameters(), feedforward=FeedforwardOptions(friction=friction))
+    return _system(f"sec4_{friction}", sec4.perturbed_plant(), spec, sec4.AMPLITUDE, sec4.PERIOD,
+                   sec4.CENTRE, duration)

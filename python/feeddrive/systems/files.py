@@ -1,0 +1,220 @@
+"""Write a :class:`~.closed_loop.ClosedLoopSystem` as an SSP 1.0 package, an OSP system
+structure and a fmpy container FMU.
+
+- ``<name>.ssp``: ``SystemStructure.ssd`` (two components, their connectors, the two
+  connections, a ``DefaultExperiment``), ``resources/<FMU>.fmu`` and one parameter set per
+  component, bound to it by a ``ParameterBinding`` with the set inline (libcosim reads
+  inline ``ParameterValues`` only, not a ``source``); the same sets as files,
+  ``resources/plant.ssv`` and ``resources/controller.ssv``, for tools that take a ``.ssv``.
+- ``<name>_osp/OspSystemStructure.xml`` (libcosim's format, fixed-step algorithm, base step
+  Ts/``jacobi_substeps``) next to copies of both FMUs; the start values are ``InitialValues``.
+- ``<name>_container.fmu``: fmpy's container FMU (``fmpy.container_fmu``), the two FMUs
+  nested, fixed step Ts, the start values as its parameters (``plant.m`` ...), outputs
+  ``x`` (plant) and ``u`` (controller).
+"""
+from __future__ import annotations
+
+import shutil
+import tempfile
+import zipfile
+import zlib
+from pathlib import Path
+from xml.etree import ElementTree as ET
+
+from fmpy import read_model_description
+from fmpy.container_fmu import Configuration
+from fmpy.container_fmu.cli import create_container_fmu
+from fmpy.container_fmu.config import Component, Connection
+from fmpy.model_description import CoSimulation, DefaultExperiment, ModelDescription, ModelVariable
+
+from .closed_loop import CONNECTIONS, ClosedLoopSystem
+
+SSD = "http://ssp-standard.org/SSP1/SystemStructureDescription"
+SSC = "http://ssp-standard.org/SSP1/SystemStructureCommon"
+SSV = "http://ssp-standard.org/SSP1/SystemStructureParameterValues"
+OSP = "http://opensimulationplatform.com/MSMI/OSPSystemStructure"
+FMU_TYPE = "application/x-fmu-sharedlibrary"
+
+
+def _types(fmu: Path) -> dict[str, str]:
+    return {v.name: v.type for v in read_model_description(str(fmu), validate=False).modelVariables}
+
+
+def _literal(kind: str, value: float | int | bool) -> str:
+    if kind == "Boolean":
+        return "true" if value else "false"
+    if kind == "Integer":
+        return str(int(value))
+    return repr(float(value))
+
+
+def _typed(system: ClosedLoopSystem) -> dict[str, list[tuple[str, str, str]]]:
+    """component -> [(variable, FMI type, literal)]; ValueError for a name the FMU lacks."""
+    fmus = {"plant": system.plant_fmu, "controller": system.controller_fmu}
+    out: dict[str, list[tuple[str, str, str]]] = {}
+    for comp, values in system.start_values().items():
+        types = _types(fmus[comp])
+        bad = sorted(set(values) - set(types))
+        if bad:
+            raise ValueError(f"{fmus[comp]}: no variable(s) {bad} (start values of {comp})")
+        out[comp] = [(k, types[k], _literal(types[k], v)) for k, v in values.items()]
+    return out
+
+
+def _parameter_set(name: str, values: list[tuple[str, str, str]]) -> ET.Element:
+    root = ET.Element(f"{{{SSV}}}ParameterSet", {"version": "1.0", "name": name})
+    params = ET.SubElement(root, f"{{{SSV}}}Parameters")
+    for var, kind, lit in values:
+        p = ET.SubElement(params, f"{{{SSV}}}Parameter", {"name": var})
+        ET.SubElement(p, f"{{{SSV}}}{kind}", {"value": lit})
+    return root
+
+
+def _ssv(name: str, values: list[tuple[str, str, str]]) -> bytes:
+    return ET.tostring(_parameter_set(name, values), encoding="utf-8", xml_declaration=True)
+
+
+def _ssd(system: ClosedLoopSystem) -> bytes:
+    ET.register_namespace("ssd", SSD)
+    ET.register_namespace("ssc", SSC)
+    ET.register_namespace("ssv", SSV)
+    root = ET.Element(f"{{{SSD}}}SystemStructureDescription",
+                      {"version": "1.0", "name": f"feeddrive_{system.name}"})
+    sysel = ET.SubElement(root, f"{{{SSD}}}System", {"name": "closed_loop"})
+    elements = ET.SubElement(sysel, f"{{{SSD}}}Elements")
+    fmus = {"controller": system.controller_fmu, "plant": system.plant_fmu}
+    typed = _typed(system)
+    for comp, fmu in fmus.items():
+        c = ET.SubElement(elements, f"{{{SSD}}}Component",
+                          {"name": comp, "type": FMU_TYPE, "source": f"resources/{fmu.name}"})
+        conns = ET.SubElement(c, f"{{{SSD}}}Connectors")
+        for a, ac, b, bc in CONNECTIONS:
+            if a == comp:
+                ET.SubElement(ET.SubElement(conns, f"{{{SSD}}}Connector",
+                                            {"name": ac, "kind": "output"}), f"{{{SSC}}}Real")
+            if b == comp:
+                ET.SubElement(ET.SubElement(conns, f"{{{SSD}}}Connector",
+                                            {"name": bc, "kind": "input"}), f"{{{SSC}}}Real")
+        binds = ET.SubElement(c, f"{{{SSD}}}ParameterBindings")
+        values = ET.SubElement(ET.SubElement(binds, f"{{{SSD}}}ParameterBinding"),
+                               f"{{{SSD}}}ParameterValues")
+        values.append(_parameter_set(comp, typed[comp]))
+    connections = ET.SubElement(sysel, f"{{{SSD}}}Connections")
+    for a, ac, b, bc in CONNECTIONS:
+        ET.SubElement(connections, f"{{{SSD}}}Connection", {
+            "startElement": a, "startConnector": ac, "endElement": b, "endConnector": bc})
+    ET.SubElement(root, f"{{{SSD}}}DefaultExperiment",
+                  {"startTime": "0.0", "stopTime": repr(float(system.stop_time))})
+    return ET.tostring(root, encoding="utf-8", xml_declaration=True)
+
+
+def write_ssp(system: ClosedLoopSystem, path: str | Path) -> Path:
+    """Write the SSP 1.0 package ``path`` (``.ssp``)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    typed = _typed(system)
+    with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as z:
+        z.writestr("SystemStructure.ssd", _ssd(system))
+        for comp, values in typed.items():
+            z.writestr(f"resources/{comp}.ssv", _ssv(comp, values))
+        z.write(system.plant_fmu, f"resources/{system.plant_fmu.name}")
+        z.write(system.controller_fmu, f"resources/{system.controller_fmu.name}")
+    return path
+
+
+def write_osp(system: ClosedLoopSystem, directory: str | Path) -> Path:
+    """Write ``directory/OspSystemStructure.xml`` and the two FMUs beside it; returns the XML."""
+    d = Path(directory)
+    d.mkdir(parents=True, exist_ok=True)
+    ET.register_namespace("", OSP)
+    root = ET.Element(f"{{{OSP}}}OspSystemStructure", {"version": "0.1"})
+    ET.SubElement(root, f"{{{OSP}}}StartTime").text = "0.0"
+    ET.SubElement(root, f"{{{OSP}}}BaseStepSize").text = repr(float(system.jacobi_step))
+    ET.SubElement(root, f"{{{OSP}}}Algorithm").text = "fixedStep"
+    sims = ET.SubElement(root, f"{{{OSP}}}Simulators")
+    fmus = {"controller": system.controller_fmu, "plant": system.plant_fmu}
+    for comp, values in _typed(system).items():
+        shutil.copyfile(fmus[comp], d / fmus[comp].name)
+        s = ET.SubElement(sims, f"{{{OSP}}}Simulator", {"name": comp, "source": fmus[comp].name,
+                                                         "stepSize": repr(float(system.jacobi_step))})
+        iv = ET.SubElement(s, f"{{{OSP}}}InitialValues")
+        for var, kind, lit in values:
+            ET.SubElement(ET.SubElement(iv, f"{{{OSP}}}InitialValue", {"variable": var}),
+                          f"{{{OSP}}}{kind}", {"value": lit})
+    conns = ET.SubElement(root, f"{{{OSP}}}Connections")
+    for a, ac, b, bc in CONNECTIONS:
+        vc = ET.SubElement(conns, f"{{{OSP}}}VariableConnection")
+        ET.SubElement(vc, f"{{{OSP}}}Variable", {"simulator": a, "name": ac})
+        ET.SubElement(vc, f"{{{OSP}}}Variable", {"simulator": b, "name": bc})
+    out = d / "OspSystemStructure.xml"
+    ET.ElementTree(root).write(out, encoding="utf-8", xml_declaration=True)
+    return out
+
+
+def write_container(system: ClosedLoopSystem, path: str | Path) -> Path:
+    """Write the fmpy container FMU ``path`` (FMI 2.0 co-simulation, fixed step Ts)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fmus = {"controller": system.controller_fmu, "plant": system.plant_fmu}
+    mds = {c: read_model_description(str(f), validate=False) for c, f in fmus.items()}
+    comps = {c: Component(name=c, filename=fmus[c], modelDescription=mds[c]) for c in fmus}
+    var = {c: {v.name: v for v in mds[c].modelVariables} for c in fmus}
+    md = ModelDescription(fmiVersion="2.0", modelName=f"feeddrive_{system.name}",
+                          instantiationToken="{feedd12c-0000-4000-8000-" + f"{zlib.crc32(system.name.encode()):012d}" + "}",
+                          description="feeddrive closed loop: controller FMU + plant FMU",
+                          coSimulation=CoSimulation(modelIdentifier="container_fmu",
+                                                    fixedInternalStepSize=float(system.Ts)),
+                          defaultExperiment=DefaultExperiment(startTime="0",
+                                                              stopTime=repr(float(system.stop_time)),
+                                                              stepSize=repr(float(system.Ts))))
+    # fmpy 0.3.32's container binary reserves value reference 0 for the time and maps
+    # reference k to the k-th entry of container.json's variables (k >= 1), while
+    # create_container_fmu numbers the modelDescription's variables from 0: the variable
+    # ``time`` (independent, not in the mappings) takes reference 0 so the two agree
+    md.modelVariables.append(ModelVariable(name="time", type="Real", causality="independent",
+                                           variability="continuous"))
+    entries: list[tuple[ModelVariable, Component, ModelVariable]] = []
+    for comp, name in (("plant", "x"), ("controller", "u")):
+        entries.append((ModelVariable(name=name, type="Real", causality="output",
+                                      variability="continuous",
+                                      initial="calculated" if comp == "controller" else "exact",
+                                      start=None if comp == "controller" else repr(float(system.x0))),
+                        comps[comp], var[comp][name]))
+    for kind_wanted in ("Real", "Integer", "Boolean"):
+        for comp, values in _typed(system).items():
+            for name, kind, lit in values:
+                src = var[comp][name]
+                if kind != kind_wanted or (src.causality not in ("parameter", "input")
+                                           and src.initial != "exact"):
+                    continue
+                entries.append((ModelVariable(name=f"{comp}.{name}", type=kind,
+                                              causality="parameter",
+                                              variability="fixed" if src.variability == "fixed"
+                                              else "tunable", initial="exact", start=lit),
+                                comps[comp], src))
+    mappings: dict[ModelVariable, list[tuple[Component, ModelVariable]]] = {}
+    for v, comp_obj, src in entries:
+        md.modelVariables.append(v)
+        mappings[v] = [(comp_obj, src)]
+    # fmpy 0.3.32 writes a connection's type as the variable's ("Real"), which its container
+    # binary does not parse ("Float64" expected): connect copies typed Float64
+    def f64(v: ModelVariable) -> ModelVariable:
+        return ModelVariable(name=v.name, valueReference=v.valueReference, type="Float64",
+                             causality=v.causality, variability=v.variability)
+    connections = [Connection(startElement=comps[a], startConnectors=[f64(var[a][ac])],
+                              endElement=comps[b], endConnectors=[f64(var[b][bc])])
+                   for a, ac, b, bc in CONNECTIONS]
+    config = Configuration(parallelDoStep=False, modelDescription=md,
+                           components=list(comps.values()), connections=connections,
+                           variableMappings=mappings)
+    with tempfile.TemporaryDirectory() as tmp:
+        create_container_fmu(config, Path(tmp), path.resolve())
+    return path
+
+
+def write_all(system: ClosedLoopSystem, out: str | Path) -> dict[str, Path]:
+    """The three forms under ``out``: ``<name>.ssp``, ``<name>_osp/``, ``<name>_container.fmu``."""
+    out = Path(out)
+    return {"ssp": write_ssp(system, out / f"{system.name}.ssp"),
+            "osp": write_osp(system, out / f"{system.name}_osp"),
+            "container": write_container(system, out / f"{system.name}_container.fmu")}

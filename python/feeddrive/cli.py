@@ -24,6 +24,7 @@ from .report.diagnosis import write_diagnosis
 from .report.main_job import main_job
 from .report.study import write_study_report
 from .study import load_study, run_study
+from .study.bootstrap import bootstrap_folder
 from .systems import sec3_system, sec4_system, write_all
 from .systems.compare import compare_engines
 from .validation.replay import check_run, validate_file
@@ -55,6 +56,8 @@ _STEPS = _number(int, "an integer >= 1", lambda v: v >= 1)
 _BLOCKS = _number(int, "an integer >= 2", lambda v: v >= 2)
 _WINDOW = _number(int, "an odd integer >= 5 [samples]", lambda v: v >= 5 and v % 2 == 1)
 _SEED = _number(int, "an integer >= 0", lambda v: v >= 0)
+_REPLICATES = _number(int, "an integer >= 2", lambda v: v >= 2)
+_LEVEL = _number(float, "a number in (0, 1)", lambda v: 0 < v < 1)
 
 
 def _cmd_model(a: argparse.Namespace) -> int:
@@ -113,8 +116,16 @@ def _cmd_experiments(a: argparse.Namespace) -> int:
 def _cmd_identify(a: argparse.Namespace) -> int:
     check_file(Path(a.out), [a.truth])
     truth = load_model(Path(a.truth)).fmu_parameters() if a.truth else None
-    res = identify_folder(Path(a.runs), Path(a.out), truth=truth)
+    if a.bootstrap is None:
+        res = identify_folder(Path(a.runs), Path(a.out), truth=truth)
+        print(res.text())
+        return 0
+    res, boot = bootstrap_folder(Path(a.runs), Path(a.out), a.bootstrap, seed=a.seed,
+                                 level=a.level, truth=truth, scheduler=a.scheduler,
+                                 workers=a.workers, parallel=not a.serial,
+                                 progress=not a.no_progress)
     print(res.text())
+    print(boot.text())
     return 0
 
 
@@ -218,6 +229,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("runs")
     p.add_argument("--out", required=True)
     p.add_argument("--truth", default=None, help="model file of the truth (virtual runs): print true vs identified")
+    p.add_argument("--bootstrap", type=_REPLICATES, default=None, metavar="N",
+                   help="N replicates over runs resampled within cells of repeats: intervals in the model file")
+    p.add_argument("--level", type=_LEVEL, default=0.95, help="coverage of the bootstrap intervals (0..1)")
+    p.add_argument("--seed", type=_SEED, default=0, help="bootstrap seed (>= 0)")
+    p.add_argument("--workers", type=_STEPS, default=None, help="LocalCluster worker processes (default: one per core)")
+    p.add_argument("--scheduler", default=None, help="address of a Dask scheduler (default: a LocalCluster)")
+    p.add_argument("--serial", action="store_true", help="every replicate in this process (no Dask)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=_cmd_identify)
     p = sub.add_parser("diagnose", help="find the effects the model lacks (force residual, held-out blocks)")
     _diagnose_arguments(p)

@@ -18,6 +18,10 @@ Rules (checked by :func:`load_model`, every error names the file and the key):
   found under ``parameters`` must be a boolean that agrees with ``effects``.
 - ``name`` (defaults to the file stem) and ``description`` are strings; other top-level
   keys and duplicate keys are errors.
+- optional ``uncertainty`` (written by ``feeddrive identify --bootstrap``):
+  ``{name: {"lo", "hi", "level", "replicates"}}``, each name a parameter of the file, lo and
+  hi finite with lo <= hi (the value need not lie between), 0 < level < 1, replicates an
+  integer >= 1.  Only the identification report reads it; other commands ignore it.
 
 - the parameters must pass the FMU's rules (m > 0, 0 <= F_c <= F_s, Ts > 0, sum(nu) = 1,
   ...): :func:`feeddrive.physics.compile` checks them with the messages of fmu_src/params.c,
@@ -43,7 +47,8 @@ _PAPER = paper_parameters()
 PARAMETER_NAMES: tuple[str, ...] = tuple(k for k in _PAPER if not k.startswith("effects."))
 #: Parameters that are integers in the FMU.
 INTEGER_PARAMETERS: frozenset[str] = frozenset({"friction.N"})
-_TOP_KEYS = ("name", "description", "effects", "parameters")
+_TOP_KEYS = ("name", "description", "effects", "parameters", "uncertainty")
+_INTERVAL_KEYS = ("lo", "hi", "level", "replicates")
 
 
 class ModelFileError(ValueError):
@@ -123,6 +128,38 @@ def _check_parameters(raw: Any, effects: dict[str, bool], src: str
     return {n: given[n] if n in given else _PAPER[n] for n in PARAMETER_NAMES}, filled
 
 
+def _check_uncertainty(raw: Any, src: str) -> dict[str, dict[str, Any]]:
+    """Validated ``uncertainty`` entries (module docstring), in FMU parameter order."""
+    if not isinstance(raw, dict):
+        raise ModelFileError(src, "'uncertainty'", f"must be an object, got {type(raw).__name__}")
+    out: dict[str, dict[str, Any]] = {}
+    for name, iv in raw.items():
+        key = f"uncertainty[{name!r}]"
+        if name not in _PAPER or name.startswith("effects."):
+            raise ModelFileError(src, key, "not a parameter of the file"
+                                 + _suggest(name, PARAMETER_NAMES))
+        if not isinstance(iv, dict):
+            raise ModelFileError(src, key, f"must be an object, got {type(iv).__name__}")
+        bad = sorted(set(iv) ^ set(_INTERVAL_KEYS))
+        if bad:
+            raise ModelFileError(src, f"{key}[{bad[0]!r}]", "unknown or missing key (needs "
+                                 + ", ".join(_INTERVAL_KEYS) + ")")
+        for k in ("lo", "hi", "level"):
+            v = iv[k]
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                raise ModelFileError(src, f"{key}[{k!r}]", f"must be a finite number, got {v!r}")
+        if not iv["lo"] <= iv["hi"]:
+            raise ModelFileError(src, f"{key}['hi']", f"must be >= lo = {iv['lo']!r}, got {iv['hi']!r}")
+        if not 0 < iv["level"] < 1:
+            raise ModelFileError(src, f"{key}['level']", f"must be in (0, 1), got {iv['level']!r}")
+        r = iv["replicates"]
+        if isinstance(r, bool) or not isinstance(r, int) or r < 1:
+            raise ModelFileError(src, f"{key}['replicates']", f"must be an integer >= 1, got {r!r}")
+        out[name] = {"lo": float(iv["lo"]), "hi": float(iv["hi"]), "level": float(iv["level"]),
+                     "replicates": r}
+    return {n: out[n] for n in PARAMETER_NAMES if n in out}
+
+
 def _check_physics(effects: dict[str, bool], parameters: dict[str, Value], src: str) -> None:
     """The FMU's parameter rules (feeddrive.physics.compile); the FMU's message after src."""
     values: dict[str, Value] = dict(parameters)
@@ -149,6 +186,8 @@ class ModelFile:
     description: str = ""
     #: Parameter names that were not given and took the paper's default.
     defaulted: tuple[str, ...] = field(default=(), compare=False, repr=False)
+    #: Optional confidence intervals: name -> {"lo", "hi", "level", "replicates"}.
+    uncertainty: dict[str, dict[str, Any]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         src = f"model {self.name!r}"
@@ -160,6 +199,7 @@ class ModelFile:
         self.effects = _check_effects(dict(self.effects), src)
         self.parameters, filled = _check_parameters(dict(self.parameters), self.effects, src)
         _check_physics(self.effects, self.parameters, src)
+        self.uncertainty = _check_uncertainty(dict(self.uncertainty), src)
         self.defaulted = tuple(n for n in PARAMETER_NAMES
                                if n in filled or n in self.defaulted)
 
@@ -247,8 +287,9 @@ def load_model(path: str | Path) -> ModelFile:
     effects = _check_effects(raw["effects"], src)
     parameters, filled = _check_parameters(raw.get("parameters", {}), effects, src)
     _check_physics(effects, parameters, src)
+    uncertainty = _check_uncertainty(raw.get("uncertainty", {}), src)
     return ModelFile(name=name, effects=effects, parameters=parameters,
-                     description=description, defaulted=filled)
+                     description=description, defaulted=filled, uncertainty=uncertainty)
 
 
 def save_model(model: ModelFile, path: str | Path, inputs: tuple[str | Path, ...] = ()) -> None:
@@ -261,7 +302,10 @@ def save_model(model: ModelFile, path: str | Path, inputs: tuple[str | Path, ...
     effects = _check_effects(dict(model.effects), src)      # the model may have been edited
     parameters, _ = _check_parameters(dict(model.parameters), effects, src)
     _check_physics(effects, parameters, src)
-    doc = {"name": model.name, "description": model.description,
-           "effects": effects, "parameters": parameters}
+    doc: dict[str, Any] = {"name": model.name, "description": model.description,
+                           "effects": effects, "parameters": parameters}
+    uncertainty = _check_uncertainty(dict(model.uncertainty), src)
+    if uncertainty:
+        doc["uncertainty"] = uncertainty
     text = json.dumps(doc, indent=2, allow_nan=False)
     write_text(path, text + "\n", inputs)

@@ -299,6 +299,22 @@ FIGURES: tuple[tuple[Callable[[IdentificationResult], plt.Figure], str, str, str
 )
 
 
+def uncertainty_rows(res: IdentificationResult) -> list[dict[str, Any]]:
+    """One row per parameter with an interval: value, lo, hi, level, replicates (and the
+    truth and whether the interval holds it, when known)."""
+    truth = _truth(res)
+    rows = []
+    for name, iv in res.model.uncertainty.items():
+        row: dict[str, Any] = {"parameter": name, "value": res.model.parameters[name],
+                               "lo": iv["lo"], "hi": iv["hi"], "level": iv["level"],
+                               "replicates": iv["replicates"]}
+        if truth is not None:
+            row["true"] = truth[name]
+            row["true inside"] = "yes" if iv["lo"] <= truth[name] <= iv["hi"] else "no"
+        rows.append(row)
+    return rows
+
+
 def add_to_page(page: Page, results: IdentificationResult, level: int = 2) -> list[Path]:
     """Add the identification (summary text, truth table, every figure) to a report Page.
 
@@ -310,6 +326,9 @@ def add_to_page(page: Page, results: IdentificationResult, level: int = 2) -> li
         page.table([r.as_dict() for r in results.table],
                    f"true ({results.truth.name if results.truth else 'truth'}) vs identified "
                    "(error: relative, rms/range, or factor for C; see tolerance)", digits=5)
+    if results.model.uncertainty:
+        page.table(uncertainty_rows(results), "bootstrap intervals of the identified parameters "
+                   "(runs resampled within cells of repeats, percentiles)", digits=6)
     paths = []
     for fn, stem, caption, attr in FIGURES:
         if getattr(results, attr) is None:

@@ -24,10 +24,12 @@ from typing import Any
 from distributed import Client, LocalCluster, as_completed
 from tqdm import tqdm
 
-from .run import FAILED, RunTask, run_batch
+from .run import FAILED, run_batch
 from .samplers import Case
 
 RowsSink = Callable[[list[dict[str, Any]]], None]
+#: One executor task: (the scattered task, a batch) -> rows (a study's run_batch, a bootstrap's).
+BatchFn = Callable[[Any, Sequence[Any]], list[dict[str, Any]]]
 
 
 def default_batch_size(n_runs: int) -> int:
@@ -58,20 +60,23 @@ class Progress:
         self.bar.close()
 
 
-def execute_serial(task: RunTask, work: Sequence[list[Case]], sink: RowsSink) -> int:
-    """Run every batch here; returns the number of runs left missing (0)."""
+def execute_serial(task: Any, work: Sequence[list[Any]], sink: RowsSink,
+                   fn: BatchFn = run_batch) -> int:
+    """Run every batch here (``fn(task, batch)``, default a study's :func:`run_batch`);
+    returns the number of runs left missing (0)."""
     for b in work:
-        sink(run_batch(task, b))
+        sink(fn(task, b))
     return 0
 
 
-def execute_dask(task: RunTask, work: Sequence[list[Case]], sink: RowsSink,
-                 client: Client) -> int:
-    """Run every batch as a task on ``client``; returns the runs left missing (lost workers)."""
+def execute_dask(task: Any, work: Sequence[list[Any]], sink: RowsSink,
+                 client: Client, fn: BatchFn = run_batch) -> int:
+    """Run every batch as a task ``fn(task, batch)`` on ``client`` (default a study's
+    :func:`run_batch`); returns the runs left missing (lost workers)."""
     if not work:
         return 0
     [shared] = client.scatter([task], broadcast=True)
-    futures = [client.submit(run_batch, shared, b, pure=False) for b in work]
+    futures = [client.submit(fn, shared, b, pure=False) for b in work]
     size = {f.key: len(b) for f, b in zip(futures, work)}
     missing = 0
     for fut in as_completed(futures):

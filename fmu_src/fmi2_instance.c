@@ -244,7 +244,7 @@ fmi2Status fmi2SetDebugLogging(fmi2Component comp, fmi2Boolean loggingOn, size_t
     }
     if ((bad = fmi2_log_mask(nCategories, categories, &c->log_mask)) >= 0) {
         fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SetDebugLogging: unknown log category \"%s\" (known: "
-                "logEvents, logStatusWarning, logStatusError)", categories[bad] ? categories[bad] : "(null)");
+                "logEvents, logStatusWarning, logStatusError, logDebug)", categories[bad] ? categories[bad] : "(null)");
         return fmi2Error;
     }
     return fmi2OK;

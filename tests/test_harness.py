@@ -172,3 +172,19 @@ def test_validate_refuses_a_bad_sidecar_in_one_line(tmp_path, capsys):
     assert cli(["validate", str(path)]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "bad" in err and "'lqr' is not known" in err
+
+
+def test_raw_io_follows_a_restart_and_refuses_a_closed_plant():
+    """A RawIO made before start() again reads the new instance (never the freed one); after
+    close() it raises instead of touching freed memory."""
+    plant = Plant({"m": 16.1})
+    plant.start({"x": 0.1})
+    io, inp = plant.raw(["x", "m"]), plant.raw(["u"])
+    assert list(io.get()) == [0.1, 16.1]
+    plant.start({"x": 0.2})
+    assert list(io.get()) == [0.2, 16.1]
+    inp.set([0.25])
+    assert plant.get(["u"])["u"] == 0.25
+    plant.close()
+    with pytest.raises(FMUError, match="not started"):
+        io.get()

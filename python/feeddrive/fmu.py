@@ -158,6 +158,7 @@ class Plant:
                        else self.md.modelExchange.modelIdentifier,
                        instanceName="feeddrive")
         self._instantiated = False
+        self.generation = 0     #: counts instances: +1 at every start() and close()
 
     # ------------------------------------------------------------------ helpers
     def vr(self, name: str) -> int:
@@ -219,6 +220,7 @@ class Plant:
         self._callbacks = cb
         self.fmu.instantiate(loggingOn=self._log, callbacks=cb)
         self._instantiated = True
+        self.generation += 1
         self.fmu.setupExperiment(tolerance=self.tolerance, startTime=t0, stopTime=stop_time)
         self.set(self.parameters)
         if start_values:
@@ -240,6 +242,7 @@ class Plant:
                 pass
             self.fmu.freeInstance()            # fmi2FreeInstance, then dlclose
             self._instantiated = False
+            self.generation += 1
 
     def __enter__(self) -> "Plant":
         return self
@@ -322,6 +325,15 @@ class RawIO:
         self.buf = (fmi2Real * n)()
         self.np = np.ctypeslib.as_array(self.buf)
         self.calls = plant.raw_calls()
+        self._generation = plant.generation
+
+    def _current(self) -> "RawCalls":
+        """The calls on the plant's current instance: after a restart the arrays are re-bound
+        to the new instance (never a freed one); after close() an FMUError."""
+        if self._generation != self.plant.generation:
+            self.calls = self.plant.raw_calls()      # FMUError when the plant is closed
+            self._generation = self.plant.generation
+        return self.calls
 
     def fail(self, what: str) -> None:
         """Raise FMUError for a failed ``what`` on these variables, with the FMU's message."""
@@ -330,14 +342,14 @@ class RawIO:
 
     def get(self) -> np.ndarray:
         """Current values (a view on the buffer: copy it to keep it)."""
-        c = self.calls
+        c = self._current()
         if c.get_real(c.component, self.vr, self.n, self.buf) > 1:
             self.fail("fmi2GetReal")
         return self.np
 
     def get_into(self, address: int) -> None:
         """Write the current values to ``n`` doubles at ``address`` (no copy)."""
-        c = self.calls
+        c = self._current()
         if c.get_real(c.component, self.vr_address, self.n, address) > 1:
             self.fail("fmi2GetReal")
 
@@ -346,6 +358,6 @@ class RawIO:
         when the FMU rejects them."""
         for k, v in enumerate(values):
             self.buf[k] = v
-        c = self.calls
+        c = self._current()
         if c.set_real(c.component, self.vr, self.n, self.buf) > 1:
             self.fail("fmi2SetReal")

@@ -29,7 +29,7 @@ C_LITERAL = 10.8
 TS = 5e-4                   #: s, current-loop and controller sample time
 #: Eq. 2 as a difference equation i[k] = sum a_j i[k-j] + sum b_j u[k-j].
 CURRENT_A = [1.404, -0.4938]
-CURRENT_B = [0.0, 0.0, 0.057909, 0.043206]
+CURRENT_B = [0.0, 0.0, 0.057909, 0.057909 * 0.7461]   # b3 = b2 * 0.7461 exactly (MODEL.md)
 STROKE = (0.0, 0.300)       #: m
 N_HARMONICS = 8             #: Fourier slots per map in the FMU
 N_ELEMENTS_MAX = 10         #: GMS element slots in the FMU

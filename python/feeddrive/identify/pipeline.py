@@ -421,6 +421,21 @@ def _prerolling_step(res: IdentificationResult, groups: dict, acc: _Collected,
         res.skipped["pre-rolling"] = f"{len(pr)} periodic runs (a small and a large amplitude needed)"
 
 
+def load_checked_runs(runs_dir: str | Path, out: str | Path | None = None,
+                      truth: Any = None) -> list[Run]:
+    """The runs of ``runs_dir``, each checked (:func:`check_run`), after checking that ``out``
+    may be written (writable, not an input such as a ``truth`` file); ValueError if none."""
+    inputs = (truth,) if isinstance(truth, (str, Path)) else ()
+    if out is not None:
+        check_file(out, inputs)
+    runs = load_runs(runs_dir)
+    if not runs:
+        raise ValueError(f"identify: {runs_dir} holds no *.csv run")
+    for run in runs:
+        check_run(run)
+    return runs
+
+
 def identify_folder(runs_dir: str | Path, out: str | Path | None = None,
                     truth: ModelFile | Mapping[str, Any] | str | Path | None = None,
                     **kw) -> IdentificationResult:
@@ -431,13 +446,7 @@ def identify_folder(runs_dir: str | Path, out: str | Path | None = None,
     (:func:`feeddrive.outputs.check_file`: writable, not an input) and replaced atomically.
     """
     inputs = (truth,) if isinstance(truth, (str, Path)) else ()
-    if out is not None:
-        check_file(out, inputs)
-    runs = load_runs(runs_dir)
-    if not runs:
-        raise ValueError(f"identify: {runs_dir} holds no *.csv run")
-    for run in runs:
-        check_run(run)
+    runs = load_checked_runs(runs_dir, out, truth)
     res = identify_runs(runs, truth=truth, **kw)
     if out is not None:
         save_model(res.model, out, inputs)

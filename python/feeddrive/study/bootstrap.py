@@ -12,13 +12,11 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from ..data import Run, load_runs
+from ..data import Run
 from ..identify.bootstrap import (Bootstrap, BootstrapTask, check_campaign, identified_names,
                                   intervals, run_replicates)
-from ..identify.pipeline import IdentificationResult, identify_runs
+from ..identify.pipeline import IdentificationResult, identify_runs, load_checked_runs
 from ..model_file import ModelFile, save_model
-from ..outputs import check_file
-from ..validation.replay import check_run
 from .executor import Progress, batches, default_batch_size, execute_dask, execute_serial, local_client
 
 
@@ -90,13 +88,7 @@ def bootstrap_folder(runs_dir: str | Path, out: str | Path | None, n: int, seed:
     model file with its ``uncertainty`` (arguments and ``out`` checked before any work)."""
     check_arguments(n, level, workers, seed)
     inputs = (truth,) if isinstance(truth, (str, Path)) else ()
-    if out is not None:
-        check_file(out, inputs)
-    runs = load_runs(runs_dir)
-    if not runs:
-        raise ValueError(f"identify: {runs_dir} holds no *.csv run")
-    for run in runs:
-        check_run(run)
+    runs = load_checked_runs(runs_dir, out, truth)
     check_campaign(runs)
     res = identify_runs(runs, truth=truth)
     boot = run_bootstrap(runs, res.model, res.defaulted, n, seed=seed, level=level,

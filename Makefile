@@ -29,7 +29,8 @@ CTRL_FMU   := $(BUILD)/$(CTRL).fmu
 PKG_CTRL_FMU := python/feeddrive/$(CTRL).fmu
 CTRL_GEN   := $(GEN)/controller
 CTRL_SO    := $(BUILD)/controller/binaries/linux64/$(CTRL).so
-CTRL_SHARED := fmu_src/params.c fmu_src/current_loop.c fmu_src/position_maps.c fmu_src/friction_gms.c
+CTRL_SHARED := fmu_src/params.c fmu_src/current_loop.c fmu_src/position_maps.c fmu_src/friction_gms.c \
+               fmu_src/friction_position.c
 CTRL_SRC_C := $(wildcard fmu_src/controller/*.c) $(CTRL_SHARED)
 CTRL_SHARED_H := fmu_src/params.h fmu_src/plant.h fmu_src/fmi2_allowed.h fmu_src/fmi2_log.h
 CTRL_SRC_H := $(wildcard fmu_src/controller/*.h) $(CTRL_SHARED_H)

@@ -5,7 +5,8 @@
  *   indicator of a stuck element i:   nu_i S(|v|) - sgn(v) F_i     (> 0 while it holds; sgn(0) = 0)
  *   indicator of the slipping set:    dir v + PLANT_V_HYS           (> 0 while moving in dir)
  * With every element stuck there is no velocity indicator, so the ~54 Hz ringing of a stage at
- * rest causes no event. frictional_lag off: a slipping element's force is nu_i s(v) at once. */
+ * rest causes no event. frictional_lag off: a slipping element's force is nu_i s(v) at once.
+ * S is the level at the position, p(x) S(|v|) (friction_position.c; p = 1 without position_friction). */
 #include <math.h>
 
 #include "plant.h"
@@ -21,7 +22,7 @@ double friction_level(const plant_params_t *p, double v, int side) {
 void gms_element_forces(const plant_params_t *p, const plant_disc_t *d, const double *y, double *Fe) {
     int j;
     double S = 0.0;
-    if (d->dir != 0 && !p->lag) S = friction_level(p, y[PLANT_IV], d->dir < 0);
+    if (d->dir != 0 && !p->lag) S = friction_level_at(p, y[PLANT_IV], y[PLANT_IX], d->dir < 0);
     for (j = 0; j < PLANT_NE_MAX; j++) {
         if (!p->active[j]) Fe[j] = 0.0;
         else if (d->stuck[j] || p->lag) Fe[j] = y[PLANT_IF + j];
@@ -33,7 +34,7 @@ void gms_derivatives(const plant_params_t *p, const plant_disc_t *d, const doubl
     int j;
     double v = y[PLANT_IV], S = 1.0, rate = 0.0;
     if (d->dir != 0 && p->lag) {
-        S = friction_level(p, v, d->dir < 0);
+        S = friction_level_at(p, v, y[PLANT_IX], d->dir < 0);
         rate = p->C / S;
     }
     for (j = 0; j < PLANT_NE_MAX; j++) {
@@ -49,7 +50,7 @@ void gms_indicators(const plant_params_t *p, const plant_disc_t *d, const double
     double S = -1.0;
     for (j = 0; j < PLANT_NE_MAX; j++) {
         if (!p->active[j] || !d->stuck[j]) { z[j] = 1.0; continue; }
-        if (S < 0.0) S = friction_level(p, y[PLANT_IV], sg < 0);
+        if (S < 0.0) S = friction_level_at(p, y[PLANT_IV], y[PLANT_IX], sg < 0);
         z[j] = p->nu[j] * S - sg * y[PLANT_IF + j];
     }
     z[PLANT_NE_MAX] = d->dir != 0 ? d->dir * y[PLANT_IV] + PLANT_V_HYS : 1.0;
@@ -67,7 +68,7 @@ int gms_update(const plant_params_t *p, plant_disc_t *d, double *y, bool *y_chan
     double v = y[PLANT_IV], S;
     if (d->dir != 0 && d->dir * v + PLANT_V_HYS <= 0.0) {
         /* the velocity crossed zero: every slipping element sticks */
-        S = friction_level(p, v, d->dir < 0);
+        S = friction_level_at(p, v, y[PLANT_IX], d->dir < 0);
         for (j = 0; j < PLANT_NE_MAX; j++) {
             if (!p->active[j] || d->stuck[j]) continue;
             d->stuck[j] = true;
@@ -79,7 +80,7 @@ int gms_update(const plant_params_t *p, plant_disc_t *d, double *y, bool *y_chan
     }
     sg = friction_sign(v);
     if (sg == 0) return n;
-    S = friction_level(p, v, sg < 0);
+    S = friction_level_at(p, v, y[PLANT_IX], sg < 0);
     for (j = 0; j < PLANT_NE_MAX; j++) {
         if (!p->active[j] || !d->stuck[j]) continue;
         if (p->nu[j] * S - sg * y[PLANT_IF + j] > 0.0) continue;
@@ -145,9 +146,10 @@ static void gms_track_piece(const plant_params_t *p, gms_track_t *g, double dx, 
     }
 }
 
+/* a piece at mean speed `speed` and mid position xm (the level p(xm) S(speed) held over it) */
 static void gms_track_part(const plant_params_t *p, gms_track_t *g, double dx, double s, double speed,
-                           double tau) {
-    double S = friction_level(p, speed, s < 0.0);
+                           double xm, double tau) {
+    double S = friction_level_at(p, speed, xm, s < 0.0);
     double dec = p->lag ? exp(-p->C * tau / S) : 0.0;
     gms_track_piece(p, g, dx, s, S, dec);
 }
@@ -159,12 +161,13 @@ double gms_track_step(const plant_params_t *p, gms_track_t *g, double x, double 
         double v0 = g->v, dx = x - g->x;
         if (v0 * v < 0.0) {
             double th = v0 / (v0 - v), dxa = v0 * th * dt / 2;
-            gms_track_part(p, g, dxa, sgn_d(v0), 0.5 * fabs(v0), th * dt);
-            gms_track_part(p, g, dx - dxa, sgn_d(v), 0.5 * fabs(v), (1 - th) * dt);
+            gms_track_part(p, g, dxa, sgn_d(v0), 0.5 * fabs(v0), g->x + 0.5 * dxa, th * dt);
+            gms_track_part(p, g, dx - dxa, sgn_d(v), 0.5 * fabs(v), g->x + dxa + 0.5 * (dx - dxa),
+                           (1 - th) * dt);
         } else {
             double s = sgn_d(v0 + v);
             if (s == 0.0) s = sgn_d(dx);
-            gms_track_part(p, g, dx, s, 0.5 * (fabs(v0) + fabs(v)), dt);
+            gms_track_part(p, g, dx, s, 0.5 * (fabs(v0) + fabs(v)), g->x + 0.5 * dx, dt);
         }
     }
     g->started = true;

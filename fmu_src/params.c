@@ -22,6 +22,7 @@ COMPILE_CHECK(friction_elements_match_xml, COUNT(VRA_friction_nu) == PLANT_NE_MA
               COUNT(VRA_friction_k) == PLANT_NE_MAX + 1 && COUNT(VRA_friction_F) == PLANT_NE_MAX + 1);
 COMPILE_CHECK(fourier_slots_match_xml, COUNT(VRA_cogging_lambda) == PLANT_NH_MAX + 1 &&
               COUNT(VRA_ripple_lambda) == PLANT_NH_MAX + 1);
+COMPILE_CHECK(friction_profile_match_xml, COUNT(VRA_friction_profile_c) == PLANT_NPF_MAX + 1);
 COMPILE_CHECK(current_loop_match_xml, COUNT(VRA_current_a) == PLANT_NA_MAX + 1 &&
               COUNT(VRA_current_b) == PLANT_NB_MAX);
 
@@ -220,13 +221,33 @@ static bool compile_elements(const double *val, plant_params_t *p, char *msg, si
     return true;
 }
 
+/* the friction-level profile p(x) (effect position_friction, friction_position.c): knots and
+ * spacing; always checked, like the stroke, so a model's profile is valid whether on or off */
+static bool compile_position_friction(const double *val, plant_params_t *p, char *msg, size_t msglen) {
+    double x0 = val[VR_friction_profile_x_start], x1 = val[VR_friction_profile_x_end];
+    double n = val[VR_friction_profile_n];
+    int j;
+    if (!(x1 > x0))
+        FAIL("friction_profile.x_end = %.17g must exceed friction_profile.x_start = %.17g: "
+             "allowed friction_profile.x_end in (%.17g, inf) m", x1, x0, x0);
+    if ((double)(int)n != n)
+        FAIL("friction_profile.n = %.17g is not an integer: allowed 2..%d", n, PLANT_NPF_MAX);
+    p->posfric = val[VR_effects_position_friction] != 0.0;
+    p->pf_n = (int)n;
+    p->pf_x0 = x0;
+    p->pf_h = (x1 - x0) / (double)(p->pf_n - 1);
+    for (j = 0; j < PLANT_NPF_MAX; j++) p->pf_c[j] = j < p->pf_n ? val[VRA_friction_profile_c[j + 1]] : 0.0;
+    return true;
+}
+
 bool params_compile(const double *val, plant_params_t *p, char *msg, size_t msglen) {
     if (!check_each_parameter(val, msg, msglen)) return false;
     memset(p, 0, sizeof *p);
     p->m = val[VR_m];
     p->Ts = val[VR_Ts];
     if (!compile_current_loop(val, p, msg, msglen) || !compile_position_maps(val, p, msg, msglen) ||
-        !compile_friction_levels(val, p, msg, msglen) || !compile_elements(val, p, msg, msglen))
+        !compile_friction_levels(val, p, msg, msglen) || !compile_elements(val, p, msg, msglen) ||
+        !compile_position_friction(val, p, msg, msglen))
         return false;
     p->F_off = val[VR_effects_offset_force] != 0.0 ? val[VR_offset_F] : 0.0;
     return true;

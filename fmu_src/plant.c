@@ -44,7 +44,7 @@ static void plant_forces(const plant_params_t *p, const plant_disc_t *d, const d
         o->a = (F_app - o->F_fric) / p->m;
     } else {
         for (j = 0; j < PLANT_NE_MAX; j++) o->F_elem[j] = 0.0;
-        o->F_fric = static_friction(p, d, v, F_app);
+        o->F_fric = static_friction(p, d, y[PLANT_IX], v, F_app);
         o->a = d->st_stuck ? 0.0 : (F_app - o->F_fric) / p->m;
     }
 }
@@ -89,7 +89,7 @@ void plant_indicators(const plant_params_t *p, const plant_disc_t *d, const doub
     {
         plant_out_t o;
         plant_forces(p, d, y, in, NULL, &o);
-        z[PLANT_NE_MAX] = static_indicator(p, d, y[PLANT_IV], applied_force(p, &o, in));
+        z[PLANT_NE_MAX] = static_indicator(p, d, y[PLANT_IX], y[PLANT_IV], applied_force(p, &o, in));
     }
 }
 

@@ -10,6 +10,7 @@
 #define PLANT_NH_MAX 8       /* Fourier slots per position map */
 #define PLANT_NA_MAX 5       /* current loop: i[k-1..k-5] */
 #define PLANT_NB_MAX 6       /* current loop: u[k..k-5] */
+#define PLANT_NPF_MAX 16     /* knots of the friction-level profile (position_friction) */
 #define PLANT_NMULT 24       /* highest multiple of the fundamental evaluated by recurrence */
 #define PLANT_NX (2 + PLANT_NE_MAX)   /* x, v, F_1..F_10 */
 #define PLANT_NZ (PLANT_NE_MAX + 1)   /* one per element + one for the motion direction */
@@ -48,6 +49,11 @@ typedef struct {
     double nu[PLANT_NE_MAX], k[PLANT_NE_MAX];
     bool active[PLANT_NE_MAX];        /* i < N and nu_i > 0 */
     double F_off;
+    /* position_friction: level factor p(x), a uniform cubic B-spline (friction_position.c) */
+    bool posfric;
+    int pf_n;                         /* knots in use (2..PLANT_NPF_MAX) */
+    double pf_x0, pf_h;               /* first knot [m], knot spacing [m] */
+    double pf_c[PLANT_NPF_MAX];       /* relative level change at the knots [-] */
 } plant_params_t;
 
 /* Discrete state. */
@@ -116,9 +122,15 @@ void gms_track_init(gms_track_t *g);
 /* advance to (x, v) a time dt after the previous sample; returns F_f there [N] */
 double gms_track_step(const plant_params_t *p, gms_track_t *g, double x, double v, double dt);
 
+/* friction_position.c: p(x) (1 when position_friction is off), the scaled level p(x) S(|v|) of
+ * side 0 (+) / 1 (-), and the scaled break-away level p(x) F_s of a side */
+double friction_profile(const plant_params_t *p, double x);
+double friction_level_at(const plant_params_t *p, double v, double x, int side);
+double friction_break_away(const plant_params_t *p, double x, int side);
+
 /* friction_static.c */
-double static_friction(const plant_params_t *p, const plant_disc_t *d, double v, double F_app);
-double static_indicator(const plant_params_t *p, const plant_disc_t *d, double v, double F_app);
+double static_friction(const plant_params_t *p, const plant_disc_t *d, double x, double v, double F_app);
+double static_indicator(const plant_params_t *p, const plant_disc_t *d, double x, double v, double F_app);
 void static_init(const plant_params_t *p, plant_disc_t *d, double *y, double F_app);
 int static_update(const plant_params_t *p, plant_disc_t *d, double *y, double F_app, bool *y_changed);
 

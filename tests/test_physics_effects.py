@@ -16,13 +16,17 @@ from feeddrive.physics import (GMSParameters, applied_force, compile, element_fo
 TOL = 1e-9          #: N (and N/A for K_f, A for i)
 OUT = ("K_f", "F_cogging", "i", "F_motor", "F_friction", "a")
 #: Parameters that make every switch visible: asymmetry and offset non-zero.
+#: The friction-level profile (position_friction) rises over 0.05-0.25 m with a bump.
+PROFILE = {"friction_profile.x_start": 0.05, "friction_profile.x_end": 0.25,
+           "friction_profile.n": 6, **{f"friction_profile.c[{j + 1}]": c
+                                       for j, c in enumerate([0.0, 0.1, 0.45, -0.2, 0.3, 0.25])}}
 BASE = dict(paper_parameters(), **{"offset.F": 1.7, "asymmetry.dF": 1.3,
-                                   "asymmetry.dsigma2": 12.0})
+                                   "asymmetry.dsigma2": 12.0}, **PROFILE)
 
 
-def states(prm: GMSParameters, v: float, slip: tuple[int, ...]) -> np.ndarray:
+def states(prm: GMSParameters, v: float, slip: tuple[int, ...], x: float = 0.0) -> np.ndarray:
     """Element forces: half their limit (stuck) except ``slip`` (beyond it: they slip)."""
-    S = float(prm.level(v)) if v != 0 else prm.F_s
+    S = float(prm.level(v, x)) if v != 0 else float(prm.break_away(1.0, x))
     F = 0.5 * np.asarray(prm.nu) * S * np.sign(v)
     for j in slip:
         F[j] = 1.3 * prm.nu[j] * S * np.sign(v)
@@ -46,14 +50,14 @@ def python_outputs(P, x: float, v: float, F: np.ndarray, slip: tuple[int, ...], 
     slipping[list(slip)] = True
     if P.prerolling:
         d = int(np.sign(v)) if slip else 0
-        Fe = element_forces(P.friction, v, F, slipping, d)
+        Fe = element_forces(P.friction, v, F, slipping, d, x)
         F_f = float(np.sum(Fe) + P.friction.viscous(v))
-        rates = element_rates(P.friction, v, F, slipping, d)
+        rates = element_rates(P.friction, v, F, slipping, d, x)
     else:
         F_f = float(karnopp_friction(np.array([v]), np.array([F_app]), P.friction, 0.0
-                                     if v != 0 else 1e-300)[0][0])
+                                     if v != 0 else 1e-300, np.array([x]))[0][0])
         rates = np.zeros(len(F))
-    stuck_static = not P.prerolling and v == 0 and abs(F_app) < float(P.friction.break_away(F_app))
+    stuck_static = not P.prerolling and v == 0 and abs(F_app) < float(P.friction.break_away(F_app, x))
     return {"K_f": K_f, "F_cogging": F_cg, "i": i, "F_motor": F_motor, "F_friction": F_f,
             "ma": 0.0 if stuck_static else F_app - F_f, "rates": rates}
 
@@ -72,7 +76,7 @@ def check(effect: str, on: bool, fmu_path) -> None:
     with Plant(params, interface="me", path=fmu_path) as plant:
         for x, v, slip, u, F_ext in CASES:
             slip = slip if (P.prerolling and v != 0) else ()
-            F = states(P.friction, v, slip)
+            F = states(P.friction, v, slip, x)
             start = {"x": x, "v": v, "u": u, "F_ext": F_ext}
             start.update({f"friction.F[{j + 1}]": float(F[j]) for j in range(len(F))})
             got = fmu_outputs(plant, start)

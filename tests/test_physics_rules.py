@@ -14,7 +14,8 @@ from feeddrive.paper import paper_parameters
 from feeddrive.physics import ParameterError, check_value, compile
 
 PAPER = paper_parameters()
-REALS = [n for n, v in PAPER.items() if not isinstance(v, bool) and n != "friction.N"]
+INTEGERS = ("friction.N", "friction_profile.n")
+REALS = [n for n, v in PAPER.items() if not isinstance(v, bool) and n not in INTEGERS]
 
 #: (parameters, whether the FMU refuses them at fmi2Set* already)
 SINGLE = [
@@ -25,6 +26,8 @@ SINGLE = [
     {"cogging.lambda[1]": 0.0}, {"ripple.lambda[8]": -0.01}, {"friction.N": 0},
     {"friction.N": 11}, {"m": math.nan}, {"friction.F_s": math.inf}, {"friction.F_c": -math.inf},
     {"m": 0.1 + 0.2},
+    {"friction_profile.n": 1}, {"friction_profile.n": 17}, {"friction_profile.c[3]": -0.95},
+    {"friction_profile.c[16]": 4.5}, {"friction_profile.x_start": math.nan},
 ]
 COMPILED = [
     {"friction.F_c": 30.0},
@@ -38,6 +41,9 @@ COMPILED = [
     {"effects.asymmetric_friction": True, "asymmetry.dsigma2": -60.0},
     {"effects.asymmetric_friction": True, "effects.viscous": False, "asymmetry.dsigma2": -1.0},
     {"effects.asymmetric_friction": True, "effects.stribeck": False, "asymmetry.dF": -22.0},  # F_c + dF < 0
+    {"friction_profile.x_start": 0.2, "friction_profile.x_end": 0.2},
+    {"effects.position_friction": True, "friction_profile.x_start": 0.2,
+     "friction_profile.x_end": 0.1},
 ]
 ACCEPTED = [
     {"effects.asymmetric_friction": True, "effects.stribeck": False, "asymmetry.dF": -21.0},
@@ -46,6 +52,8 @@ ACCEPTED = [
     {"effects.asymmetric_friction": True, "asymmetry.dF": -21.6},
     {"effects.asymmetric_friction": False, "asymmetry.dF": -100.0},
     {"friction.sigma2": 0.0, "friction.nu[1]": 0.17},
+    {"effects.position_friction": True, "friction_profile.n": 2, "friction_profile.c[1]": -0.9,
+     "friction_profile.c[2]": 4.0, "friction_profile.x_start": -0.05},
 ]
 
 
@@ -76,7 +84,7 @@ def plant(fmu_path):
 @pytest.mark.parametrize("values", SINGLE, ids=lambda v: ",".join(f"{k}={v[k]}" for k in v))
 def test_single_value_rules_agree(plant, values):
     name = next(iter(values))
-    fn = "fmi2SetInteger" if name == "friction.N" else "fmi2SetReal"
+    fn = "fmi2SetInteger" if name in INTEGERS else "fmi2SetReal"
     got = py_verdict(values)
     assert got is not None or values == {"m": 0.1 + 0.2}
     expect = fmu_verdict(plant, values)
@@ -109,6 +117,12 @@ def test_non_integer_element_count():
     """The FMI interface passes friction.N as Integer; a mapping can hold 2.5 (params.c text)."""
     with pytest.raises(ParameterError, match=r"^friction.N = 2.5 is not an integer: allowed 1..10$"):
         compile({"friction.N": 2.5})
+
+
+def test_non_integer_knot_count():
+    with pytest.raises(ParameterError, match=r"^friction_profile.n = 3.5 is not an integer: "
+                                             r"allowed 2..16$"):
+        compile({"friction_profile.n": 3.5})
 
 
 def test_model_file_and_unknown_names():

@@ -37,10 +37,14 @@ N_ELEMENTS_MAX = 10         #: GMS element slots in the FMU
 EFFECT_IDS = ["current_dynamics", "cogging_periodic", "cogging_aperiodic",
               "ripple_periodic", "ripple_aperiodic", "stribeck", "viscous",
               "prerolling", "frictional_lag", "mass", "offset_force",
-              "asymmetric_friction"]
+              "asymmetric_friction", "position_friction"]
 #: Effects that exist as FMU switches (``mass`` is always on: its value is fitted).
 SWITCHABLE_EFFECTS = [e for e in EFFECT_IDS if e != "mass"]
-PAPER_EFFECTS = {e: e not in ("offset_force", "asymmetric_friction") for e in SWITCHABLE_EFFECTS}
+#: Effects beyond the paper (EFFECTS.md's "common effects of real drives"): off in its model.
+BEYOND_PAPER = ("offset_force", "asymmetric_friction", "position_friction")
+PAPER_EFFECTS = {e: e not in BEYOND_PAPER for e in SWITCHABLE_EFFECTS}
+#: Knot slots of the friction-level profile (effect position_friction).
+N_PROFILE_KNOTS = 16
 
 
 def nu_defaults() -> list[float]:
@@ -80,5 +84,12 @@ def paper_parameters() -> dict[str, float | int | bool]:
     p["asymmetry.dsigma2"] = 0.0
     p["stroke.x_min"], p["stroke.x_max"] = STROKE
     for e, on in PAPER_EFFECTS.items():
-        p[f"effects.{e}"] = on
+        if e != "position_friction":
+            p[f"effects.{e}"] = on
+    # position_friction (not in the paper; FMU order: after solver.tol): p(x) = 1
+    p["effects.position_friction"] = PAPER_EFFECTS["position_friction"]
+    p["friction_profile.x_start"], p["friction_profile.x_end"] = STROKE
+    p["friction_profile.n"] = N_PROFILE_KNOTS
+    for j in range(1, N_PROFILE_KNOTS + 1):
+        p[f"friction_profile.c[{j}]"] = 0.0
     return p

@@ -83,13 +83,14 @@ def reference_derivatives(x_ref: ArrayLike, Ts: float) -> tuple[np.ndarray, np.n
     return v, np.gradient(v, Ts)
 
 
-def static_friction(v: ArrayLike, prm: GMSParameters, v_eps: float = DEFAULT_V_EPS
-                    ) -> np.ndarray:
-    """Regularised Eq. 12: S(|v|) tanh(v / v_eps) + sigma2 v [N] (asymmetry by side of v)."""
+def static_friction(v: ArrayLike, prm: GMSParameters, v_eps: float = DEFAULT_V_EPS,
+                    x: ArrayLike | None = None) -> np.ndarray:
+    """Regularised Eq. 12: S(|v|) tanh(v / v_eps) + sigma2 v [N] (asymmetry by side of v;
+    the level at x, p(x) S, with ``position_friction`` and the positions given)."""
     if not v_eps > 0:
         raise ValueError(f"feedforward.py: v_eps must be > 0 (got {v_eps})")
     v = np.asarray(v, dtype=float)
-    return prm.level(v) * np.tanh(v / v_eps) + prm.viscous(v)
+    return prm.level(v, x) * np.tanh(v / v_eps) + prm.viscous(v)
 
 
 def invert_current_loop(i_ff: ArrayLike, params: Mapping[str, float] | PlantParameters
@@ -145,7 +146,7 @@ def feedforward(x_ref: ArrayLike, Ts: float, params: Mapping[str, float],
     if options.offset and P.values["effects.offset_force"]:
         forces["offset"] = np.full_like(x, P.F_offset)
     if options.friction == "static":
-        forces["friction"] = static_friction(v, P.friction, options.v_eps)
+        forces["friction"] = static_friction(v, P.friction, options.v_eps, x)
     elif options.friction == "gms":
         forces["friction"] = gms_force(x, v, Ts, P.friction)
     elif options.friction != "none":

@@ -140,7 +140,7 @@ def _sliding(ctx: Context, q) -> np.ndarray:
         return (~q.stuck).astype(float)
     prm = ctx.plant.friction
     _, Fe = gms_force(q.x, q.v, q.Ts, prm, return_elements=True)
-    lim = np.outer(prm.level(q.v), np.asarray(prm.nu))
+    lim = np.outer(prm.level(q.v, q.x), np.asarray(prm.nu))
     slipping = np.abs(Fe) >= 0.98 * lim
     return (slipping * np.asarray(prm.nu)).sum(axis=1) / max(sum(prm.nu), 1e-12)
 

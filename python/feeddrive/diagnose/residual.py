@@ -112,7 +112,7 @@ def model_friction(P: PlantParameters, x: np.ndarray, v: np.ndarray, F_app: np.n
     """The model's friction along a motion and the static model's stuck mask."""
     if P.prerolling:
         return gms_force(x, v, Ts, P.friction), np.zeros(len(x), dtype=bool)
-    return karnopp_friction(v, F_app, P.friction, v_stick)
+    return karnopp_friction(v, F_app, P.friction, v_stick, x)
 
 
 def force_residual(run: Run, model: ModelFile, window: int | None = None,

@@ -6,6 +6,8 @@
 - :mod:`.friction_curves` (``friction_level`` of friction_gms.c): Stribeck curve, Eq. 12;
 - :mod:`.friction_gms` (friction_gms.c): the GMS along a motion (Eqs. 8-11);
 - :mod:`.friction_static` (friction_static.c): Eq. 12 with Karnopp stiction;
+- :mod:`.friction_position` (friction_position.c): the level profile p(x) of
+  ``position_friction``;
 - :mod:`.current_loop` (current_loop.c): G(z) of Eq. 2;
 - :mod:`.plant` (plant.c): Eq. 1 on measured data (held current, run load, residual).
 
@@ -14,6 +16,7 @@ Identification, diagnosis and feedforward use only this package.
 from .current_loop import (CurrentLoop, current_loop_dc_gain, current_loop_polynomials,
                            simulate_current)
 from .friction_curves import FrictionCurve, steady_friction, stribeck_drop, stribeck_level
+from .friction_position import FrictionProfile, profile_basis
 from .friction_gms import GMSFriction, GMSParameters, element_forces, element_rates, gms_force
 from .friction_static import DEFAULT_V_STICK, karnopp_friction
 from .params import ParameterError, PlantParameters, check_value, compile, parameter_values
@@ -22,7 +25,8 @@ from .plant import (CURRENT_TIMINGS, applied_force, eq1_friction, eq1_terms, for
 from .position_maps import MapSpec, PositionMap, eval_map
 
 __all__ = ["CurrentLoop", "current_loop_dc_gain", "current_loop_polynomials", "simulate_current", "FrictionCurve", "steady_friction",
-           "stribeck_drop", "stribeck_level", "GMSFriction", "GMSParameters", "element_forces", "element_rates", "gms_force",
+           "stribeck_drop", "stribeck_level", "FrictionProfile", "profile_basis",
+           "GMSFriction", "GMSParameters", "element_forces", "element_rates", "gms_force",
            "DEFAULT_V_STICK", "karnopp_friction", "ParameterError", "PlantParameters",
            "check_value", "compile", "parameter_values", "CURRENT_TIMINGS", "applied_force",
            "eq1_friction", "eq1_terms", "force_residual", "held_current", "measured_motion",

@@ -21,6 +21,10 @@ direction of motion sticks every slipping element.
 
 Asymmetry (``asymmetric_friction``): for v < 0 the static and Coulomb levels are F_s + dF,
 F_c + dF and the viscous coefficient sigma2 + dsigma2.
+
+Position (``position_friction``, :mod:`.friction_position`): the level of either side is
+p(x) S(|v|); along a motion each piece takes p at its mid position (the interval's start
+plus half the piece's displacement), as gms_track_step of friction_gms.c does.
 """
 from __future__ import annotations
 
@@ -32,6 +36,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .friction_curves import FrictionCurve
+from .friction_position import FrictionProfile
 
 
 @dataclass(frozen=True)
@@ -48,6 +53,8 @@ class GMSParameters:
     k: tuple[float, ...]
     dF: float = 0.0
     dsigma2: float = 0.0
+    #: the level profile p(x) of ``position_friction`` (None: p = 1)
+    profile: FrictionProfile | None = None
 
     def __post_init__(self) -> None:
         if len(self.nu) != len(self.k):
@@ -67,7 +74,7 @@ class GMSParameters:
         With ``apply_effects`` the ``effects.<id>`` switches act once, here: ``stribeck`` off
         sets F_s = F_c (the Coulomb level of EFFECTS.md), ``viscous`` off sets sigma2 =
         dsigma2 = 0, ``frictional_lag`` off sets C = inf, ``asymmetric_friction`` off sets
-        dF = dsigma2 = 0.
+        dF = dsigma2 = 0, ``position_friction`` on adds the profile p(x) of ``friction_profile.*``.
         """
         try:
             N = int(params["friction.N"])
@@ -79,7 +86,9 @@ class GMSParameters:
                     sigma2=float(params["friction.sigma2"]), C=float(params["friction.C"]),
                     nu=tuple(nu[j] for j in keep), k=tuple(k[j] for j in keep),
                     dF=float(params.get("asymmetry.dF", 0.0)),
-                    dsigma2=float(params.get("asymmetry.dsigma2", 0.0)))
+                    dsigma2=float(params.get("asymmetry.dsigma2", 0.0)),
+                    profile=FrictionProfile.from_params(params)
+                    if bool(params.get("effects.position_friction", False)) else None)
         except KeyError as e:
             raise KeyError(f"friction_gms.py: parameter {e.args[0]!r} missing") from None
         if not apply_effects:
@@ -95,9 +104,17 @@ class GMSParameters:
             p = replace(p, C=np.inf)
         return p
 
-    def break_away(self, F: ArrayLike) -> np.ndarray:
-        """The static level F_s of the side of the force F (F < 0: F_s + dF) [N]."""
-        return np.where(np.asarray(F, dtype=float) < 0, self.F_s + self.dF, self.F_s)
+    def scale(self, x: ArrayLike | None) -> np.ndarray | float:
+        """p(x) of ``position_friction`` [-]; 1 without a profile or without x."""
+        if self.profile is None or x is None:
+            return 1.0
+        return self.profile(x)
+
+    def break_away(self, F: ArrayLike, x: ArrayLike | None = None) -> np.ndarray:
+        """The static level F_s of the side of the force F (F < 0: F_s + dF) [N], times p(x)
+        (friction_break_away of friction_position.c)."""
+        Fs = np.where(np.asarray(F, dtype=float) < 0, self.F_s + self.dF, self.F_s)
+        return Fs if self.profile is None or x is None else self.profile(x) * Fs
 
     @property
     def curve(self) -> FrictionCurve:
@@ -105,34 +122,40 @@ class GMSParameters:
         return FrictionCurve(self.F_s, self.F_c, self.V_s, self.delta, self.sigma2, self.dF,
                              self.dsigma2)
 
-    def level(self, v: ArrayLike) -> np.ndarray:
-        """S(|v|) of the side of v (v < 0: levels raised by dF) [N]; S(0) = F_s."""
-        return self.curve.level(v)
+    def level(self, v: ArrayLike, x: ArrayLike | None = None) -> np.ndarray:
+        """S(|v|) of the side of v (v < 0: levels raised by dF) [N]; S(0) = F_s; with a
+        profile and x given, p(x) S(|v|) (friction_level_at of friction_position.c)."""
+        S = self.curve.level(v)
+        return S if self.profile is None or x is None else self.profile(x) * S
 
     def viscous(self, v: ArrayLike) -> np.ndarray:
         """sigma2 v, with sigma2 + dsigma2 for v < 0 [N]."""
         return self.curve.viscous(v)
 
-    def steady(self, v: ArrayLike) -> np.ndarray:
-        """Steady sliding friction s(v) + sigma2 v (Eq. 12) [N]; 0 at v = 0."""
-        return self.curve.steady(v)
+    def steady(self, v: ArrayLike, x: ArrayLike | None = None) -> np.ndarray:
+        """Steady sliding friction s(v) + sigma2 v (Eq. 12) [N]; 0 at v = 0; the level at x
+        (p(x) S) when a profile and x are given."""
+        if self.profile is None or x is None:
+            return self.curve.steady(v)
+        v = np.asarray(v, dtype=float)
+        return np.sign(v) * self.level(v, x) + self.viscous(v)
 
 
 def element_forces(prm: GMSParameters, v: float, F: ArrayLike, slipping: ArrayLike,
-                   direction: int) -> np.ndarray:
+                   direction: int, x: float | None = None) -> np.ndarray:
     """The element forces in a hybrid state (friction_gms.c ``gms_element_forces``): a stuck
     element's force is its state F_i; a slipping one's is F_i with ``frictional_lag`` on
-    (C finite), else nu_i ``direction`` S(|v|) [N]."""
+    (C finite), else nu_i ``direction`` S(|v|) [N] (S at x with a profile)."""
     F = np.asarray(F, dtype=float)
     slip = np.asarray(slipping, dtype=bool)
     if np.isinf(prm.C):
-        S = float(prm.level(abs(v) if direction >= 0 else -abs(v)))
+        S = float(prm.level(abs(v) if direction >= 0 else -abs(v), x))
         return np.where(slip, np.asarray(prm.nu) * direction * S, F)
     return F.copy()
 
 
 def element_rates(prm: GMSParameters, v: float, F: ArrayLike, slipping: ArrayLike,
-                  direction: int) -> np.ndarray:
+                  direction: int, x: float | None = None) -> np.ndarray:
     """dF_i/dt in a hybrid state (``gms_derivatives``): k_i v when stuck; slipping with
     frictional lag, (C / S)(nu_i direction S - F_i); without it 0 [N/s]."""
     F = np.asarray(F, dtype=float)
@@ -140,7 +163,7 @@ def element_rates(prm: GMSParameters, v: float, F: ArrayLike, slipping: ArrayLik
     stuck_rate = np.asarray(prm.k) * v
     if np.isinf(prm.C):
         return np.where(slip, 0.0, stuck_rate)
-    S = float(prm.level(abs(v) if direction >= 0 else -abs(v)))
+    S = float(prm.level(abs(v) if direction >= 0 else -abs(v), x))
     return np.where(slip, prm.C / S * (np.asarray(prm.nu) * direction * S - F), stuck_rate)
 
 
@@ -159,7 +182,8 @@ def _pieces(x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters, last_di
     last = np.cumsum(npieces) - 1
     first = last - (npieces - 1)
     P = int(last[-1]) + 1 if ni else 0
-    pdx, pdir, pspeed, ptau = np.zeros(P), np.zeros(P), np.zeros(P), np.zeros(P)
+    pdx, pdir, pspeed, ptau, pxm = np.zeros(P), np.zeros(P), np.zeros(P), np.zeros(P), np.zeros(P)
+    x0 = x[:-1]
     # plain intervals
     pl = ~cross
     s = np.sign(v0 + v1)
@@ -168,6 +192,7 @@ def _pieces(x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters, last_di
     pdir[first[pl]] = s[pl]
     pspeed[first[pl]] = 0.5 * (np.abs(v0[pl]) + np.abs(v1[pl]))
     ptau[first[pl]] = dt
+    pxm[first[pl]] = x0[pl] + 0.5 * dx[pl]
     # intervals with a velocity zero crossing
     th = np.where(cross, v0 / np.where(cross, v0 - v1, 1.0), 0.0)[cross]
     dxa = v0[cross] * th * dt / 2
@@ -176,7 +201,9 @@ def _pieces(x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters, last_di
     pdir[ia], pdir[ib] = np.sign(v0[cross]), np.sign(v1[cross])
     pspeed[ia], pspeed[ib] = 0.5 * np.abs(v0[cross]), 0.5 * np.abs(v1[cross])
     ptau[ia], ptau[ib] = th * dt, (1 - th) * dt
-    S = prm.level(pspeed * np.where(pdir < 0, -1.0, 1.0))
+    pxm[ia] = x0[cross] + 0.5 * dxa
+    pxm[ib] = x0[cross] + dxa + 0.5 * (dx[cross] - dxa)
+    S = prm.level(pspeed * np.where(pdir < 0, -1.0, 1.0), pxm)
     if np.isinf(prm.C):
         decay = np.zeros(P)
     else:
@@ -277,13 +304,15 @@ class GMSFriction:
         if v0 * v < 0:                                   # split at the velocity zero crossing
             th = v0 / (v0 - v)
             dxa = v0 * th * dt / 2
-            parts = [(dxa, v0, 0.5 * abs(v0), th * dt), (dx - dxa, v, 0.5 * abs(v), (1 - th) * dt)]
+            parts = [(dxa, v0, 0.5 * abs(v0), th * dt, self.x + 0.5 * dxa),
+                     (dx - dxa, v, 0.5 * abs(v), (1 - th) * dt, self.x + dxa + 0.5 * (dx - dxa))]
         else:
-            parts = [(dx, v0 + v if v0 + v != 0 else dx, 0.5 * (abs(v0) + abs(v)), dt)]
+            parts = [(dx, v0 + v if v0 + v != 0 else dx, 0.5 * (abs(v0) + abs(v)), dt,
+                      self.x + 0.5 * dx)]
         dxs, dirs, Ss, decs, revs = [], [], [], [], []
-        for pdx, sv, speed, tau in parts:
+        for pdx, sv, speed, tau, xm in parts:
             d = 1.0 if sv > 0 else (-1.0 if sv < 0 else 0.0)
-            S = float(prm.level(speed if d >= 0 else -speed))
+            S = float(prm.level(speed if d >= 0 else -speed, xm))
             dxs.append(pdx)
             dirs.append(d)
             Ss.append(S)

@@ -17,11 +17,13 @@ DEFAULT_V_STICK = 2e-5
 
 
 def karnopp_friction(v: ArrayLike, F_app: ArrayLike, prm: GMSParameters,
-                     v_stick: float = DEFAULT_V_STICK) -> tuple[np.ndarray, np.ndarray]:
+                     v_stick: float = DEFAULT_V_STICK, x: ArrayLike | None = None
+                     ) -> tuple[np.ndarray, np.ndarray]:
     """Friction [N] along a motion and the stuck mask: F = F_app where |v| < v_stick and
-    |F_app| < F_s (side of F_app), else the steady sliding friction of v."""
+    |F_app| < F_s (side of F_app), else the steady sliding friction of v.  With the
+    positions ``x`` the levels are those at x (``position_friction``: p(x) F_s, p(x) S)."""
     v = np.asarray(v, dtype=float)
     F_app = np.asarray(F_app, dtype=float)
-    stuck = (np.abs(v) < v_stick) & (np.abs(F_app) < prm.break_away(F_app))
-    return np.where(stuck, F_app, prm.steady(v)), stuck
+    stuck = (np.abs(v) < v_stick) & (np.abs(F_app) < prm.break_away(F_app, x))
+    return np.where(stuck, F_app, prm.steady(v, x)), stuck
 

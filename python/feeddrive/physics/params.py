@@ -14,7 +14,9 @@ every rule of params.c in its order and applies the effect switches once:
 - the compiled set (``plant_params_compile``; the FMU checks it when initialisation ends or a
   tunable changes, logging the message itself): sum(current.a) != 1, x_max > x_min,
   F_c <= F_s, with asymmetry the levels and viscous coefficient for v < 0 non-negative,
-  N an integer, with pre-rolling |sum(nu_1..N) - 1| <= 1e-3.
+  N an integer, with pre-rolling |sum(nu_1..N) - 1| <= 1e-3, friction_profile.x_end >
+  friction_profile.x_start and friction_profile.n an integer (``position_friction``; the
+  knot values' range [-0.9, 4] is the XML's and keeps p(x) >= 0.1).
 
 A broken rule raises :class:`ParameterError` whose message is the FMU's, byte for byte.
 """
@@ -33,6 +35,7 @@ from ..model_description import variables
 from ..paper import N_ELEMENTS_MAX, paper_parameters
 from .current_loop import CurrentLoop
 from .friction_gms import GMSParameters
+from .friction_position import N_KNOTS_MAX
 from .position_maps import MAP_EFFECTS, PositionMap
 
 #: |sum(nu_i) - 1| allowed (params.c SUM_NU_TOL).
@@ -189,6 +192,15 @@ def _check_compiled(val: Mapping[str, Any]) -> None:
             raise ParameterError(f"friction.nu[1..{int(N)}] sum to {s:.17g}: allowed 1 +- "
                                  f"{SUM_NU_TOL:g} (Eq. 12 needs sum(nu) = 1; set "
                                  f"friction.nu[{int(N)}] = 1 - sum of the others)")
+    p0, p1 = float(val["friction_profile.x_start"]), float(val["friction_profile.x_end"])
+    if not p1 > p0:
+        raise ParameterError(f"friction_profile.x_end = {p1:.17g} must exceed "
+                             f"friction_profile.x_start = {p0:.17g}: allowed "
+                             f"friction_profile.x_end in ({p0:.17g}, inf) m")
+    n = float(val["friction_profile.n"])
+    if int(n) != n:
+        raise ParameterError(f"friction_profile.n = {n:.17g} is not an integer: allowed "
+                             f"2..{N_KNOTS_MAX}")
 
 
 def compile(model: HasFmuParameters | Mapping[str, Any]) -> PlantParameters:

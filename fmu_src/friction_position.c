@@ -1,0 +1,47 @@
+/* Effect position_friction: the friction level varying along the stroke (guideway wear,
+ * lubrication, preload).  The whole Stribeck level of either side is scaled,
+ *     S(|v|, x) = p(x) S(|v|),    p(x) = 1 + sum_j c_j B_j(x),
+ * with B_j a uniform cubic B-spline on n knots x_j = x_start + (j - 1) h, h = (x_end -
+ * x_start) / (n - 1); the control values beyond the ends are mirrored (c_0 = c_2,
+ * c_{n+1} = c_{n-1}) so p'(x_start) = p'(x_end) = 0, and p is held constant outside
+ * [x_start, x_end]: p is C1 everywhere (C2 inside), linear in c, and lies within
+ * [1 + min c_j, 1 + max c_j] (the B-spline's convex hull), so c_j >= -0.9 keeps p >= 0.1
+ * without a further rule.  The viscous term is not scaled.  p(x) is smooth, so the stick/slip
+ * indicators, which use the scaled level, need no new event.  Python twin:
+ * feeddrive.physics.friction_position. */
+#include <math.h>
+
+#include "plant.h"
+
+/* mirrored control value: index i of 0..n-1, i = -1 -> 1, i = n -> n - 2 */
+static double ctrl(const plant_params_t *p, int i) {
+    if (i < 0) i = -i;
+    if (i > p->pf_n - 1) i = 2 * (p->pf_n - 1) - i;
+    return p->pf_c[i];
+}
+
+double friction_profile(const plant_params_t *p, double x) {
+    double u, t, s, w0, w1, w2, w3;
+    int k;
+    if (!p->posfric) return 1.0;
+    u = (x - p->pf_x0) / p->pf_h;
+    if (!(u > 0.0)) u = 0.0;                          /* also a NaN position: p(x_start) */
+    if (u > (double)(p->pf_n - 1)) u = (double)(p->pf_n - 1);
+    k = (int)floor(u);
+    if (k > p->pf_n - 2) k = p->pf_n - 2;
+    t = u - (double)k;
+    w0 = (1.0 - t) * (1.0 - t) * (1.0 - t) / 6.0;
+    w1 = (3.0 * t * t * t - 6.0 * t * t + 4.0) / 6.0;
+    w2 = (-3.0 * t * t * t + 3.0 * t * t + 3.0 * t + 1.0) / 6.0;
+    w3 = t * t * t / 6.0;
+    s = w0 * ctrl(p, k - 1) + w1 * ctrl(p, k) + w2 * ctrl(p, k + 1) + w3 * ctrl(p, k + 2);
+    return 1.0 + s;
+}
+
+double friction_level_at(const plant_params_t *p, double v, double x, int side) {
+    return friction_profile(p, x) * friction_level(p, v, side);
+}
+
+double friction_break_away(const plant_params_t *p, double x, int side) {
+    return friction_profile(p, x) * p->Fs[side];
+}

@@ -22,7 +22,7 @@ from scipy.optimize import minimize, minimize_scalar
 
 from ..model_file import ModelFile
 from ..paper import N_ELEMENTS_MAX, N_HARMONICS
-from ..physics import gms_force, held_current, stribeck_drop
+from ..physics import FrictionProfile, gms_force, held_current, profile_basis, stribeck_drop
 from .context import Context
 from .localise import spatial_spectrum, spectral_peaks
 
@@ -35,6 +35,9 @@ STRIBECK_DELTA = (0.4, 0.6, 1.0, 1.5, 2.0)
 STRIBECK_KEEP = 3
 #: Attraction parameter grid [N/s] (the best point is refined between its neighbours).
 LAG_C = tuple(np.geomspace(3.0, 3e5, 11).tolist())
+#: Knot counts of the position_friction candidate over the stroke the runs visited (the
+#: FMU holds up to 16); each is a variant, the parsimony rule prefers fewer knots.
+PROFILE_KNOTS = (4, 7, 10, 13, 16)
 
 
 @dataclass
@@ -143,6 +146,49 @@ def _sliding(ctx: Context, q) -> np.ndarray:
     lim = np.outer(prm.level(q.v, q.x), np.asarray(prm.nu))
     slipping = np.abs(Fe) >= 0.98 * lim
     return (slipping * np.asarray(prm.nu)).sum(axis=1) / max(sum(prm.nu), 1e-12)
+
+
+def _sliding_level(ctx: Context, q) -> np.ndarray:
+    """The friction the profile p(x) scales along a run [N]: sgn(v) S(|v|) (the level without
+    the model's own profile) times the sliding share; memoised per context and run."""
+    key = ("sliding_level", id(q))
+    if key not in ctx.cache:
+        ctx.cache[key] = np.sign(q.v) * ctx.plant.friction.level(q.v) * _sliding_fraction(ctx, q)
+    return ctx.cache[key]
+
+
+def position_friction(ctx: Context) -> list[Variant]:
+    """p(x) = 1 + sum_j c_j B_j(x) (``position_friction``): regressors B_j(x) times the sliding
+    friction, filtered like the residual.  With the effect off, uniform knots over the stroke
+    the runs visited, one variant per count of ``PROFILE_KNOTS``; with it on, the model's own
+    knots (a refinement of its values)."""
+    m = ctx.model
+    on = m.effects["position_friction"]
+    if on:
+        prof = FrictionProfile.from_params(m.parameters)
+        grids = [(prof.x_start, prof.x_end, prof.n)]
+        old = np.asarray(prof.c)
+    else:
+        x = ctx.all("x")
+        lo, hi = float(x.min()), float(x.max())
+        if hi - lo < 1e-3:
+            return []          # no stroke to tell a profile from a level
+        grids = [(lo, hi, n) for n in PROFILE_KNOTS]
+        old = None
+    out = []
+    for x0, x1, n in grids:
+        Phi = ctx.stack(lambda q: profile_basis(q.x, x0, x1, n) * _sliding_level(ctx, q)[:, None],
+                        mask_stuck=True)
+
+        def to_model(th: np.ndarray, x0=x0, x1=x1, n=n) -> ModelFile:
+            c = (old if old is not None else 0.0) + np.asarray(th, dtype=float)
+            prof = FrictionProfile(float(x0), float(x1), tuple(float(v) for v in c))
+            return m.with_effect("position_friction", True, **prof.parameters())
+
+        out.append(Variant("position_friction",
+                           f"{n} knots over {x0 * 1e3:.1f}-{x1 * 1e3:.1f} mm", Phi,
+                           [f"c[{j + 1}]" for j in range(n)], refine=on, to_model=to_model))
+    return out
 
 
 def stribeck(ctx: Context) -> list[Variant]:
@@ -425,5 +471,5 @@ CANDIDATES: dict[str, Callable[[Context], list[Variant]]] = {
     "prerolling": prerolling, "frictional_lag": frictional_lag,
     "cogging_aperiodic": cogging_aperiodic, "cogging_periodic": cogging_periodic,
     "ripple_aperiodic": ripple_aperiodic, "ripple_periodic": ripple_periodic,
-    "current_dynamics": current_dynamics,
+    "current_dynamics": current_dynamics, "position_friction": position_friction,
 }

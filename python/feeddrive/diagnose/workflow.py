@@ -60,8 +60,11 @@ def unit(name: str) -> str:
     """SI unit of an FMU parameter."""
     if name in _UNITS:
         return _UNITS[name]
-    if name.startswith("friction.nu"):
+    if name.startswith("friction.nu") or name.startswith("friction_profile.c[") \
+            or name == "friction_profile.n":
         return "1"
+    if name in ("friction_profile.x_start", "friction_profile.x_end"):
+        return "m"
     if name.startswith("friction.k"):
         return "N/m"
     if name.endswith("]") and ".lambda[" in name:

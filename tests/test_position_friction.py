@@ -8,14 +8,22 @@
   p(x) F_s decides sticking);
 - a saved and restored (serialised) FMU state with the effect on continues bit for bit;
 - model exchange and co-simulation close the same loop across a +30 % patch within the
-  tolerances of test_cs_agreement (0.1 um, 0.05 N), with no more state events than p = 1.
+  tolerances of test_cs_agreement (0.1 um, 0.05 N), with no more state events than p = 1;
+- identification (feeddrive.identify.position_friction, and the pipeline when asked)
+  recovers the patch from constant-speed runs within 10 % of its level change.
 """
 from __future__ import annotations
+
+import functools
 
 import numpy as np
 import pytest
 
+from feeddrive.experiments.constant_speed import constant_speed_runs
 from feeddrive.fmu import Plant
+from feeddrive.harness import Sensors
+from feeddrive.identify.pipeline import identify_runs
+from feeddrive.identify.position_friction import identify_position_friction
 from feeddrive.harness.simulate import simulate_closed_loop
 from feeddrive.model_file import ModelFile, load_model, paper_model, save_model
 from feeddrive.paper import paper_parameters
@@ -136,7 +144,7 @@ def test_serialised_state_round_trip_with_the_effect_on(fmu_path):
 def _loop(params: dict, interface: str):
     kw = {"tolerance": 1e-9} if interface == "me" else {}
     with Plant(params, interface=interface, **kw) as p:
-        return simulate_closed_loop(p, PID(amplitude=0.05), 8000, 0.10, quantum=0.0)
+        return simulate_closed_loop(p, PID(amplitude=0.05), 6000, 0.10, quantum=0.0)
 
 
 def test_me_and_cs_agree_across_a_patch():
@@ -163,3 +171,33 @@ def test_model_file_round_trip(tmp_path):
     with pytest.raises(ValueError, match=r"friction_profile.c\[4\] = 4.5 is out of range"):
         ModelFile(name="bad", effects=m.effects, parameters={**m.parameters,
                                                              "friction_profile.c[4]": 4.5})
+
+
+@functools.lru_cache(maxsize=None)
+def _cv_runs() -> tuple:
+    truth = paper_model().with_effect("position_friction", True, **PATCH.parameters())
+    return tuple(constant_speed_runs(truth.fmu_parameters(),
+                                     Sensors(quantum=1e-7, current_noise=0.005, seed=5),
+                                     speeds=(0.01, 0.03), segment=(0.08, 0.22), dwell=0.2))
+
+
+def test_profile_identified_from_constant_speed_runs():
+    """FMU runs at +-10 and +-30 mm/s over 80-220 mm with the patch: p(x) within 10 % of the
+    0.3 level change everywhere the runs slid (16 knots of 9.3 mm: the patch's 10 mm flanks
+    are resolved), the levels kept (median p = 1)."""
+    fit = identify_position_friction(list(_cv_runs()), paper_model().fmu_parameters())
+    x = np.linspace(0.09, 0.21, 300)
+    assert np.max(np.abs(fit.profile(x) - PATCH(x))) < 0.1 * 0.3
+    assert fit.scale == pytest.approx(1.0, abs=0.01)
+    assert fit.parameters["friction.F_c"] == pytest.approx(21.6, rel=0.01)
+
+
+def test_pipeline_switches_the_effect_on_when_asked():
+    runs = list(_cv_runs())
+    res = identify_runs(runs, position_friction=True)
+    assert res.model.effects["position_friction"] is True
+    prof = FrictionProfile.from_params(res.model.parameters)
+    x = np.linspace(0.09, 0.21, 300)
+    assert np.max(np.abs(prof(x) - PATCH(x))) < 0.1 * 0.3
+    assert "position friction: 16 knots" in res.text()
+    assert identify_runs(runs).model.effects["position_friction"] is False

@@ -117,7 +117,8 @@ def _cmd_identify(a: argparse.Namespace) -> int:
     check_file(Path(a.out), [a.truth])
     truth = load_model(Path(a.truth)).fmu_parameters() if a.truth else None
     if a.bootstrap is None:
-        res = identify_folder(Path(a.runs), Path(a.out), truth=truth)
+        res = identify_folder(Path(a.runs), Path(a.out), truth=truth,
+                              position_friction=a.position_friction)
         print(res.text())
         return 0
     res, boot = bootstrap_folder(Path(a.runs), Path(a.out), a.bootstrap, seed=a.seed,
@@ -237,6 +238,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--scheduler", default=None, help="address of a Dask scheduler (default: a LocalCluster)")
     p.add_argument("--serial", action="store_true", help="every replicate in this process (no Dask)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--position-friction", action="store_true",
+                   help="also identify the friction-level profile p(x) (effect position_friction) "
+                        "from the constant-speed runs (not with --bootstrap)")
     p.set_defaults(func=_cmd_identify)
     p = sub.add_parser("diagnose", help="find the effects the model lacks (force residual, held-out blocks)")
     _diagnose_arguments(p)

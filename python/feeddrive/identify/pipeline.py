@@ -10,7 +10,12 @@ the signals), and runs the procedures in the order their inputs require:
 3. Stribeck curve from every unloaded constant-speed pair (Eqs. 12-13, K_f of step 2);
 4. mass from the open-loop force run (Eq. 1, maps of step 2, friction of step 3);
 5. C from the variable-speed run (Eq. 14, everything above known);
-6. pre-rolling from the two periodic runs (Eqs. 15-18).
+6. pre-rolling from the two periodic runs (Eqs. 15-18);
+7. on request (``position_friction=True``; CLI ``--position-friction``), the friction-level
+   profile p(x) of ``position_friction`` from every constant-speed run
+   (:mod:`.position_friction`: sliding friction against x, linear least squares on the
+   B-spline basis; the median of p is 1 and F_s, F_c carry the scale); the model then has
+   the effect on.
 
 The model file keeps the paper's model structure (its effect switches); every parameter a
 step identifies replaces the paper's value, the others (sample time aside, which comes from
@@ -40,6 +45,7 @@ from ._signals import steady_segment
 from .attraction import AttractionFit, identify_attraction
 from .current_loop import CurrentLoopFit, identify_current_loop
 from .mass import MassFit, identify_mass
+from .position_friction import PositionFrictionFit, identify_position_friction
 from .position_maps import PositionMapsFit, identify_position_maps
 from .prerolling import PrerollingFit, identify_prerolling
 from .stribeck import StribeckFit, identify_stribeck
@@ -174,6 +180,7 @@ class IdentificationResult:
     mass: MassFit | None = None
     attraction: AttractionFit | None = None
     prerolling: PrerollingFit | None = None
+    position_friction: PositionFrictionFit | None = None
     #: step -> why it was skipped
     skipped: dict[str, str] = field(default_factory=dict)
     #: FMU parameters that kept the paper's value (not identified)
@@ -226,6 +233,12 @@ class IdentificationResult:
                      + ", ".join(f"{d * 1e6:.1f}" for d in r.Delta) + " um, W = "
                      + ", ".join(f"{w:.2f}" for w in r.W) + f" N; fit rms {100 * r.rms_relative:.2f} % "
                      "of F_s")
+        if self.position_friction is not None:
+            f = self.position_friction
+            L.append(f"position friction: {f.profile.n} knots over {f.profile.x_start * 1e3:.1f} .. "
+                     f"{f.profile.x_end * 1e3:.1f} mm, p(x) = {min(f.profile.c) + 1:.3f} .. "
+                     f"{max(f.profile.c) + 1:.3f} at the knots (median 1; levels x {f.scale:.4f}), "
+                     f"fit rms {f.rms_residual:.3g} N on {f.n_used} samples")
         for step, why in self.skipped.items():
             L.append(f"SKIPPED {step}: {why}")
         L.extend(self.notes)
@@ -284,7 +297,8 @@ def _step(name: str, fn, *args, **kw):
 def identify_runs(runs: Sequence[Run], truth: ModelFile | Mapping[str, Any] | str | Path | None = None,
                   name: str = "identified", current_timing: str = "held",
                   prerolling_elements: int = 5,
-                  min_map_span: float = MIN_MAP_SPAN) -> IdentificationResult:
+                  min_map_span: float = MIN_MAP_SPAN, position_friction: bool = False,
+                  profile_knots: int = 16) -> IdentificationResult:
     """Identify a model from runs (see the module docstring).
 
     Parameters
@@ -298,6 +312,8 @@ def identify_runs(runs: Sequence[Run], truth: ModelFile | Mapping[str, Any] | st
     prerolling_elements : N of the Maxwell-slip model.
     min_map_span : the maps are refused (ValueError) when the runs share a shorter stroke
         [m]: a cubic fitted over a few mm is meaningless over the whole stroke.
+    position_friction : also identify the friction-level profile p(x) (step 7) and switch
+        the effect on; ``profile_knots`` knots over the stroke the runs slid over.
     """
     placed: list[str] = []
     groups = group_runs(runs, placed)
@@ -313,13 +329,16 @@ def identify_runs(runs: Sequence[Run], truth: ModelFile | Mapping[str, Any] | st
     _mass_step(res, groups, acc, dc_gain, current_timing)
     _attraction_step(res, groups, acc, dc_gain, current_timing)
     _prerolling_step(res, groups, acc, dc_gain, current_timing, prerolling_elements)
+    effects = dict(base.effects)
+    if position_friction:
+        effects["position_friction"] = _position_friction_step(res, groups, acc, dc_gain,
+                                                               current_timing, profile_knots)
     params = acc.params
     res.defaulted = tuple(k for k in params if k not in acc.identified)
     desc = ("identified by feeddrive.identify.pipeline from " + ", ".join(
         sorted({run_label(r) for r in all_runs})[:3]) + (" ..." if len(all_runs) > 3 else "")
         + "; not identified (paper values): " + (_compress(res.defaulted) or "none"))
-    res.model = ModelFile(name=name, effects=dict(base.effects), parameters=params,
-                          description=desc)
+    res.model = ModelFile(name=name, effects=effects, parameters=params, description=desc)
     res.truth = _as_model(truth)
     if res.truth is not None:
         res.table = truth_rows(res, res.truth)
@@ -419,6 +438,21 @@ def _prerolling_step(res: IdentificationResult, groups: dict, acc: _Collected,
             res.notes.append(f"pre-rolling: used the smallest and largest of {len(pr)} runs")
     else:
         res.skipped["pre-rolling"] = f"{len(pr)} periodic runs (a small and a large amplitude needed)"
+
+
+def _position_friction_step(res: IdentificationResult, groups: dict, acc: _Collected,
+                            dc_gain: float | None, current_timing: str, n_knots: int) -> bool:
+    """p(x) from every constant-speed run, the levels and maps identified so far; True when
+    it ran (the effect is then on)."""
+    runs = groups["constant_speed"]
+    if not runs:
+        res.skipped["position friction"] = "no constant-speed runs"
+        return False
+    res.position_friction = _step("position friction", identify_position_friction, runs,
+                                  acc.params, n_knots=n_knots, dc_gain=dc_gain,
+                                  current_timing=current_timing)
+    acc.take(res.position_friction.parameters)
+    return True
 
 
 def load_checked_runs(runs_dir: str | Path, out: str | Path | None = None,

@@ -159,35 +159,37 @@ def _sliding_level(ctx: Context, q) -> np.ndarray:
 
 def position_friction(ctx: Context) -> list[Variant]:
     """p(x) = 1 + sum_j c_j B_j(x) (``position_friction``): regressors B_j(x) times the sliding
-    friction, filtered like the residual.  With the effect off, uniform knots over the stroke
-    the runs visited, one variant per count of ``PROFILE_KNOTS``; with it on, the model's own
-    knots (a refinement of its values)."""
+    friction, filtered like the residual, uniform knots over the stroke the runs visited, one
+    variant per count of ``PROFILE_KNOTS``.  With the effect on (a refinement) the model's own
+    knots are corrected (c + dc), and each grid of the visited stroke is offered too, fitted
+    in place of the model's profile (its contribution is the variant's ``base``): the polish
+    after a first step can so move to finer knots than the held-out choice."""
     m = ctx.model
     on = m.effects["position_friction"]
+    x = ctx.all("x")
+    lo, hi = float(x.min()), float(x.max())
+    grids: list[tuple[float, float, int, np.ndarray | None]] = []
+    base = None
     if on:
         prof = FrictionProfile.from_params(m.parameters)
-        grids = [(prof.x_start, prof.x_end, prof.n)]
-        old = np.asarray(prof.c)
-    else:
-        x = ctx.all("x")
-        lo, hi = float(x.min()), float(x.max())
-        if hi - lo < 1e-3:
-            return []          # no stroke to tell a profile from a level
-        grids = [(lo, hi, n) for n in PROFILE_KNOTS]
-        old = None
+        grids.append((prof.x_start, prof.x_end, prof.n, np.asarray(prof.c)))
+        base = ctx.stack(lambda q: (prof(q.x) - 1.0) * _sliding_level(ctx, q), mask_stuck=True)[:, 0]
+    if hi - lo >= 1e-3:                  # else no stroke to tell a profile from a level
+        grids += [(lo, hi, n, None) for n in PROFILE_KNOTS]
     out = []
-    for x0, x1, n in grids:
+    for x0, x1, n, old in grids:
         Phi = ctx.stack(lambda q: profile_basis(q.x, x0, x1, n) * _sliding_level(ctx, q)[:, None],
                         mask_stuck=True)
 
-        def to_model(th: np.ndarray, x0=x0, x1=x1, n=n) -> ModelFile:
+        def to_model(th: np.ndarray, x0=x0, x1=x1, old=old) -> ModelFile:
             c = (old if old is not None else 0.0) + np.asarray(th, dtype=float)
             prof = FrictionProfile(float(x0), float(x1), tuple(float(v) for v in c))
             return m.with_effect("position_friction", True, **prof.parameters())
 
-        out.append(Variant("position_friction",
-                           f"{n} knots over {x0 * 1e3:.1f}-{x1 * 1e3:.1f} mm", Phi,
-                           [f"c[{j + 1}]" for j in range(n)], refine=on, to_model=to_model))
+        label = f"{n} knots over {x0 * 1e3:.1f}-{x1 * 1e3:.1f} mm"
+        out.append(Variant("position_friction", label + (" (new grid)" if on and old is None else ""),
+                           Phi, [f"c[{j + 1}]" for j in range(n)], refine=on,
+                           base=base if on and old is None else None, to_model=to_model))
     return out
 
 

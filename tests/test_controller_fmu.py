@@ -61,6 +61,10 @@ def _ff(**kw: Any) -> FeedforwardOptions:
 
 
 OFFSET = {"effects.offset_force": True, "offset.F": 3.0}
+#: position_friction on the nominal plant: p(x) varies over the sinusoid's 145-155 mm
+POSFRIC = {"effects.position_friction": True, "friction_profile.x_start": 0.14,
+           "friction_profile.x_end": 0.16, "friction_profile.n": 5,
+           **{f"friction_profile.c[{j + 1}]": c for j, c in enumerate([0.0, 0.2, -0.1, 0.3, 0.0])}}
 CASES: dict[str, dict[str, Any]] = {
     "pid": pid_spec(),
     "pid_tf_antiwindup": pid_spec(tf=1e-3, anti_windup=True, u_limit=0.5),
@@ -74,6 +78,8 @@ CASES: dict[str, dict[str, Any]] = {
     "ff_offset": state_space_spec(OFFSET, feedforward=_ff(friction="none", cogging=False)),
     "ff_gms": state_space_spec(feedforward=_ff(friction="gms")),
     "ff_gms_all": state_space_spec(OFFSET, feedforward=_ff(inertia=True)),
+    "ff_static_posfric": state_space_spec(POSFRIC, feedforward=_ff(friction="static")),
+    "ff_gms_posfric": state_space_spec(POSFRIC, feedforward=_ff(friction="gms")),
 }
 #: the cases whose u_ff differs in the last bit (every feedforward: maps, exp, pow, tanh)
 TRANSCENDENTAL = {k for k, spec in CASES.items() if spec.get("feedforward")}

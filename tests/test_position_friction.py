@@ -194,7 +194,10 @@ def test_profile_identified_from_constant_speed_runs():
 
 def test_pipeline_switches_the_effect_on_when_asked():
     runs = list(_cv_runs())
-    res = identify_runs(runs, position_friction=True)
+    truth = paper_model().with_effect("position_friction", True, **PATCH.parameters())
+    res = identify_runs(runs, truth=truth, position_friction=True)
+    row = next(r for r in res.table if r.quantity.startswith("friction profile"))
+    assert row.true == pytest.approx(0.3) and row.ok and row.error < 0.1
     assert res.model.effects["position_friction"] is True
     prof = FrictionProfile.from_params(res.model.parameters)
     x = np.linspace(0.09, 0.21, 300)

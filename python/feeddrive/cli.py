@@ -114,6 +114,9 @@ def _cmd_experiments(a: argparse.Namespace) -> int:
 
 
 def _cmd_identify(a: argparse.Namespace) -> int:
+    if a.position_friction and a.bootstrap is not None:
+        raise ValueError("--position-friction is not available with --bootstrap "
+                         "(the bootstrap repeats the paper's steps 1-6)")
     check_file(Path(a.out), [a.truth])
     truth = load_model(Path(a.truth)).fmu_parameters() if a.truth else None
     if a.bootstrap is None:

@@ -32,7 +32,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from ..model_file import ModelFile
-from ..physics import compile
+from ..physics import FrictionProfile, compile
 from ..physics import position_maps as maps
 from .prerolling import maxwell_slip
 
@@ -183,7 +183,29 @@ def truth_rows(res: IdentifiedFits, truth: ModelFile) -> list[TruthRow]:
                 rows.append(_rel(f"Delta_{j + 1}", "m", float(D_t[order]), float(pr.Delta[j]), None))
             for j, order in enumerate(np.argsort(D_t)):
                 rows.append(_rel(f"W_{j + 1}", "N", float(W_t[order]), float(pr.W[j]), None))
+    pf = getattr(res, "position_friction", None)
+    if pf is not None:
+        rows.append(profile_row(pf.profile, truth))
     return rows
+
+
+#: p(x) within this share of the true profile's largest level change (issue 11).
+PROFILE_TOL = 0.1
+
+
+def profile_row(profile: FrictionProfile, truth: ModelFile) -> TruthRow:
+    """max |p_id(x) - p_true(x)| over the identified knots' span, against the true profile's
+    largest level change max |p_true - 1| (absolute, no tolerance, when the truth has none)."""
+    x = np.linspace(profile.x_start, profile.x_end, 400)
+    p_true = np.broadcast_to(compile(truth).friction.scale(x), x.shape)
+    change = float(np.max(np.abs(p_true - 1.0)))
+    err = float(np.max(np.abs(profile(x) - p_true)))
+    if change == 0.0:
+        return TruthRow("friction profile p(x): max |p - 1| (truth has none)", "", 0.0, err, err,
+                        "absolute", float("nan"), None)
+    return TruthRow("friction profile p(x): max |error| / level change", "", change, err,
+                    err / change, "max |p_id - p_true| / max |p_true - 1|", PROFILE_TOL,
+                    bool(err / change <= PROFILE_TOL))
 
 
 def format_rows(rows: list[TruthRow]) -> str:

@@ -299,6 +299,11 @@ void params_fastest_rate(const double *val, const plant_params_t *p, char *buf, 
     unsigned best_vr = VR_Ts;
     char vb[40], mb[40];
     int j;
+    if (p->posfric) {   /* the level scaled by p(x) >= 1 + min c_j (the B-spline's hull) */
+        double c_min = 0.0;
+        for (j = 0; j < p->pf_n; j++) if (p->pf_c[j] < c_min) c_min = p->pf_c[j];
+        S_min *= 1.0 + c_min;
+    }
     if (p->prerolling && p->lag)   /* C / S(|v|), S down to F_c: F_c = 0 makes it unbounded */
         rate_candidate(S_min > 0.0 ? VR_friction_C : VR_friction_F_c, S_min > 0.0 ? p->C / S_min : HUGE_VAL,
                        &best, &best_vr);

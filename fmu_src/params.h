@@ -19,7 +19,7 @@ bool params_check_value(unsigned vr, double value, char *msg, size_t msglen);
 /* Compile the values (indexed by value reference) into p. On error, returns false and writes a
  * message naming the variable, its value and the allowed range into msg. */
 bool params_compile(const double *val, plant_params_t *p, char *msg, size_t msglen);
-/* The parameter behind the fastest rate the solver must resolve (1/Ts, friction.C / F_c, the
+/* The parameter behind the fastest rate the solver must resolve (1/Ts, friction.C / (p_min F_c), the
  * frequency sqrt(k_j / m) of a stuck element, sigma2 / m, the cogging stiffness
  * sqrt(|a_j| 2 pi / (lambda_j m))), written as "name = value (rate R 1/s with m = M kg)". */
 void params_fastest_rate(const double *val, const plant_params_t *p, char *buf, size_t n);

@@ -53,8 +53,9 @@ class PositionFrictionFit:
 
 def _run_rows(run: Run, params: Mapping[str, Any], prm: GMSParameters, dc_gain: float | None,
               window: int, current_timing: str, v_min: float, reversal_skip: float
-              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[np.ndarray]]:
-    """(x, L, z, per-knot-filter closure data) of the usable samples of one run."""
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """One run's (x, L, z, K, use): positions, the unscaled sliding level L = sgn(v) S(|v|),
+    the target z = K (F_app - sigma2 v) - m a - K L, the kernel K and the usable samples."""
     t, x = signal(run, "time"), signal(run, "x")
     F_load, _ = run_load(run)
     force, a, v, K, _ = eq1_terms(t, x, current(run, dc_gain), params, params, F_load, window,
@@ -65,9 +66,9 @@ def _run_rows(run: Run, params: Mapping[str, Any], prm: GMSParameters, dc_gain: 
     starts = np.concatenate(([0], np.flatnonzero(np.diff(seg_id)) + 1))
     travel = np.abs(x - x[starts][seg_id])
     bad = (np.abs(v) < v_min) | (travel < reversal_skip)
+    # the filtered value at k sees samples k +- len(K)/2: keep that far from excluded ones
     bad = np.convolve(bad.astype(float), np.ones(len(K)), mode="same") > 0
-    use = ~bad & np.isfinite(z)
-    return x, L, z, [K, use]
+    return x, L, z, K, ~bad & np.isfinite(z)
 
 
 def identify_position_friction(runs: Sequence[Run], params: Mapping[str, Any],
@@ -92,7 +93,7 @@ def identify_position_friction(runs: Sequence[Run], params: Mapping[str, Any],
     prm = GMSParameters.from_params(values)
     rows = [_run_rows(r, values, prm, dc_gain, window, current_timing, v_min, reversal_skip)
             for r in runs]
-    xs = np.concatenate([x[k[1]] for x, _, _, k in rows]) if rows else np.zeros(0)
+    xs = np.concatenate([x[use] for x, _, _, _, use in rows]) if rows else np.zeros(0)
     if xs.size < 10 * n_knots:
         raise ValueError(f"position friction: {xs.size} sliding samples (faster than "
                          f"{v_min:g} m/s, {reversal_skip * 1e3:g} mm after reversals) in "
@@ -102,7 +103,7 @@ def identify_position_friction(runs: Sequence[Run], params: Mapping[str, Any],
         raise ValueError(f"position friction: the runs slid over {1e3 * (hi - lo):.3g} mm "
                          "only; a profile needs some stroke")
     A_all, z_all = [], []
-    for x, L, z, (K, use) in rows:
+    for x, L, z, K, use in rows:
         B = profile_basis(x, lo, hi, n_knots) * L[:, None]
         A = np.column_stack([apply_kernel(B[:, j], K) for j in range(n_knots)])
         A_all.append(A[use])

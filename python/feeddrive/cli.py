@@ -15,7 +15,7 @@ from pathlib import Path
 from .data import load_run, load_runs, sidecar_path
 from .diagnose.emps import emps_baseline_model
 from .diagnose.workflow import diagnose
-from .experiments.campaign import write_campaign
+from .experiments.campaign import MAX_REPEATS, write_campaign
 from .fmu import FMUError, fmu_path
 from .identify.pipeline import identify_folder
 from .model_file import load_model, paper_model, save_model
@@ -58,6 +58,7 @@ _WINDOW = _number(int, "an odd integer >= 5 [samples]", lambda v: v >= 5 and v %
 _SEED = _number(int, "an integer >= 0", lambda v: v >= 0)
 _REPLICATES = _number(int, "an integer >= 2", lambda v: v >= 2)
 _LEVEL = _number(float, "a number in (0, 1)", lambda v: 0 < v < 1)
+_REPEATS = _number(int, f"an integer in [1, {MAX_REPEATS}]", lambda v: 1 <= v <= MAX_REPEATS)
 
 
 def _cmd_model(a: argparse.Namespace) -> int:
@@ -108,7 +109,7 @@ def _cmd_validate(a: argparse.Namespace) -> int:
 
 def _cmd_experiments(a: argparse.Namespace) -> int:
     paths = write_campaign(Path(a.out), model=Path(a.model) if a.model else None, seed=a.seed,
-                           force=a.force)
+                           force=a.force, repeats=a.repeats)
     print(f"wrote {len(paths)} runs to {a.out}")
     return 0
 
@@ -223,6 +224,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True)
     p.add_argument("--model", default=None)
     p.add_argument("--seed", type=_SEED, default=1, help="noise seed (>= 0)")
+    p.add_argument("--repeats", type=_REPEATS, default=1,
+                   help="runs of every experiment with independent noise (for identify --bootstrap)")
     _force_argument(p)
     p.set_defaults(func=_cmd_experiments)
     p = sub.add_parser("identify", help="identify a model file from a folder of runs")

@@ -22,8 +22,8 @@ from .model_file import load_model, paper_model, save_model
 from .outputs import check_dir, check_file
 from .report.diagnosis import write_diagnosis
 from .report.main_job import main_job
-from .report.study import write_study_report
-from .study import load_study, run_study
+from .report.study import write_bootstrap_report, write_study_report
+from .study import BootstrapStudy, load_study_file, run_bootstrap_study, run_study
 from .study.bootstrap import bootstrap_folder
 from .systems import sec3_system, sec4_system, write_all
 from .systems.compare import compare_engines
@@ -155,9 +155,19 @@ def _cmd_diagnose(a: argparse.Namespace) -> int:
 
 
 def _cmd_sweep(a: argparse.Namespace) -> int:
-    study = load_study(a.study)
+    study = load_study_file(a.study)
     if a.workers is not None and a.workers < 1:
         raise UsageError(f"--workers {a.workers}: must be >= 1")
+    if isinstance(study, BootstrapStudy):
+        if a.resume:
+            raise UsageError(f"--resume: {a.study} is a bootstrap study (kind 'bootstrap'), written "
+                             "whole at the end; run it again without --resume")
+        boot = run_bootstrap_study(study, a.out, scheduler=a.scheduler, workers=a.workers,
+                                   parallel=not a.serial, progress=not a.no_progress)
+        report = write_bootstrap_report(boot, a.out)
+        print(boot.summary())
+        print(f"wrote {report}")
+        return 0
     try:
         res = run_study(study, a.out, scheduler=a.scheduler, workers=a.workers, resume=a.resume,
                         progress=not a.no_progress, parallel=not a.serial)

@@ -51,8 +51,11 @@ REFERENCES: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
 METRICS: dict[str, str] = {"reversal_error": "reversal_error_m", "rms_error": "rms_error_m",
                            "max_error": "max_error_m", "force_residual": "force_residual_N"}
 DESIGNS = ("grid", "lhs", "monte_carlo", "oat")
-_TOP = ("schema", "name", "description", "model", "experiment", "parameters", "design",
+_TOP = ("schema", "kind", "name", "description", "model", "experiment", "parameters", "design",
         "metrics", "batch_size")
+#: Study kinds: a parameter sweep (this module, the default) or the identification bootstrap
+#: (:mod:`.bootstrap_study`).
+KINDS = ("sweep", "bootstrap")
 _EXPERIMENT = ("reference", "controller", "sensors", "F_load", "tolerance", "skip_start",
                "half_width", "measured")
 
@@ -298,6 +301,9 @@ def parse_study(raw: Any, source: str, folder: Path) -> Study:
     raw = _object(raw, source, "(top level)", _TOP)
     if raw.get("schema") != SCHEMA:
         raise StudyError(source, "schema", f"must be {SCHEMA!r}, got {raw.get('schema')!r}")
+    if raw.get("kind", "sweep") != "sweep":
+        raise StudyError(source, "kind", f"a parameter sweep has kind 'sweep' (or none), got "
+                                         f"{raw.get('kind')!r}: load it with load_study_file")
     for k in ("experiment", "parameters", "design", "metrics"):
         if k not in raw:
             raise StudyError(source, k, "missing")
@@ -342,6 +348,12 @@ def parse_study(raw: Any, source: str, folder: Path) -> Study:
 def load_study(path: str | Path) -> Study:
     """Read and validate a study file; :class:`StudyError` names the file and the field."""
     path = Path(path)
+    return parse_study(read_study_json(path), str(path), path.parent)
+
+
+def read_study_json(path: str | Path) -> Any:
+    """The decoded JSON of a study file; :class:`StudyError` when unreadable or not JSON."""
+    path = Path(path)
     src = str(path)
     try:
         text = path.read_text(encoding="utf-8")
@@ -354,4 +366,4 @@ def load_study(path: str | Path) -> Study:
     except json.JSONDecodeError as e:
         raise StudyError(src, "(file)", f"invalid JSON at line {e.lineno}, column {e.colno}: "
                                         f"{e.msg}") from None
-    return parse_study(raw, src, path.parent)
+    return raw

@@ -19,7 +19,8 @@ from .experiments.campaign import MAX_REPEATS, write_campaign
 from .fmu import FMUError, fmu_path
 from .identify.pipeline import identify_folder
 from .model_file import load_model, paper_model, save_model
-from .outputs import check_dir, check_file
+from .outputs import check_dir, check_file, output_dir
+from .report.circle import write_circle_report
 from .report.diagnosis import write_diagnosis
 from .report.main_job import main_job
 from .report.study import write_bootstrap_report, write_study_report
@@ -27,7 +28,10 @@ from .study import BootstrapStudy, load_study_file, run_bootstrap_study, run_stu
 from .study.bootstrap import bootstrap_folder
 from .systems import sec3_system, sec4_system, write_all
 from .systems.compare import compare_engines
+from .validation.circle_test import (FEEDFORWARD, MIN_PER_M_S, check_fits, circle_table,
+                                    circular_case)
 from .validation.replay import check_run, validate_file
+from .validation.xy_machine import MISMATCH, xy_axes
 
 BUILD = Path("build")           # relative to the working directory
 SHARED_ENV = "FEEDDRIVE_SHARED"
@@ -98,6 +102,25 @@ def _cmd_system(a: argparse.Namespace) -> int:
         print(f"wrote {path} ({kind})")
     if a.run:
         print("\n".join(compare_engines(system, files)))
+    return 0
+
+
+def _cmd_circle(a: argparse.Namespace) -> int:
+    axes = xy_axes(a.x_model, a.y_model, a.mismatch)       # a bad model file: one line now
+    radii = [r * 1e-3 for r in a.radius_mm]
+    for r in radii:
+        check_fits(axes, r)
+    directions = list(dict.fromkeys(a.direction))
+    with output_dir(Path(a.out), [a.x_model, a.y_model], a.force, what="circle") as stage:
+        cases = [circular_case(axes, r, f / MIN_PER_M_S, ff, directions)
+                 for r in radii for f in a.feed_m_min for ff in dict.fromkeys(a.feedforward)]
+        lines = [f"axis {ax.name}: {ax.source}; m = {ax.nominal['m']:g} kg, plant = nominal "
+                 + ("x Sec. 4 mismatch" if a.mismatch == "sec4" else "(no mismatch)")
+                 for ax in axes]
+        write_circle_report(cases, stage, lines)
+    print(circle_table(cases))
+    print("\n".join(lines))
+    print(f"wrote {Path(a.out) / 'index.html'} and {len(cases)} polar plots (circle_*.png)")
     return 0
 
 
@@ -226,6 +249,24 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--run", action="store_true",
                    help="run them in libcosim and fmpy and compare with the harness")
     p.set_defaults(func=_cmd_system)
+    p = sub.add_parser("circle", help="the ISO 230-4 circular test on the X-Y table: G, H, "
+                                      "quadrant glitches, polar plots")
+    p.add_argument("--radius-mm", type=_POSITIVE, nargs="+", default=[10.0, 50.0],
+                   help="circle radii [mm] (default 10 50)")
+    p.add_argument("--feed-m-min", type=_POSITIVE, nargs="+", default=[1.0, 5.0],
+                   help="feeds [m/min] (default 1 5)")
+    p.add_argument("--direction", nargs="+", choices=("ccw", "cw"), default=["ccw", "cw"],
+                   help="contouring directions (H needs both)")
+    p.add_argument("--feedforward", nargs="+", choices=sorted(FEEDFORWARD), default=["none", "gms"],
+                   help="feedforward cases (default none gms)")
+    p.add_argument("--x-model", type=Path, default=None, help="model file of the X axis (default: the paper's drive)")
+    p.add_argument("--y-model", type=Path, default=None,
+                   help="model file of the Y axis (default: the paper's drive, 40 kg, friction x1.5, magnets +9.375 mm)")
+    p.add_argument("--mismatch", choices=MISMATCH, default="sec4",
+                   help="plant = nominal x the Sec. 4 mismatch (default), or the nominal itself")
+    p.add_argument("--out", default=str(BUILD / "circle"), help="output folder (index.html, circle_*.png)")
+    _force_argument(p)
+    p.set_defaults(func=_cmd_circle)
     p = sub.add_parser("validate", help="replay a measured run through model and controller")
     p.add_argument("measured")
     p.add_argument("--model", default=None)

@@ -9,7 +9,9 @@ rises to w0 = F / r over ``ramp`` seconds as w0 (t/T - sin(2 pi t/T) / 2 pi) (ta
 acceleration 0 at both ends of the ramp, peak 2 F / T), then stays at w0 for ``settle``
 seconds, one full revolution (the evaluated 360 deg, starting at ``eval_start_deg``: 45 deg,
 the middle of a quadrant, so every axis reversal at 0, 90, 180, 270 deg is inside it, far
-from its ends), and falls back to rest the same way; ``dwell`` seconds at rest close the run.
+from its ends), and falls back to rest the same way; ``dwell`` seconds at rest open and
+close the run (at rest over the ZPETC preview, the controller FMU's inputs and the harness's
+pre-filter start alike).
 x, v, a of each axis are exact (analytic) at every sample.
 """
 from __future__ import annotations
@@ -104,9 +106,9 @@ def circle_path(radius: float, feed: float, direction: str = "ccw",
     w0 = feed / radius
     t_rev = 2 * np.pi / w0
     Tc = settle + t_rev
-    n = int(np.ceil((2 * T + Tc + dwell) / Ts))
+    n = int(np.ceil((2 * T + Tc + 2 * dwell) / Ts))
     t = np.arange(n + 1) * Ts
-    phi, dphi, ddphi = _profile(t, w0, T, Tc)
+    phi, dphi, ddphi = _profile(np.maximum(t - dwell, 0.0), w0, T, Tc)
     theta_e = np.deg2rad(eval_start_deg)
     theta = theta_e - s * (w0 * T / 2 + w0 * settle) + s * phi
     w, dw = s * dphi, s * ddphi
@@ -114,7 +116,7 @@ def circle_path(radius: float, feed: float, direction: str = "ccw",
     cx, cy = float(centre[0]), float(centre[1])
     x = Reference(Ts, cx + radius * ct, -radius * st * w, -radius * (ct * w**2 + st * dw))
     y = Reference(Ts, cy + radius * st, radius * ct * w, -radius * (st * w**2 - ct * dw))
-    t_e = T + settle
+    t_e = dwell + T + settle
     k0 = int(np.ceil(t_e / Ts - 1e-9))
     k1 = int(np.floor((t_e + t_rev) / Ts + 1e-9)) + 1
     return CirclePath(x=x, y=y, radius=float(radius), feed=float(feed), direction=direction,

@@ -59,17 +59,23 @@ def centre_of(axes: Sequence[AxisModel]) -> tuple[float, float]:
                         + float(a.nominal.get("stroke.x_max", 0.3))) for a in axes)  # type: ignore[return-value]
 
 
+def check_fits(axes: Sequence[AxisModel], radius: float) -> None:
+    """ValueError unless a circle of ``radius`` [m] about mid-stroke fits every axis's stroke."""
+    if not (isinstance(radius, (int, float)) and np.isfinite(radius) and radius > 0):
+        raise ValueError(f"circle: radius = {radius!r} must be a finite number > 0 [m]")
+    for a in axes:
+        lo, hi = float(a.nominal.get("stroke.x_min", 0.0)), float(a.nominal.get("stroke.x_max", 0.3))
+        if radius >= (hi - lo) / 2:
+            raise ValueError(f"circle: radius {radius * 1e3:g} mm does not fit axis {a.name}'s "
+                             f"stroke {lo * 1e3:g}..{hi * 1e3:g} mm about its middle")
+
+
 def run_circle(axes: Sequence[AxisModel], radius: float, feed: float, direction: str,
                feedforward: str, Ts: float = 5e-4, tolerance: float = 1e-6,
                controllers: Sequence[Mapping[str, Any]] | None = None) -> CircleRun:
     """Run one circle on the table ``axes`` (X, Y) and evaluate its 360 deg."""
-    centre = centre_of(axes)
-    path = circle_path(radius, feed, direction, centre=centre, Ts=Ts)
-    for a, c in zip(axes, centre):
-        lo, hi = float(a.nominal.get("stroke.x_min", 0.0)), float(a.nominal.get("stroke.x_max", 0.3))
-        if radius >= (hi - lo) / 2:
-            raise ValueError(f"circle: radius {radius} m does not fit axis {a.name}'s stroke "
-                             f"{lo}..{hi} m")
+    check_fits(axes, radius)
+    path = circle_path(radius, feed, direction, centre=centre_of(axes), Ts=Ts)
     ctrls = controllers or [controller_values(a, feedforward, Ts) for a in axes]
     loops = [AxisLoop(a.name, a.plant, c, ref) for a, c, ref in zip(axes, ctrls, (path.x, path.y))]
     res = simulate_axes(loops, Ts=Ts, tolerance=tolerance)
@@ -124,9 +130,11 @@ class CircleCase:
 
 def circular_case(axes: Sequence[AxisModel], radius: float, feed: float, feedforward: str,
                   directions: Sequence[str] = ("ccw", "cw"), Ts: float = 5e-4,
-                  tolerance: float = 1e-6) -> CircleCase:
-    """Both (or the given) directions of one case."""
-    ctrls = [controller_values(a, feedforward, Ts) for a in axes]
+                  tolerance: float = 1e-6,
+                  controllers: Sequence[Mapping[str, Any]] | None = None) -> CircleCase:
+    """Both (or the given) directions of one case (``controllers``: the axes' controller
+    FMU parameters, default :func:`controller_values`)."""
+    ctrls = controllers or [controller_values(a, feedforward, Ts) for a in axes]
     case = CircleCase(float(radius), float(feed), feedforward)
     for d in directions:
         case.runs[d] = run_circle(axes, radius, feed, d, feedforward, Ts, tolerance, ctrls)

@@ -114,7 +114,7 @@ def _cmd_circle(a: argparse.Namespace) -> int:
     with output_dir(Path(a.out), [a.x_model, a.y_model], a.force, what="circle") as stage:
         cases = [circular_case(axes, r, f / MIN_PER_M_S, ff, directions)
                  for r in radii for f in a.feed_m_min for ff in dict.fromkeys(a.feedforward)]
-        lines = [f"axis {ax.name}: {ax.source}; m = {ax.nominal['m']:g} kg, plant = nominal "
+        lines = [f"axis {ax.name}: {ax.source} (m = {ax.nominal['m']:g} kg); plant = nominal "
                  + ("x Sec. 4 mismatch" if a.mismatch == "sec4" else "(no mismatch)")
                  for ax in axes]
         write_circle_report(cases, stage, lines)

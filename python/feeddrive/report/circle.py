@@ -54,7 +54,7 @@ def polar_figure(case: CircleCase) -> plt.Figure:
     ax.set_yticklabels([])
     ax.set_xticks(np.deg2rad(np.arange(0, 360, 45)))
     H = "" if not np.isfinite(case.H) else f", H = {case.H * 1e6:.1f} um"
-    ax.set_title(f"r = {case.radius * 1e3:g} mm, F = {case.feed * 60:g} m/min, "
+    ax.set_title(f"r = {case.radius * 1e3:g} mm, F = {case.feed * 60:.3g} m/min, "
                  f"FF {case.feedforward}{H}\nradial deviation, {div:g} um/div", fontsize=9)
     ax.legend(loc="lower center", bbox_to_anchor=(0.5, -0.2), ncol=2, fontsize=8)
     return fig

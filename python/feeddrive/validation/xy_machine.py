@@ -93,7 +93,7 @@ def xy_axes(x_model: str | Path | None = None, y_model: str | Path | None = None
     plant = mismatched if mismatch == "sec4" else dict
     return (AxisModel("X", x_nom, plant(x_nom), str(x_model) if x_model else "paper drive"),
             AxisModel("Y", y_nom, plant(y_nom), str(y_model) if y_model else
-                      f"paper drive, m = {Y_MASS:g} kg, friction x{Y_FRICTION:g}, magnets "
+                      f"paper drive carrying X: friction x{Y_FRICTION:g}, magnets "
                       f"+{Y_MAGNET_SHIFT * 1e3:g} mm"))
 
 

@@ -17,6 +17,7 @@ from .diagnose.emps import emps_baseline_model
 from .diagnose.workflow import diagnose
 from .experiments.campaign import MAX_REPEATS, write_campaign
 from .fmu import FMUError, fmu_path
+from .harness.controller_fmu import controller_fmu_path
 from .identify.pipeline import identify_folder
 from .model_file import load_model, paper_model, save_model
 from .outputs import check_dir, check_file, output_dir
@@ -106,6 +107,8 @@ def _cmd_system(a: argparse.Namespace) -> int:
 
 
 def _cmd_circle(a: argparse.Namespace) -> int:
+    fmu_path()
+    controller_fmu_path()        # no FMU: one line before the runs
     axes = xy_axes(a.x_model, a.y_model, a.mismatch)       # a bad model file: one line now
     radii = [r * 1e-3 for r in a.radius_mm]
     for r in radii:

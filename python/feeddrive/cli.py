@@ -29,6 +29,7 @@ from .study import BootstrapStudy, load_study_file, run_bootstrap_study, run_stu
 from .study.bootstrap import bootstrap_folder
 from .systems import sec3_system, sec4_system, write_all
 from .systems.compare import compare_engines
+from .systems.xy_system import circle_system, write_xy_osp
 from .validation.circle_test import (FEEDFORWARD, MIN_PER_M_S, check_fits, circle_table,
                                     circular_case)
 from .validation.replay import check_run, validate_file
@@ -121,9 +122,15 @@ def _cmd_circle(a: argparse.Namespace) -> int:
                  + ("x Sec. 4 mismatch" if a.mismatch == "sec4" else "(no mismatch)")
                  for ax in axes]
         write_circle_report(cases, stage, lines)
+        osp = [write_xy_osp(sy, stage / "osp" / sy.name).parent.name
+               for sy in (circle_system(axes, c.radius, c.feed, d, c.feedforward)
+                          for c in cases for d in directions)] if a.osp else []
     print(circle_table(cases))
     print("\n".join(lines))
     print(f"wrote {Path(a.out) / 'index.html'} and {len(cases)} polar plots (circle_*.png)")
+    if osp:
+        print(f"wrote {len(osp)} OSP system structures for libcosim (4 FMUs each): "
+              f"{Path(a.out) / 'osp' / osp[0] / 'OspSystemStructure.xml'}, ...")
     return 0
 
 
@@ -267,6 +274,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="model file of the Y axis (default: the paper's drive, 40 kg, friction x1.5, magnets +9.375 mm)")
     p.add_argument("--mismatch", choices=MISMATCH, default="sec4",
                    help="plant = nominal x the Sec. 4 mismatch (default), or the nominal itself")
+    p.add_argument("--osp", action="store_true",
+                   help="also write each circle as an OSP system structure (4 FMUs) for libcosim in OUT/osp/")
     p.add_argument("--out", default=str(BUILD / "circle"), help="output folder (index.html, circle_*.png)")
     _force_argument(p)
     p.set_defaults(func=_cmd_circle)

@@ -1,4 +1,4 @@
-/* The serialised FMU state (format version 1): a self-describing little-endian byte string.
+/* The serialised FMU state (format version 2): a self-describing little-endian byte string.
  *
  *   header (u32 unless noted)
  *     magic 0x53524446 ("FDRS"), format version, header bytes, payload bytes,
@@ -21,7 +21,7 @@
 #include "fmi2_instance.h"
 
 #define STATE_MAGIC 0x53524446u
-#define STATE_VERSION 1u
+#define STATE_VERSION 2u   /* 2: + compliance (14 continuous states, its parameters) */
 #define STATE_MAX_BYTES 4096u
 
 /* the serialised size of a state of this FMU */

@@ -37,10 +37,15 @@ N_ELEMENTS_MAX = 10         #: GMS element slots in the FMU
 EFFECT_IDS = ["current_dynamics", "cogging_periodic", "cogging_aperiodic",
               "ripple_periodic", "ripple_aperiodic", "stribeck", "viscous",
               "prerolling", "frictional_lag", "mass", "offset_force",
-              "asymmetric_friction"]
+              "asymmetric_friction", "compliance"]
 #: Effects that exist as FMU switches (``mass`` is always on: its value is fitted).
 SWITCHABLE_EFFECTS = [e for e in EFFECT_IDS if e != "mass"]
-PAPER_EFFECTS = {e: e not in ("offset_force", "asymmetric_friction") for e in SWITCHABLE_EFFECTS}
+#: Effects beyond the paper (off in the paper's model).
+BEYOND_PAPER = ("offset_force", "asymmetric_friction", "compliance")
+PAPER_EFFECTS = {e: e not in BEYOND_PAPER for e in SWITCHABLE_EFFECTS}
+#: Compliance defaults (off): a 2 kg load on a 40 Hz spring, 5 % damping, encoder on the slide.
+COMPLIANCE_DEFAULTS = {"compliance.m2": 2.0, "compliance.f": 40.0, "compliance.zeta": 0.05,
+                       "compliance.sensor_side": 0}
 
 
 def nu_defaults() -> list[float]:
@@ -79,6 +84,7 @@ def paper_parameters() -> dict[str, float | int | bool]:
     p["asymmetry.dF"] = 0.0
     p["asymmetry.dsigma2"] = 0.0
     p["stroke.x_min"], p["stroke.x_max"] = STROKE
+    p.update(COMPLIANCE_DEFAULTS)
     for e, on in PAPER_EFFECTS.items():
         p[f"effects.{e}"] = on
     return p

@@ -9,12 +9,12 @@ import pytest
 
 from feeddrive.fmu import FMUError, Plant
 from feeddrive.model_description import variables
-from feeddrive.model_file import paper_model
+from feeddrive.model_file import INTEGER_PARAMETERS, paper_model
 from feeddrive.paper import paper_parameters
 from feeddrive.physics import ParameterError, check_value, compile
 
 PAPER = paper_parameters()
-REALS = [n for n, v in PAPER.items() if not isinstance(v, bool) and n != "friction.N"]
+REALS = [n for n, v in PAPER.items() if not isinstance(v, bool) and n not in INTEGER_PARAMETERS]
 
 #: (parameters, whether the FMU refuses them at fmi2Set* already)
 SINGLE = [
@@ -24,7 +24,8 @@ SINGLE = [
     {"friction.nu[2]": 1.5}, {"friction.k[3]": 0.0}, {"friction.k[10]": -1.0},
     {"cogging.lambda[1]": 0.0}, {"ripple.lambda[8]": -0.01}, {"friction.N": 0},
     {"friction.N": 11}, {"m": math.nan}, {"friction.F_s": math.inf}, {"friction.F_c": -math.inf},
-    {"m": 0.1 + 0.2},
+    {"m": 0.1 + 0.2}, {"compliance.f": 10.0}, {"compliance.f": 250.0},
+    {"compliance.zeta": -0.1}, {"compliance.m2": 0.0},
 ]
 COMPILED = [
     {"friction.F_c": 30.0},

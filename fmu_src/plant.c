@@ -58,8 +58,8 @@ void plant_outputs_memo(const plant_params_t *p, const plant_disc_t *d, const do
     plant_forces(p, d, y, in, memo, o);
     o->n_stuck = plant_n_stuck(p, d);
     o->x_meas = compliance_x_measured(p, y);
-    o->x_load = y[PLANT_IX] + y[PLANT_IQ];
-    o->v_load = y[PLANT_IV] + y[PLANT_IW];
+    o->x_load = p->compliance ? y[PLANT_IX] + y[PLANT_IQ] : y[PLANT_IX];
+    o->v_load = p->compliance ? y[PLANT_IV] + y[PLANT_IW] : y[PLANT_IV];
 }
 
 void plant_outputs(const plant_params_t *p, const plant_disc_t *d, const double *y,

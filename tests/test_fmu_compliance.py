@@ -148,3 +148,13 @@ def test_serialised_state_holds_the_load():
             again.append(raw.get().copy())
     assert np.array_equal(np.array(tail), np.array(again))
     del ref
+
+
+def test_cs_and_me_agree_with_compliance_and_static_friction():
+    # stick (v := 0, the load keeps its velocity) and breakaway events with the load ringing
+    params = {**ON, "effects.prerolling": False}
+    cs = _loop(params, "cs", quantum=0.0)
+    me = _loop(params, "me", quantum=0.0, tol=1e-9)
+    assert np.max(np.abs(cs["x"] - me["x"])) < 0.1e-6
+    assert np.max(np.abs(cs["x_load"] - me["x_load"])) < 0.1e-6
+    assert cs["stats.n_stick"] > 0 and cs["stats.n_slip"] > 0       # the events happened

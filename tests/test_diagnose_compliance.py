@@ -24,7 +24,7 @@ import pytest
 
 from feeddrive.diagnose.residual import residuals
 from feeddrive.diagnose.workflow import diagnose
-from feeddrive.identify.compliance import fit_compliance
+from feeddrive.identify.compliance import fit_compliance, identify_compliance
 from feeddrive.model_file import paper_model
 from diagnosis_runs import make_runs
 
@@ -64,6 +64,10 @@ def test_identification_of_the_load_from_the_moves():
     assert abs(fit.m2 / 2.0 - 1) < 0.05, fit
     # a mass change alone explains half of what the load does
     assert fit.explained > 0.9 and fit.rigid_explained < 0.7, fit
+    # the same from the runs and a model (its residual computed by the identification itself)
+    both = identify_compliance(list(_runs()), PAPER, fit_mass=True)
+    assert abs(both.f / 40.0 - 1) < 0.01 and abs(both.zeta / 0.05 - 1) < 0.2, both
+    assert abs(both.m2 / 2.0 - 1) < 0.05 and abs(both.dm) < 0.2, both
 
 
 @pytest.mark.slow

@@ -120,6 +120,16 @@ def test_sensor_on_the_load():
     r = _loop({**ON, "compliance.sensor_side": 1})
     assert np.array_equal(r["x_measured"], r["x_load"])
     assert np.max(np.abs(r["x_measured"] - r["x"])) > 1e-6
+    # x_measured read alone (the states-only fast path of fmi2GetReal) is the load's position
+    with Plant({**ON, "compliance.sensor_side": 1}) as p:
+        p.start({"x": 0.15, "u": 1.0})
+        alone, inp = p.raw(["x_measured"]), p.raw(["u"])
+        for k in range(40):
+            inp.set([1.0 if k < 20 else -1.0])
+            p.fmu.doStep(k * 5e-4, 5e-4)
+            xm = float(alone.get()[0])
+            g = p.get(["x", "x_load"])
+            assert xm == g["x_load"] and (k < 2 or xm != g["x"])
 
 
 def test_serialised_state_holds_the_load():

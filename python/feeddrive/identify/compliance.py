@@ -24,8 +24,13 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import minimize
 
-from ..physics import load_acceleration
+from ..data import Run
+from ..physics import (DEFAULT_V_STICK, applied_force, compile, force_residual,
+                       gms_force, held_current, karnopp_friction, load_acceleration,
+                       measured_motion, run_load)
 from ..physics.compliance import F_RANGE
+from ..physics.params import HasFmuParameters
+from ..signals import odd_window, run_label, sample_time
 
 #: Frequency grid [Hz] and damping-ratio grid of the search.
 F_GRID = tuple(np.geomspace(F_RANGE[0], F_RANGE[1], 13).tolist())
@@ -102,3 +107,38 @@ def fit_compliance(a_runs: list[np.ndarray], y_runs: list[np.ndarray], Ts: list[
     return ComplianceFit(f=f, zeta=z, m2=float(th[0]), dm=float(th[1]) if fit_mass else 0.0,
                          explained=e / yy if yy > 0 else 0.0,
                          rigid_explained=rigid / yy if yy > 0 else 0.0, n_used=int(y.size))
+
+
+def rigid_residual(run: Run, model: HasFmuParameters, window_s: float = 0.02,
+                   polyorder: int = 3) -> tuple[np.ndarray, np.ndarray, float]:
+    """(a_K, y, Ts) of one run: the filtered measured acceleration and the residual of
+    ``model`` *without* its compliance, ``K (K_f(x) i - F_cg - F_load - offset - F_f) - m a_K``
+    (GMS friction along the measured motion with pre-rolling on, else Eq. 12 with Karnopp
+    stiction).  The run needs a measured current ``i``."""
+    label = run_label(run)
+    if run.i is None:
+        raise ValueError(f"{label}: identify_compliance needs a measured current column i")
+    P = compile(model)
+    Ts = sample_time(run.time, label=label)
+    x = np.asarray(run.x, dtype=float)
+    w = odd_window(int(round(window_s / Ts)), run.n)
+    v, a, K = measured_motion(x, Ts, w, polyorder)
+    F_load, _ = run_load(run)
+    F_app = applied_force(P.K_f(x) * held_current(run.i), P.F_cg(x), F_load, P.F_offset)
+    if P.prerolling:
+        F_f = gms_force(x, v, Ts, P.friction)
+    else:
+        F_f, _ = karnopp_friction(v, F_app, P.friction, DEFAULT_V_STICK)
+    return a, force_residual(F_app, F_f, a, P.m, K), Ts
+
+
+def identify_compliance(runs: list[Run], model: HasFmuParameters, fit_mass: bool = False,
+                        window_s: float = 0.02) -> ComplianceFit:
+    """f, zeta, m2 (module docstring) from measured runs (encoder on the slide) and a model of
+    the rest of the drive (its own compliance, if any, is ignored): :func:`rigid_residual`
+    per run, then :func:`fit_compliance` over all of them."""
+    if not runs:
+        raise ValueError("identify_compliance: no runs given")
+    parts = [rigid_residual(run, model, window_s) for run in runs]
+    return fit_compliance([p[0] for p in parts], [p[1] for p in parts], [p[2] for p in parts],
+                          fit_mass=fit_mass)

@@ -9,7 +9,8 @@
  *   payload
  *     u32 call-sequence state, u32 flags (1 stopTime defined, 2 tolerance defined,
  *     4 parameters compiled, 8 stroke warning given), f64 time, startTime, stopTime, tolerance,
- *     f64 continuous states (x, v, friction.F[1..10], compliance.dx, compliance.dv), f64 value of every parameter, input and state start (table order),
+ *     f64 continuous states (x, v, friction.F[1..10], compliance.dx, compliance.dv),
+ *     f64 value of every parameter, input and state start (table order),
  *     f64 discrete state (plant_disc_pack), f64 solver: step proposal, step-controller memory,
  *     accepted, rejected steps, right-hand sides, indicator evaluations, roots.
  *

@@ -13,6 +13,7 @@ absorbed as mass (18.3 kg).  Asserted:
   part alone fixes it to a few %); ``mass`` is named at no step and m stays 16.1 kg;
 - the force gap shrinks by >= 70 % and the verdict is ``explained``;
 - the identification alone (feeddrive.identify.compliance) on the back-and-forth run;
+- the same under the state-space controller on a 500 nm scale with faster moves;
 - a model that has the load names nothing.
 """
 from __future__ import annotations
@@ -25,8 +26,9 @@ import pytest
 from feeddrive.diagnose.residual import residuals
 from feeddrive.diagnose.workflow import diagnose
 from feeddrive.identify.compliance import fit_compliance, identify_compliance
+from feeddrive.harness import back_and_forth, state_space_spec
 from feeddrive.model_file import paper_model
-from diagnosis_runs import make_runs
+from diagnosis_runs import make_runs, simulate_run, sinusoid_reference
 
 PAPER = paper_model()
 LOAD = {"compliance.m2": 2.0, "compliance.f": 40.0, "compliance.zeta": 0.05}
@@ -68,6 +70,21 @@ def test_identification_of_the_load_from_the_moves():
     both = identify_compliance(list(_runs()), PAPER, fit_mass=True)
     assert abs(both.f / 40.0 - 1) < 0.01 and abs(both.zeta / 0.05 - 1) < 0.2, both
     assert abs(both.m2 / 2.0 - 1) < 0.05 and abs(both.dm) < 0.2, both
+
+
+@pytest.mark.slow
+def test_hidden_resonance_under_the_state_space_controller_on_a_coarse_scale():
+    spec = state_space_spec()
+    runs = [simulate_run(TRUTH, sinusoid_reference(6.0), current_noise=0.003, quantum=5e-7,
+                         seed=95, name="ss_sinusoid", spec=spec),
+            simulate_run(TRUTH, back_and_forth([0.005, 0.02, 0.05], stroke=0.02),
+                         current_noise=0.003, quantum=5e-7, seed=96, name="ss_moves", spec=spec)]
+    diag = diagnose(runs, PAPER, max_steps=2, closed_loop=False)
+    assert [(s.effect, s.decision) for s in diag.steps] == [("compliance", "missing_effect")]
+    p = diag.model.parameters
+    assert abs(p["compliance.f"] / 40.0 - 1) < 0.05
+    assert 0.5 < p["compliance.zeta"] / 0.05 < 2.0
+    assert diag.verdict["verdict"] == "explained", diag.verdict["sentence"]
 
 
 @pytest.mark.slow

@@ -9,6 +9,7 @@ import json
 import numpy as np
 import pytest
 
+from feeddrive.cli import main as cli_main
 from feeddrive.data import KNOWN_COLUMNS, load_run, write_run
 from feeddrive.diagnose.workflow import closed_loop_gap
 from feeddrive.experiments import campaign as campaign_mod
@@ -247,3 +248,31 @@ def test_every_run_is_accepted_by_validate_and_diagnose(runs, tmp_path):
     gap = closed_loop_gap(loaded, model)
     assert gap is not None and np.isfinite(gap["position_error_rms_m"])
     assert gap["position_error_rms_m"] < 10e-6
+
+
+def test_repeats_give_independent_noise_and_suffixed_names(tmp_path, monkeypatch):
+    """--repeats K: every run K times, names _r1.._rK, repeat 1 = the campaign without repeats
+    (same seed, same samples), repeat 2 with other noise: the measured position differs by
+    encoder steps (the sensor's quantum) but the runs follow the same motion (within a few
+    quanta plus noise: the current noise moves the loop by well under 1 um)."""
+    real_plan = campaign_mod.plan
+    monkeypatch.setattr(campaign_mod, "plan", lambda quick: real_plan(quick)[:1])  # PRBS only
+    one = write_campaign(tmp_path / "one", model=paper_parameters(), seed=1, quick=True)
+    three = write_campaign(tmp_path / "three", model=paper_parameters(), seed=1, quick=True, repeats=3)
+    assert [p.name for p in three] == ["prbs_r1.csv", "prbs_r2.csv", "prbs_r3.csv"]
+    r0, r1, r2 = load_run(one[0]), load_run(three[0]), load_run(three[1])
+    assert r1.meta["repeat"] == 1 and r2.meta["repeat"] == 2
+    assert r1.meta["sensors"]["seed"] == r0.meta["sensors"]["seed"] != r2.meta["sensors"]["seed"]
+    np.testing.assert_array_equal(r1.x, r0.x)
+    assert np.any(r2.x != r1.x) and np.max(np.abs(r2.x - r1.x)) < 5e-6
+    with pytest.raises(ValueError, match="repeats"):
+        write_campaign(tmp_path / "bad", model=paper_parameters(), repeats=0)
+
+
+@pytest.mark.parametrize("value", ("0", "101", "x"))
+def test_cli_experiments_rejects_bad_repeats(tmp_path, capsys, value):
+    with pytest.raises(SystemExit) as e:
+        cli_main(["experiments", "--out", str(tmp_path / "x"), "--repeats", value])
+    assert e.value.code == 2
+    err = capsys.readouterr().err
+    assert "error: argument --repeats" in err and not (tmp_path / "x").exists()

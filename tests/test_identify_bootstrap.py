@@ -167,3 +167,44 @@ def test_report_shows_the_intervals(quiet, tmp_path):
     add_to_page(page, base)
     html = page.write().read_text()
     assert "bootstrap intervals" in html and "true inside" in html
+
+
+@pytest.mark.slow
+def test_bootstrap_study_file_through_sweep(quiet, tmp_path, capsys):
+    """``"kind": "bootstrap"`` in a study file: `feeddrive sweep` identifies the folder,
+    bootstraps it and writes model.json (with its intervals), replicates.csv/.parquet (one row
+    per replicate, the same numbers as run_bootstrap with the same seed: a replicate depends on
+    (seed, r) only) and the report; a bad field or --resume is one line and exit 2."""
+    import pyarrow.parquet as pq
+    runs = quiet[: len(quiet) // REPEATS * 2]
+    folder = tmp_path / "campaign"
+    folder.mkdir()
+    for j, r in enumerate(runs):
+        write_run(r, folder / f"{j:03d}_{r.name}.csv")
+    study = {"schema": "feeddrive.study/1", "kind": "bootstrap", "name": "intervals",
+             "runs": "campaign", "replicates": 3, "seed": 3}
+    (tmp_path / "boot.json").write_text(json.dumps(study))
+    out = tmp_path / "out"
+    assert cli.main(["sweep", str(tmp_path / "boot.json"), "--out", str(out), "--serial",
+                     "--no-progress"]) == 0
+    text = capsys.readouterr().out
+    assert "study intervals, bootstrap: 3/3 replicates" in text and "friction.F_s" in text
+    model = load_model(out / "model.json")
+    assert set(WELL_DETERMINED) <= set(model.uncertainty)
+    assert all(model.uncertainty[k]["replicates"] == 3 for k in WELL_DETERMINED)
+    table = pq.read_table(out / "replicates.parquet").to_pydict()
+    base = identify_runs(runs)
+    ref = run_bootstrap(runs, base.model, base.defaulted, 3, seed=3, parallel=False)
+    assert table["replicate"] == [0, 1, 2] and table["status"] == ["ok"] * 3
+    for k in WELL_DETERMINED:
+        assert table[k] == [r[k] for r in ref.rows], k
+    assert (out / "replicates.csv").read_text().count("\n") == 4
+    assert "bootstrap intervals" in (out / "report.html").read_text()
+    for bad, fld in (({"replicates": 1}, "replicates"), ({"runs": "nowhere"}, "runs"),
+                     ({"kind": "bogus"}, "kind"), ({"level": 2}, "level"), ({"extra": 1}, "extra")):
+        (tmp_path / "bad.json").write_text(json.dumps({**study, **bad}))
+        assert cli.main(["sweep", str(tmp_path / "bad.json"), "--out", str(tmp_path / "o2")]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and f"field {fld}" in err[0], err
+    assert cli.main(["sweep", str(tmp_path / "boot.json"), "--out", str(out), "--resume"]) == 2
+    assert "--resume" in capsys.readouterr().err and load_model(out / "model.json") == model

@@ -15,19 +15,25 @@ from pathlib import Path
 from .data import load_run, load_runs, sidecar_path
 from .diagnose.emps import emps_baseline_model
 from .diagnose.workflow import diagnose
-from .experiments.campaign import write_campaign
+from .experiments.campaign import MAX_REPEATS, write_campaign
 from .fmu import FMUError, fmu_path
+from .harness.controller_fmu import controller_fmu_path
 from .identify.pipeline import identify_folder
 from .model_file import load_model, paper_model, save_model
-from .outputs import check_dir, check_file
+from .outputs import check_dir, check_file, output_dir
+from .report.circle import write_circle_report
 from .report.diagnosis import write_diagnosis
 from .report.main_job import main_job
-from .report.study import write_study_report
-from .study import load_study, run_study
+from .report.study import write_bootstrap_report, write_study_report
+from .study import BootstrapStudy, load_study_file, run_bootstrap_study, run_study
 from .study.bootstrap import bootstrap_folder
 from .systems import sec3_system, sec4_system, write_all
 from .systems.compare import compare_engines
+from .systems.xy_system import circle_system, write_xy_osp
+from .validation.circle_test import (FEEDFORWARD, MIN_PER_M_S, check_fits, circle_table,
+                                    circular_case)
 from .validation.replay import check_run, validate_file
+from .validation.xy_machine import MISMATCH, xy_axes
 
 BUILD = Path("build")           # relative to the working directory
 SHARED_ENV = "FEEDDRIVE_SHARED"
@@ -58,6 +64,7 @@ _WINDOW = _number(int, "an odd integer >= 5 [samples]", lambda v: v >= 5 and v %
 _SEED = _number(int, "an integer >= 0", lambda v: v >= 0)
 _REPLICATES = _number(int, "an integer >= 2", lambda v: v >= 2)
 _LEVEL = _number(float, "a number in (0, 1)", lambda v: 0 < v < 1)
+_REPEATS = _number(int, f"an integer in [1, {MAX_REPEATS}]", lambda v: 1 <= v <= MAX_REPEATS)
 
 
 def _cmd_model(a: argparse.Namespace) -> int:
@@ -100,6 +107,33 @@ def _cmd_system(a: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_circle(a: argparse.Namespace) -> int:
+    fmu_path()
+    controller_fmu_path()        # no FMU: one line before the runs
+    axes = xy_axes(a.x_model, a.y_model, a.mismatch)       # a bad model file: one line now
+    radii = [r * 1e-3 for r in a.radius_mm]
+    for r in radii:
+        check_fits(axes, r)
+    directions = list(dict.fromkeys(a.direction))
+    with output_dir(Path(a.out), [a.x_model, a.y_model], a.force, what="circle") as stage:
+        cases = [circular_case(axes, r, f / MIN_PER_M_S, ff, directions)
+                 for r in radii for f in a.feed_m_min for ff in dict.fromkeys(a.feedforward)]
+        lines = [f"axis {ax.name}: {ax.source} (m = {ax.nominal['m']:g} kg); plant = nominal "
+                 + ("x Sec. 4 mismatch" if a.mismatch == "sec4" else "(no mismatch)")
+                 for ax in axes]
+        write_circle_report(cases, stage, lines)
+        osp = [write_xy_osp(sy, stage / "osp" / sy.name).parent.name
+               for sy in (circle_system(axes, c.radius, c.feed, d, c.feedforward)
+                          for c in cases for d in directions)] if a.osp else []
+    print(circle_table(cases))
+    print("\n".join(lines))
+    print(f"wrote {Path(a.out) / 'index.html'} and {len(cases)} polar plots (circle_*.png)")
+    if osp:
+        print(f"wrote {len(osp)} OSP system structures for libcosim (4 FMUs each): "
+              f"{Path(a.out) / 'osp' / osp[0] / 'OspSystemStructure.xml'}, ...")
+    return 0
+
+
 def _cmd_validate(a: argparse.Namespace) -> int:
     rep = validate_file(Path(a.measured), Path(a.model) if a.model else None)
     print(rep.text())
@@ -108,7 +142,7 @@ def _cmd_validate(a: argparse.Namespace) -> int:
 
 def _cmd_experiments(a: argparse.Namespace) -> int:
     paths = write_campaign(Path(a.out), model=Path(a.model) if a.model else None, seed=a.seed,
-                           force=a.force)
+                           force=a.force, repeats=a.repeats)
     print(f"wrote {len(paths)} runs to {a.out}")
     return 0
 
@@ -154,9 +188,19 @@ def _cmd_diagnose(a: argparse.Namespace) -> int:
 
 
 def _cmd_sweep(a: argparse.Namespace) -> int:
-    study = load_study(a.study)
+    study = load_study_file(a.study)
     if a.workers is not None and a.workers < 1:
         raise UsageError(f"--workers {a.workers}: must be >= 1")
+    if isinstance(study, BootstrapStudy):
+        if a.resume:
+            raise UsageError(f"--resume: {a.study} is a bootstrap study (kind 'bootstrap'), written "
+                             "whole at the end; run it again without --resume")
+        boot = run_bootstrap_study(study, a.out, scheduler=a.scheduler, workers=a.workers,
+                                   parallel=not a.serial, progress=not a.no_progress)
+        report = write_bootstrap_report(boot, a.out)
+        print(boot.summary())
+        print(f"wrote {report}")
+        return 0
     try:
         res = run_study(study, a.out, scheduler=a.scheduler, workers=a.workers, resume=a.resume,
                         progress=not a.no_progress, parallel=not a.serial)
@@ -215,6 +259,26 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--run", action="store_true",
                    help="run them in libcosim and fmpy and compare with the harness")
     p.set_defaults(func=_cmd_system)
+    p = sub.add_parser("circle", help="the ISO 230-4 circular test on the X-Y table: G, H, "
+                                      "quadrant glitches, polar plots")
+    p.add_argument("--radius-mm", type=_POSITIVE, nargs="+", default=[10.0, 50.0],
+                   help="circle radii [mm] (default 10 50)")
+    p.add_argument("--feed-m-min", type=_POSITIVE, nargs="+", default=[1.0, 5.0],
+                   help="feeds [m/min] (default 1 5)")
+    p.add_argument("--direction", nargs="+", choices=("ccw", "cw"), default=["ccw", "cw"],
+                   help="contouring directions (H needs both)")
+    p.add_argument("--feedforward", nargs="+", choices=sorted(FEEDFORWARD), default=["none", "gms"],
+                   help="feedforward cases (default none gms)")
+    p.add_argument("--x-model", type=Path, default=None, help="model file of the X axis (default: the paper's drive)")
+    p.add_argument("--y-model", type=Path, default=None,
+                   help="model file of the Y axis (default: the paper's drive, 40 kg, friction x1.5, magnets +9.375 mm)")
+    p.add_argument("--mismatch", choices=MISMATCH, default="sec4",
+                   help="plant = nominal x the Sec. 4 mismatch (default), or the nominal itself")
+    p.add_argument("--osp", action="store_true",
+                   help="also write each circle as an OSP system structure (4 FMUs) for libcosim in OUT/osp/")
+    p.add_argument("--out", default=str(BUILD / "circle"), help="output folder (index.html, circle_*.png)")
+    _force_argument(p)
+    p.set_defaults(func=_cmd_circle)
     p = sub.add_parser("validate", help="replay a measured run through model and controller")
     p.add_argument("measured")
     p.add_argument("--model", default=None)
@@ -223,6 +287,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True)
     p.add_argument("--model", default=None)
     p.add_argument("--seed", type=_SEED, default=1, help="noise seed (>= 0)")
+    p.add_argument("--repeats", type=_REPEATS, default=1,
+                   help="runs of every experiment with independent noise (for identify --bootstrap)")
     _force_argument(p)
     p.set_defaults(func=_cmd_experiments)
     p = sub.add_parser("identify", help="identify a model file from a folder of runs")

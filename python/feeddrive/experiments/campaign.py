@@ -13,6 +13,9 @@ Groups (keys of :func:`campaign`) and file stems written by :func:`write_campaig
 The full campaign covers the whole stroke at 1 mm/s (six runs of ~5 min of simulated time
 each); ``quick=True`` shortens every run (segments of a few mm, fewer periods) for tests.
 Each job's noise seed is derived from the campaign seed and the job's label.
+``repeats=K`` runs every job K times with independent noise (repeat k > 0 seeds from
+(seed, label, k), so repeat 0 is the campaign without repeats); the file stems then end in
+``_r1`` ... ``_rK``.  Repeats are what the identification bootstrap resamples.
 """
 from __future__ import annotations
 
@@ -40,6 +43,8 @@ GROUPS: tuple[str, ...] = ("prbs", "cogging_ripple", "stribeck", "force_open_loo
                            "variable_speed", "prerolling")
 
 Job = tuple[str, str, Callable[[Mapping[str, Any], Sensors], list[Run]]]
+#: Most repeats of one campaign (each is a whole campaign of runs).
+MAX_REPEATS = 100
 
 
 def plan(quick: bool = False) -> list[Job]:
@@ -75,18 +80,36 @@ def plan(quick: bool = False) -> list[Job]:
     return jobs
 
 
-def campaign(params: Mapping[str, Any], sensors: Sensors, quick: bool = False
-             ) -> dict[str, list[Run]]:
+def _check_repeats(repeats: int) -> int:
+    if isinstance(repeats, bool) or not isinstance(repeats, int) or not 1 <= repeats <= MAX_REPEATS:
+        raise ValueError(f"campaign: repeats must be an integer in [1, {MAX_REPEATS}], got {repeats!r}")
+    return repeats
+
+
+def campaign(params: Mapping[str, Any], sensors: Sensors, quick: bool = False,
+             repeats: int = 1) -> dict[str, list[Run]]:
     """Run every experiment on the plant ``params`` (FMU parameters, SI).
 
-    Returns runs by group (:data:`GROUPS`); each run's ``meta['name']`` is its file stem.
+    Parameters
+    ----------
+    params : FMU parameters; sensors : noise model and campaign seed; quick : short runs.
+    repeats : runs of every job, with independent noise (1 .. :data:`MAX_REPEATS`).
+
+    Returns runs by group (:data:`GROUPS`); each run's ``meta['name']`` is its file stem
+    (suffixed ``_r1`` ... when ``repeats > 1``, and ``meta['repeat']`` the repeat's number).
     A progress bar over the runs is shown unless ``quick``.
     """
+    _check_repeats(repeats)
     out: dict[str, list[Run]] = {g: [] for g in GROUPS}
-    jobs = plan(quick)
-    for group, label, fn in tqdm(jobs, desc="experiments", unit="run", disable=quick):
-        s = replace(sensors, seed=run_seed(sensors.seed, label))
-        out[group] += fn(params, s)
+    jobs = [(g, label, fn, k) for g, label, fn in plan(quick) for k in range(repeats)]
+    for group, label, fn, k in tqdm(jobs, desc="experiments", unit="run", disable=quick):
+        keys = (label,) if k == 0 else (label, k)
+        runs = fn(params, replace(sensors, seed=run_seed(sensors.seed, *keys)))
+        if repeats > 1:
+            for r in runs:
+                r.meta["name"] = f"{r.meta['name']}_r{k + 1}"
+                r.meta["repeat"] = k + 1
+        out[group] += runs
     return out
 
 
@@ -104,7 +127,8 @@ def _parameters(model: Path | str | ModelFile | Mapping[str, Any] | None) -> dic
 
 
 def write_campaign(out_dir: Path, model: Path | ModelFile | Mapping[str, Any] | None = None,
-                   seed: int = 1, quick: bool = False, force: bool = False) -> list[Path]:
+                   seed: int = 1, quick: bool = False, force: bool = False,
+                   repeats: int = 1) -> list[Path]:
     """Run the campaign on ``model`` (default: the paper's) and write every run.
 
     Parameters
@@ -114,14 +138,16 @@ def write_campaign(out_dir: Path, model: Path | ModelFile | Mapping[str, Any] | 
         campaign's runs only; a non-empty folder we did not write is refused unless ``force``).
     model : a model file path, a :class:`ModelFile`, FMU parameters, or None (paper).
     seed : campaign seed (sensor noise); quick : short runs (tests).
+    repeats : runs of every experiment with independent noise (for ``identify --bootstrap``).
 
     Returns the CSV paths written, in campaign order.
     """
     params = _parameters(model)
+    _check_repeats(repeats)
     out_dir = Path(out_dir)
     inputs = (model,) if isinstance(model, (str, Path)) else ()
     with output_dir(out_dir, inputs, force, what="experiments") as stage:
-        runs = campaign(params, Sensors(seed=int(seed)), quick=quick)
+        runs = campaign(params, Sensors(seed=int(seed)), quick=quick, repeats=repeats)
         names: list[str] = []
         for group in GROUPS:
             for run in runs[group]:

@@ -1,6 +1,7 @@
 """The report page of a parameter study: counts, sensitivity table, histograms of the
 metrics, a scatter matrix of metrics against parameters and (one-at-a-time studies) the
-tornado chart of the sensitivities."""
+tornado chart of the sensitivities; and the page of a bootstrap study (the interval table and
+the identification's figures)."""
 from __future__ import annotations
 
 import math
@@ -9,7 +10,8 @@ from pathlib import Path
 import matplotlib.pyplot as plt
 import numpy as np
 
-from ..study import OK, StudyResult
+from ..study import OK, BootstrapStudyResult, StudyResult
+from . import identification
 from .page import Page
 
 
@@ -86,4 +88,13 @@ def write_study_report(res: StudyResult, out: str | Path) -> Path:
         if res.study.design["type"] == "oat":
             page.figure(tornado(res), "study_tornado",
                         "one at a time: change of each metric from base at each end")
+    return page.write("report.html")
+
+
+def write_bootstrap_report(res: BootstrapStudyResult, out: str | Path) -> Path:
+    """Write ``out``/report.html for a bootstrap study: counts, the interval table and the
+    identification's figures; returns its path."""
+    page = Page(out, f"Identification bootstrap: {res.study.name}")
+    page.pre(res.summary())
+    identification.add_to_page(page, res.identification)
     return page.write("report.html")

@@ -8,7 +8,10 @@ serially or on Dask ``distributed`` (a LocalCluster by default, or a scheduler's
 - :mod:`.executor`: batches, serial or on a Dask client, rows streamed back, progress bar;
 - :mod:`.table`: the results table (CSV as rows arrive, Parquet at the end), resume;
 - :mod:`.sensitivity`: one-at-a-time changes or Spearman correlations per parameter and metric;
-- :mod:`.sweep`: :func:`run_study`, the whole study.
+- :mod:`.sweep`: :func:`run_study`, the whole study;
+- :mod:`.bootstrap`: the identification bootstrap on the executor (``identify --bootstrap``);
+- :mod:`.bootstrap_study`: the bootstrap as a study file (``"kind": "bootstrap"``),
+  :func:`load_study_file` for either kind.
 """
 from .run import FAILED, OK, RunTask, run_batch, run_case
 from .samplers import Case, cases
@@ -16,8 +19,11 @@ from .schema import METRICS, SCHEMA, Study, StudyError, load_study, parse_study
 from .sensitivity import Sensitivity, sensitivities, sensitivity_text
 from .sweep import StudyResult, run_study
 from .table import ResultsTable, read_table
+from .bootstrap_study import (BootstrapStudy, BootstrapStudyResult, load_study_file,
+                              run_bootstrap_study)
 
 __all__ = ["FAILED", "OK", "RunTask", "run_batch", "run_case", "Case", "cases", "METRICS",
            "SCHEMA", "Study", "StudyError", "load_study", "parse_study", "Sensitivity",
            "sensitivities", "sensitivity_text", "StudyResult", "run_study", "ResultsTable",
-           "read_table"]
+           "read_table", "BootstrapStudy", "BootstrapStudyResult", "load_study_file",
+           "run_bootstrap_study"]

@@ -21,9 +21,11 @@ from ..harness.controllers import Controller, make_controller
 from ..harness.references import Reference, back_and_forth, point_to_point, sinusoid
 from ..harness.simulate import simulate_closed_loop
 from ..model_file import ModelFile
+from ..validation.circle_test import circular_case, controller_values
+from ..validation.xy_machine import AxisModel, y_axis_parameters
 from .metrics import residual_metric, select, tracking_metrics
 from .samplers import Case
-from .schema import METRICS, Experiment, Study
+from .schema import CIRCLE_METRICS, METRICS, Experiment, Study
 
 OK, FAILED = "ok", "failed"
 _PROFILES = {"sinusoid": sinusoid, "point_to_point": point_to_point,
@@ -58,6 +60,7 @@ class _ProcessCache:
         self.loops: dict[str, tuple[Reference, Controller]] = {}
         self.runs: dict[str, Run] = {}
         self.plants: dict[float, Plant] = {}
+        self.circle_controllers: dict[str, list[dict[str, Any]]] = {}
 
     def plant(self, parameters: dict[str, Any], tolerance: float) -> Plant:
         """The process's Plant at ``tolerance``, to be started with ``parameters``."""
@@ -95,6 +98,28 @@ def _simulate(model: ModelFile, exp: Experiment) -> dict[str, float]:
     return tracking_metrics(ref.x, res["x"], ref.Ts, exp)
 
 
+def _y_of(params: dict[str, Any], how: str) -> dict[str, Any]:
+    return dict(params) if how == "same" else y_axis_parameters(params)
+
+
+def _circle(base: ModelFile, model: ModelFile, exp: Experiment) -> dict[str, float]:
+    """G, H, max glitch of the circular test: the run's model is the X plant (schema)."""
+    c = exp.circle
+    assert c is not None
+    nom_x = base.fmu_parameters()
+    plant_x = model.fmu_parameters()
+    axes = (AxisModel("X", nom_x, plant_x, "study"),
+            AxisModel("Y", _y_of(nom_x, c["y_axis"]), _y_of(plant_x, c["y_axis"]), "study"))
+    key = json.dumps([c, nom_x], sort_keys=True, default=str)
+    if key not in _CACHE.circle_controllers:
+        _CACHE.circle_controllers.clear()
+        _CACHE.circle_controllers[key] = [controller_values(a, c["feedforward"]) for a in axes]
+    case = circular_case(axes, c["radius"], c["feed"], c["feedforward"], c["directions"],
+                         tolerance=exp.tolerance, controllers=_CACHE.circle_controllers[key])
+    G = max(r.trace.G for r in case.runs.values())
+    return {"G_m": G, "H_m": case.H, "max_glitch_m": case.max_glitch()}
+
+
 def run_case(task: RunTask, case: Case) -> dict[str, Any]:
     """The table row of one case: run, label, parameters, metrics, wall_s, status, message."""
     t0 = time.perf_counter()
@@ -108,6 +133,8 @@ def run_case(task: RunTask, case: Case) -> dict[str, Any]:
         tracking = ("reversal_error", "rms_error", "max_error")
         if any(m in task.metrics for m in tracking):
             values.update(_simulate(model, task.experiment))
+        if any(m in task.metrics for m in CIRCLE_METRICS):
+            values.update(_circle(task.model, model, task.experiment))
         if "force_residual" in task.metrics:
             values["force_residual_N"] = residual_metric(
                 _CACHE.measured(task.experiment.measured), model)

@@ -20,6 +20,24 @@ Format::
      "metrics": ["reversal_error", "rms_error", "max_error"],
      "batch_size": 8}                             # optional: runs per task
 
+The **circular test** (ISO 230-4 on the X-Y table) is the experiment kind ``circle``, in
+place of ``reference`` and ``controller``::
+
+     "experiment": {"circle": {"radius": 0.01, "feed": 0.016667,    # [m], [m/s]
+                               "feedforward": "gms",              # none | static | gms
+                               "directions": ["ccw", "cw"],       # optional (H needs both)
+                               "y_axis": "derived"},              # optional: derived | same
+                    "tolerance": 1e-6},
+     "metrics": ["circular_deviation", "hysteresis", "max_glitch"]
+
+The run's model (the base model with the case's values) is the X axis's plant; the Y axis's
+plant is derived from it (:func:`feeddrive.validation.xy_machine.y_axis_parameters`: 40 kg,
+friction x1.5, magnets a quarter pitch on) or, with ``"same"``, a copy.  Both controllers
+(the Sec. 4 state-space controller with ZPETC and the named feedforward) are designed on the
+*base* model (the Y one on its derived or copied base): a varied parameter is the machine
+drifting from the model its controller knows.  Metrics: ``circular_deviation`` G (the larger
+of the directions'), ``hysteresis`` H, ``max_glitch`` (largest |quadrant glitch|), all [m].
+
 Paths are relative to the study file.  A parameter is a range (``low``/``high``, or
 ``relative``: base (1 -+ r)), a ``distribution`` of scipy.stats with its keyword arguments,
 or a list of ``values`` (grid only).  :func:`load_study` raises :class:`StudyError` naming the
@@ -39,6 +57,7 @@ import scipy.stats
 from ..harness.controllers import CONTROLLERS
 from ..harness.sensors import Sensors
 from ..model_file import PARAMETER_NAMES, ModelFile, load_model, paper_model
+from ..validation.circle_test import FEEDFORWARD
 
 SCHEMA = "feeddrive.study/1"
 #: Reference profiles a study may name, and their required / optional keys.
@@ -49,12 +68,21 @@ REFERENCES: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
 }
 #: Metric names a study may ask for, and the table column each gives.
 METRICS: dict[str, str] = {"reversal_error": "reversal_error_m", "rms_error": "rms_error_m",
-                           "max_error": "max_error_m", "force_residual": "force_residual_N"}
+                           "max_error": "max_error_m", "force_residual": "force_residual_N",
+                           "circular_deviation": "G_m", "hysteresis": "H_m",
+                           "max_glitch": "max_glitch_m"}
+#: metrics of the circle experiment (the others need a reference and a controller)
+CIRCLE_METRICS = ("circular_deviation", "hysteresis", "max_glitch")
+_CIRCLE = ("radius", "feed", "feedforward", "directions", "y_axis")
+Y_AXES = ("derived", "same")
 DESIGNS = ("grid", "lhs", "monte_carlo", "oat")
-_TOP = ("schema", "name", "description", "model", "experiment", "parameters", "design",
+_TOP = ("schema", "kind", "name", "description", "model", "experiment", "parameters", "design",
         "metrics", "batch_size")
+#: Study kinds: a parameter sweep (this module, the default) or the identification bootstrap
+#: (:mod:`.bootstrap_study`).
+KINDS = ("sweep", "bootstrap")
 _EXPERIMENT = ("reference", "controller", "sensors", "F_load", "tolerance", "skip_start",
-               "half_width", "measured")
+               "half_width", "measured", "circle")
 
 
 class StudyError(ValueError):
@@ -98,6 +126,9 @@ class Experiment:
     skip_start: float = 0.0
     half_width: float = 0.25
     measured: Path | None = None
+    #: the circular test (radius, feed, feedforward, directions, y_axis) instead of a
+    #: reference and a controller (which are then empty)
+    circle: Mapping[str, Any] | None = None
 
 
 @dataclass(frozen=True)
@@ -197,8 +228,42 @@ def _sensors(raw: Any, src: str) -> Sensors:
         raise StudyError(src, "experiment.sensors", str(e)) from None
 
 
+def _circle(raw: Any, src: str) -> dict[str, Any]:
+    fld = "experiment.circle"
+    raw = _object(raw, src, fld, _CIRCLE)
+    for k in ("radius", "feed"):
+        if k not in raw:
+            raise StudyError(src, f"{fld}.{k}", "missing (a circle needs radius [m] and feed [m/s])")
+    out = {k: _number(raw[k], src, f"{fld}.{k}", positive=True) for k in ("radius", "feed")}
+    ff = raw.get("feedforward", "none")
+    if ff not in FEEDFORWARD:
+        raise StudyError(src, f"{fld}.feedforward", f"{ff!r}: allowed {', '.join(FEEDFORWARD)}")
+    dirs = raw.get("directions", ["ccw", "cw"])
+    if (not isinstance(dirs, list) or not dirs or any(d not in ("ccw", "cw") for d in dirs)
+            or len(set(dirs)) != len(dirs)):
+        raise StudyError(src, f"{fld}.directions", f"must be a list of 'ccw' and/or 'cw', got {dirs!r}")
+    y = raw.get("y_axis", "derived")
+    if y not in Y_AXES:
+        raise StudyError(src, f"{fld}.y_axis", f"{y!r}: allowed {', '.join(Y_AXES)}")
+    out.update({"feedforward": ff, "directions": list(dirs), "y_axis": y})
+    return out
+
+
+def _circle_experiment(raw: dict[str, Any], src: str) -> Experiment:
+    bad = sorted(set(raw) - {"circle", "tolerance"})
+    if bad:
+        raise StudyError(src, f"experiment.{bad[0]}", "not used by a circle experiment "
+                                                      "(allowed: circle, tolerance)")
+    return Experiment(reference={}, controller={}, sensors=Sensors(quantum=1e-7, current_noise=0.0),
+                      tolerance=_number(raw.get("tolerance", 1e-6), src, "experiment.tolerance",
+                                        positive=True),
+                      circle=_circle(raw["circle"], src))
+
+
 def _experiment(raw: Any, src: str, folder: Path) -> Experiment:
     raw = _object(raw, src, "experiment", _EXPERIMENT)
+    if "circle" in raw:
+        return _circle_experiment(raw, src)
     for k in ("reference", "controller"):
         if k not in raw:
             raise StudyError(src, f"experiment.{k}", "missing")
@@ -298,6 +363,9 @@ def parse_study(raw: Any, source: str, folder: Path) -> Study:
     raw = _object(raw, source, "(top level)", _TOP)
     if raw.get("schema") != SCHEMA:
         raise StudyError(source, "schema", f"must be {SCHEMA!r}, got {raw.get('schema')!r}")
+    if raw.get("kind", "sweep") != "sweep":
+        raise StudyError(source, "kind", f"a parameter sweep has kind 'sweep' (or none), got "
+                                         f"{raw.get('kind')!r}: load it with load_study_file")
     for k in ("experiment", "parameters", "design", "metrics"):
         if k not in raw:
             raise StudyError(source, k, "missing")
@@ -328,6 +396,19 @@ def parse_study(raw: Any, source: str, folder: Path) -> Study:
         if m not in METRICS:
             raise StudyError(source, f"metrics[{j}]", f"{m!r} is not a metric; known: "
                                                      f"{', '.join(METRICS)}")
+    circle = experiment.circle is not None
+    for j, m in enumerate(metrics):
+        if (m in CIRCLE_METRICS) != circle:
+            raise StudyError(source, f"metrics[{j}]", f"{m!r} needs " + (
+                "a reference and a controller, not a circle" if circle else "a circle experiment"))
+    if circle and "hysteresis" in metrics and len(experiment.circle["directions"]) != 2:
+        raise StudyError(source, "experiment.circle.directions", "the hysteresis metric needs "
+                                                                 "both directions")
+    if circle:
+        top = float(model.parameters.get("stroke.x_max", 0.3)) - float(model.parameters.get("stroke.x_min", 0.0))
+        if not experiment.circle["radius"] < top / 2:
+            raise StudyError(source, "experiment.circle.radius",
+                             f"{experiment.circle['radius']} m does not fit the stroke ({top} m)")
     if "force_residual" in metrics and experiment.measured is None:
         raise StudyError(source, "experiment.measured", "the force_residual metric needs a "
                                                         "measured run")
@@ -342,6 +423,12 @@ def parse_study(raw: Any, source: str, folder: Path) -> Study:
 def load_study(path: str | Path) -> Study:
     """Read and validate a study file; :class:`StudyError` names the file and the field."""
     path = Path(path)
+    return parse_study(read_study_json(path), str(path), path.parent)
+
+
+def read_study_json(path: str | Path) -> Any:
+    """The decoded JSON of a study file; :class:`StudyError` when unreadable or not JSON."""
+    path = Path(path)
     src = str(path)
     try:
         text = path.read_text(encoding="utf-8")
@@ -354,4 +441,4 @@ def load_study(path: str | Path) -> Study:
     except json.JSONDecodeError as e:
         raise StudyError(src, "(file)", f"invalid JSON at line {e.lineno}, column {e.colno}: "
                                         f"{e.msg}") from None
-    return parse_study(raw, src, path.parent)
+    return raw

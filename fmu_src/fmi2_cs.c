@@ -177,11 +177,12 @@ fmi2Status fmi2GetRealOutputDerivatives(fmi2Component comp, const fmi2ValueRefer
             return fmi2Error;
         }
         if (vr[k] == VR_x) value[k] = c->m.y[PLANT_IV];
+        else if (vr[k] == VR_x_measured) value[k] = compliance_v_measured(&c->m.p, c->m.y);
         else if (vr[k] == VR_v) value[k] = c->m.out.a;
         else if (vr[k] == VR_i && c->m.p.current_dynamics) value[k] = 0.0;   /* held between samples */
         else {
             fmu_log(c, fmi2Error, LOG_ERROR, "fmi2GetRealOutputDerivatives: value reference %u: derivatives "
-                    "are provided for x, v and (with current_dynamics) i", (unsigned)vr[k]);
+                    "are provided for x, x_measured, v and (with current_dynamics) i", (unsigned)vr[k]);
             return fmi2Error;
         }
         if (!fmu_finite_result(c, "fmi2GetRealOutputDerivatives", &value[k], 1)) return fmi2Error;

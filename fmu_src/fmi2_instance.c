@@ -284,9 +284,15 @@ void fmu_solver_setup(model_t *m) {
     m->memo.valid = 0;   /* called after every compile of the parameters but fmu_recompile's */
     for (j = 0; j < PLANT_NX; j++) atol[j] = m->tol * MODEL_STATE_NOMINAL(j);   /* XML nominals */
     /* x, v and the forces of the N elements in use: the slots past N stay 0 (their derivative is 0);
-     * the error norm still counts all PLANT_NX states, so the steps are those of a 12-state run */
-    dp45_init(&m->solver, 2 + m->p.N, PLANT_NZ, m->tol, atol, m->p.Ts);
-    m->solver.n_norm = PLANT_NX;
+     * the error norm still counts the PLANT_NX_BASE states, so the steps are those of a 12-state
+     * run. With compliance every state is integrated (its two come after the elements) and counted. */
+    if (m->p.compliance) {
+        dp45_init(&m->solver, PLANT_NX, PLANT_NZ, m->tol, atol, m->p.Ts);
+        m->solver.n_norm = PLANT_NX;
+    } else {
+        dp45_init(&m->solver, 2 + m->p.N, PLANT_NZ, m->tol, atol, m->p.Ts);
+        m->solver.n_norm = PLANT_NX_BASE;
+    }
 }
 
 /* compile parameters and initialise the plant from the current values */

@@ -1,4 +1,4 @@
-/* The serialised FMU state (format version 1): a self-describing little-endian byte string.
+/* The serialised FMU state (format version 2): a self-describing little-endian byte string.
  *
  *   header (u32 unless noted)
  *     magic 0x53524446 ("FDRS"), format version, header bytes, payload bytes,
@@ -9,7 +9,8 @@
  *   payload
  *     u32 call-sequence state, u32 flags (1 stopTime defined, 2 tolerance defined,
  *     4 parameters compiled, 8 stroke warning given), f64 time, startTime, stopTime, tolerance,
- *     f64 continuous states, f64 value of every parameter, input and state start (table order),
+ *     f64 continuous states (x, v, friction.F[1..10], compliance.dx, compliance.dv),
+ *     f64 value of every parameter, input and state start (table order),
  *     f64 discrete state (plant_disc_pack), f64 solver: step proposal, step-controller memory,
  *     accepted, rejected steps, right-hand sides, indicator evaluations, roots.
  *
@@ -21,7 +22,7 @@
 #include "fmi2_instance.h"
 
 #define STATE_MAGIC 0x53524446u
-#define STATE_VERSION 1u
+#define STATE_VERSION 2u   /* 2: + compliance (14 continuous states, its parameters) */
 #define STATE_MAX_BYTES 4096u
 
 /* the serialised size of a state of this FMU */

@@ -31,14 +31,20 @@ static int args_ok(instance_t *c, const char *fn, const void *vr, size_t nvr, co
     return 1;
 }
 
-/* Every value asked for is the position or velocity (a controller's read between steps): these are
- * the states themselves, so nothing else need be computed (outputs are computed when read). */
+/* Every value asked for is the position, the measured position or the velocity (a controller's
+ * read between steps): these are the states themselves (x_measured: x, or x + compliance.dx on
+ * the load side), so nothing else need be computed (outputs are computed when read). */
 static int states_only(const model_t *m, const fmi2ValueReference vr[], size_t nvr, char type) {
     size_t k;
     if (type != 'R' || m->out_valid || !m->params_ok || nvr == 0) return 0;
     for (k = 0; k < nvr; k++)
-        if (vr[k] != VR_x && vr[k] != VR_v) return 0;
+        if (vr[k] != VR_x && vr[k] != VR_v && vr[k] != VR_x_measured) return 0;
     return 1;
+}
+
+static double state_value(const model_t *m, fmi2ValueReference vr) {
+    if (vr == VR_x_measured) return compliance_x_measured(&m->p, m->y);
+    return m->y[vr == VR_x ? PLANT_IX : PLANT_IV];
 }
 
 /* c: the instance admitted by FMU_ENTER (NULL: the call was refused) */
@@ -53,10 +59,10 @@ static fmi2Status get_values(instance_t *c, const char *fn, const fmi2ValueRefer
     }
     if (states_only(&c->m, vr, nvr, type)) {
         for (k = 0; k < nvr; k++) {
-            double v = c->m.y[vr[k] == VR_x ? PLANT_IX : PLANT_IV];
+            double v = state_value(&c->m, vr[k]);
             if (!isfinite(v)) {
                 fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s = %g is not finite (the simulation overflowed)", fn,
-                        vr[k] == VR_x ? "x" : "v", v);
+                        MODEL_VARS[MODEL_VR_INDEX[vr[k]]].name, v);
                 return fmi2Error;
             }
             ((fmi2Real *)value)[k] = v;

@@ -239,6 +239,15 @@ static bool compile_position_friction(const double *val, plant_params_t *p, char
     for (j = 0; j < PLANT_NPF_MAX; j++) p->pf_c[j] = j < p->pf_n ? val[VRA_friction_profile_c[j + 1]] : 0.0;
     return true;
 }
+/* the load on its spring-damper (compliance.c): k2 = m2 w^2, c2 = 2 zeta m2 w, w = 2 pi f */
+static void compile_compliance(const double *val, plant_params_t *p) {
+    double w = 2.0 * M_PI * val[VR_compliance_f];
+    p->compliance = val[VR_effects_compliance] != 0.0;
+    p->m2 = val[VR_compliance_m2];
+    p->k2 = p->m2 * w * w;
+    p->c2 = 2.0 * val[VR_compliance_zeta] * p->m2 * w;
+    p->sensor_side = (int)val[VR_compliance_sensor_side];
+}
 
 bool params_compile(const double *val, plant_params_t *p, char *msg, size_t msglen) {
     if (!check_each_parameter(val, msg, msglen)) return false;
@@ -250,6 +259,7 @@ bool params_compile(const double *val, plant_params_t *p, char *msg, size_t msgl
         !compile_position_friction(val, p, msg, msglen))
         return false;
     p->F_off = val[VR_effects_offset_force] != 0.0 ? val[VR_offset_F] : 0.0;
+    compile_compliance(val, p);
     return true;
 }
 
@@ -281,6 +291,10 @@ void params_store_outputs(double *val, const double *y, const double *dydt, cons
     val[VR_F_friction] = o->F_fric;
     val[VR_K_f] = o->K_f;
     val[VR_n_stuck] = o->n_stuck;
+    val[VR_x_measured] = o->x_meas;
+    val[VR_x_load] = o->x_load;
+    val[VR_v_load] = o->v_load;
+    val[VR_compliance_F] = o->F_load;
     val[VR_stats_n_stick] = (double)d->n_stick;
     val[VR_stats_n_slip] = (double)d->n_slip;
     val[VR_stats_n_time_events] = (double)d->n_time_events;
@@ -316,6 +330,8 @@ void params_fastest_rate(const double *val, const plant_params_t *p, char *buf, 
         rate_candidate(VRA_cogging_a[j], sqrt(fabs(val[VRA_cogging_a[j]]) * kw / p->m), &best, &best_vr);
         rate_candidate(VRA_cogging_b[j], sqrt(fabs(val[VRA_cogging_b[j]]) * kw / p->m), &best, &best_vr);
     }
+    if (p->compliance)   /* the coupled mode: w sqrt(1 + m2/m) */
+        rate_candidate(VR_compliance_f, sqrt(p->k2 / p->m2 * (1.0 + p->m2 / p->m)), &best, &best_vr);
     if (best < 1.0 / p->Ts) { best = 1.0 / p->Ts; best_vr = VR_Ts; }
     snprintf(buf, n, "%s = %s (rate %.3g 1/s with m = %s kg)", var_name(best_vr), num(vb, sizeof vb, val[best_vr]),
              best, num(mb, sizeof mb, p->m));

@@ -1,4 +1,5 @@
-/* Eq. 1 assembled:  m a = K_f(x) i - F_cg(x) - F_f - F_e - F_offset.
+/* Eq. 1 assembled:  m a = K_f(x) i - F_cg(x) - F_f - F_e - F_offset (+ the compliance's
+ * spring-damper force when that effect is on, compliance.c).
  * The maps are evaluated at x clamped to [stroke.x_min, stroke.x_max] (the cubic of Eq. 6
  * extrapolates badly); the motion itself is not limited. */
 #include <math.h>
@@ -9,7 +10,9 @@ static double clamp(double x, double lo, double hi) { return x < lo ? lo : (x > 
 
 /* applied force without friction */
 static double applied_force(const plant_params_t *p, const plant_out_t *o, const plant_in_t *in) {
-    return o->F_motor - o->F_cg - in->F_ext - p->F_off;
+    double F = o->F_motor - o->F_cg - in->F_ext - p->F_off;
+    if (p->compliance) F += o->F_load;
+    return F;
 }
 
 /* K_f and F_cg at the clamped position xc, from the memo when it holds that very position */
@@ -36,6 +39,7 @@ static void plant_forces(const plant_params_t *p, const plant_disc_t *d, const d
     maps_at(p, xc, memo, o);
     o->i = current_loop_output(p, d, in->u);
     o->F_motor = o->K_f * o->i;
+    o->F_load = compliance_force(p, y);
     F_app = applied_force(p, o, in);
     if (p->prerolling) {
         gms_element_forces(p, d, y, o->F_elem);
@@ -53,6 +57,9 @@ void plant_outputs_memo(const plant_params_t *p, const plant_disc_t *d, const do
                         const plant_in_t *in, plant_memo_t *memo, plant_out_t *o) {
     plant_forces(p, d, y, in, memo, o);
     o->n_stuck = plant_n_stuck(p, d);
+    o->x_meas = compliance_x_measured(p, y);
+    o->x_load = p->compliance ? y[PLANT_IX] + y[PLANT_IQ] : y[PLANT_IX];
+    o->v_load = p->compliance ? y[PLANT_IV] + y[PLANT_IW] : y[PLANT_IV];
 }
 
 void plant_outputs(const plant_params_t *p, const plant_disc_t *d, const double *y,
@@ -67,6 +74,7 @@ void plant_state_derivatives(const plant_params_t *p, const plant_disc_t *d, con
     dydt[PLANT_IV] = o->a;
     if (p->prerolling) gms_derivatives(p, d, y, dydt + PLANT_IF);
     else for (j = 0; j < PLANT_NE_MAX; j++) dydt[PLANT_IF + j] = 0.0;
+    compliance_derivatives(p, y, o->F_load, o->a, dydt);
 }
 
 void plant_derivatives_memo(const plant_params_t *p, const plant_disc_t *d, const double *y,
@@ -102,6 +110,7 @@ void plant_init(const plant_params_t *p, plant_disc_t *d, double *y, const plant
     d->st_stuck = false;
     d->st_dir = 0;
     for (j = 0; j < PLANT_NE_MAX; j++) if (!p->active[j]) y[PLANT_IF + j] = 0.0;
+    if (!p->compliance) y[PLANT_IQ] = y[PLANT_IW] = 0.0;
     if (p->prerolling) {
         gms_init(p, d, y);
         gms_update(p, d, y, &changed);
@@ -123,6 +132,7 @@ int plant_event_update(const plant_params_t *p, plant_disc_t *d, double *y, cons
     }
     for (pass = 0; pass < 4; pass++) {   /* a switch may enable another (stick then break away) */
         int m;
+        double v_old = y[PLANT_IV];
         if (p->prerolling) {
             m = gms_update(p, d, y, y_changed);
         } else {
@@ -130,6 +140,7 @@ int plant_event_update(const plant_params_t *p, plant_disc_t *d, double *y, cons
             plant_outputs(p, d, y, in, &o);
             m = static_update(p, d, y, applied_force(p, &o, in), y_changed);
         }
+        if (y[PLANT_IV] != v_old) compliance_velocity_jump(p, v_old, y);
         if (m == 0) break;
         n += m;
     }

@@ -12,11 +12,14 @@
 #define PLANT_NB_MAX 6       /* current loop: u[k..k-5] */
 #define PLANT_NPF_MAX 16     /* knots of the friction-level profile (position_friction) */
 #define PLANT_NMULT 24       /* highest multiple of the fundamental evaluated by recurrence */
-#define PLANT_NX (2 + PLANT_NE_MAX)   /* x, v, F_1..F_10 */
+#define PLANT_NX_BASE (2 + PLANT_NE_MAX)      /* x, v, F_1..F_10 */
+#define PLANT_NX (PLANT_NX_BASE + 2)          /* + the compliance's deflection and its rate */
 #define PLANT_NZ (PLANT_NE_MAX + 1)   /* one per element + one for the motion direction */
 #define PLANT_IX 0
 #define PLANT_IV 1
 #define PLANT_IF 2
+#define PLANT_IQ PLANT_NX_BASE        /* compliance: deflection x_load - x [m] */
+#define PLANT_IW (PLANT_NX_BASE + 1)  /* compliance: its rate v_load - v [m/s] */
 /* Hysteresis of the velocity zero-crossing indicator [m/s]: the crossing is taken at
  * dir*v = -PLANT_V_HYS, so no indicator is left at exactly 0 after an event. */
 #define PLANT_V_HYS 1e-9
@@ -54,6 +57,10 @@ typedef struct {
     int pf_n;                         /* knots in use (2..PLANT_NPF_MAX) */
     double pf_x0, pf_h;               /* first knot [m], knot spacing [m] */
     double pf_c[PLANT_NPF_MAX];       /* relative level change at the knots [-] */
+    /* compliance (compliance.c): load m2 on a spring k2 and damper c2 on the slide */
+    bool compliance;
+    double m2, k2, c2;
+    int sensor_side;                  /* 0: encoder on the motor slide, 1: on the load */
 } plant_params_t;
 
 /* Discrete state. */
@@ -79,6 +86,8 @@ typedef struct { double u, F_ext; } plant_in_t;
 /* Everything derived from (params, discrete state, continuous state, inputs). */
 typedef struct {
     double i, K_f, F_cg, F_motor, F_fric, F_elem[PLANT_NE_MAX], a;
+    double F_load;                    /* compliance: force of the load's spring-damper on the slide */
+    double x_meas, x_load, v_load;    /* the encoder's position, the load's position and velocity */
     int n_stuck;
 } plant_out_t;
 
@@ -133,6 +142,16 @@ double static_friction(const plant_params_t *p, const plant_disc_t *d, double x,
 double static_indicator(const plant_params_t *p, const plant_disc_t *d, double x, double v, double F_app);
 void static_init(const plant_params_t *p, plant_disc_t *d, double *y, double F_app);
 int static_update(const plant_params_t *p, plant_disc_t *d, double *y, double F_app, bool *y_changed);
+
+/* compliance.c: the load m2 on a spring-damper (k2, c2) attached to the slide, states
+ * q = x_load - x and w = v_load - v (y[PLANT_IQ], y[PLANT_IW]); everything 0 when off */
+double compliance_force(const plant_params_t *p, const double *y);   /* k2 q + c2 w [N] on the slide */
+void compliance_derivatives(const plant_params_t *p, const double *y, double F_load, double a,
+                            double *dydt);                           /* dq, dw from the slide's a */
+double compliance_x_measured(const plant_params_t *p, const double *y);   /* the encoder's position */
+double compliance_v_measured(const plant_params_t *p, const double *y);
+/* the slide's velocity set from v_old to y[PLANT_IV] by an event: the load keeps its velocity */
+void compliance_velocity_jump(const plant_params_t *p, double v_old, double *y);
 
 /* plant_state.c: the discrete state as PLANT_ND numbers (saved FMU states); unpack checks every
  * field (flags, directions, finite values, exact counts) and names the first bad one in msg */

@@ -26,7 +26,7 @@ def test_model_description_declares_both_interfaces(fmu_path: Path) -> None:
     md = fmpy.read_model_description(str(fmu_path))
     assert md.fmiVersion == "2.0"
     assert md.modelExchange is not None and md.coSimulation is not None
-    assert md.numberOfContinuousStates == 12      # x, v, friction.F[1..10]
+    assert md.numberOfContinuousStates == 14      # x, v, friction.F[1..10], compliance.dx, .dv
     assert md.numberOfEventIndicators == 11       # one per element + the motion direction
 
 

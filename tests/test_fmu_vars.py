@@ -134,7 +134,8 @@ def test_state_nominals_come_from_the_model_description(fmu_path):
         buf = (ctypes.c_double * len(expected))()
         p.fmu.getNominalsOfContinuousStates(buf, len(expected))
         assert list(buf) == expected
-    assert expected[:2] == [1e-3, 1e-3] and expected[2:] == [1.0] * 10
+    assert expected[:2] == [1e-3, 1e-3] and expected[2:12] == [1.0] * 10
+    assert expected[12:] == [1e-5, 1e-3]      # compliance.dx [m], compliance.dv [m/s]
 
 
 def test_no_xml_comment_inside_model_variables() -> None:

@@ -258,3 +258,24 @@ def test_every_command_refuses_an_invalid_model_file_with_the_fmus_message(tmp_p
         assert main(argv) == 2, argv
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and err[0].endswith(expect), (argv, err)
+
+
+def test_compliance_round_trip_and_its_integer_sensor_side(tmp_path):
+    m = paper_model().with_effect("compliance", True, **{"compliance.m2": 3.5, "compliance.f": 87.5,
+                                                         "compliance.zeta": 0.12,
+                                                         "compliance.sensor_side": 1})
+    p = tmp_path / "load.json"
+    save_model(m, p)
+    back = load_model(p)
+    assert back.effects["compliance"] is True and paper_model().effects["compliance"] is False
+    for k in ("compliance.m2", "compliance.f", "compliance.zeta"):
+        assert back.parameters[k] == m.parameters[k]
+    assert back.parameters["compliance.sensor_side"] == 1
+    assert isinstance(back.parameters["compliance.sensor_side"], int)
+    assert back.fmu_parameters()["effects.compliance"] is True
+    doc = json.loads(p.read_text())
+    doc["parameters"]["compliance.sensor_side"] = 0.5
+    assert "compliance.sensor_side" in _error(_write(tmp_path, doc))
+    doc["parameters"]["compliance.sensor_side"] = 0
+    doc["parameters"]["compliance.f"] = 500.0       # the FMU's range is 20..200 Hz
+    assert "compliance.f = 500 is out of range: allowed [20, 200] Hz" in _error(_write(tmp_path, doc))

@@ -9,13 +9,12 @@ import pytest
 
 from feeddrive.fmu import FMUError, Plant
 from feeddrive.model_description import variables
-from feeddrive.model_file import paper_model
+from feeddrive.model_file import INTEGER_PARAMETERS, paper_model
 from feeddrive.paper import paper_parameters
 from feeddrive.physics import ParameterError, check_value, compile
 
 PAPER = paper_parameters()
-INTEGERS = ("friction.N", "friction_profile.n")
-REALS = [n for n, v in PAPER.items() if not isinstance(v, bool) and n not in INTEGERS]
+REALS = [n for n, v in PAPER.items() if not isinstance(v, bool) and n not in INTEGER_PARAMETERS]
 
 #: (parameters, whether the FMU refuses them at fmi2Set* already)
 SINGLE = [
@@ -28,6 +27,8 @@ SINGLE = [
     {"m": 0.1 + 0.2},
     {"friction_profile.n": 1}, {"friction_profile.n": 17}, {"friction_profile.c[3]": -0.95},
     {"friction_profile.c[16]": 4.5}, {"friction_profile.x_start": math.nan},
+    {"compliance.f": 10.0}, {"compliance.f": 250.0},
+    {"compliance.zeta": -0.1}, {"compliance.m2": 0.0},
 ]
 COMPILED = [
     {"friction.F_c": 30.0},
@@ -84,7 +85,7 @@ def plant(fmu_path):
 @pytest.mark.parametrize("values", SINGLE, ids=lambda v: ",".join(f"{k}={v[k]}" for k in v))
 def test_single_value_rules_agree(plant, values):
     name = next(iter(values))
-    fn = "fmi2SetInteger" if name in INTEGERS else "fmi2SetReal"
+    fn = "fmi2SetInteger" if name in INTEGER_PARAMETERS else "fmi2SetReal"
     got = py_verdict(values)
     assert got is not None or values == {"m": 0.1 + 0.2}
     expect = fmu_verdict(plant, values)

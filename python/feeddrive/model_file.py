@@ -13,7 +13,7 @@ Rules (checked by :func:`load_model`, every error names the file and the key):
 - ``parameters`` keys are FMU parameter names (those of ``paper_parameters()``); an unknown
   name is an error.  **Parameters left out are filled from the paper's defaults**
   (``paper_parameters()``); the names so filled are kept in ``ModelFile.defaulted``.
-- ``friction.N`` and ``friction_profile.n`` are JSON integers; every other parameter a finite number (a JSON integer is
+- ``friction.N``, ``friction_profile.n`` and ``compliance.sensor_side`` are JSON integers; every other parameter a finite number (a JSON integer is
   accepted and stored as float).  ``effects.<id>`` switches belong under ``effects``; one
   found under ``parameters`` must be a boolean that agrees with ``effects``.
 - ``name`` (defaults to the file stem) and ``description`` are strings; other top-level
@@ -46,7 +46,8 @@ _PAPER = paper_parameters()
 #: Every FMU parameter a model file may set (effect switches excluded), in FMU order.
 PARAMETER_NAMES: tuple[str, ...] = tuple(k for k in _PAPER if not k.startswith("effects."))
 #: Parameters that are integers in the FMU.
-INTEGER_PARAMETERS: frozenset[str] = frozenset({"friction.N", "friction_profile.n"})
+INTEGER_PARAMETERS: frozenset[str] = frozenset({"friction.N", "friction_profile.n",
+                                                "compliance.sensor_side"})
 _TOP_KEYS = ("name", "description", "effects", "parameters", "uncertainty")
 _INTERVAL_KEYS = ("lo", "hi", "level", "replicates")
 

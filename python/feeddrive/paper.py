@@ -37,14 +37,18 @@ N_ELEMENTS_MAX = 10         #: GMS element slots in the FMU
 EFFECT_IDS = ["current_dynamics", "cogging_periodic", "cogging_aperiodic",
               "ripple_periodic", "ripple_aperiodic", "stribeck", "viscous",
               "prerolling", "frictional_lag", "mass", "offset_force",
-              "asymmetric_friction", "position_friction"]
+              "asymmetric_friction", "position_friction", "compliance"]
 #: Effects that exist as FMU switches (``mass`` is always on: its value is fitted).
 SWITCHABLE_EFFECTS = [e for e in EFFECT_IDS if e != "mass"]
-#: Effects beyond the paper (EFFECTS.md's "common effects of real drives"): off in its model.
-BEYOND_PAPER = ("offset_force", "asymmetric_friction", "position_friction")
+#: Effects beyond the paper (EFFECTS.md's "common effects of real drives" and the project's
+#: own ``position_friction`` and ``compliance``): off in its model.
+BEYOND_PAPER = ("offset_force", "asymmetric_friction", "position_friction", "compliance")
 PAPER_EFFECTS = {e: e not in BEYOND_PAPER for e in SWITCHABLE_EFFECTS}
 #: Knot slots of the friction-level profile (effect position_friction).
 N_PROFILE_KNOTS = 16
+#: Compliance defaults (off): a 2 kg load on a 40 Hz spring, 5 % damping, encoder on the slide.
+COMPLIANCE_DEFAULTS = {"compliance.m2": 2.0, "compliance.f": 40.0, "compliance.zeta": 0.05,
+                       "compliance.sensor_side": 0}
 
 
 def nu_defaults() -> list[float]:
@@ -83,6 +87,7 @@ def paper_parameters() -> dict[str, float | int | bool]:
     p["asymmetry.dF"] = 0.0
     p["asymmetry.dsigma2"] = 0.0
     p["stroke.x_min"], p["stroke.x_max"] = STROKE
+    p.update(COMPLIANCE_DEFAULTS)
     for e, on in PAPER_EFFECTS.items():
         if e != "position_friction":
             p[f"effects.{e}"] = on

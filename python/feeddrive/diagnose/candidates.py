@@ -20,9 +20,11 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.optimize import minimize, minimize_scalar
 
+from ..identify.compliance import fit_compliance
 from ..model_file import ModelFile
 from ..paper import N_ELEMENTS_MAX, N_HARMONICS
-from ..physics import FrictionProfile, gms_force, held_current, profile_basis, stribeck_drop
+from ..physics import (FrictionProfile, gms_force, held_current, load_acceleration, profile_basis,
+                       stribeck_drop)
 from .context import Context
 from .localise import spatial_spectrum, spectral_peaks
 
@@ -448,6 +450,45 @@ def ripple_periodic(ctx: Context) -> list[Variant]:
     return _periodic(ctx, "ripple", "ripple_periodic")
 
 
+# --------------------------------------------------------------------------- compliance
+def compliance(ctx: Context) -> list[Variant]:
+    """A load m2 on a spring-damper: the residual gains m2 H(s) a (the load's inertial force,
+    ``feeddrive.physics.compliance``), a = the (already filtered) measured acceleration.
+    (f, zeta) by the grid + Nelder-Mead of :func:`feeddrive.identify.compliance.fit_compliance`;
+    variants: m2 alone, and m2 with a change of the slide's mass.  At f -> inf the regressor
+    is the mass's: the workflow ranks this family only when held-out data separate it from
+    the mass (workflow.NESTED)."""
+    m = ctx.model
+    on = m.effects["compliance"]
+    P = ctx.plant.compliance
+    if P.sensor_side != 0:
+        return []          # the residual assumes the encoder on the slide
+    base = None
+    if on:
+        base = ctx.stack(lambda q: P.m2 * load_acceleration(q.a, q.Ts, P.f, P.zeta),
+                         filtered=False)[:, 0]
+    y = ctx.r + (base if base is not None else 0.0)
+    try:
+        fit = fit_compliance([q.a for q in ctx.res], ctx.unstack(y), [q.Ts for q in ctx.res],
+                             stride=SEARCH_STRIDE)
+    except ValueError:
+        return []          # no acceleration to see a load by
+    f, z = fit.f, fit.zeta
+    col = ctx.stack(lambda q: load_acceleration(q.a, q.Ts, f, z), filtered=False)
+    acc = ctx.stack(lambda q: q.a, filtered=False)
+    m_old = float(m.parameters["m"])
+    upd = {"compliance.f": f, "compliance.zeta": z}
+    label = f"f={f:.4g} Hz, zeta={z:.3g}"
+    return [Variant("compliance", label, col, ["compliance.m2"], base=base, refine=on,
+                    nonneg=True, to_model=lambda th: m.with_effect(
+                        "compliance", True, **{"compliance.m2": float(th[0]), **upd})),
+            Variant("compliance", label + ", with a mass change", np.column_stack([col, acc]),
+                    ["compliance.m2", "m"], base=base, refine=on,
+                    to_model=lambda th: m.with_effect(
+                        "compliance", True, m=m_old + float(th[1]),
+                        **{"compliance.m2": float(th[0]), **upd}))]
+
+
 # --------------------------------------------------------------------------- current loop
 def current_dynamics(ctx: Context) -> list[Variant]:
     m = ctx.model
@@ -474,4 +515,5 @@ CANDIDATES: dict[str, Callable[[Context], list[Variant]]] = {
     "cogging_aperiodic": cogging_aperiodic, "cogging_periodic": cogging_periodic,
     "ripple_aperiodic": ripple_aperiodic, "ripple_periodic": ripple_periodic,
     "current_dynamics": current_dynamics, "position_friction": position_friction,
+    "compliance": compliance,
 }

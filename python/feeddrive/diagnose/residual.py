@@ -21,6 +21,11 @@ Eq. 1 evaluated on the measured trajectory::
   applied force is below the break-away level the stage is taken as stuck and friction
   balances the applied force (the model then predicts a = 0 there).
 
+- with ``compliance`` on (encoder on the slide, ``compliance.sensor_side`` 0): the load's force
+  on the slide, ``-m2 H(s) a`` (``feeddrive.physics.compliance``), joins the force side; H
+  commutes with K, so the filtered acceleration is its input.  A model with the encoder on
+  the load is refused (ValueError naming the parameter).
+
 Positive r means the model leaves more net force than the measured acceleration shows: a
 resistive force is missing (a positive offset gives r = +offset).
 """
@@ -34,7 +39,7 @@ from ..data import Run
 from ..model_file import ModelFile
 from ..physics import (DEFAULT_V_STICK, PlantParameters, applied_force, compile,
                        force_residual as eq1_residual, gms_force, held_current, karnopp_friction,
-                       measured_motion, run_load)
+                       load_acceleration, measured_motion, run_load)
 from ..signals import apply_kernel, odd_window, run_label, sample_time
 
 #: Default Savitzky-Golay window [s] (41 samples at 0.5 ms) and polynomial order.
@@ -143,6 +148,12 @@ def force_residual(run: Run, model: ModelFile, window: int | None = None,
     F_app = applied_force(F_motor, P.F_cg(xs), F_load, P.F_offset)
     F_f, stuck = model_friction(P, xs, v, F_app, Ts, v_stick)
     r = eq1_residual(F_app, F_f, a, P.m, K)
+    c = P.compliance
+    if c.on:
+        if c.sensor_side != 0:
+            raise ValueError(f"model {model.name!r}: compliance.sensor_side = {c.sensor_side}: the "
+                             "force residual needs the encoder on the slide (allowed 0)")
+        r = r - c.m2 * load_acceleration(a, Ts, c.f, c.zeta)
     valid = np.isfinite(r)
     return RunResidual(name=run.name or label, Ts=Ts, K=K, time=np.asarray(run.time, float),
                        x=xs, v=v, a=a, i=i, F_motor=F_motor, F_app=F_app, F_f=F_f, stuck=stuck,

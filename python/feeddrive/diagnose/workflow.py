@@ -49,8 +49,13 @@ POLISH_MIN = 0.05
 PARSIMONY = 0.01
 #: A re-computed residual must shrink by at least this share of the gap to confirm a step.
 CONFIRM = 0.02
+#: A family that reduces to another in a limit (a compliance's load is a mass for
+#: frequencies far below its resonance) is ranked only when held-out data separate it from
+#: that family's best (:func:`scoring.separable`): else the simpler one explains as much.
+NESTED = {"compliance": "mass"}
 
-_UNITS = {"m": "kg", "offset.F": "N", "friction.F_s": "N", "friction.F_c": "N",
+_UNITS = {"compliance.m2": "kg", "compliance.f": "Hz", "compliance.zeta": "1",
+          "compliance.sensor_side": "1", "m": "kg", "offset.F": "N", "friction.F_s": "N", "friction.F_c": "N",
           "friction.V_s": "m/s", "friction.delta": "1", "friction.sigma2": "N s/m",
           "friction.C": "N/s", "friction.N": "1", "asymmetry.dF": "N",
           "asymmetry.dsigma2": "N s/m"}
@@ -241,6 +246,10 @@ def rank(ctx: Context, skip: set[str] = frozenset()) -> list[Score]:
             if lean:
                 top = max(lean, key=lambda s: (-s.variant.n_params, s.improvement))
             best.append(top)
+    by_id = {s.variant.effect: s for s in best}
+    for eid, limit in NESTED.items():
+        if eid in by_id and limit in by_id and not separable(by_id[eid], by_id[limit]):
+            best.remove(by_id[eid])
     best.sort(key=lambda s: -s.improvement)
     return best
 

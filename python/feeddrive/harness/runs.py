@@ -47,7 +47,7 @@ def to_run(res: Mapping[str, np.ndarray], sensors: Sensors, x_ref: np.ndarray | 
     """A DATA.md run from simulated signals: x quantised, the current noise added to i."""
     n = len(res["time"])
     return Run(time=np.asarray(res["time"], float), u=np.asarray(res["u"], float),
-               x=sensors.quantise(res["x"]),
+               x=sensors.quantise(res["x_measured"] if "x_measured" in res else res["x"]),
                i=np.asarray(res["i"], float) + sensors.current_noise_series(n),
                x_ref=None if x_ref is None else np.asarray(x_ref, float),
                F_load=np.broadcast_to(np.asarray(F_load, float), (n,)).copy(),
@@ -94,4 +94,4 @@ def replay(plant_params: Mapping[str, Any], run: Run, side: Sidecar | None = Non
                               sensors=scale, F_ext=F)
     except ValueError as e:
         raise ValueError(f"{where}: {e}") from None
-    return np.asarray(sim["x"][k0:k0 + run.n])
+    return np.asarray(sim["x_measured"][k0:k0 + run.n])

@@ -23,7 +23,10 @@ from fmpy.sundials import CVodeSolver
 from ..fmu import FMUError, Plant, RawIO, Result
 from .controllers import Controller
 
-RECORD = ("x", "v", "a", "i", "F_motor", "F_cogging", "F_friction", "K_f")
+#: ``x_measured`` is what the encoder reads (``x`` unless the compliance's sensor is on the load)
+RECORD = ("x", "v", "a", "i", "F_motor", "F_cogging", "F_friction", "K_f", "x_measured")
+#: the variable the controller reads (quantised) each sample
+MEASURED = "x_measured"
 STATS = ("stats.n_state_events", "stats.n_slip", "stats.n_stick", "stats.n_steps", "stats.n_rhs")
 
 
@@ -157,7 +160,7 @@ def simulate_open_loop(plant: Plant, t: np.ndarray, u: np.ndarray | float = 0.0,
 class _Loop:
     """The per-run state of :func:`simulate_closed_loop`: FMI handles and the buffers."""
 
-    rec: RawIO                  #: recorded variables, "x" first
+    rec: RawIO                  #: recorded variables, MEASURED ("x_measured") first
     inp: RawIO                  #: u, F_ext
     stepper: Stepper
     out: ctypes.Array           #: (n + 1) x len(rec.names) doubles, written by the FMU
@@ -173,7 +176,7 @@ def _start_loop(plant: Plant, controller: Controller, n: int, x0: float, quantum
     xm0 = quantise(x0, quantum)
     u0 = controller.step(xm0, 0)
     plant.start({"x": x0, "v": 0.0, "u": float(u0), "F_ext": F0}, t0=0.0)
-    names = ["x"] + [r for r in record if r != "x"]
+    names = [MEASURED] + [r for r in record if r != MEASURED]
     rec = plant.raw(names)
     loop = _Loop(rec=rec, inp=plant.raw(["u", "F_ext"]), stepper=Stepper(plant, Ts, 0.0),
                  out=(ctypes.c_double * ((n + 1) * len(names)))(),
@@ -186,7 +189,8 @@ def _start_loop(plant: Plant, controller: Controller, n: int, x0: float, quantum
 def _sample_loop(plant: Plant, loop: _Loop, step: Callable[[float, int], float], n: int,
                  Ts: float, quantum: float, F_ext: np.ndarray,
                  progress: Callable[[int], None] | None) -> None:
-    """The 2 kHz loop: read x_k, quantise, u_k = step(x_meas, k), set u (and F_ext), advance
+    """The 2 kHz loop: read x_measured_k (the encoder's side), quantise, u_k = step(x_meas, k),
+    set u (and F_ext), advance
     one sample, record row k + 1 (three FMI calls per sample through the CS interface)."""
     raw = loop.rec.calls
     c, get, set_in, do_step = raw.component, raw.get_real, raw.set_real, raw.do_step

@@ -37,7 +37,7 @@ def simulate_two_fmus(plant_params: Mapping[str, Any], ctrl_params: Mapping[str,
         cu = ctrl.raw(["u", "x_meas"])
         u0 = float(cu.get()[0])
         plant.start({"x": float(x0), "v": 0.0, "u": u0, "F_ext": float(F_ext)}, t0=0.0)
-        px = plant.raw(["x"])
+        px = plant.raw(["x_measured"])
         cr, pr = ctrl.raw_calls(), plant.raw_calls()
         cc, pc = cr.component, pr.component
         c_step, p_step = cr.do_step, pr.do_step

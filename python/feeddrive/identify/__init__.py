@@ -14,9 +14,11 @@ stribeck            Eq. 13, fit of Eq. 12, asymmetry             friction.F_s/F_
 mass                Eq. 1 least squares, open-loop run           m
 attraction          Eq. 14 (non-reversing run)                   friction.C
 prerolling          Eqs. 15-18 (two periodic runs)               friction.N, nu[i], k[i]
+compliance          Eq. 1 residual, H(s) of the load, grid + NM  compliance.f/zeta/m2
 ==================  ===========================================  ===========================
 """
 from .attraction import AttractionFit, fit_attraction, identify_attraction, simulate_lag
+from .compliance import ComplianceFit, fit_compliance, identify_compliance, rigid_residual
 from .current_loop import CurrentLoopFit, fit_current_loop, identify_current_loop
 from .dstft import DSTFT, dstft
 from .mass import MassFit, fit_mass, identify_mass
@@ -27,6 +29,7 @@ from .prerolling import (PrerollingFit, fit_knots, fit_weights, half_cycles, ide
 from .stribeck import StribeckFit, StribeckPoints, fit_stribeck, identify_stribeck, stribeck_points
 
 __all__ = [
+    "ComplianceFit", "fit_compliance", "identify_compliance", "rigid_residual",
     "AttractionFit", "fit_attraction", "identify_attraction", "simulate_lag",
     "CurrentLoopFit", "fit_current_loop", "identify_current_loop",
     "DSTFT", "dstft",

@@ -9,10 +9,12 @@
 - :mod:`.friction_position` (friction_position.c): the level profile p(x) of
   ``position_friction``;
 - :mod:`.current_loop` (current_loop.c): G(z) of Eq. 2;
+- :mod:`.compliance` (compliance.c): the load on a spring-damper (effect ``compliance``);
 - :mod:`.plant` (plant.c): Eq. 1 on measured data (held current, run load, residual).
 
 Identification, diagnosis and feedforward use only this package.
 """
+from .compliance import Compliance, load_acceleration, load_filter
 from .current_loop import (CurrentLoop, current_loop_dc_gain, current_loop_polynomials,
                            simulate_current)
 from .friction_curves import FrictionCurve, steady_friction, stribeck_drop, stribeck_level
@@ -24,7 +26,8 @@ from .plant import (CURRENT_TIMINGS, applied_force, eq1_friction, eq1_terms, for
                     held_current, measured_motion, run_load, run_load_mean)
 from .position_maps import MapSpec, PositionMap, eval_map
 
-__all__ = ["CurrentLoop", "current_loop_dc_gain", "current_loop_polynomials", "simulate_current", "FrictionCurve", "steady_friction",
+__all__ = ["Compliance", "load_acceleration", "load_filter", "CurrentLoop", "current_loop_dc_gain",
+           "current_loop_polynomials", "simulate_current", "FrictionCurve", "steady_friction",
            "stribeck_drop", "stribeck_level", "FrictionProfile", "profile_basis",
            "GMSFriction", "GMSParameters", "element_forces", "element_rates", "gms_force",
            "DEFAULT_V_STICK", "karnopp_friction", "ParameterError", "PlantParameters",

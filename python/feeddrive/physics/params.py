@@ -33,6 +33,7 @@ from numpy.typing import ArrayLike
 
 from ..model_description import variables
 from ..paper import N_ELEMENTS_MAX, paper_parameters
+from .compliance import Compliance
 from .current_loop import CurrentLoop
 from .friction_gms import GMSParameters
 from .friction_position import N_KNOTS_MAX
@@ -140,6 +141,7 @@ class PlantParameters:
     prerolling: bool
     F_offset: float
     values: Mapping[str, Any]
+    compliance: Compliance           #: the load on its spring-damper (effect compliance)
 
     def K_f(self, x: ArrayLike) -> np.ndarray:
         """K_f(x) [N/A] at x clamped to the stroke (Eq. 7, plant.c)."""
@@ -229,5 +231,5 @@ def compile(model: HasFmuParameters | Mapping[str, Any]) -> PlantParameters:
         x_min=float(val["stroke.x_min"]), x_max=float(val["stroke.x_max"]),
         friction=GMSParameters.from_params(val), prerolling=on["prerolling"],
         F_offset=float(val["offset.F"]) if on["offset_force"] else 0.0,
-        values=types.MappingProxyType(val))
+        values=types.MappingProxyType(val), compliance=Compliance.from_parameters(val))
 

@@ -45,6 +45,14 @@ typedef struct {
     double c1, s1, w1, E1;
 } fast_carry_t;
 
+/* steps between exact libm evaluations of the carried bases */
+#define FAST_REANCHOR 64
+/* fast_path.c: the carry as FAST_CARRY_ND numbers (saved FMU states: a restored state continues
+ * bit-identically); unpack checks every field and names the first bad one in msg */
+#define FAST_CARRY_ND (7 + PLANT_NE_MAX + PLANT_NX + 3 + 4 + 4)
+void fast_carry_pack(const fast_carry_t *cr, double *w);
+bool fast_carry_unpack(const double *w, fast_carry_t *cr, char *msg, size_t msglen);
+
 /* solver_fixed.c: one RK4(3) step of h with the discrete state d fixed. Returns 1 (accepted:
  * error test passed, no indicator crossed, y advanced), 0 (y untouched). *n_rhs counts the
  * right-hand-side evaluations; carry (may be NULL) is used and renewed; memo (may be NULL)

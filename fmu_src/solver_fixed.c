@@ -33,7 +33,6 @@
 #define ROT_MAX 0.0625
 #define EPS_MAX 0.0625
 #define DW_MAX 0.03125
-#define FAST_REANCHOR 64   /* steps between exact libm evaluations of the carried bases */
 
 static const double INV[NBIN + 1] = {0.0, 1.0, 1.0 / 2, 1.0 / 3, 1.0 / 4, 1.0 / 5, 1.0 / 6, 1.0 / 7,
                                      1.0 / 8, 1.0 / 9, 1.0 / 10, 1.0 / 11, 1.0 / 12};

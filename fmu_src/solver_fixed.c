@@ -198,7 +198,7 @@ static int setup(rctx_t *c, const plant_params_t *p, const plant_disc_t *d, cons
     q[2] = q[3] = 0.0;
     if (c->gms) {
         c->dir = d->dir;
-        for (j = 0; j < PLANT_NE_MAX; j++) {
+        for (j = 0; j < p->N; j++) {
             if (!p->active[j]) continue;
             if (d->stuck[j]) {
                 c->K_st += p->k[j];
@@ -278,10 +278,10 @@ static double full_state(const rctx_t *c, const plant_disc_t *d, const fast_tol_
     sum = sq_err(e[0], y[PLANT_IX], qn[0], tol->atol[PLANT_IX], tol->rtol) +
           sq_err(e[1], y[PLANT_IV], qn[1], tol->atol[PLANT_IV], tol->rtol);
     if (c->gms && c->lag && c->nu_sl > 0.0) dec = exp(-qn[3]);
-    for (j = 0; j < PLANT_NE_MAX; j++) {
+    for (j = 0; j < PLANT_NE_MAX; j++) y1[PLANT_IF + j] = y[PLANT_IF + j];
+    for (j = 0; c->gms && j < p->N; j++) {   /* active[j] implies j < N */
         double F0 = y[PLANT_IF + j], ej = 0.0;
-        y1[PLANT_IF + j] = F0;
-        if (!c->gms || !p->active[j]) continue;
+        if (!p->active[j]) continue;
         if (d->stuck[j]) {
             y1[PLANT_IF + j] = F0 + p->k[j] * (qn[0] - c->x0);
             ej = p->k[j] * e[0];

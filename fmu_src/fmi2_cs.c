@@ -1,11 +1,28 @@
-/* FMI 2.0 co-simulation entry points: fmi2DoStep integrates the plant with the event-locating
- * Dormand-Prince 5(4) solver (solver_dp45.c), stopping at every current-loop sample and every
- * friction switch inside the step. A sample that falls on the end of a communication step is
- * taken at the start of the next one, after the master has set that instant's inputs. */
+/* FMI 2.0 co-simulation entry points: fmi2DoStep integrates the plant interval by interval
+ * between current-loop samples: by the per-sample scheme (fast_path.h) where fast_path_ok()
+ * allows it and its step passes, else with the event-locating Dormand-Prince 5(4) solver
+ * (solver_dp45.c), stopping at every current-loop sample and every friction switch inside the
+ * step. A sample that falls on the end of a communication step is taken at the start of the
+ * next one, after the master has set that instant's inputs. */
 #include <math.h>
 #include <string.h>
 
+#include "fast_path.h"
 #include "fmi2_instance.h"
+
+/* the interval of h from the current state by the per-sample scheme (fast_path.h) when solver.fast
+ * is on: 1 when taken (m->y advanced), 0 when the adaptive solver must take it. fresh: an event
+ * update has just been made. */
+static int fast_interval(model_t *m, double h, int fresh) {
+    fast_tol_t tol;
+    tol.rtol = m->solver.rtol;
+    tol.atol = m->solver.atol;
+    tol.n_norm = m->solver.n_norm;
+    if (!fast_step(&m->p, &m->d, &m->in, h, &tol, fresh, m->y, &m->solver.n_rhs, &m->carry, &m->memo)) return 0;
+    m->solver.n_steps++;
+    dp45_restart(&m->solver);
+    return 1;
+}
 
 static void rhs(void *ctx, double t, const double *y, double *dydt) {
     model_t *m = (model_t *)ctx;
@@ -89,9 +106,9 @@ static fmi2Status step_failed(instance_t *c, const budget_t *b, double h) {
 
 /* integrate from tau (= time - t0, exact for t0 = 0) to tau_end, stopping at every sample
  * (keyed to its index: tau_k = k Ts) and every friction switch */
-static fmi2Status integrate(instance_t *c, double tau, double tau_end, double h, double eps) {
+static fmi2Status integrate(instance_t *c, double tau, double tau_end, double h, double eps, int fresh) {
     model_t *m = &c->m;
-    int roots[PLANT_NZ];
+    int roots[PLANT_NZ], fast = m->val[VR_solver_fast] != 0.0 && fast_path_ok(&m->p);
     fmi2Boolean changed;
     budget_t b;
     budget_start(m, h, &b);
@@ -102,6 +119,17 @@ static fmi2Status integrate(instance_t *c, double tau, double tau_end, double h,
             double ns = (double)(m->d.k + 1) * m->p.Ts;
             if (ns < tau_end - eps) tau_target = ns;
         }
+        if (fast && fast_interval(m, tau_target - tau, fresh)) {
+            tau = tau_target;
+            m->time = m->t0 + tau;
+            fresh = 0;
+            if (tau < tau_end && fmu_sample_due(m, tau, 0.0)) {
+                if (fmu_event_update(c, "fmi2DoStep", tau, 0.0, &changed) < 0) return step_failed(c, &b, h);
+                fresh = 1;
+            }
+            continue;
+        }
+        fresh = 0;
         m->solver.max_steps = budget_left(m, &b);
         r = dp45_advance(&m->solver, m, rhs, indicators, &tau, tau_target, m->y, roots);
         m->time = m->t0 + tau;
@@ -110,6 +138,7 @@ static fmi2Status integrate(instance_t *c, double tau, double tau_end, double h,
         if (r == DP45_ROOT || (tau < tau_end && fmu_sample_due(m, tau, 0.0))) {
             if (fmu_event_update(c, "fmi2DoStep", tau, 0.0, &changed) < 0) return step_failed(c, &b, h);
             dp45_restart(&m->solver);
+            fresh = 1;
         }
     }
     return fmi2OK;
@@ -120,6 +149,7 @@ fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h, fmi2Boolean no
     model_t *m;
     double t_end, eps;
     fmi2Boolean changed;
+    int fresh = 0;
     (void)noSetFMUStatePriorToCurrentPoint;
     if (!c) return fmi2Error;
     m = &c->m;
@@ -133,8 +163,9 @@ fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h, fmi2Boolean no
         if (fmu_event_update(c, "fmi2DoStep", t - m->t0, 0.0, &changed) < 0) { m->fsm = ST_ERROR; return fmi2Error; }
         dp45_restart(&m->solver);
         m->solver_restart = 0;
+        fresh = 1;
     }
-    if (integrate(c, t - m->t0, t_end - m->t0, h, eps) != fmi2OK) return fmi2Error;
+    if (integrate(c, t - m->t0, t_end - m->t0, h, eps, fresh) != fmi2OK) return fmi2Error;
     m->time = t_end;
     fmu_check_stroke(c);
     m->out_valid = 0;

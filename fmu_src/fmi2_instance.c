@@ -156,6 +156,7 @@ fmi2Status fmu_recompile(instance_t *c, const double *backup_val) {
     char msg[512];
     plant_params_t old = m->p;
     m->memo.valid = 0;
+    m->carry.valid = 0;
     if (!params_compile(m->val, &m->p, msg, sizeof msg)) {
         fmu_log(c, fmi2Error, LOG_ERROR, "%s", msg);
         if (backup_val) memcpy(m->val, backup_val, sizeof m->val);
@@ -282,6 +283,7 @@ void fmu_solver_setup(model_t *m) {
     double atol[PLANT_NX];
     int j;
     m->memo.valid = 0;   /* called after every compile of the parameters but fmu_recompile's */
+    m->carry.valid = 0;
     for (j = 0; j < PLANT_NX; j++) atol[j] = m->tol * MODEL_STATE_NOMINAL(j);   /* XML nominals */
     /* x, v and the forces of the N elements in use: the slots past N stay 0 (their derivative is 0);
      * the error norm still counts the PLANT_NX_BASE states, so the steps are those of a 12-state

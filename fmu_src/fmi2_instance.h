@@ -3,6 +3,7 @@
 #ifndef FMI2_INSTANCE_H
 #define FMI2_INSTANCE_H
 
+#include "fast_path.h"
 #include "fmi2Functions.h"
 #include "fmi2_allowed.h"
 #include "fmi2_log.h"
@@ -33,6 +34,7 @@ typedef struct {
     dp45_t solver;
     int solver_restart;
     plant_memo_t memo;              /* the maps at the last position evaluated (valid = 0 after a compile) */
+    fast_carry_t carry;             /* the per-sample scheme's last derivative (valid = 0 after a compile) */
 } model_t;
 
 typedef struct {

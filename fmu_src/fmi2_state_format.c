@@ -76,7 +76,7 @@ static uint32_t layout_crc(void) {
     return crc;
 }
 static size_t payload_bytes(void) {
-    return 2 * 4 + 4 * 8 + 8 * ((size_t)PLANT_NX + n_stored() + PLANT_ND + SOLVER_NUMS);
+    return 2 * 4 + 4 * 8 + 8 * ((size_t)PLANT_NX + n_stored() + PLANT_ND + SOLVER_NUMS + FAST_CARRY_ND);
 }
 size_t state_bytes(void) { return HEADER_BYTES + payload_bytes(); }
 
@@ -101,7 +101,7 @@ static void put_header(wr_t *w, int type) {
 
 void state_encode(const model_t *m, int type, unsigned char *out) {
     wr_t w = {out, 0};
-    double disc[PLANT_ND];
+    double disc[PLANT_ND], carry[FAST_CARRY_ND];
     const double solver[SOLVER_NUMS] = {m->solver.h, m->solver.log2_facold, (double)m->solver.n_steps,
                                         (double)m->solver.n_rejected, (double)m->solver.n_rhs,
                                         (double)m->solver.n_ind, (double)m->solver.n_roots};
@@ -119,6 +119,8 @@ void state_encode(const model_t *m, int type, unsigned char *out) {
         if (stored(&MODEL_VARS[j])) put_f64(&w, m->val[MODEL_VARS[j].vr]);
     plant_disc_pack(&m->d, disc);
     for (j = 0; j < PLANT_ND; j++) put_f64(&w, disc[j]);
+    fast_carry_pack(&m->carry, carry);
+    for (j = 0; j < FAST_CARRY_ND; j++) put_f64(&w, carry[j]);
     for (j = 0; j < SOLVER_NUMS; j++) put_f64(&w, solver[j]);
     w.n = CRC_AT;
     put_u32(&w, crc32(0, out + HEADER_BYTES, payload_bytes()));
@@ -220,12 +222,15 @@ static int read_values(instance_t *c, const char *fn, rd_t *r, model_t *m) {
 
 /* discrete state and solver memory; then the parameters compiled and the solver set up again */
 static int read_rest(instance_t *c, const char *fn, rd_t *r, model_t *m) {
-    double disc[PLANT_ND], s[SOLVER_NUMS];
+    double disc[PLANT_ND], s[SOLVER_NUMS], cw[FAST_CARRY_ND];
+    fast_carry_t carry;
     char msg[512];
     int j;
     for (j = 0; j < PLANT_ND; j++) disc[j] = get_f64(r);
+    for (j = 0; j < FAST_CARRY_ND; j++) cw[j] = get_f64(r);
     for (j = 0; j < SOLVER_NUMS; j++) s[j] = get_f64(r);
     if (!plant_disc_unpack(disc, &m->d, msg, sizeof msg)) BAD("%s: %s", fn, msg);
+    if (!fast_carry_unpack(cw, &carry, msg, sizeof msg)) BAD("%s: %s", fn, msg);
     if (!(s[0] >= 0.0 && s[0] < HUGE_VAL) || !(s[1] >= -14.0 && s[1] <= 0.0))
         BAD("%s: solver step proposal %g, controller memory %g: allowed a finite step >= 0, memory in "
             "[-14, 0]", fn, s[0], s[1]);
@@ -242,6 +247,7 @@ static int read_rest(instance_t *c, const char *fn, rd_t *r, model_t *m) {
     m->solver.log2_facold = s[1];
     m->solver.n_steps = (long)s[2]; m->solver.n_rejected = (long)s[3]; m->solver.n_rhs = (long)s[4];
     m->solver.n_ind = (long)s[5]; m->solver.n_roots = (long)s[6];
+    m->carry = carry;   /* after fmu_solver_setup, which clears it */
     return 1;
 }
 

@@ -1,4 +1,4 @@
-/* The serialised FMU state (format version 2): a self-describing little-endian byte string.
+/* The serialised FMU state (format version 3): a self-describing little-endian byte string.
  *
  *   header (u32 unless noted)
  *     magic 0x53524446 ("FDRS"), format version, header bytes, payload bytes,
@@ -11,8 +11,9 @@
  *     4 parameters compiled, 8 stroke warning given), f64 time, startTime, stopTime, tolerance,
  *     f64 continuous states (x, v, friction.F[1..10], compliance.dx, compliance.dv),
  *     f64 value of every parameter, input and state start (table order),
- *     f64 discrete state (plant_disc_pack), f64 solver: step proposal, step-controller memory,
- *     accepted, rejected steps, right-hand sides, indicator evaluations, roots.
+ *     f64 discrete state (plant_disc_pack), f64 the per-sample scheme's carry (fast_carry_pack:
+ *     the derivative and bases the next step reuses), f64 solver: step proposal, step-controller
+ *     memory, accepted, rejected steps, right-hand sides, indicator evaluations, roots.
  *
  * Only the state is stored: compiled parameters, solver configuration, indices and pointers are
  * re-derived on load (params_compile, dp45_init) and every field is checked first. */
@@ -22,7 +23,8 @@
 #include "fmi2_instance.h"
 
 #define STATE_MAGIC 0x53524446u
-#define STATE_VERSION 2u   /* 2: + compliance (14 continuous states, its parameters) */
+#define STATE_VERSION 3u   /* 2: + compliance (14 continuous states, its parameters);
+                              3: + the per-sample scheme's carry */
 #define STATE_MAX_BYTES 4096u
 
 /* the serialised size of a state of this FMU */

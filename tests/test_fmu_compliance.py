@@ -10,7 +10,7 @@
 - co-simulation (DP45 with events) and model exchange (CVode) agree with the effect on within
   the 0.1 um of test_cs_agreement.py;
 - ``compliance.sensor_side = 1`` moves the encoder to the load;
-- a serialised state holds the two states (format version 2).
+- a serialised state holds the two states (format version 2 and later).
 """
 from __future__ import annotations
 

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .bench_c import run_bench_cs, run_cycles, run_two_fmus
+from .bench_c import instructions_per_sample, run_bench_cs, run_cycles, run_two_fmus
 from .bench_study import study_rows
 from .data import Run, write_run
 from .fmu import Plant
@@ -24,6 +24,8 @@ from .harness.controller_fmu import (ControllerFMU, controller_fmu_parameters,
                                      sinusoid_source)
 from .harness.controllers import make_controller, state_space_spec
 from .harness.references import sinusoid
+from .harness.runs import closed_loop_run, run_closed_loop
+from .harness.sensors import Sensors
 from .harness.simulate import simulate_closed_loop
 from .harness.two_fmus import simulate_two_fmus
 from .paper import paper_parameters
@@ -103,18 +105,34 @@ def two_fmu_rows(wall_python: float, res_python: dict, repeats: int = 5,
 
 def c_rows(bench_cs: Path, cycles: Path | None, library: Path,
            repeats: int = 5) -> list[tuple[str, str, str]]:
-    """Figures of the C hosts (built by `make bench`): co-simulation from C, doStep latency, memory."""
-    f = run_bench_cs(bench_cs, library, repeats)
-    wall = f["wall_s_best"]
+    """Figures of the C hosts (built by `make bench`): co-simulation from C with the per-sample
+    scheme (``solver.fast``, the default) and with the adaptive DP45 throughout, doStep latency,
+    instructions per sample (callgrind), memory."""
+    f = run_bench_cs(bench_cs, library, repeats, "fast")
+    a = run_bench_cs(bench_cs, library, repeats, "adaptive")
+    wall, wall_a = f["wall_s_best"], a["wall_s_best"]
     rows = [
-        ("6 s closed loop from C through fmi2DoStep (best of %d)" % repeats,
+        ("6 s closed loop from C through fmi2DoStep, per-sample scheme (best of %d)" % repeats,
          f"{wall * 1e3:.1f} ms wall, {6.0 / wall:.0f}x real time", "<= 3 ms (>= 2000x)"),
-        ("  steps / RHS evaluations / friction events", f"{f['solver_steps']} / {f['rhs_evaluations']} / "
-         f"{f['state_events']}", ""),
+        ("  same, adaptive DP45 throughout (solver.fast = false; before issue 13 item 4)",
+         f"{wall_a * 1e3:.1f} ms wall, {6.0 / wall_a:.0f}x real time", ""),
+        ("  steps / RHS evaluations / friction events (scheme; adaptive)",
+         f"{f['solver_steps']} / {f['rhs_evaluations']} / {f['state_events']}; "
+         f"{a['solver_steps']} / {a['rhs_evaluations']} / {a['state_events']}", ""),
         ("  friction events per simulated s / per wall s", f"{f['state_events_per_sim_s']:.1f} / "
          f"{f['state_events_per_wall_s']:.0f}", ""),
-        ("one 0.5 ms fmi2DoStep: median", f"{f['dostep_us_median']:.2f} us", ""),
-        ("one 0.5 ms fmi2DoStep: 99th percentile", f"{f['dostep_us_p99']:.2f} us", "< 20 us"),
+    ]
+    ipc = {m: instructions_per_sample(bench_cs, library, m) for m in ("fast", "adaptive")}
+    if ipc["fast"] is not None and ipc["adaptive"] is not None:
+        rows.append(("  instructions per sample (callgrind: fmi2DoStep + fmi2GetReal + fmi2SetReal)",
+                     f"{ipc['fast']:.0f} (adaptive: {ipc['adaptive']:.0f})", ""))
+    else:
+        rows.append(("  instructions per sample", "not measured (valgrind not installed)", ""))
+    rows += [
+        ("one 0.5 ms fmi2DoStep: median (scheme; adaptive)",
+         f"{f['dostep_us_median']:.2f} us; {a['dostep_us_median']:.2f} us", ""),
+        ("one 0.5 ms fmi2DoStep: 99th percentile (scheme; adaptive)",
+         f"{f['dostep_us_p99']:.2f} us; {a['dostep_us_p99']:.2f} us", "< 20 us"),
         ("one 0.5 ms fmi2DoStep: maximum (includes scheduler preemption)", f"{f['dostep_us_max']:.1f} us", ""),
     ]
     if cycles is None:
@@ -129,6 +147,34 @@ def c_rows(bench_cs: Path, cycles: Path | None, library: Path,
     if "rss_growth_kib" in m:
         rows.append(("resident memory growth over 10 000 instantiate/simulate/free cycles",
                      f"{m['rss_growth_kib']} KiB", "no growth"))
+    return rows
+
+
+def fast_path_rows() -> list[tuple[str, str, str]]:
+    """Accuracy of the co-simulation's per-sample scheme on the 6 s, 30 mm loop with an ideal
+    scale (quantiser off) against ME CVode rtol 1e-10, for GMS and for static friction; and the
+    static-friction stick case of issue 13 item 6 (the Sec. 3 run's top-reversal error at the
+    default tolerance against rtol 1e-10, 100 nm scale)."""
+    ref = sinusoid(0.030, 6.0, 0.150, 6.0)
+    spec, ideal = state_space_spec(), Sensors(quantum=0.0, current_noise=0.0)
+    rows = []
+    for name, change in (("GMS", {}), ("static friction", {"effects.prerolling": False})):
+        p = {**paper_parameters(), **change}
+        me = run_closed_loop(p, spec, ref, sensors=ideal, interface="me", tolerance=1e-10)
+        fast = run_closed_loop(p, spec, ref, sensors=ideal)
+        slow = run_closed_loop({**p, "solver.fast": False}, spec, ref, sensors=ideal)
+        d = float(np.max(np.abs(fast["x"] - me["x"])))
+        d_a = float(np.max(np.abs(slow["x"] - me["x"])))
+        rows.append((f"accuracy of the per-sample scheme (tol 1e-6), {name}, quantiser off, vs ME rtol 1e-10, "
+                     "max abs(dx)", f"{d * 1e6:.5f} um (adaptive DP45: {d_a * 1e6:.5f} um)", "<= 0.05 um"))
+    run, _ = closed_loop_run(paper_parameters(), spec, ref, Sensors(seed=3), experiment="sec3_sinusoid")
+    top, w = int(np.argmax(ref.x)), int(round(0.3 / ref.Ts))
+    p = {**paper_parameters(), "effects.prerolling": False}
+    peak = {tol: float(np.abs(run_closed_loop(p, spec, ref, tolerance=tol)["x"] - run.x)[top - w:top + w + 1].max())
+            for tol in (1e-6, 1e-10)}
+    rows.append(("static-friction stick case (Sec. 3 'static friction instead of GMS', top-reversal error): "
+                 "default tol 1e-6 vs 1e-10", f"{peak[1e-6] * 1e6:.4f} vs {peak[1e-10] * 1e6:.4f} um "
+                 f"(difference {abs(peak[1e-6] - peak[1e-10]) * 1e6:.4f} um)", "<= 0.05 um"))
     return rows
 
 
@@ -207,6 +253,7 @@ def main(argv: list[str] | None = None) -> int:
                          *(Path(p) if p else None for p in (a.two_fmus, a.library, a.controller_library)))
     rows += study
     rows += engine_rows(figs["wall_cs"], figs["res_cs"], a.repeats)
+    rows += fast_path_rows()
     if a.bench_cs:
         rows += c_rows(Path(a.bench_cs), Path(a.cycles) if a.cycles else None, Path(a.library), a.repeats)
     else:

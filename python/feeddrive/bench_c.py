@@ -13,9 +13,13 @@ from __future__ import annotations
 
 import json
 import re
+import shutil
 import subprocess
 import tempfile
 from pathlib import Path
+
+#: samples of the bench_cs loop (6 s at 2 kHz)
+BENCH_SAMPLES = 12_000
 
 
 def _run(exe: Path, library: Path, *args: str) -> str:
@@ -29,10 +33,31 @@ def _run(exe: Path, library: Path, *args: str) -> str:
     return p.stdout
 
 
-def run_bench_cs(exe: str | Path, library: str | Path, repetitions: int = 5) -> dict[str, float]:
-    """Run the ``bench_cs`` host ``exe`` on ``library`` (the FMU's .so); its JSON figures as a dict."""
-    out = _run(Path(exe), Path(library), str(int(repetitions)))
+def run_bench_cs(exe: str | Path, library: str | Path, repetitions: int = 5,
+                 solver: str | None = None) -> dict[str, float]:
+    """Run the ``bench_cs`` host ``exe`` on ``library`` (the FMU's .so); its JSON figures as a dict.
+
+    ``solver``: ``"fast"`` or ``"adaptive"`` sets ``solver.fast``; None keeps the FMU's default.
+    """
+    out = _run(Path(exe), Path(library), str(int(repetitions)), *([solver] if solver else []))
     return json.loads(out.strip().splitlines()[-1])
+
+
+def instructions_per_sample(exe: str | Path, library: str | Path, solver: str) -> float | None:
+    """Instructions per sample of ``bench_cs`` under callgrind (repeatable, unlike wall time): the
+    inclusive cost of ``fmi2DoStep``, ``fmi2GetReal`` and ``fmi2SetReal`` over the 12 000 samples.
+    None when valgrind or callgrind_annotate is not installed."""
+    if not (shutil.which("valgrind") and shutil.which("callgrind_annotate")):
+        return None
+    with tempfile.TemporaryDirectory() as d:
+        out = Path(d) / "callgrind.out"
+        subprocess.run(["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}", str(exe),
+                        str(library), "1", solver], capture_output=True, check=True)
+        text = subprocess.run(["callgrind_annotate", "--inclusive=yes", str(out)], capture_output=True,
+                              text=True, check=True).stdout
+    total = sum(int(m.group(1).replace(",", "")) for m in
+                re.finditer(r"^\s*([\d,]+) .*:(?:fmi2DoStep|fmi2GetReal|fmi2SetReal) \[", text, re.M))
+    return total / BENCH_SAMPLES if total else None
 
 
 def run_cycles(exe: str | Path, library: str | Path, cycles: int = 10_000) -> dict[str, int]:

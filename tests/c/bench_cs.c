@@ -4,7 +4,8 @@
  *   events            = friction state events (and current-loop time events) per simulated and per
  *                       wall-clock second,
  *   fmi2DoStep cost   = wall time of each 0.5 ms step: median, 99th percentile, maximum.
- * Usage: bench_cs LinearMotorFeedDrive.so [repetitions]. Prints one JSON object. */
+ * Usage: bench_cs LinearMotorFeedDrive.so [repetitions [fast|adaptive]] (solver.fast on / off; default:
+ * the FMU's). Prints one JSON object. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -30,6 +31,7 @@ int main(int argc, char **argv) {
     fmi_api_t api;
     char err[512];
     int reps = argc > 2 ? atoi(argv[2]) : 5, r;
+    int fast = argc > 3 ? (strcmp(argv[3], "fast") == 0 ? 1 : (strcmp(argv[3], "adaptive") == 0 ? 0 : -2)) : -1;
     double best_wall = 1e300, sum_wall = 0.0, *walls;
     long n_state = 0, n_time = 0, n_steps = 0, n_rhs = 0, total = 0;
     double max_err = 0.0;
@@ -38,13 +40,17 @@ int main(int argc, char **argv) {
         return 2;
     }
     if (reps < 1) reps = 1;
+    if (fast == -2) {
+        fprintf(stderr, "bench_cs: solver %s: allowed fast or adaptive\n", argv[3]);
+        return 2;
+    }
     walls = (double *)malloc(sizeof(double) * (size_t)(N_SAMPLES * reps));
     for (r = 0; r < reps; r++) {
         cs_loop_t L;
         cs_sample_t s;
         long k;
         double w0, w;
-        if (cs_loop_open(&L, &api, "bench", NULL, 0.0, 1) != 0) return 1;
+        if (cs_loop_open_with(&L, &api, "bench", NULL, 0.0, 1, fast) != 0) return 1;
         L.dostep_wall = walls + total;
         L.cap_dostep = N_SAMPLES;
         w0 = host_now();

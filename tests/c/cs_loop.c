@@ -45,6 +45,13 @@ double pid_step(pid_ctrl_t *c, double xm, long k) {
 
 int cs_loop_open(cs_loop_t *L, const fmi_api_t *api, const char *name, const pid_ctrl_t *ctrl, double tol,
                  int substeps) {
+    return cs_loop_open_with(L, api, name, ctrl, tol, substeps, -1);
+}
+
+int cs_loop_open_with(cs_loop_t *L, const fmi_api_t *api, const char *name, const pid_ctrl_t *ctrl, double tol,
+                      int substeps, int fast) {
+    const fmi2ValueReference fast_vr = VR_solver_fast;
+    const fmi2Boolean fast_val = fast > 0;
     const fmi2ValueReference vr[3] = {VR_x, VR_v, VR_u};
     double val[3];
     memset(L, 0, sizeof *L);
@@ -60,6 +67,7 @@ int cs_loop_open(cs_loop_t *L, const fmi_api_t *api, const char *name, const pid
     val[2] = pid_step(&L->ctrl, pid_read(&L->ctrl, val[0]), 0);
     if (api->SetupExperiment(L->comp, tol > 0.0, tol, 0.0, fmi2False, 0.0) > fmi2Warning ||
         api->SetReal(L->comp, vr, 3, val) > fmi2Warning ||
+        (fast >= 0 && api->SetBoolean(L->comp, &fast_vr, 1, &fast_val) > fmi2Warning) ||
         api->EnterInitializationMode(L->comp) > fmi2Warning || api->ExitInitializationMode(L->comp) > fmi2Warning) {
         fprintf(stderr, "%s: initialisation failed: %s\n", name, L->env.last);
         api->FreeInstance(L->comp);

@@ -43,6 +43,9 @@ typedef struct { double x, v, F_motor, F_cogging, F_friction, i, K_f, u; } cs_sa
  * on stderr). */
 int cs_loop_open(cs_loop_t *L, const fmi_api_t *api, const char *name, const pid_ctrl_t *ctrl, double tol,
                  int substeps);
+/* the same with solver.fast set to fast (0/1; < 0: the FMU's default) */
+int cs_loop_open_with(cs_loop_t *L, const fmi_api_t *api, const char *name, const pid_ctrl_t *ctrl, double tol,
+                      int substeps, int fast);
 /* one controller sample: read x, compute u, set it, fmi2DoStep(s) over Ts; fills *s (may be NULL)
  * with the values at the end of the sample. Returns the worst fmi2Status of the calls. */
 int cs_loop_step(cs_loop_t *L, cs_sample_t *s);

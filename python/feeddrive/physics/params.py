@@ -42,7 +42,7 @@ from .position_maps import MAP_EFFECTS, PositionMap
 #: |sum(nu_i) - 1| allowed (params.c SUM_NU_TOL).
 SUM_NU_TOL = 1e-3
 #: FMU parameters of the integrator, not of the plant (checked for finiteness only).
-SOLVER_PARAMETERS = ("solver.tol",)
+SOLVER_PARAMETERS = ("solver.tol", "solver.fast")
 #: |1 - sum(current.a)| below which the current loop has a pole at z = 1.
 POLE_TOL = 1e-9
 

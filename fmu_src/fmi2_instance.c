@@ -148,6 +148,7 @@ int fmu_event_update(instance_t *c, const char *fn, double tau, double slack, fm
     fmu_check_stroke(c);
     m->out_valid = 0;
     *states_changed = changed ? fmi2True : fmi2False;
+    if (n > 0 && c->on_switch) c->on_switch(c);
     return n;
 }
 

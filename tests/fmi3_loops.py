@@ -1,0 +1,99 @@
+"""Test harness: the 6 s closed loop (Sec. 3 sinusoid, state-space controller) as controller
+FMU (FMI 2.0) + plant FMU stepped from Python, the plant either the FMI 2.0 FMU
+(:func:`feeddrive.harness.two_fmus.simulate_two_fmus`) or the FMI 3.0 one with or without
+early return / event mode at friction switches (:func:`two_fmus3`), on the same convention
+(macro step Ts; at t_k x(t_k) -> x_meas, u(t_k) -> plant, both step over [t_k, t_k+1])."""
+from __future__ import annotations
+
+import ctypes
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from fmpy import extract, read_model_description
+from fmpy.fmi3 import FMU3Slave
+
+from feeddrive.harness.controllers import state_space_spec
+from feeddrive.fmu3 import set_values
+from feeddrive.harness.controller_fmu import ControllerFMU, controller_fmu_parameters, sinusoid_source
+from feeddrive.harness.references import sinusoid
+from feeddrive.paper import paper_parameters
+
+TS = 5e-4
+
+
+@dataclass
+class Loop3:
+    """x at t_k (k = 0..n), and what the FMI 3.0 master saw."""
+
+    x: np.ndarray
+    early_returns: int           # fmi3DoStep calls that returned early (at a friction switch)
+    events: int                  # steps that asked for event mode (eventHandlingNeeded)
+    do_steps: int                # fmi3DoStep calls in all
+    switch_times: list[float]
+    wall: float
+
+
+def reference_6s() -> tuple[int, float, dict]:
+    """n, x0 and the controller FMU's parameters of the 6 s, 30 mm sinusoid (bench.py's)."""
+    ref = sinusoid(0.030, 6.0, 0.150, 6.0)
+    values = controller_fmu_parameters(state_space_spec(), quantum=1e-7,
+                                       reference=sinusoid_source(0.030, 6.0, 0.150, 6.0))
+    return ref.n, float(ref.x[0]), values
+
+
+def two_fmus3(path: str, n: int, x0: float, ctrl_values: dict, early_return: bool = False,
+              event_mode: bool = False, tolerance: float = 1e-6) -> Loop3:
+    """The loop with the FMI 3.0 plant at ``path`` (a fresh instance, default friction.N)."""
+    md = read_model_description(path)
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    plant = FMU3Slave(guid=md.guid, unzipDirectory=extract(path), modelIdentifier=md.coSimulation.modelIdentifier,
+                      instanceName="plant3")
+    xs = np.empty(n + 1)
+    n_early = n_events = n_steps = 0
+    switches: list[float] = []
+    with ControllerFMU(ctrl_values) as ctrl:
+        wall0 = time.perf_counter()
+        ctrl.start({"x_meas": x0})
+        cu = ctrl.raw(["u", "x_meas"])
+        u = float(cu.get()[0])
+        plant.instantiate(eventModeUsed=event_mode, earlyReturnAllowed=early_return)
+        set_values(plant, md, {**paper_parameters(), "x": x0, "v": 0.0, "u": u, "F_ext": 0.0})
+        plant.enterInitializationMode(tolerance=tolerance, startTime=0.0)
+        plant.exitInitializationMode()
+        if event_mode:
+            plant.updateDiscreteStates()
+            plant.enterStepMode()
+        cr = ctrl.raw_calls()
+        xm = (ctypes.c_uint * 1)(ctrl.vr("x_meas"))
+        vu = (ctypes.c_uint * 1)(ctrl.vr("u"))
+        buf = (ctypes.c_double * 1)()
+        xs[0] = plant.getFloat64([vr["x"]])[0]
+        for k in range(n):
+            t = k * TS
+            if k > 0:
+                buf[0] = xs[k]
+                cr.set_real(cr.component, xm, 1, ctypes.addressof(buf))
+                cr.get_real(cr.component, vu, 1, ctypes.addressof(buf))
+                plant.setFloat64([vr["u"]], [buf[0]])
+            cr.do_step(cr.component, t, TS, 1)
+            t_now, t_end = t, t + TS    # the FMI 2.0 loop's step end, to the bit
+            while True:
+                need, _, early, t_last = plant.doStep(t_now, TS if t_now == t else t_end - t_now)
+                n_steps += 1
+                if early:
+                    n_early += 1
+                    switches.append(t_last)
+                if need:
+                    n_events += 1
+                    plant.enterEventMode()
+                    plant.updateDiscreteStates()
+                    plant.enterStepMode()
+                if not early:
+                    break
+                t_now = t_last
+            xs[k + 1] = plant.getFloat64([vr["x"]])[0]
+        wall = time.perf_counter() - wall0
+        plant.terminate()
+        plant.freeInstance()
+    return Loop3(xs, n_early, n_events, n_steps, switches, wall)

@@ -32,6 +32,7 @@ class Loop3:
     do_steps: int                # fmi3DoStep calls in all
     switch_times: list[float]
     wall: float
+    stats: dict                  # the plant's stats.* at the end
 
 
 def reference_6s() -> tuple[int, float, dict]:
@@ -94,6 +95,8 @@ def two_fmus3(path: str, n: int, x0: float, ctrl_values: dict, early_return: boo
                 t_now = t_last
             xs[k + 1] = plant.getFloat64([vr["x"]])[0]
         wall = time.perf_counter() - wall0
+        names = ["stats.n_stick", "stats.n_slip", "stats.n_state_events", "stats.n_steps"]
+        stats = dict(zip(names, plant.getInt32([vr[s] for s in names])))
         plant.terminate()
         plant.freeInstance()
-    return Loop3(xs, n_early, n_events, n_steps, switches, wall)
+    return Loop3(xs, n_early, n_events, n_steps, switches, wall, stats)

@@ -75,7 +75,8 @@ $(FMU): $(SO) modelDescription.xml
 $(PKG_FMU): $(FMU)
 	cp $< $@
 
-$(GEN3)/modelDescription.xml $(GEN3)/model_vars3.h $(GEN3)/model_vars3.c: modelDescription.xml fmu_src/gen_fmi3.py $(STAMP)
+$(GEN3)/modelDescription.xml $(GEN3)/buildDescription.xml $(GEN3)/model_vars3.h $(GEN3)/model_vars3.c: \
+    modelDescription.xml fmu_src/gen_fmi3.py $(STAMP)
 	$(PY) fmu_src/gen_fmi3.py modelDescription.xml $(GEN3)
 
 $(SO3): $(SRC3_C) $(SRC_H) fmu_src/fmi3.map $(GEN)/model_vars.h $(GEN)/model_vars.c $(GEN3)/model_vars3.h \
@@ -87,9 +88,9 @@ $(SO3): $(SRC3_C) $(SRC_H) fmu_src/fmi3.map $(GEN)/model_vars.h $(GEN)/model_var
 	@! (ldd $@ | grep -v -E 'linux-vdso|libc\.so|libm\.so|ld-linux|not a dynamic' | grep -q .) || \
 	    (echo "error: $@ links more than libc/libm:"; ldd $@; exit 1)
 
-$(FMU3): $(SO3) $(GEN3)/modelDescription.xml
+$(FMU3): $(SO3) $(GEN3)/modelDescription.xml $(GEN3)/buildDescription.xml
 	$(PY) tools/package_fmu.py --xml $(GEN3)/modelDescription.xml --so $(SO3) \
-	    --sources fmu_src $(GEN) $(GEN3) --platform x86_64-linux --out $@
+	    --sources fmu_src $(GEN) $(GEN3) $(GEN3)/buildDescription.xml --platform x86_64-linux --out $@
 
 $(PKG_FMU3): $(FMU3)
 	cp $< $@

@@ -50,7 +50,8 @@ fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoi
     st = fmu_cs_do_step(c, currentCommunicationPoint, communicationStepSize);
     e->armed = 0;
     if (st != fmi2OK) { *lastSuccessfulTime = c->m.time; return (fmi3Status)st; }
-    if (e->taken && e->early_return_allowed) {
+    /* a switch on the step's end is no early return: the step ends there anyway */
+    if (e->taken && e->early_return_allowed && e->snap.time < c->m.time) {
         c->m = e->snap;
         c->m.solver_restart = 1;   /* the step's integrator restarted after the switch, so does the next */
         c->m.out_valid = 0;

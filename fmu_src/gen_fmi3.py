@@ -4,8 +4,8 @@
 Usage: gen_fmi3.py modelDescription.xml OUTDIR
 
 modelDescription.xml (FMI 2.0) stays the one list of variables. From it this writes
-OUTDIR/modelDescription.xml (FMI 3.0) and OUTDIR/model_vars3.h/.c (the FMI 3.0 value
-references of the glue, fmu_src/fmi3_values.c):
+OUTDIR/modelDescription.xml (FMI 3.0), OUTDIR/buildDescription.xml (for sources/) and
+OUTDIR/model_vars3.h/.c (the FMI 3.0 value references of the glue, fmu_src/fmi3_values.c):
 
 - every scalar keeps its name, value reference, unit, start, min, max and nominal; Real becomes
   Float64, Integer Int32, Boolean Boolean;
@@ -182,6 +182,23 @@ def c_table(vars3: list[dict], src: str) -> tuple[str, str]:
     return "\n".join(h), "\n".join(c)
 
 
+def build_description(root2: ET.Element) -> ET.ElementTree:
+    """sources/buildDescription.xml: the FMI 2.0 source files, the FMI 3.0 glue beside this
+    script (fmi3_*.c) and the generated model_vars3.c."""
+    names = [f.get("name") for f in root2.find("CoSimulation").find("SourceFiles").findall("File")]
+    names += sorted(p.name for p in Path(__file__).resolve().parent.glob("fmi3_*.c")) + ["model_vars3.c"]
+    r = ET.Element("fmiBuildDescription", fmiVersion="3.0")
+    bc = ET.SubElement(r, "BuildConfiguration", modelIdentifier=MODEL_IDENTIFIER)
+    fs = ET.SubElement(bc, "SourceFileSet", language="C99")
+    for n in names:
+        ET.SubElement(fs, "SourceFile", name=n)
+    ET.SubElement(fs, "PreprocessorDefinition", name="_POSIX_C_SOURCE", value="200809L")
+    ET.SubElement(fs, "PreprocessorDefinition", name="_DEFAULT_SOURCE")
+    tree = ET.ElementTree(r)
+    ET.indent(tree)
+    return tree
+
+
 def main(xml_path: str, outdir: str) -> None:
     root2 = ET.parse(xml_path).getroot()
     vars3 = fmi3_variables(root2)
@@ -190,6 +207,7 @@ def main(xml_path: str, outdir: str) -> None:
     out = Path(outdir)
     out.mkdir(parents=True, exist_ok=True)
     model_description(root2, vars3).write(out / "modelDescription.xml", encoding="UTF-8", xml_declaration=True)
+    build_description(root2).write(out / "buildDescription.xml", encoding="UTF-8", xml_declaration=True)
     h, c = c_table(vars3, Path(xml_path).name)
     (out / "model_vars3.h").write_text(h)
     (out / "model_vars3.c").write_text(c)

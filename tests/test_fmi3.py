@@ -29,6 +29,7 @@ from conftest import REPO
 from feeddrive.fmu3 import configured, fmi3_values, set_values, with_dimension
 from feeddrive.harness.two_fmus import simulate_two_fmus
 from feeddrive.paper import paper_parameters
+from feeddrive.physics.friction_curves import stribeck_level
 from fmi3_loops import TS, reference_6s, two_fmus3
 
 TOL_VERSIONS = 1e-12         # m, FMI 3.0 against FMI 2.0 on the same input (issue 14)
@@ -138,6 +139,29 @@ def test_co_simulation_agrees_with_model_exchange(fmu_version: tuple[Path, str],
     dF = float(np.max(np.abs(cs["F_friction"] - me["F_friction"])))
     print(f"FMI {version}, CS vs ME (rtol {rtol:g}): max |dx| = {dx:.3g} m, max |dF| = {dF:.3g} N")
     assert dx <= TOL_X and dF <= 0.05
+
+
+@pytest.mark.parametrize("interface", ["CoSimulation", "ModelExchange"])
+def test_steady_sliding_friction_both_versions(fmu_version: tuple[Path, str], interface: str,
+                                               paper: dict) -> None:
+    """Mass + friction (cogging, ripple, current loop off) pushed by F_ext = -40 N: the stage
+    slides at the speed where the friction balances the push, F_f = S(v) + sigma2 v = 40 N
+    (Eqs. 8, 10; S the Stribeck level), every element slipping.  The approach is exponential
+    with tau ~ m / sigma2 = 0.3 s: after 2.5 s 18 N e^-8.4 = 0.004 N remain (0.01 N allowed);
+    in steady sliding the GMS force equals the curve (1e-6 N)."""
+    path, _ = fmu_version
+    sv = {"effects.cogging_periodic": False, "effects.cogging_aperiodic": False,
+          "effects.ripple_periodic": False, "effects.ripple_aperiodic": False,
+          "effects.current_dynamics": False, "F_ext": -40.0, "x": 0.0,
+          "stroke.x_min": -1.0, "stroke.x_max": 1.0}
+    r = fmpy.simulate_fmu(str(path), fmi_type=interface, stop_time=2.5, output_interval=1e-3, start_values=sv,
+                          output=["v", "F_friction", "n_stuck"], relative_tolerance=1e-8)
+    v, F = float(r["v"][-1]), float(r["F_friction"][-1])
+    S = float(stribeck_level(v, paper["friction.F_s"], paper["friction.F_c"], paper["friction.V_s"],
+                             paper["friction.delta"]))
+    assert abs(F - (S + paper["friction.sigma2"] * v)) < 1e-6
+    assert abs(F - 40.0) < 0.01 and 0.3 < v < 0.4
+    assert r["n_stuck"][-1] == 0
 
 
 # ------------------------------------------------------------------ friction.N

@@ -74,12 +74,3 @@ fmi3Status fmi3GetOutputDerivatives(fmi3Instance instance, const fmi3ValueRefere
     }
     return (fmi3Status)fmi2GetRealOutputDerivatives(c, valueReferences, nValueReferences, orders, values);
 }
-
-fmi3Status fmi3ActivateModelPartition(fmi3Instance instance, fmi3ValueReference clockReference,
-                                      fmi3Float64 activationTime) {
-    instance_t *c = FMU_ENTER(instance, fmi3NotProvided);
-    (void)clockReference; (void)activationTime;
-    if (!c) return fmi3Error;
-    fmu_log(c, fmi2Error, LOG_ERROR, "fmi3ActivateModelPartition: this FMU has no scheduled execution");
-    return fmi3Error;
-}

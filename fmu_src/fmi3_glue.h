@@ -8,12 +8,12 @@
 #define FMI3_GLUE_H
 
 #include "fmi3Functions.h"
+#include "fmi3_log.h"
 #include "fmi2_instance.h"
 #include "model_vars3.h"
 
 typedef struct {
-    fmi3InstanceEnvironment env;
-    fmi3LogMessageCallback log_message;
+    fmi3_logger_t log;              /* first: the FMI 2.0 glue's componentEnvironment */
     int event_mode_used, early_return_allowed;
     /* the co-simulation step in progress: switches after its start are counted, the first one
      * (time > step_t0) snapshotted for an early return */

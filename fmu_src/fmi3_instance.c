@@ -1,5 +1,5 @@
 /* FMI 3.0 life cycle: instantiation over the shared instance (fmi2Instantiate with calloc/free
- * and a logger that hands the messages to fmi3LogMessageCallback), Configuration Mode for the
+ * and a logger that hands the messages to fmi3LogMessageCallback, fmi3_log.h), Configuration Mode for the
  * structural parameter friction.N, initialization, event mode, termination, reset. */
 #include <math.h>
 #include <stdlib.h>
@@ -9,45 +9,6 @@
 
 const char *fmi3GetVersion(void) { return fmi3Version; }
 
-/* ---------------------------------------------------------------- memory and logging */
-
-static void *mem_alloc(size_t n, size_t size) { return calloc(n, size); }
-static void mem_free(void *p) { free(p); }
-
-/* the shared glue's messages name its FMI 2.0 functions where FMI 3.0 has others */
-static const char *const RENAMED[][2] = {
-    {"fmi2Instantiate", "fmi3Instantiate"}, {"fmi2SetupExperiment", "fmi3EnterInitializationMode"},
-    {"fmi2DoStep", "fmi3DoStep"}, {"fmi2GetRealOutputDerivatives", "fmi3GetOutputDerivatives"},
-    {"fmi2SetDebugLogging", "fmi3SetDebugLogging"}, {"fmi2NewDiscreteStates", "fmi3UpdateDiscreteStates"},
-    {"fmi2EnterInitializationMode", "fmi3EnterInitializationMode"}};
-
-/* fmi2CallbackLogger of an FMI 3.0 instance: componentEnvironment is its fmi3_ext_t; the text
- * comes as a printf format with every '%' doubled (fmi2_log.h) and leaves as plain text */
-static void log_adapter(fmi2ComponentEnvironment env, fmi2String name, fmi2Status st, fmi2String category,
-                        fmi2String message, ...) {
-    fmi3_ext_t *e = (fmi3_ext_t *)env;
-    char buf[2048];
-    size_t i = 0, k;
-    (void)name;
-    if (!e || !e->log_message || !message) return;
-    for (k = 0; k < sizeof RENAMED / sizeof RENAMED[0]; k++) {
-        size_t n = strlen(RENAMED[k][0]);
-        if (strncmp(message, RENAMED[k][0], n) == 0 && (message[n] == ':' || message[n] == ' ')) {
-            size_t m = strlen(RENAMED[k][1]);
-            memcpy(buf, RENAMED[k][1], m);
-            i = m;
-            message += n;
-            break;
-        }
-    }
-    for (; *message && i + 1 < sizeof buf; message++) {
-        if (message[0] == '%' && message[1] == '%') message++;
-        buf[i++] = *message;
-    }
-    buf[i] = 0;
-    e->log_message(e->env, (fmi3Status)st, category, buf);
-}
-
 static instance_t *instantiate(fmi3String name, fmi2Type type, fmi3String token, fmi3Boolean logging_on,
                                fmi3InstanceEnvironment env, fmi3LogMessageCallback log_message,
                                int event_mode_used, int early_return_allowed) {
@@ -55,15 +16,11 @@ static instance_t *instantiate(fmi3String name, fmi2Type type, fmi3String token,
     fmi2CallbackFunctions cb;
     instance_t *c;
     if (!e) return NULL;
-    e->env = env;
-    e->log_message = log_message;
+    e->log.env = env;
+    e->log.log_message = log_message;
     e->event_mode_used = event_mode_used;
     e->early_return_allowed = early_return_allowed;
-    memset(&cb, 0, sizeof cb);
-    cb.logger = log_adapter;
-    cb.allocateMemory = mem_alloc;
-    cb.freeMemory = mem_free;
-    cb.componentEnvironment = e;
+    cb = fmi3_callbacks(&e->log);
     c = (instance_t *)fmi2Instantiate(name, type, token, NULL, &cb, fmi2False, logging_on ? fmi2True : fmi2False);
     if (!c) { free(e); return NULL; }
     c->fmi3 = 1;
@@ -107,23 +64,6 @@ fmi3Instance fmi3InstantiateCoSimulation(fmi3String instanceName, fmi3String ins
     }
     c->on_switch = fmi3_on_switch;
     return c;
-}
-
-fmi3Instance fmi3InstantiateScheduledExecution(fmi3String instanceName, fmi3String instantiationToken,
-                                               fmi3String resourcePath, fmi3Boolean visible, fmi3Boolean loggingOn,
-                                               fmi3InstanceEnvironment instanceEnvironment,
-                                               fmi3LogMessageCallback logMessage,
-                                               fmi3ClockUpdateCallback clockUpdate,
-                                               fmi3LockPreemptionCallback lockPreemption,
-                                               fmi3UnlockPreemptionCallback unlockPreemption) {
-    (void)instantiationToken; (void)resourcePath; (void)visible; (void)loggingOn; (void)clockUpdate;
-    (void)lockPreemption; (void)unlockPreemption;
-    if (logMessage)
-        logMessage(instanceEnvironment, fmi3Error, "logStatusError",
-                   "fmi3InstantiateScheduledExecution: this FMU has no scheduled execution "
-                   "(model exchange and co-simulation only)");
-    (void)instanceName;
-    return NULL;
 }
 
 void fmi3FreeInstance(fmi3Instance instance) {
@@ -268,12 +208,4 @@ fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean *discrete
     *nextEventTimeDefined = c->m.p.current_dynamics ? fmi3True : fmi3False;
     *nextEventTime = c->m.p.current_dynamics ? fmu_next_sample(&c->m) : 0.0;
     return fmi3OK;
-}
-
-fmi3Status fmi3EvaluateDiscreteStates(fmi3Instance instance) {
-    instance_t *c = FMU_ENTER(instance, fmi3NotProvided);
-    if (!c) return fmi3Error;
-    fmu_log(c, fmi2Error, LOG_ERROR, "fmi3EvaluateDiscreteStates: not provided (providesEvaluateDiscreteStates "
-            "is false)");
-    return fmi3Error;
 }

@@ -2,7 +2,7 @@
  * their elements (an array of dimension friction.N has N, a scalar one) and handed to the shared
  * get/set of fmi2_values.c (its checks: type, state, range; a rejected set changes nothing).
  * time and eventIndicators are computed here; the structural parameter friction.N is set only
- * in Configuration Mode. Types the FMU has none of answer fmi3Error. */
+ * in Configuration Mode. (Types the FMU has none of: fmi3_stubs.c.) */
 #include <stdlib.h>
 #include <string.h>
 
@@ -187,50 +187,4 @@ fmi3Status fmi3GetNumberOfEventIndicators(fmi3Instance instance, size_t *nEventI
     if (!nEventIndicators) { fmu_log(c, fmi2Error, LOG_ERROR, "fmi3GetNumberOfEventIndicators: NULL argument"); return fmi3Error; }
     *nEventIndicators = PLANT_NZ;
     return fmi3OK;
-}
-
-/* ---------------------------------------------------------------- types this FMU has none of */
-
-static fmi3Status no_such_type(fmi3Instance instance, const char *fn, size_t nvr) {
-    instance_t *c = FMU_ENTER(instance, fmi3OtherType);
-    if (!c) return fmi3Error;
-    if (nvr == 0) return fmi3OK;
-    fmu_log(c, fmi2Error, LOG_ERROR, "%s: this FMU has no variables of this type (Float64, Int32 and Boolean only)", fn);
-    return fmi3Error;
-}
-
-#define NO_TYPE(T, CT)                                                                                          \
-    fmi3Status fmi3Get##T(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, CT v[], size_t nv) {       \
-        (void)vr; (void)v; (void)nv; return no_such_type(i, "fmi3Get" #T, nvr);                               \
-    }                                                                                                           \
-    fmi3Status fmi3Set##T(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, const CT v[], size_t nv) { \
-        (void)vr; (void)v; (void)nv; return no_such_type(i, "fmi3Set" #T, nvr);                               \
-    }
-NO_TYPE(Float32, fmi3Float32)
-NO_TYPE(Int8, fmi3Int8)
-NO_TYPE(UInt8, fmi3UInt8)
-NO_TYPE(Int16, fmi3Int16)
-NO_TYPE(UInt16, fmi3UInt16)
-NO_TYPE(UInt32, fmi3UInt32)
-NO_TYPE(Int64, fmi3Int64)
-NO_TYPE(UInt64, fmi3UInt64)
-NO_TYPE(String, fmi3String)
-
-fmi3Status fmi3GetBinary(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, size_t sizes[],
-                         fmi3Binary v[], size_t nv) {
-    (void)vr; (void)sizes; (void)v; (void)nv;
-    return no_such_type(i, "fmi3GetBinary", nvr);
-}
-fmi3Status fmi3SetBinary(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, const size_t sizes[],
-                         const fmi3Binary v[], size_t nv) {
-    (void)vr; (void)sizes; (void)v; (void)nv;
-    return no_such_type(i, "fmi3SetBinary", nvr);
-}
-fmi3Status fmi3GetClock(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, fmi3Clock v[]) {
-    (void)vr; (void)v;
-    return no_such_type(i, "fmi3GetClock", nvr);
-}
-fmi3Status fmi3SetClock(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, const fmi3Clock v[]) {
-    (void)vr; (void)v;
-    return no_such_type(i, "fmi3SetClock", nvr);
 }

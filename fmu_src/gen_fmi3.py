@@ -2,6 +2,10 @@
 """Generate the FMI 3.0 model description and its value table from the FMI 2.0 one.
 
 Usage: gen_fmi3.py modelDescription.xml OUTDIR
+       gen_fmi3.py --controller build/gen/controller/modelDescription.xml OUTDIR
+
+(``--controller``: the controller FMU's merged FMI 2.0 description, co-simulation only, no
+arrays, no C table; its FMI 3.0 glue is controller/ctrl_fmi3.c.)
 
 modelDescription.xml (FMI 2.0) stays the one list of variables. From it this writes
 OUTDIR/modelDescription.xml (FMI 3.0), OUTDIR/buildDescription.xml (for sources/) and
@@ -24,7 +28,6 @@ import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-MODEL_IDENTIFIER = "LinearMotorFeedDrive3"
 N_NAME = "friction.N"
 N_ARRAYS = ("friction.F", "der(friction.F)", "friction.nu", "friction.k", "friction.stuck")
 TYPES = {"Real": "Float64", "Integer": "Int32", "Boolean": "Boolean"}
@@ -47,8 +50,9 @@ def fmi3_variables(root2: ET.Element) -> list[dict]:
     value references of the elements), dim (True: of dimension friction.N), derivative_of (the FMI
     2.0 index of the state)."""
     svs = root2.find("ModelVariables").findall("ScalarVariable")
-    n_vr = next(int(sv.get("valueReference")) for sv in svs if sv.get("name") == N_NAME)
-    n_start = next(int(sv[0].get("start")) for sv in svs if sv.get("name") == N_NAME)
+    n_sv = [sv for sv in svs if sv.get("name") == N_NAME]
+    n_vr = int(n_sv[0].get("valueReference")) if n_sv else -1
+    n_start = int(n_sv[0][0].get("start")) if n_sv else 0
     out: list[dict] = [{"name": "time", "vr": VR_TIME, "type": "Float64", "elems": [], "dim": False,
                         "attrs": {"causality": "independent", "variability": "continuous",
                                   "description": "Simulation time"}, "typed": {"unit": "s"}}]
@@ -88,7 +92,9 @@ def fmi3_variables(root2: ET.Element) -> list[dict]:
                 v["typed"]["start"] = " ".join(fmt_start(s, v["type"]) for s in starts)
         elif v["name"] != "time" and v["starts"][0] is not None:
             v["typed"]["start"] = fmt_start(v["starts"][0], v["type"])
-    nz = int(root2.get("numberOfEventIndicators"))
+    nz = int(root2.get("numberOfEventIndicators", "0"))
+    if nz == 0:
+        return out
     out.append({"name": "eventIndicators", "vr": VR_INDICATORS, "type": "Float64", "elems": [], "dim": False,
                 "nz": nz, "attrs": {"causality": "local", "variability": "continuous", "initial": "calculated",
                                     "description": "Event indicators (friction switches: an element's stick/slip "
@@ -113,7 +119,7 @@ def structure(root2: ET.Element, vars3: list[dict]) -> ET.Element:
 
     def unique(element: str) -> list[int]:
         seen: list[int] = []
-        for u in ms2.find(element).findall("Unknown"):
+        for u in (ms2.find(element).findall("Unknown") if ms2.find(element) is not None else []):
             vr = idx2vr[int(u.get("index"))]
             if vr not in seen:
                 seen.append(vr)
@@ -125,7 +131,8 @@ def structure(root2: ET.Element, vars3: list[dict]) -> ET.Element:
         ET.SubElement(ms, "ContinuousStateDerivative", valueReference=str(vr))
     for vr in unique("InitialUnknowns"):
         ET.SubElement(ms, "InitialUnknown", valueReference=str(vr))
-    ET.SubElement(ms, "EventIndicator", valueReference=str(VR_INDICATORS))
+    if any(v["name"] == "eventIndicators" for v in vars3):
+        ET.SubElement(ms, "EventIndicator", valueReference=str(VR_INDICATORS))
     return ms
 
 
@@ -135,15 +142,21 @@ def model_description(root2: ET.Element, vars3: list[dict]) -> ET.ElementTree:
         "instantiationToken": root2.get("guid"), "description": root2.get("description"),
         "generationTool": root2.get("generationTool") + " (gen_fmi3.py from the FMI 2.0 description)",
         "version": root2.get("version"), "variableNamingConvention": "structured"})
-    common = {"modelIdentifier": MODEL_IDENTIFIER, "canGetAndSetFMUState": "true", "canSerializeFMUState": "true"}
-    ET.SubElement(r, "ModelExchange", {**common, "needsCompletedIntegratorStep": "false"})
+    cs2 = root2.find("CoSimulation")
+    state = cs2.get("canGetAndSetFMUstate", "false")
+    common = {"modelIdentifier": identifier(root2), "canGetAndSetFMUState": state,
+              "canSerializeFMUState": cs2.get("canSerializeFMUstate", "false")}
+    if root2.find("ModelExchange") is not None:
+        ET.SubElement(r, "ModelExchange", {**common, "needsCompletedIntegratorStep": "false"})
+    events = "true" if root2.find("ModelExchange") is not None else "false"   # the plant: friction switches
     ET.SubElement(r, "CoSimulation", {**common, "canHandleVariableCommunicationStepSize": "true",
-                                      "maxOutputDerivativeOrder": "1", "hasEventMode": "true",
-                                      "mightReturnEarlyFromDoStep": "true",
+                                      **({"maxOutputDerivativeOrder": cs2.get("maxOutputDerivativeOrder")}
+                                         if cs2.get("maxOutputDerivativeOrder") else {}),
+                                      "hasEventMode": events, "mightReturnEarlyFromDoStep": events,
                                       "providesIntermediateUpdate": "false"})
-    r.append(root2.find("UnitDefinitions"))
-    r.append(root2.find("LogCategories"))
-    r.append(root2.find("DefaultExperiment"))
+    for element in ("UnitDefinitions", "LogCategories", "DefaultExperiment"):
+        if root2.find(element) is not None:
+            r.append(root2.find(element))
     mv = ET.SubElement(r, "ModelVariables")
     for v in vars3:
         e = ET.SubElement(mv, v["type"], {"name": v["name"], "valueReference": str(v["vr"]),
@@ -182,13 +195,16 @@ def c_table(vars3: list[dict], src: str) -> tuple[str, str]:
     return "\n".join(h), "\n".join(c)
 
 
-def build_description(root2: ET.Element) -> ET.ElementTree:
-    """sources/buildDescription.xml: the FMI 2.0 source files, the FMI 3.0 glue beside this
-    script (fmi3_*.c) and the generated model_vars3.c."""
-    names = [f.get("name") for f in root2.find("CoSimulation").find("SourceFiles").findall("File")]
-    names += sorted(p.name for p in Path(__file__).resolve().parent.glob("fmi3_*.c")) + ["model_vars3.c"]
+def identifier(root2: ET.Element) -> str:
+    """The FMI 3.0 model identifier: the FMI 2.0 one + "3" (LinearMotorFeedDrive3, DriveController3)."""
+    return root2.find("CoSimulation").get("modelIdentifier") + "3"
+
+
+def build_description(root2: ET.Element, glue: list[str]) -> ET.ElementTree:
+    """sources/buildDescription.xml: the FMI 2.0 source files and the FMI 3.0 glue ``glue``."""
+    names = [f.get("name") for f in root2.find("CoSimulation").find("SourceFiles").findall("File")] + glue
     r = ET.Element("fmiBuildDescription", fmiVersion="3.0")
-    bc = ET.SubElement(r, "BuildConfiguration", modelIdentifier=MODEL_IDENTIFIER)
+    bc = ET.SubElement(r, "BuildConfiguration", modelIdentifier=identifier(root2))
     fs = ET.SubElement(bc, "SourceFileSet", language="C99")
     for n in names:
         ET.SubElement(fs, "SourceFile", name=n)
@@ -199,7 +215,7 @@ def build_description(root2: ET.Element) -> ET.ElementTree:
     return tree
 
 
-def main(xml_path: str, outdir: str) -> None:
+def main(xml_path: str, outdir: str, controller: bool = False) -> None:
     root2 = ET.parse(xml_path).getroot()
     vars3 = fmi3_variables(root2)
     vrs = [v["vr"] for v in vars3]
@@ -207,11 +223,18 @@ def main(xml_path: str, outdir: str) -> None:
     out = Path(outdir)
     out.mkdir(parents=True, exist_ok=True)
     model_description(root2, vars3).write(out / "modelDescription.xml", encoding="UTF-8", xml_declaration=True)
-    build_description(root2).write(out / "buildDescription.xml", encoding="UTF-8", xml_declaration=True)
+    here = Path(__file__).resolve().parent
+    glue = (["ctrl_fmi3.c", "fmi3_stubs.c"] if controller
+            else sorted(p.name for p in here.glob("fmi3_*.c")) + ["model_vars3.c"])
+    build_description(root2, glue).write(out / "buildDescription.xml", encoding="UTF-8", xml_declaration=True)
+    if controller:
+        return
     h, c = c_table(vars3, Path(xml_path).name)
     (out / "model_vars3.h").write_text(h)
     (out / "model_vars3.c").write_text(c)
 
 
 if __name__ == "__main__":
-    main(sys.argv[1], sys.argv[2])
+    args = sys.argv[1:]
+    ctrl = args[:1] == ["--controller"]
+    main(*(args[1:] if ctrl else args), controller=ctrl)

@@ -43,9 +43,80 @@ def reference_6s() -> tuple[int, float, dict]:
     return ref.n, float(ref.x[0]), values
 
 
+class _Controller3:
+    """The FMI 3.0 controller FMU behind the calls the loop makes on the FMI 2.0 one."""
+
+    def __init__(self, path: str, values: dict) -> None:
+        md = read_model_description(path)
+        self.var = {v.name: v for v in md.modelVariables}
+        self.fmu = FMU3Slave(guid=md.guid, unzipDirectory=extract(path),
+                             modelIdentifier=md.coSimulation.modelIdentifier, instanceName="ctrl3")
+        self.values = values
+
+    def start(self, x0: float) -> float:
+        self.fmu.instantiate()
+        for name, value in {**self.values, "x_meas": x0}.items():
+            v = self.var[name]
+            getattr(self.fmu, "set" + v.type)([v.valueReference], [v._python_type(value)])
+        self.fmu.enterInitializationMode(startTime=0.0)
+        self.fmu.exitInitializationMode()
+        return self.u()
+
+    def u(self) -> float:
+        return self.fmu.getFloat64([self.var["u"].valueReference])[0]
+
+    def step(self, k: int, x_meas: float | None) -> float | None:
+        u = None
+        if x_meas is not None:
+            self.fmu.setFloat64([self.var["x_meas"].valueReference], [x_meas])
+            u = self.u()
+        self.fmu.doStep(k * TS, TS)
+        return u
+
+    def close(self) -> None:
+        self.fmu.terminate()
+        self.fmu.freeInstance()
+
+
 def two_fmus3(path: str, n: int, x0: float, ctrl_values: dict, early_return: bool = False,
-              event_mode: bool = False, tolerance: float = 1e-6) -> Loop3:
-    """The loop with the FMI 3.0 plant at ``path`` (a fresh instance, default friction.N)."""
+              event_mode: bool = False, tolerance: float = 1e-6, controller3: str | None = None) -> Loop3:
+    """The loop with the FMI 3.0 plant at ``path`` (a fresh instance, default friction.N) and
+    the FMI 2.0 controller FMU, or the FMI 3.0 one at ``controller3``."""
+    if controller3 is not None:
+        return _loop(path, n, x0, _Controller3(controller3, ctrl_values), early_return, event_mode, tolerance)
+    with ControllerFMU(ctrl_values) as ctrl:
+        return _loop(path, n, x0, _Controller2(ctrl), early_return, event_mode, tolerance)
+
+
+class _Controller2:
+    """The FMI 2.0 controller FMU through its raw calls (as simulate_two_fmus)."""
+
+    def __init__(self, ctrl: ControllerFMU) -> None:
+        self.ctrl = ctrl
+
+    def start(self, x0: float) -> float:
+        self.ctrl.start({"x_meas": x0})
+        self.r = self.ctrl.raw_calls()
+        self.xm = (ctypes.c_uint * 1)(self.ctrl.vr("x_meas"))
+        self.vu = (ctypes.c_uint * 1)(self.ctrl.vr("u"))
+        self.buf = (ctypes.c_double * 1)()
+        return float(self.ctrl.raw(["u", "x_meas"]).get()[0])
+
+    def step(self, k: int, x_meas: float | None) -> float | None:
+        r, u = self.r, None
+        if x_meas is not None:
+            self.buf[0] = x_meas
+            r.set_real(r.component, self.xm, 1, ctypes.addressof(self.buf))
+            r.get_real(r.component, self.vu, 1, ctypes.addressof(self.buf))
+            u = self.buf[0]
+        r.do_step(r.component, k * TS, TS, 1)
+        return u
+
+    def close(self) -> None:
+        pass
+
+
+def _loop(path: str, n: int, x0: float, ctrl, early_return: bool, event_mode: bool, tolerance: float) -> Loop3:
     md = read_model_description(path)
     vr = {v.name: v.valueReference for v in md.modelVariables}
     plant = FMU3Slave(guid=md.guid, unzipDirectory=extract(path), modelIdentifier=md.coSimulation.modelIdentifier,
@@ -53,50 +124,41 @@ def two_fmus3(path: str, n: int, x0: float, ctrl_values: dict, early_return: boo
     xs = np.empty(n + 1)
     n_early = n_events = n_steps = 0
     switches: list[float] = []
-    with ControllerFMU(ctrl_values) as ctrl:
-        wall0 = time.perf_counter()
-        ctrl.start({"x_meas": x0})
-        cu = ctrl.raw(["u", "x_meas"])
-        u = float(cu.get()[0])
-        plant.instantiate(eventModeUsed=event_mode, earlyReturnAllowed=early_return)
-        set_values(plant, md, {**paper_parameters(), "x": x0, "v": 0.0, "u": u, "F_ext": 0.0})
-        plant.enterInitializationMode(tolerance=tolerance, startTime=0.0)
-        plant.exitInitializationMode()
-        if event_mode:
-            plant.updateDiscreteStates()
-            plant.enterStepMode()
-        cr = ctrl.raw_calls()
-        xm = (ctypes.c_uint * 1)(ctrl.vr("x_meas"))
-        vu = (ctypes.c_uint * 1)(ctrl.vr("u"))
-        buf = (ctypes.c_double * 1)()
-        xs[0] = plant.getFloat64([vr["x"]])[0]
-        for k in range(n):
-            t = k * TS
-            if k > 0:
-                buf[0] = xs[k]
-                cr.set_real(cr.component, xm, 1, ctypes.addressof(buf))
-                cr.get_real(cr.component, vu, 1, ctypes.addressof(buf))
-                plant.setFloat64([vr["u"]], [buf[0]])
-            cr.do_step(cr.component, t, TS, 1)
-            t_now, t_end = t, t + TS    # the FMI 2.0 loop's step end, to the bit
-            while True:
-                need, _, early, t_last = plant.doStep(t_now, TS if t_now == t else t_end - t_now)
-                n_steps += 1
-                if early:
-                    n_early += 1
-                    switches.append(t_last)
-                if need:
-                    n_events += 1
-                    plant.enterEventMode()
-                    plant.updateDiscreteStates()
-                    plant.enterStepMode()
-                if not early:
-                    break
-                t_now = t_last
-            xs[k + 1] = plant.getFloat64([vr["x"]])[0]
-        wall = time.perf_counter() - wall0
-        names = ["stats.n_stick", "stats.n_slip", "stats.n_state_events", "stats.n_steps"]
-        stats = dict(zip(names, plant.getInt32([vr[s] for s in names])))
-        plant.terminate()
-        plant.freeInstance()
+    wall0 = time.perf_counter()
+    u = ctrl.start(x0)
+    plant.instantiate(eventModeUsed=event_mode, earlyReturnAllowed=early_return)
+    set_values(plant, md, {**paper_parameters(), "x": x0, "v": 0.0, "u": u, "F_ext": 0.0})
+    plant.enterInitializationMode(tolerance=tolerance, startTime=0.0)
+    plant.exitInitializationMode()
+    if event_mode:
+        plant.updateDiscreteStates()
+        plant.enterStepMode()
+    xs[0] = plant.getFloat64([vr["x"]])[0]
+    for k in range(n):
+        t = k * TS
+        u = ctrl.step(k, xs[k] if k > 0 else None)
+        if k > 0:
+            plant.setFloat64([vr["u"]], [u])
+        t_now, t_end = t, t + TS    # the FMI 2.0 loop's step end, to the bit
+        while True:
+            need, _, early, t_last = plant.doStep(t_now, TS if t_now == t else t_end - t_now)
+            n_steps += 1
+            if early:
+                n_early += 1
+                switches.append(t_last)
+            if need:
+                n_events += 1
+                plant.enterEventMode()
+                plant.updateDiscreteStates()
+                plant.enterStepMode()
+            if not early:
+                break
+            t_now = t_last
+        xs[k + 1] = plant.getFloat64([vr["x"]])[0]
+    wall = time.perf_counter() - wall0
+    names = ["stats.n_stick", "stats.n_slip", "stats.n_state_events", "stats.n_steps"]
+    stats = dict(zip(names, plant.getInt32([vr[s] for s in names])))
+    plant.terminate()
+    plant.freeInstance()
+    ctrl.close()
     return Loop3(xs, n_early, n_events, n_steps, switches, wall, stats)

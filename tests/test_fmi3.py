@@ -1,6 +1,7 @@
-"""The plant as an FMI 3.0 FMU beside the FMI 2.0 one (issue 14): one variable list, the same
-trajectories, Configuration Mode for friction.N, early return / event mode at friction
-switches on the 6 s closed loop, FMU state serialisation, the exported functions.
+"""The plant (and the controller) as FMI 3.0 FMUs beside the FMI 2.0 ones (issue 14): one
+variable list, the same trajectories, Configuration Mode for friction.N, early return / event
+mode at friction switches on the 6 s closed loop, FMU state serialisation, the exported
+functions.
 
 Agreement between the versions is asserted to 1e-12 m (the issue's figure): co-simulation runs
 the same fmi2DoStep step (fmu_cs_do_step) and model exchange the same right-hand side, so
@@ -32,6 +33,7 @@ from feeddrive.paper import paper_parameters
 from feeddrive.physics.friction_curves import stribeck_level
 from fmi3_loops import TS, reference_6s, two_fmus3
 
+CTRL3 = REPO / "build" / "DriveController3.fmu"
 TOL_VERSIONS = 1e-12         # m, FMI 3.0 against FMI 2.0 on the same input (issue 14)
 TOL_X = 0.1e-6               # m, co-simulation against model exchange (test_cs_agreement's)
 T_OPEN = 0.3                 # s of open-loop drive, 7 slip-to-stick switches
@@ -222,7 +224,8 @@ def loop_6s(fmu_path: Path, fmu3_path: Path) -> dict:
     ref = simulate_two_fmus(paper_parameters(), values, n, x0, plant_path=fmu_path)
     runs = {(er, em): two_fmus3(str(fmu3_path), n, x0, values, early_return=er, event_mode=em)
             for er, em in [(False, False), (True, False), (False, True), (True, True)]}
-    return {"ref": ref, "runs": runs, "n": n}
+    both3 = two_fmus3(str(fmu3_path), n, x0, values, early_return=True, event_mode=True, controller3=str(CTRL3))
+    return {"ref": ref, "runs": runs, "n": n, "both3": both3}
 
 
 def test_closed_loop_fmi3_equals_fmi2_with_and_without_early_return(loop_6s: dict) -> None:
@@ -234,6 +237,36 @@ def test_closed_loop_fmi3_equals_fmi2_with_and_without_early_return(loop_6s: dic
         print(f"6 s loop, early return {er}, event mode {em}: max |dx| vs FMI 2.0 = {dx:.3g} m, "
               f"{r.early_returns} early returns, {r.events} event-mode entries, {r.do_steps} fmi3DoStep calls")
         assert dx <= TOL_VERSIONS
+
+
+def test_closed_loop_of_two_fmi3_fmus_equals_the_fmi2_pair(loop_6s: dict) -> None:
+    """The controller FMU as FMI 3.0 too (DriveController3.fmu, over the same C): x to 1e-12 m."""
+    r = loop_6s["both3"]
+    dx = float(np.max(np.abs(r.x - loop_6s["ref"]["x"])))
+    print(f"6 s loop, controller and plant FMI 3.0 (early return, event mode): max |dx| = {dx:.3g} m")
+    assert dx <= TOL_VERSIONS and r.early_returns == loop_6s["runs"][(True, True)].early_returns
+
+
+def test_controller_fmi3_validates_and_refuses_what_it_lacks(fmu_path: Path) -> None:
+    from fmpy.validation import validate_fmu
+    assert validate_fmu(str(CTRL3)) == []
+    md = read_model_description(str(CTRL3))
+    assert md.fmiVersion == "3.0" and md.modelExchange is None and not md.coSimulation.hasEventMode
+    log: list[str] = []
+    fmu = FMU3Slave(guid=md.guid, unzipDirectory=extract(str(CTRL3)), modelIdentifier=md.coSimulation.modelIdentifier,
+                    instanceName="c3")
+    with pytest.raises(Exception, match="Failed to instantiate"):
+        fmu.instantiate(eventModeUsed=True, logMessage=lambda env, st, cat, msg: log.append(msg.decode()))
+    assert "hasEventMode is false" in log[-1]
+    fmu.instantiate(logMessage=lambda env, st, cat, msg: log.append(msg.decode()))
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    with pytest.raises(FMICallException):
+        fmu.setFloat64([vr["Ts"]], [-1.0])
+    assert log[-1].startswith("fmi3SetFloat64: ") and "Ts" in log[-1]
+    with pytest.raises(FMICallException):
+        fmu.getFMUState()
+    assert "fmi3GetFMUState: canGetAndSetFMUState is false" in log[-1]
+    fmu.freeInstance()
 
 
 def test_early_return_at_every_switch_inside_a_step(loop_6s: dict) -> None:
@@ -310,10 +343,11 @@ def test_serialised_state_restores_the_trajectory(fmu_path: Path, fmu3_path: Pat
 
 # ------------------------------------------------------------------ the binary
 
-def test_library_exports_every_fmi3_function_and_only_those(fmu3_path: Path, tmp_path: Path) -> None:
+@pytest.mark.parametrize("which", ["plant", "controller"])
+def test_library_exports_every_fmi3_function_and_only_those(fmu3_path: Path, tmp_path: Path, which: str) -> None:
     if shutil.which("nm") is None:
         pytest.skip("nm (binutils) is not installed")
-    d = Path(extract(str(fmu3_path), unzipdir=str(tmp_path)))
+    d = Path(extract(str(fmu3_path if which == "plant" else CTRL3), unzipdir=str(tmp_path)))
     so = next(d.glob("binaries/x86_64-linux/*.so"))
     out = subprocess.run(["nm", "-D", "--defined-only", str(so)], capture_output=True, text=True, check=True).stdout
     exported = {line.split()[-1] for line in out.splitlines() if line.strip()}

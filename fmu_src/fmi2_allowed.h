@@ -142,6 +142,11 @@ static inline const char *fmi2_state_name(int fsm) {
     return NAMES[k];
 }
 
+/* the same in FMI 3.0's words: Step Mode and Step Discarded for the co-simulation states */
+static inline const char *fmi3_state_name(int fsm) {
+    return fsm == ST_STEP_COMPLETE ? "StepMode" : fsm == ST_STEP_FAILED ? "StepDiscarded" : fmi2_state_name(fsm);
+}
+
 /* the instance behind comp when function F may be called on it now, else NULL (logged) */
 #define FMU_ENTER(comp, F) fmu_enter((comp), #F, ALLOW_##F)
 

@@ -373,3 +373,21 @@ def test_every_fmi3_entry_point_enters_through_the_one_table() -> None:
                 f"{path.name}: {m.group(1)}"
     assert used <= table, used - table
     assert len(used) >= 35
+
+
+def test_illegal_call_names_the_fmi3_state(fmu3_path: Path) -> None:
+    """The one call-sequence table answers an FMI 3.0 instance in FMI 3.0's words."""
+    md = read_model_description(str(fmu3_path))
+    log: list[str] = []
+    fmu = FMU3Slave(guid=md.guid, unzipDirectory=extract(str(fmu3_path)),
+                    modelIdentifier=md.coSimulation.modelIdentifier, instanceName="seq")
+    fmu.instantiate(logMessage=lambda env, st, cat, msg: log.append(msg.decode()))
+    fmu.enterInitializationMode(startTime=0.0)
+    fmu.exitInitializationMode()
+    with pytest.raises(FMICallException):
+        fmu.updateDiscreteStates()          # co-simulation without eventModeUsed: Step Mode
+    assert log[-1] == "fmi3UpdateDiscreteStates: illegal call in state StepMode"
+    with pytest.raises(FMICallException):
+        fmu.enterEventMode()                # state Error now
+    assert log[-1] == "fmi3EnterEventMode: illegal call in state Error"
+    fmu.freeInstance()

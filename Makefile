@@ -1,7 +1,9 @@
 # feeddrive — build the FMU, run the main job, test, benchmark.
 #   make / make fmu   build build/LinearMotorFeedDrive.fmu (and its copy inside the package,
 #                     python/feeddrive/, git-ignored: the package data of installs and wheels)
-#                     and the controller FMU build/DriveController.fmu
+#                     and the controller FMU build/DriveController.fmu, and the plant as an FMI 3.0
+#                     FMU build/LinearMotorFeedDrive3.fmu (same physics; FMI 2.0 stays the default)
+#                     and the controller as FMI 3.0, build/DriveController3.fmu
 #   make run          set-up, FMU, the paper's closed-loop reproductions, report (prints the tables)
 #   make test         set-up, FMU, every test
 #   make bench        benchmark table (build/bench.md)
@@ -19,7 +21,7 @@ TESTS_C    := $(CURDIR)/$(BUILD)/tests_c
 SO         := $(BUILD)/binaries/linux64/$(MODEL).so
 CC         ?= cc
 FMU_CFLAGS := -std=c99 -O3 -fno-math-errno -fPIC -Wall -Wextra -Werror -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE
-SRC_C      := $(filter-out %gen_vars.py,$(wildcard fmu_src/*.c))
+SRC_C      := $(filter-out fmu_src/fmi3_%.c,$(wildcard fmu_src/*.c))
 SRC_H      := $(wildcard fmu_src/*.h)
 STAMP      := $(VENV)/.installed
 # the controller FMU: its own sources and XML (fmu_src/controller/), the plant's parameters
@@ -31,13 +33,28 @@ CTRL_GEN   := $(GEN)/controller
 CTRL_SO    := $(BUILD)/controller/binaries/linux64/$(CTRL).so
 CTRL_SHARED := fmu_src/params.c fmu_src/current_loop.c fmu_src/position_maps.c fmu_src/friction_gms.c \
                fmu_src/friction_position.c
-CTRL_SRC_C := $(wildcard fmu_src/controller/*.c) $(CTRL_SHARED)
+CTRL_SRC_C := $(filter-out %/ctrl_fmi3.c,$(wildcard fmu_src/controller/*.c)) $(CTRL_SHARED)
 CTRL_SHARED_H := fmu_src/params.h fmu_src/plant.h fmu_src/fmi2_allowed.h fmu_src/fmi2_log.h
 CTRL_SRC_H := $(wildcard fmu_src/controller/*.h) $(CTRL_SHARED_H)
+# the plant as FMI 3.0: modelDescription and value table generated from the FMI 2.0 XML
+# (fmu_src/gen_fmi3.py), the fmi3 glue over the shared fmi2 one; only fmi3* exported
+MODEL3     := $(MODEL)3
+GEN3       := $(BUILD)/gen3
+FMU3       := $(BUILD)/$(MODEL3).fmu
+PKG_FMU3   := python/feeddrive/$(MODEL3).fmu
+SO3        := $(BUILD)/fmi3/binaries/x86_64-linux/$(MODEL3).so
+SRC3_C     := $(wildcard fmu_src/*.c)
+# the controller as FMI 3.0: its FMI 3.0 glue over its FMI 2.0 one, the shared FMI 3.0 stubs
+CTRL3      := $(CTRL)3
+CTRL3_GEN  := $(GEN)/controller3
+CTRL3_FMU  := $(BUILD)/$(CTRL3).fmu
+PKG_CTRL3_FMU := python/feeddrive/$(CTRL3).fmu
+CTRL3_SO   := $(BUILD)/controller3/binaries/x86_64-linux/$(CTRL3).so
+CTRL3_SRC_C := $(CTRL_SRC_C) fmu_src/controller/ctrl_fmi3.c fmu_src/fmi3_stubs.c
 
 .PHONY: all fmu run test bench wheel clean venv fuzz-tools
 all: fmu
-fmu: $(FMU) $(PKG_FMU) $(CTRL_FMU) $(PKG_CTRL_FMU)
+fmu: $(FMU) $(PKG_FMU) $(CTRL_FMU) $(PKG_CTRL_FMU) $(FMU3) $(PKG_FMU3) $(CTRL3_FMU) $(PKG_CTRL3_FMU)
 venv: $(STAMP)
 
 $(STAMP): python/pyproject.toml
@@ -67,6 +84,26 @@ $(FMU): $(SO) modelDescription.xml
 $(PKG_FMU): $(FMU)
 	cp $< $@
 
+$(GEN3)/modelDescription.xml $(GEN3)/buildDescription.xml $(GEN3)/model_vars3.h $(GEN3)/model_vars3.c: \
+    modelDescription.xml fmu_src/gen_fmi3.py $(STAMP)
+	$(PY) fmu_src/gen_fmi3.py modelDescription.xml $(GEN3)
+
+$(SO3): $(SRC3_C) $(SRC_H) fmu_src/fmi3.map $(GEN)/model_vars.h $(GEN)/model_vars.c $(GEN3)/model_vars3.h \
+    $(GEN3)/model_vars3.c $(BUILD)/fmi_include
+	mkdir -p $(dir $@)
+	$(CC) $(FMU_CFLAGS) $(CFLAGS) -shared -fvisibility=default -Wl,--no-undefined -Wl,--version-script=fmu_src/fmi3.map \
+	    -I fmu_src -I $(GEN) -I $(GEN3) -I "$$(cat $(BUILD)/fmi_include)" \
+	    -o $@ $(SRC3_C) $(GEN)/model_vars.c $(GEN3)/model_vars3.c -lm
+	@! (ldd $@ | grep -v -E 'linux-vdso|libc\.so|libm\.so|ld-linux|not a dynamic' | grep -q .) || \
+	    (echo "error: $@ links more than libc/libm:"; ldd $@; exit 1)
+
+$(FMU3): $(SO3) $(GEN3)/modelDescription.xml $(GEN3)/buildDescription.xml
+	$(PY) tools/package_fmu.py --xml $(GEN3)/modelDescription.xml --so $(SO3) \
+	    --sources fmu_src $(GEN) $(GEN3) $(GEN3)/buildDescription.xml --platform x86_64-linux --out $@
+
+$(PKG_FMU3): $(FMU3)
+	cp $< $@
+
 $(CTRL_GEN)/ctrl_vars.h $(CTRL_GEN)/ctrl_vars.c $(CTRL_GEN)/modelDescription.xml: \
     fmu_src/controller/modelDescription.xml modelDescription.xml fmu_src/gen_vars.py $(STAMP)
 	$(PY) fmu_src/gen_vars.py --prefix CTRL --import modelDescription.xml plant. 1000 \
@@ -89,6 +126,27 @@ $(CTRL_FMU): $(CTRL_SO) $(CTRL_GEN)/modelDescription.xml
 $(PKG_CTRL_FMU): $(CTRL_FMU)
 	cp $< $@
 
+$(CTRL3_GEN)/modelDescription.xml $(CTRL3_GEN)/buildDescription.xml: $(CTRL_GEN)/modelDescription.xml fmu_src/gen_fmi3.py
+	$(PY) fmu_src/gen_fmi3.py --controller $(CTRL_GEN)/modelDescription.xml $(CTRL3_GEN)
+
+$(CTRL3_SO): $(CTRL3_SRC_C) $(CTRL_SRC_H) fmu_src/fmi3_log.h fmu_src/fmi3.map $(GEN)/model_vars.h $(GEN)/model_vars.c \
+    $(CTRL_GEN)/ctrl_vars.h $(CTRL_GEN)/ctrl_vars.c $(BUILD)/fmi_include
+	mkdir -p $(dir $@)
+	$(CC) $(FMU_CFLAGS) -ffp-contract=off $(CFLAGS) -shared -fvisibility=default -Wl,--no-undefined \
+	    -Wl,--version-script=fmu_src/fmi3.map -I fmu_src/controller -I fmu_src -I $(CTRL_GEN) -I $(GEN) \
+	    -I "$$(cat $(BUILD)/fmi_include)" -o $@ $(CTRL3_SRC_C) $(GEN)/model_vars.c $(CTRL_GEN)/ctrl_vars.c -lm
+	@! (ldd $@ | grep -v -E 'linux-vdso|libc\.so|libm\.so|ld-linux|not a dynamic' | grep -q .) || \
+	    (echo "error: $@ links more than libc/libm:"; ldd $@; exit 1)
+
+$(CTRL3_FMU): $(CTRL3_SO) $(CTRL3_GEN)/modelDescription.xml $(CTRL3_GEN)/buildDescription.xml
+	$(PY) tools/package_fmu.py --xml $(CTRL3_GEN)/modelDescription.xml --so $(CTRL3_SO) \
+	    --sources fmu_src/controller $(CTRL_GEN) $(CTRL_SHARED) $(CTRL_SHARED_H) fmu_src/fmi3_stubs.c \
+	    fmu_src/fmi3_log.h $(GEN)/model_vars.h $(GEN)/model_vars.c $(CTRL3_GEN)/buildDescription.xml \
+	    --platform x86_64-linux --out $@
+
+$(PKG_CTRL3_FMU): $(CTRL3_FMU)
+	cp $< $@
+
 run: fmu
 	$(PY) -m feeddrive.cli run --shared $(SHARED) --force
 
@@ -109,9 +167,9 @@ bench: fmu
 	    --cycles $(TESTS_C)/cycles --library $(SO) --two-fmus $(TESTS_C)/two_fmus \
 	    --controller-library $(CTRL_SO)
 
-wheel: $(PKG_FMU) $(PKG_CTRL_FMU)
+wheel: $(PKG_FMU) $(PKG_CTRL_FMU) $(PKG_FMU3) $(PKG_CTRL3_FMU)
 	rm -rf $(BUILD)/feeddrive-*.whl python/build
 	$(PY) -m pip wheel -q --no-deps -w $(BUILD) ./python
 
 clean:
-	rm -rf $(BUILD) $(PKG_FMU) $(PKG_CTRL_FMU)
+	rm -rf $(BUILD) $(PKG_FMU) $(PKG_CTRL_FMU) $(PKG_FMU3) $(PKG_CTRL3_FMU)

@@ -1,6 +1,8 @@
-/* The one table of the FMI 2.0 call sequence: for every function that takes an instance, the
- * interface(s) it belongs to and the states it may be called in (after the Reference FMUs'
- * MASK_fmi2... defines). Every entry point starts with FMU_ENTER(comp, fmi2Xxx), which checks
+/* The one table of the call sequence, FMI 2.0 and FMI 3.0: for every function that takes an
+ * instance, the interface(s) it belongs to and the states it may be called in (after the
+ * Reference FMUs' MASK_fmi2... / MASK_fmi3... defines). The FMI 3.0 glue (fmi3_*.c) maps its
+ * states onto these: StepMode = ST_STEP_COMPLETE, StepDiscarded = ST_STEP_FAILED, plus
+ * ST_CONFIG (Configuration Mode); a co-simulation instance also has Event Mode. Every entry point starts with FMU_ENTER(comp, fmi2Xxx), which checks
  * both against this table; an illegal call logs "<function>: illegal call in state <state>",
  * moves the instance to the Error state and returns NULL (the call answers fmi2Error). */
 #ifndef FMI2_ALLOWED_H
@@ -16,7 +18,8 @@ enum {
     ST_STEP_FAILED = 1 << 5,
     ST_TERMINATED = 1 << 6,
     ST_ERROR = 1 << 7,
-    ST_FATAL = 1 << 8
+    ST_FATAL = 1 << 8,
+    ST_CONFIG = 1 << 9              /* FMI 3.0 only */
 };
 /* no state check: the function answers every state itself (with fmi2Error, fmi2Discard or a
  * value that is valid in every state) */
@@ -78,6 +81,51 @@ enum {
 #define ALLOW_fmi2GetBooleanStatus             FOR_BOTH, ST_ANY
 #define ALLOW_fmi2GetStringStatus              FOR_BOTH, ST_ANY
 
+/* FMI 3.0 (fmi3_*.c) */
+#define ST_GETTABLE3 (ST_INSTANTIATED | ST_CONFIG | ST_INIT | ST_AFTER_INIT)
+/* life cycle */
+#define ALLOW_fmi3FreeInstance                 FOR_BOTH, ST_ANY
+#define ALLOW_fmi3SetDebugLogging              FOR_BOTH, ST_ANY
+#define ALLOW_fmi3EnterConfigurationMode       FOR_BOTH, ST_INSTANTIATED
+#define ALLOW_fmi3ExitConfigurationMode        FOR_BOTH, ST_CONFIG
+#define ALLOW_fmi3EnterInitializationMode      FOR_BOTH, ST_INSTANTIATED
+#define ALLOW_fmi3ExitInitializationMode       FOR_BOTH, ST_INIT
+#define ALLOW_fmi3EnterEventMode               FOR_BOTH, (ST_CONT | ST_STEP_COMPLETE)
+#define ALLOW_fmi3UpdateDiscreteStates         FOR_BOTH, ST_EVENT
+#define ALLOW_fmi3Terminate                    FOR_BOTH, (ST_EVENT | ST_CONT | ST_STEP_COMPLETE | ST_STEP_FAILED)
+#define ALLOW_fmi3Reset                        FOR_BOTH, (~ST_FATAL)
+/* values */
+#define ALLOW_fmi3GetFloat64                   FOR_BOTH, ST_GETTABLE3
+#define ALLOW_fmi3GetInt32                     FOR_BOTH, ST_GETTABLE3
+#define ALLOW_fmi3GetBoolean                   FOR_BOTH, ST_GETTABLE3
+#define ALLOW_fmi3SetFloat64                   FOR_BOTH, (ST_SETTABLE | ST_CONFIG)
+#define ALLOW_fmi3SetInt32                     FOR_BOTH, (ST_SETTABLE | ST_CONFIG)
+#define ALLOW_fmi3SetBoolean                   FOR_BOTH, (ST_SETTABLE | ST_CONFIG)
+#define ALLOW_fmi3OtherType                    FOR_BOTH, ST_ANY   /* types this FMU has none of */
+#define ALLOW_fmi3GetNumberOfContinuousStates  FOR_BOTH, ST_ANY
+#define ALLOW_fmi3GetNumberOfEventIndicators   FOR_BOTH, ST_ANY
+/* FMU state */
+#define ALLOW_fmi3GetFMUState                  FOR_BOTH, (~(ST_FATAL | ST_ERROR | ST_CONFIG))
+#define ALLOW_fmi3SetFMUState                  FOR_BOTH, (~(ST_FATAL | ST_CONFIG))
+#define ALLOW_fmi3FreeFMUState                 FOR_BOTH, ST_ANY
+#define ALLOW_fmi3SerializedFMUStateSize       FOR_BOTH, ST_ANY
+#define ALLOW_fmi3SerializeFMUState            FOR_BOTH, ST_ANY
+#define ALLOW_fmi3DeserializeFMUState          FOR_BOTH, ST_ANY
+#define ALLOW_fmi3NotProvided                  FOR_BOTH, ST_ANY   /* derivatives, dependencies, clocks */
+/* model exchange */
+#define ALLOW_fmi3EnterContinuousTimeMode      FOR_ME, ST_EVENT
+#define ALLOW_fmi3CompletedIntegratorStep      FOR_ME, ST_CONT
+#define ALLOW_fmi3SetTime                      FOR_ME, (ST_EVENT | ST_CONT)
+#define ALLOW_fmi3SetContinuousStates          FOR_ME, ST_CONT
+#define ALLOW_fmi3GetContinuousStateDerivatives FOR_ME, ST_ME_OUTPUTS
+#define ALLOW_fmi3GetEventIndicators           FOR_ME, ST_ME_OUTPUTS
+#define ALLOW_fmi3GetContinuousStates          FOR_ME, ST_ME_OUTPUTS
+#define ALLOW_fmi3GetNominalsOfContinuousStates FOR_ME, (ST_INSTANTIATED | ST_ME_OUTPUTS)
+/* co-simulation */
+#define ALLOW_fmi3EnterStepMode                FOR_CS, ST_EVENT
+#define ALLOW_fmi3DoStep                       FOR_CS, ST_STEP_COMPLETE
+#define ALLOW_fmi3GetOutputDerivatives         FOR_CS, (ST_STEP_COMPLETE | ST_STEP_FAILED | ST_TERMINATED)
+
 /* which variables fmi2Set{Real,Integer,Boolean} may set in which states (FMI 2.0, Table 3) */
 #define SET_INPUT ST_SETTABLE
 #define SET_FIXED (ST_INSTANTIATED | ST_INIT)                          /* fixed parameters */
@@ -88,10 +136,15 @@ enum {
 static inline const char *fmi2_state_name(int fsm) {
     static const char *const NAMES[] = {"Instantiated", "InitializationMode", "EventMode",
                                         "ContinuousTimeMode", "StepComplete", "StepFailed",
-                                        "Terminated", "Error", "Fatal"};
+                                        "Terminated", "Error", "Fatal", "ConfigurationMode"};
     int k = 0;
-    while (k < 8 && !(fsm & (1 << k))) k++;
+    while (k < 9 && !(fsm & (1 << k))) k++;
     return NAMES[k];
+}
+
+/* the same in FMI 3.0's words: Step Mode and Step Discarded for the co-simulation states */
+static inline const char *fmi3_state_name(int fsm) {
+    return fsm == ST_STEP_COMPLETE ? "StepMode" : fsm == ST_STEP_FAILED ? "StepDiscarded" : fmi2_state_name(fsm);
 }
 
 /* the instance behind comp when function F may be called on it now, else NULL (logged) */

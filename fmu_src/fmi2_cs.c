@@ -146,13 +146,17 @@ static fmi2Status integrate(instance_t *c, double tau, double tau_end, double h,
 
 fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h, fmi2Boolean noSetFMUStatePriorToCurrentPoint) {
     instance_t *c = FMU_ENTER(comp, fmi2DoStep);
-    model_t *m;
+    (void)noSetFMUStatePriorToCurrentPoint;
+    if (!c) return fmi2Error;
+    return fmu_cs_do_step(c, t, h);
+}
+
+/* fmi2DoStep's work, shared with fmi3DoStep (fmi3_cs.c) */
+fmi2Status fmu_cs_do_step(instance_t *c, double t, double h) {
+    model_t *m = &c->m;
     double t_end, eps;
     fmi2Boolean changed;
     int fresh = 0;
-    (void)noSetFMUStatePriorToCurrentPoint;
-    if (!c) return fmi2Error;
-    m = &c->m;
     eps = fmu_time_eps(m, t);
     if (!step_args_ok(c, t, h, eps)) return fmi2Error;
     t_end = t + h;

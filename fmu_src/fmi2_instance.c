@@ -40,7 +40,8 @@ static instance_t *as_instance(fmi2Component comp) {
 /* the state check: logs and moves to Error (unless Fatal) when the state is not in mask */
 static int state_allowed(instance_t *c, const char *fn, int mask) {
     if (mask == ST_ANY || (c->m.fsm & mask)) return 1;
-    fmu_log(c, fmi2Error, LOG_ERROR, "%s: illegal call in state %s", fn, fmi2_state_name(c->m.fsm));
+    fmu_log(c, fmi2Error, LOG_ERROR, "%s: illegal call in state %s", fn,
+            c->fmi3 ? fmi3_state_name(c->m.fsm) : fmi2_state_name(c->m.fsm));
     if (c->m.fsm != ST_FATAL) c->m.fsm = ST_ERROR;
     return 0;
 }
@@ -148,6 +149,7 @@ int fmu_event_update(instance_t *c, const char *fn, double tau, double slack, fm
     fmu_check_stroke(c);
     m->out_valid = 0;
     *states_changed = changed ? fmi2True : fmi2False;
+    if (n > 0 && c->on_switch) c->on_switch(c);
     return n;
 }
 

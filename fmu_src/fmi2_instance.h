@@ -44,6 +44,11 @@ typedef struct {
     fmi2Type type;
     int logging_on;
     unsigned log_mask;              /* bit 0 events, 1 warnings, 2 errors */
+    /* an FMI 3.0 instance (fmi3_*.c; 0 for FMI 2.0): its glue's data, and the hook that
+     * fmu_event_update calls after a friction switch (NULL: none) */
+    int fmi3;
+    void *ext;
+    void (*on_switch)(void *instance);
 } instance_t;
 
 void fmu_log(instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...)
@@ -94,5 +99,22 @@ void fmu_solver_setup(model_t *m);
 fmi2Status fmu_initialize_plant(instance_t *c);
 /* recompile parameters after a change; on failure logs, restores *backup and returns fmi2Error */
 fmi2Status fmu_recompile(instance_t *c, const double *backup_val);
+
+/* Shared by the FMI 2.0 and FMI 3.0 entry points (c: the instance admitted by FMU_ENTER, NULL:
+ * refused; fn names the calling function in messages). */
+/* get/set by (FMI 2.0) value reference, type 'R', 'I' (int) or 'B' (fmi2Boolean) (fmi2_values.c) */
+fmi2Status fmu_get_values(instance_t *c, const char *fn, const fmi2ValueReference vr[], size_t nvr,
+                          char type, void *value);
+fmi2Status fmu_set_values(instance_t *c, const char *fn, const fmi2ValueReference vr[], size_t nvr,
+                          char type, const void *value);
+/* one co-simulation step from t of length h (fmi2_cs.c) */
+fmi2Status fmu_cs_do_step(instance_t *c, double t, double h);
+/* FMU state snapshots (fmi2_state.c) in the serialised format of fmi2_state_format.h */
+fmi2Status fmu_state_get(instance_t *c, const char *fn, void **state);
+fmi2Status fmu_state_set(instance_t *c, const char *fn, void *state);
+fmi2Status fmu_state_free(instance_t *c, const char *fn, void **state);
+fmi2Status fmu_state_size(instance_t *c, const char *fn, void *state, size_t *size);
+fmi2Status fmu_state_serialize(instance_t *c, const char *fn, void *state, unsigned char *out, size_t size);
+fmi2Status fmu_state_deserialize(instance_t *c, const char *fn, const unsigned char *b, size_t size, void **state);
 
 #endif

@@ -31,17 +31,16 @@ static blob_t *new_blob(instance_t *c, const char *fn) {
     return s;
 }
 
-fmi2Status fmi2GetFMUstate(fmi2Component comp, fmi2FMUstate *state) {
-    instance_t *c = FMU_ENTER(comp, fmi2GetFMUstate);
+fmi2Status fmu_state_get(instance_t *c, const char *fn, void **state) {
     blob_t *s;
     if (!c) return fmi2Error;
-    if (!state) { fmu_log(c, fmi2Error, LOG_ERROR, "fmi2GetFMUstate: FMUstate pointer is NULL"); return fmi2Error; }
+    if (!state) { fmu_log(c, fmi2Error, LOG_ERROR, "%s: FMUstate pointer is NULL", fn); return fmi2Error; }
     if (state_bytes() > STATE_MAX_BYTES) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2GetFMUstate: a state needs %zu bytes, more than %u", state_bytes(),
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: a state needs %zu bytes, more than %u", fn, state_bytes(),
                 STATE_MAX_BYTES);
         return fmi2Error;
     }
-    s = *state ? as_blob(c, "fmi2GetFMUstate", *state) : new_blob(c, "fmi2GetFMUstate");
+    s = *state ? as_blob(c, fn, *state) : new_blob(c, fn);
     if (!s) return fmi2Error;
     state_encode(&c->m, c->type, s->bytes);
     *state = s;
@@ -56,63 +55,78 @@ static fmi2Status load(instance_t *c, const char *fn, const unsigned char *b, si
     return fmi2OK;
 }
 
-fmi2Status fmi2SetFMUstate(fmi2Component comp, fmi2FMUstate state) {
-    instance_t *c = FMU_ENTER(comp, fmi2SetFMUstate);
+fmi2Status fmu_state_set(instance_t *c, const char *fn, void *state) {
     blob_t *s;
     if (!c) return fmi2Error;
-    if (!(s = as_blob(c, "fmi2SetFMUstate", state))) return fmi2Error;
-    return load(c, "fmi2SetFMUstate", s->bytes, s->len);
+    if (!(s = as_blob(c, fn, state))) return fmi2Error;
+    return load(c, fn, s->bytes, s->len);
 }
 
-fmi2Status fmi2FreeFMUstate(fmi2Component comp, fmi2FMUstate *state) {
-    instance_t *c = FMU_ENTER(comp, fmi2FreeFMUstate);
+fmi2Status fmu_state_free(instance_t *c, const char *fn, void **state) {
     blob_t *s;
     if (!c) return fmi2Error;
     if (!state || !*state) return fmi2OK;
-    if (!(s = as_blob(c, "fmi2FreeFMUstate", *state))) return fmi2Error;
+    if (!(s = as_blob(c, fn, *state))) return fmi2Error;
     s->magic = 0;
     c->cb.freeMemory(s);
     *state = NULL;
     return fmi2OK;
 }
 
-fmi2Status fmi2SerializedFMUstateSize(fmi2Component comp, fmi2FMUstate state, size_t *size) {
-    instance_t *c = FMU_ENTER(comp, fmi2SerializedFMUstateSize);
+fmi2Status fmu_state_size(instance_t *c, const char *fn, void *state, size_t *size) {
     blob_t *s;
     if (!c) return fmi2Error;
-    if (!size) { fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SerializedFMUstateSize: size pointer is NULL"); return fmi2Error; }
-    if (!(s = as_blob(c, "fmi2SerializedFMUstateSize", state))) return fmi2Error;
+    if (!size) { fmu_log(c, fmi2Error, LOG_ERROR, "%s: size pointer is NULL", fn); return fmi2Error; }
+    if (!(s = as_blob(c, fn, state))) return fmi2Error;
     *size = s->len;
     return fmi2OK;
 }
 
-fmi2Status fmi2SerializeFMUstate(fmi2Component comp, fmi2FMUstate state, fmi2Byte serializedState[], size_t size) {
-    instance_t *c = FMU_ENTER(comp, fmi2SerializeFMUstate);
+fmi2Status fmu_state_serialize(instance_t *c, const char *fn, void *state, unsigned char *out, size_t size) {
     blob_t *s;
     if (!c) return fmi2Error;
-    if (!(s = as_blob(c, "fmi2SerializeFMUstate", state))) return fmi2Error;
-    if (!serializedState || size < s->len) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SerializeFMUstate: invalid buffer (size %zu, need %zu)", size, s->len);
+    if (!(s = as_blob(c, fn, state))) return fmi2Error;
+    if (!out || size < s->len) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: invalid buffer (size %zu, need %zu)", fn, size, s->len);
         return fmi2Error;
     }
-    memcpy(serializedState, s->bytes, s->len);
+    memcpy(out, s->bytes, s->len);
     return fmi2OK;
 }
 
-fmi2Status fmi2DeSerializeFMUstate(fmi2Component comp, const fmi2Byte serializedState[], size_t size,
-                                   fmi2FMUstate *state) {
-    instance_t *c = FMU_ENTER(comp, fmi2DeSerializeFMUstate);
+fmi2Status fmu_state_deserialize(instance_t *c, const char *fn, const unsigned char *b, size_t size, void **state) {
     model_t tmp;
     blob_t *s;
     if (!c) return fmi2Error;
-    if (!state) { fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DeSerializeFMUstate: FMUstate pointer is NULL"); return fmi2Error; }
-    if (!state_decode(c, "fmi2DeSerializeFMUstate", (const unsigned char *)serializedState, size, &tmp))
-        return fmi2Error;
-    s = *state ? as_blob(c, "fmi2DeSerializeFMUstate", *state) : new_blob(c, "fmi2DeSerializeFMUstate");
+    if (!state) { fmu_log(c, fmi2Error, LOG_ERROR, "%s: FMUstate pointer is NULL", fn); return fmi2Error; }
+    if (!state_decode(c, fn, b, size, &tmp)) return fmi2Error;
+    s = *state ? as_blob(c, fn, *state) : new_blob(c, fn);
     if (!s) return fmi2Error;
-    memcpy(s->bytes, serializedState, size);
+    memcpy(s->bytes, b, size);
     *state = s;
     return fmi2OK;
+}
+
+fmi2Status fmi2GetFMUstate(fmi2Component comp, fmi2FMUstate *state) {
+    return fmu_state_get(FMU_ENTER(comp, fmi2GetFMUstate), "fmi2GetFMUstate", state);
+}
+fmi2Status fmi2SetFMUstate(fmi2Component comp, fmi2FMUstate state) {
+    return fmu_state_set(FMU_ENTER(comp, fmi2SetFMUstate), "fmi2SetFMUstate", state);
+}
+fmi2Status fmi2FreeFMUstate(fmi2Component comp, fmi2FMUstate *state) {
+    return fmu_state_free(FMU_ENTER(comp, fmi2FreeFMUstate), "fmi2FreeFMUstate", state);
+}
+fmi2Status fmi2SerializedFMUstateSize(fmi2Component comp, fmi2FMUstate state, size_t *size) {
+    return fmu_state_size(FMU_ENTER(comp, fmi2SerializedFMUstateSize), "fmi2SerializedFMUstateSize", state, size);
+}
+fmi2Status fmi2SerializeFMUstate(fmi2Component comp, fmi2FMUstate state, fmi2Byte serializedState[], size_t size) {
+    return fmu_state_serialize(FMU_ENTER(comp, fmi2SerializeFMUstate), "fmi2SerializeFMUstate", state,
+                               (unsigned char *)serializedState, size);
+}
+fmi2Status fmi2DeSerializeFMUstate(fmi2Component comp, const fmi2Byte serializedState[], size_t size,
+                                   fmi2FMUstate *state) {
+    return fmu_state_deserialize(FMU_ENTER(comp, fmi2DeSerializeFMUstate), "fmi2DeSerializeFMUstate",
+                                 (const unsigned char *)serializedState, size, state);
 }
 
 fmi2Status fmi2GetDirectionalDerivative(fmi2Component comp, const fmi2ValueReference vUnknown_ref[], size_t nUnknown,

@@ -174,7 +174,8 @@ static int header_ok(instance_t *c, const char *fn, const unsigned char *b, size
 /* the call-sequence state, flags, times and tolerance */
 static int read_scalars(instance_t *c, const char *fn, rd_t *r, model_t *m) {
     uint32_t fsm = get_u32(r), flags = get_u32(r);
-    const int allowed = c->type == fmi2CoSimulation ? ST_CS_STATES : ST_ME_STATES;
+    /* an FMI 3.0 co-simulation instance may also be saved in Event Mode */
+    const int allowed = c->type == fmi2CoSimulation ? (ST_CS_STATES | (c->fmi3 ? ST_EVENT : 0)) : ST_ME_STATES;
     if (fsm == 0 || (fsm & (fsm - 1)) != 0 || !(fsm & (uint32_t)allowed))
         BAD("%s: call-sequence state 0x%x is not one a state of this interface is saved in", fn, (unsigned)fsm);
     if (flags & ~(uint32_t)F_ALL) BAD("%s: flags 0x%x: allowed bits 0x%x", fn, (unsigned)flags, (unsigned)F_ALL);

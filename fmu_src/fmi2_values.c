@@ -48,7 +48,7 @@ static double state_value(const model_t *m, fmi2ValueReference vr) {
 }
 
 /* c: the instance admitted by FMU_ENTER (NULL: the call was refused) */
-static fmi2Status get_values(instance_t *c, const char *fn, const fmi2ValueReference vr[], size_t nvr,
+fmi2Status fmu_get_values(instance_t *c, const char *fn, const fmi2ValueReference vr[], size_t nvr,
                              char type, void *value) {
     size_t k;
     if (!c) return fmi2Error;
@@ -89,13 +89,13 @@ static fmi2Status get_values(instance_t *c, const char *fn, const fmi2ValueRefer
 }
 
 fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[]) {
-    return get_values(FMU_ENTER(c, fmi2GetReal), "fmi2GetReal", vr, nvr, 'R', value);
+    return fmu_get_values(FMU_ENTER(c, fmi2GetReal), "fmi2GetReal", vr, nvr, 'R', value);
 }
 fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Integer value[]) {
-    return get_values(FMU_ENTER(c, fmi2GetInteger), "fmi2GetInteger", vr, nvr, 'I', value);
+    return fmu_get_values(FMU_ENTER(c, fmi2GetInteger), "fmi2GetInteger", vr, nvr, 'I', value);
 }
 fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Boolean value[]) {
-    return get_values(FMU_ENTER(c, fmi2GetBoolean), "fmi2GetBoolean", vr, nvr, 'B', value);
+    return fmu_get_values(FMU_ENTER(c, fmi2GetBoolean), "fmi2GetBoolean", vr, nvr, 'B', value);
 }
 fmi2Status fmi2GetString(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr, fmi2String value[]) {
     instance_t *c = FMU_ENTER(comp, fmi2GetString);
@@ -138,7 +138,7 @@ static int declared_range_ok(instance_t *c, const char *fn, int row, double v) {
     return 1;
 }
 
-static fmi2Status set_values(instance_t *c, const char *fn, const fmi2ValueReference vr[], size_t nvr,
+fmi2Status fmu_set_values(instance_t *c, const char *fn, const fmi2ValueReference vr[], size_t nvr,
                              char type, const void *value) {
     model_t *m;
     size_t k;
@@ -198,13 +198,13 @@ static fmi2Status set_values(instance_t *c, const char *fn, const fmi2ValueRefer
 }
 
 fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Real value[]) {
-    return set_values(FMU_ENTER(c, fmi2SetReal), "fmi2SetReal", vr, nvr, 'R', value);
+    return fmu_set_values(FMU_ENTER(c, fmi2SetReal), "fmi2SetReal", vr, nvr, 'R', value);
 }
 fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Integer value[]) {
-    return set_values(FMU_ENTER(c, fmi2SetInteger), "fmi2SetInteger", vr, nvr, 'I', value);
+    return fmu_set_values(FMU_ENTER(c, fmi2SetInteger), "fmi2SetInteger", vr, nvr, 'I', value);
 }
 fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Boolean value[]) {
-    return set_values(FMU_ENTER(c, fmi2SetBoolean), "fmi2SetBoolean", vr, nvr, 'B', value);
+    return fmu_set_values(FMU_ENTER(c, fmi2SetBoolean), "fmi2SetBoolean", vr, nvr, 'B', value);
 }
 fmi2Status fmi2SetString(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr, const fmi2String value[]) {
     instance_t *c = FMU_ENTER(comp, fmi2SetString);

@@ -301,6 +301,7 @@ void params_store_outputs(double *val, const double *y, const double *dydt, cons
     val[VR_stats_n_state_events] = (double)d->n_state_events;
     /* friction.F[j] reports the element's effective force (nu_j s(v) when lag is off) */
     for (j = 0; j < PLANT_NE_MAX; j++) val[VRA_friction_F[j + 1]] = o->F_elem[j];
+    for (j = 0; j < PLANT_NE_MAX; j++) val[VRA_friction_stuck[j + 1]] = d->stuck[j] ? 1.0 : 0.0;
 }
 
 /* one candidate of params_fastest_rate: a rate [1/s] and the parameter it comes from */

@@ -7,7 +7,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 SRC = ROOT / "fmu_src"
-GLUE = sorted(SRC.glob("fmi2_*.c")) + sorted(SRC.glob("fmi2_*.h"))
+GLUE = sorted(SRC.glob("fmi[23]_*.c")) + sorted(SRC.glob("fmi[23]_*.h"))
 MAX_LINES = 60
 # identifiers of the friction models (plant.h, friction_gms.c, friction_static.c)
 FRICTION = re.compile(r"\b(stuck|st_stuck|st_dir|active|prerolling|lag|nu|sigma2|Fs|Fc|Vs|"

@@ -21,7 +21,7 @@ LAYERS: dict[str, int] = {
     "paper": 0, "data": 0, "signals": 0, "model_description": 0, "outputs": 0,
     "physics": 1,
     "model_file": 2,
-    "fmu": 3,
+    "fmu": 3, "fmu3": 3,
     "control": 4,
     "harness": 5,
     "experiments": 6,

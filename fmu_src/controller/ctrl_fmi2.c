@@ -485,3 +485,15 @@ fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component comp, fmi2Real x[], s
     (void)x; (void)n;
     return REFUSE(fmi2GetNominalsOfContinuousStates);
 }
+
+/* ---------------------------------------------------------------- for the FMI 3.0 glue (ctrl_fmi3.c) */
+int ctrl_is_instance(fmi2Component comp) {
+    const ctrl_instance_t *c = (const ctrl_instance_t *)comp;
+    return c && c->magic == CTRL_MAGIC;
+}
+void *ctrl_environment(fmi2Component comp) {
+    return ctrl_is_instance(comp) ? ((ctrl_instance_t *)comp)->cb.componentEnvironment : NULL;
+}
+void ctrl_refuse_message(fmi2Component comp, const char *fn, const char *why) {
+    if (ctrl_is_instance(comp)) ctrl_log((ctrl_instance_t *)comp, fmi2Error, LOG_ERROR, "%s: %s", fn, why);
+}

@@ -1,0 +1,225 @@
+/* FMI 3.0 co-simulation glue of the controller FMU over its FMI 2.0 glue (ctrl_fmi2.c, in the
+ * same library; only the fmi3 functions are exported, fmu_src/fmi3.map): the same instance,
+ * call sequence and messages (fmi3_log.h renames the functions), calloc/free for memory.
+ * No event mode, no early return, no FMU state, no model exchange (as the FMI 2.0 FMU); the
+ * functions neither FMU provides are in fmu_src/fmi3_stubs.c. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "fmi3_log.h"
+
+int ctrl_is_instance(fmi2Component comp);
+void *ctrl_environment(fmi2Component comp);
+void ctrl_refuse_message(fmi2Component comp, const char *fn, const char *why);
+
+fmi3Status fmi3_refuse(fmi3Instance instance, const char *fn, const char *why) {
+    if (!ctrl_is_instance(instance)) return fmi3Error;
+    if (!why) return fmi3OK;
+    ctrl_refuse_message(instance, fn, why);
+    return fmi3Error;
+}
+
+const char *fmi3GetVersion(void) { return fmi3Version; }
+
+static void early_error(fmi3InstanceEnvironment env, fmi3LogMessageCallback log, const char *text) {
+    if (log) log(env, fmi3Error, "logStatusError", text);
+}
+
+fmi3Instance fmi3InstantiateCoSimulation(fmi3String instanceName, fmi3String instantiationToken,
+                                         fmi3String resourcePath, fmi3Boolean visible, fmi3Boolean loggingOn,
+                                         fmi3Boolean eventModeUsed, fmi3Boolean earlyReturnAllowed,
+                                         const fmi3ValueReference requiredIntermediateVariables[],
+                                         size_t nRequiredIntermediateVariables,
+                                         fmi3InstanceEnvironment instanceEnvironment,
+                                         fmi3LogMessageCallback logMessage,
+                                         fmi3IntermediateUpdateCallback intermediateUpdate) {
+    fmi3_logger_t *lg;
+    fmi2CallbackFunctions cb;
+    fmi2Component c;
+    (void)resourcePath; (void)visible; (void)earlyReturnAllowed;   /* never returns early */
+    (void)requiredIntermediateVariables; (void)intermediateUpdate;
+    if (eventModeUsed) {
+        early_error(instanceEnvironment, logMessage, "fmi3InstantiateCoSimulation: eventModeUsed = true, this FMU "
+                    "has no event mode (hasEventMode is false)");
+        return NULL;
+    }
+    if (nRequiredIntermediateVariables > 0) {
+        early_error(instanceEnvironment, logMessage, "fmi3InstantiateCoSimulation: required intermediate variables "
+                    "given; this FMU provides no intermediate update");
+        return NULL;
+    }
+    if (!(lg = (fmi3_logger_t *)calloc(1, sizeof *lg))) return NULL;
+    lg->env = instanceEnvironment;
+    lg->log_message = logMessage;
+    cb = fmi3_callbacks(lg);
+    c = fmi2Instantiate(instanceName, fmi2CoSimulation, instantiationToken, NULL, &cb, fmi2False,
+                        loggingOn ? fmi2True : fmi2False);
+    if (!c) free(lg);
+    return c;
+}
+
+fmi3Instance fmi3InstantiateModelExchange(fmi3String instanceName, fmi3String instantiationToken,
+                                          fmi3String resourcePath, fmi3Boolean visible, fmi3Boolean loggingOn,
+                                          fmi3InstanceEnvironment instanceEnvironment,
+                                          fmi3LogMessageCallback logMessage) {
+    (void)instanceName; (void)instantiationToken; (void)resourcePath; (void)visible; (void)loggingOn;
+    early_error(instanceEnvironment, logMessage, "fmi3InstantiateModelExchange: this FMU is co-simulation only");
+    return NULL;
+}
+
+void fmi3FreeInstance(fmi3Instance instance) {
+    void *lg;
+    if (!ctrl_is_instance(instance)) return;
+    lg = ctrl_environment(instance);
+    fmi2FreeInstance(instance);
+    free(lg);
+}
+
+fmi3Status fmi3SetDebugLogging(fmi3Instance instance, fmi3Boolean loggingOn, size_t nCategories,
+                               const fmi3String categories[]) {
+    return (fmi3Status)fmi2SetDebugLogging(instance, loggingOn ? fmi2True : fmi2False, nCategories, categories);
+}
+
+fmi3Status fmi3EnterInitializationMode(fmi3Instance instance, fmi3Boolean toleranceDefined, fmi3Float64 tolerance,
+                                       fmi3Float64 startTime, fmi3Boolean stopTimeDefined, fmi3Float64 stopTime) {
+    if (fmi2SetupExperiment(instance, toleranceDefined, tolerance, startTime, stopTimeDefined, stopTime) != fmi2OK)
+        return fmi3Error;
+    return (fmi3Status)fmi2EnterInitializationMode(instance);
+}
+fmi3Status fmi3ExitInitializationMode(fmi3Instance instance) { return (fmi3Status)fmi2ExitInitializationMode(instance); }
+fmi3Status fmi3Terminate(fmi3Instance instance) { return (fmi3Status)fmi2Terminate(instance); }
+fmi3Status fmi3Reset(fmi3Instance instance) { return (fmi3Status)fmi2Reset(instance); }
+
+/* ---------------------------------------------------------------- values: scalars only */
+
+static int scalars(fmi3Instance instance, const char *fn, size_t nvr, size_t nv) {
+    if (nvr == nv) return 1;
+    ctrl_refuse_message(instance, fn, "nValues must equal nValueReferences (this FMU has no arrays)");
+    return 0;
+}
+
+fmi3Status fmi3GetFloat64(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, fmi3Float64 v[], size_t nv) {
+    return scalars(i, "fmi3GetFloat64", nvr, nv) ? (fmi3Status)fmi2GetReal(i, vr, nvr, v) : fmi3Error;
+}
+fmi3Status fmi3SetFloat64(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, const fmi3Float64 v[], size_t nv) {
+    return scalars(i, "fmi3SetFloat64", nvr, nv) ? (fmi3Status)fmi2SetReal(i, vr, nvr, v) : fmi3Error;
+}
+fmi3Status fmi3GetInt32(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, fmi3Int32 v[], size_t nv) {
+    return scalars(i, "fmi3GetInt32", nvr, nv) ? (fmi3Status)fmi2GetInteger(i, vr, nvr, v) : fmi3Error;
+}
+fmi3Status fmi3SetInt32(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, const fmi3Int32 v[], size_t nv) {
+    return scalars(i, "fmi3SetInt32", nvr, nv) ? (fmi3Status)fmi2SetInteger(i, vr, nvr, v) : fmi3Error;
+}
+fmi3Status fmi3GetBoolean(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, fmi3Boolean v[], size_t nv) {
+    fmi2Boolean *b;
+    fmi3Status st;
+    size_t k;
+    if (!scalars(i, "fmi3GetBoolean", nvr, nv)) return fmi3Error;
+    if (!(b = (fmi2Boolean *)calloc(nvr + 1, sizeof *b))) return fmi3Error;
+    st = (fmi3Status)fmi2GetBoolean(i, vr, nvr, v ? b : NULL);
+    if (st == fmi3OK && v)
+        for (k = 0; k < nvr; k++) v[k] = b[k] != fmi2False;
+    free(b);
+    return st;
+}
+fmi3Status fmi3SetBoolean(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, const fmi3Boolean v[], size_t nv) {
+    fmi2Boolean *b;
+    fmi3Status st;
+    size_t k;
+    if (!scalars(i, "fmi3SetBoolean", nvr, nv)) return fmi3Error;
+    if (!(b = (fmi2Boolean *)calloc(nvr + 1, sizeof *b))) return fmi3Error;
+    for (k = 0; k < nvr && v; k++) b[k] = v[k] ? fmi2True : fmi2False;
+    st = (fmi3Status)fmi2SetBoolean(i, vr, nvr, v ? b : NULL);
+    free(b);
+    return st;
+}
+
+/* ---------------------------------------------------------------- co-simulation */
+
+fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoint, fmi3Float64 communicationStepSize,
+                      fmi3Boolean noSetFMUStatePriorToCurrentPoint, fmi3Boolean *eventHandlingNeeded,
+                      fmi3Boolean *terminateSimulation, fmi3Boolean *earlyReturn, fmi3Float64 *lastSuccessfulTime) {
+    fmi3Status st;
+    if (!eventHandlingNeeded || !terminateSimulation || !earlyReturn || !lastSuccessfulTime) {
+        ctrl_refuse_message(instance, "fmi3DoStep", "NULL output argument");
+        return fmi3Error;
+    }
+    *eventHandlingNeeded = *terminateSimulation = *earlyReturn = fmi3False;
+    st = (fmi3Status)fmi2DoStep(instance, currentCommunicationPoint, communicationStepSize,
+                                noSetFMUStatePriorToCurrentPoint ? fmi2True : fmi2False);
+    *lastSuccessfulTime = st == fmi3OK ? currentCommunicationPoint + communicationStepSize : currentCommunicationPoint;
+    return st;
+}
+
+/* ---------------------------------------------------------------- not offered (as in FMI 2.0) */
+
+#define NO_EVENTS "this FMU has no event mode"
+#define NO_STATE "canGetAndSetFMUState is false"
+#define NO_ME "this FMU is co-simulation only"
+fmi3Status fmi3EnterEventMode(fmi3Instance i) { return fmi3_refuse(i, "fmi3EnterEventMode", NO_EVENTS); }
+fmi3Status fmi3EnterStepMode(fmi3Instance i) { return fmi3_refuse(i, "fmi3EnterStepMode", NO_EVENTS); }
+fmi3Status fmi3UpdateDiscreteStates(fmi3Instance i, fmi3Boolean *a, fmi3Boolean *b, fmi3Boolean *c, fmi3Boolean *d,
+                                    fmi3Boolean *e, fmi3Float64 *f) {
+    (void)a; (void)b; (void)c; (void)d; (void)e; (void)f;
+    return fmi3_refuse(i, "fmi3UpdateDiscreteStates", NO_EVENTS);
+}
+fmi3Status fmi3EnterConfigurationMode(fmi3Instance i) {
+    return fmi3_refuse(i, "fmi3EnterConfigurationMode", "this FMU has no structural parameters");
+}
+fmi3Status fmi3ExitConfigurationMode(fmi3Instance i) {
+    return fmi3_refuse(i, "fmi3ExitConfigurationMode", "this FMU has no structural parameters");
+}
+fmi3Status fmi3GetOutputDerivatives(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, const fmi3Int32 o[],
+                                    fmi3Float64 v[], size_t nv) {
+    (void)vr; (void)nvr; (void)o; (void)v; (void)nv;
+    return fmi3_refuse(i, "fmi3GetOutputDerivatives", "maxOutputDerivativeOrder is 0");
+}
+fmi3Status fmi3GetFMUState(fmi3Instance i, fmi3FMUState *s) { (void)s; return fmi3_refuse(i, "fmi3GetFMUState", NO_STATE); }
+fmi3Status fmi3SetFMUState(fmi3Instance i, fmi3FMUState s) { (void)s; return fmi3_refuse(i, "fmi3SetFMUState", NO_STATE); }
+fmi3Status fmi3FreeFMUState(fmi3Instance i, fmi3FMUState *s) { (void)s; return fmi3_refuse(i, "fmi3FreeFMUState", NO_STATE); }
+fmi3Status fmi3SerializedFMUStateSize(fmi3Instance i, fmi3FMUState s, size_t *n) {
+    (void)s; (void)n;
+    return fmi3_refuse(i, "fmi3SerializedFMUStateSize", NO_STATE);
+}
+fmi3Status fmi3SerializeFMUState(fmi3Instance i, fmi3FMUState s, fmi3Byte b[], size_t n) {
+    (void)s; (void)b; (void)n;
+    return fmi3_refuse(i, "fmi3SerializeFMUState", NO_STATE);
+}
+fmi3Status fmi3DeserializeFMUState(fmi3Instance i, const fmi3Byte b[], size_t n, fmi3FMUState *s) {
+    (void)b; (void)n; (void)s;
+    return fmi3_refuse(i, "fmi3DeserializeFMUState", NO_STATE);
+}
+fmi3Status fmi3EnterContinuousTimeMode(fmi3Instance i) { return fmi3_refuse(i, "fmi3EnterContinuousTimeMode", NO_ME); }
+fmi3Status fmi3CompletedIntegratorStep(fmi3Instance i, fmi3Boolean n, fmi3Boolean *e, fmi3Boolean *t) {
+    (void)n; (void)e; (void)t;
+    return fmi3_refuse(i, "fmi3CompletedIntegratorStep", NO_ME);
+}
+fmi3Status fmi3SetTime(fmi3Instance i, fmi3Float64 t) { (void)t; return fmi3_refuse(i, "fmi3SetTime", NO_ME); }
+fmi3Status fmi3SetContinuousStates(fmi3Instance i, const fmi3Float64 x[], size_t n) {
+    (void)x; (void)n;
+    return fmi3_refuse(i, "fmi3SetContinuousStates", NO_ME);
+}
+fmi3Status fmi3GetContinuousStateDerivatives(fmi3Instance i, fmi3Float64 d[], size_t n) {
+    (void)d; (void)n;
+    return fmi3_refuse(i, "fmi3GetContinuousStateDerivatives", NO_ME);
+}
+fmi3Status fmi3GetEventIndicators(fmi3Instance i, fmi3Float64 z[], size_t n) {
+    (void)z; (void)n;
+    return fmi3_refuse(i, "fmi3GetEventIndicators", NO_ME);
+}
+fmi3Status fmi3GetContinuousStates(fmi3Instance i, fmi3Float64 x[], size_t n) {
+    (void)x; (void)n;
+    return fmi3_refuse(i, "fmi3GetContinuousStates", NO_ME);
+}
+fmi3Status fmi3GetNominalsOfContinuousStates(fmi3Instance i, fmi3Float64 x[], size_t n) {
+    (void)x; (void)n;
+    return fmi3_refuse(i, "fmi3GetNominalsOfContinuousStates", NO_ME);
+}
+fmi3Status fmi3GetNumberOfEventIndicators(fmi3Instance i, size_t *n) {
+    (void)n;
+    return fmi3_refuse(i, "fmi3GetNumberOfEventIndicators", NO_ME);
+}
+fmi3Status fmi3GetNumberOfContinuousStates(fmi3Instance i, size_t *n) {
+    (void)n;
+    return fmi3_refuse(i, "fmi3GetNumberOfContinuousStates", NO_ME);
+}

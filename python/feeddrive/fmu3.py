@@ -1,0 +1,114 @@
+"""The plant as an FMI 3.0 FMU (``LinearMotorFeedDrive3.fmu``) under fmpy, any ``friction.N``.
+
+The FMI 3.0 FMU has the same physics and variables as the FMI 2.0 one; the GMS element
+forces, their rates, ``friction.nu``, ``friction.k`` and the stuck flags are arrays whose
+dimension is the structural parameter ``friction.N`` (set in Configuration Mode only, as the
+standard and the Reference FMUs do).  fmpy sizes arrays and the state vector from the start
+values of the model description and never enters Configuration Mode, so ``fmpy.simulate_fmu``
+runs the FMU as it is at its default ``friction.N``; for another N, :func:`configured` makes the
+instance and the model description that ``simulate_fmu(..., model_description=md,
+fmu_instance=fmu)`` then runs.
+"""
+from __future__ import annotations
+
+import copy
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+from fmpy import extract, read_model_description
+from fmpy.fmi3 import FMU3Model, FMU3Slave
+from fmpy.model_description import ModelDescription
+
+DEFAULT_FMU3 = Path(str(resources.files(__package__) / "LinearMotorFeedDrive3.fmu"))
+N_NAME = "friction.N"
+N_MAX = 10
+INTERFACES = ("ModelExchange", "CoSimulation")
+
+
+def with_dimension(md: ModelDescription, n: int) -> ModelDescription:
+    """A copy of ``md`` whose arrays of dimension ``friction.N`` have ``n`` elements.
+
+    Raises ValueError naming friction.N, the value and the allowed range.
+    """
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 1 <= int(n) <= N_MAX:
+        raise ValueError(f"{N_NAME} = {n!r}: allowed an integer in [1, {N_MAX}]")
+    md = copy.deepcopy(md)
+    var = next(v for v in md.modelVariables if v.name == N_NAME)
+    var.start = str(int(n))
+    for v in md.modelVariables:
+        if v.dimensions:
+            v.shape = tuple(int(n) if d.valueReference == var.valueReference else int(d.start)
+                            for d in v.dimensions)
+            if v.start is not None and len(str(v.start).split()) > 1:
+                v.start = " ".join(str(v.start).split()[: int(np.prod(v.shape))])
+    md.numberOfContinuousStates = sum(int(np.prod(u.variable.shape)) for u in md.derivatives)
+    return md
+
+
+def configured(path: str | Path, interface: str, n: int, **instantiate: object
+               ) -> tuple[ModelDescription, FMU3Model | FMU3Slave]:
+    """An instance of the FMI 3.0 FMU at ``path`` with ``friction.N = n`` (state Instantiated)
+    and its model description, for ``fmpy.simulate_fmu(path, model_description=md,
+    fmu_instance=fmu)``.  ``instantiate``: fmpy's instantiate() arguments (``logMessage``,
+    ``eventModeUsed``, ``earlyReturnAllowed``, ...).
+
+    The friction parameters ``friction.nu`` / ``friction.k`` must then be set with ``n``
+    values each (their sum rule is checked at initialisation).  Raises ValueError for a bad
+    ``interface`` or ``n`` (naming it, its value and the allowed ones).
+    """
+    if interface not in INTERFACES:
+        raise ValueError(f"interface = {interface!r}: allowed {', '.join(INTERFACES)}")
+    md = with_dimension(read_model_description(str(path)), n)
+    cls = FMU3Model if interface == "ModelExchange" else FMU3Slave
+    mi = md.modelExchange if interface == "ModelExchange" else md.coSimulation
+    fmu = cls(guid=md.guid, unzipDirectory=extract(str(path)), modelIdentifier=mi.modelIdentifier,
+              instanceName="feeddrive")
+    fmu.instantiate(**instantiate)
+    vr = next(v.valueReference for v in md.modelVariables if v.name == N_NAME)
+    fmu.enterConfigurationMode()
+    fmu.setInt32([vr], [int(n)])
+    fmu.exitConfigurationMode()
+    return md, fmu
+
+
+def fmi3_values(md: ModelDescription, values: dict[str, float | int | bool]
+                ) -> dict[str, float | int | bool | list]:
+    """FMI 2.0 names and values (``friction.nu[2]``, ...) as the FMI 3.0 variables of ``md``:
+    the elements of an array of dimension N gathered into one list (elements not given keep
+    their start values; elements past N are dropped: they do not act on the model).  Raises
+    KeyError naming a variable neither version has."""
+    by_name = {v.name: v for v in md.modelVariables}
+    out: dict[str, float | int | bool | list] = {}
+    for name, value in values.items():
+        if name in by_name:
+            out[name] = value
+            continue
+        base, _, idx = name.rpartition("[")
+        var = by_name.get(base)
+        if var is None or not var.dimensions or not idx.endswith("]"):
+            raise KeyError(f"{name}: no such variable in the FMI 3.0 model description")
+        k = int(idx[:-1])
+        n = int(np.prod(var.shape))
+        if k > n:
+            continue
+        cur = out.setdefault(base, [var._python_type(s) for s in str(var.start).split()] if var.start
+                             else [var._python_type(0)] * n)
+        cur[k - 1] = value
+    return out
+
+
+def set_values(fmu: FMU3Model | FMU3Slave, md: ModelDescription,
+               values: dict[str, float | int | bool]) -> None:
+    """Set ``values`` (FMI 2.0 or FMI 3.0 names, :func:`fmi3_values`) on ``fmu`` by type;
+    ``friction.N`` must equal the instance's (it is set in Configuration Mode, :func:`configured`)."""
+    by_name = {v.name: v for v in md.modelVariables}
+    for name, value in fmi3_values(md, values).items():
+        var = by_name[name]
+        if name == N_NAME:
+            if int(value) != int(var.start):
+                raise ValueError(f"{N_NAME} = {value}: this instance was configured with {var.start} "
+                                 "(use configured(path, interface, N))")
+            continue
+        vals = list(value) if isinstance(value, list) else [value]
+        getattr(fmu, "set" + var.type)([var.valueReference], [var._python_type(x) for x in vals])

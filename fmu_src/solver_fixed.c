@@ -279,6 +279,9 @@ static double full_state(const rctx_t *c, const plant_disc_t *d, const fast_tol_
           sq_err(e[1], y[PLANT_IV], qn[1], tol->atol[PLANT_IV], tol->rtol);
     if (c->gms && c->lag && c->nu_sl > 0.0) dec = exp(-qn[3]);
     for (j = 0; j < PLANT_NE_MAX; j++) y1[PLANT_IF + j] = y[PLANT_IF + j];
+    /* the states the reduced system does not carry (the compliance's, 0: fast_path_ok refuses
+     * the effect) are kept as they are */
+    for (j = PLANT_NX_BASE; j < PLANT_NX; j++) y1[j] = y[j];
     for (j = 0; c->gms && j < p->N; j++) {   /* active[j] implies j < N */
         double F0 = y[PLANT_IF + j], ej = 0.0;
         if (!p->active[j]) continue;

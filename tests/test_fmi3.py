@@ -169,9 +169,10 @@ def test_steady_sliding_friction_both_versions(fmu_version: tuple[Path, str], in
 # ------------------------------------------------------------------ friction.N
 
 def test_configuration_mode_sets_the_dimension(fmu3_path: Path) -> None:
-    """N = 3: 5 continuous states, arrays of 3, and fmpy runs it (model exchange, CVode)."""
+    """N = 3: 7 continuous states (x, v, friction.F[3], compliance.dx, compliance.dv), arrays
+    of 3, and fmpy runs it (model exchange, CVode)."""
     md, fmu = configured(fmu3_path, "ModelExchange", 3)
-    assert md.numberOfContinuousStates == 5 and fmu.getNumberOfContinuousStates() == 5
+    assert md.numberOfContinuousStates == 7 and fmu.getNumberOfContinuousStates() == 7
     sv = fmi3_values(md, {"friction.nu[1]": 0.3, "friction.nu[2]": 0.3, "friction.nu[3]": 0.4,
                           "friction.nu[4]": 0.0, "friction.k[2]": 4e5})
     assert sv["friction.nu"] == [0.3, 0.3, 0.4] and sv["friction.k"][1] == 4e5

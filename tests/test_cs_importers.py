@@ -1,8 +1,8 @@
 """The FMU in a second importer: FMI4j (JNI, Maven Central info.laht.fmi4j:fmi-import 0.38.0) runs
 it as co-simulation and as model exchange (tests/java: its own RK4 with 10 µs steps, time events
-at the 0.5 ms samples, state events located by bisection to 1e-12 s) for the open-loop input
-u(t_k) = 0.5 sin(2 pi t_k) V, 2 s from rest at 150 mm (about 57 mm of travel, 0.2 m/s peak, stick
-and slip at every reversal). fmpy runs the same input (CS; ME with CVode at 1e-9).
+at the 0.5 ms samples, state events located by bisection to 1e-12 s) for the open-loop scenario
+of tests/importer_scenario.py (u(t_k) = 0.5 sin(2 pi t_k) V, 2 s from rest at 150 mm). fmpy runs
+the same input (CS; ME with CVode at 1e-9).
 
 Tolerances:
 * FMI4j CS against fmpy CS: the same binary doing the same fmi2DoStep calls; only the inputs
@@ -22,15 +22,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from feeddrive.fmu import Plant
-from feeddrive.harness.simulate import simulate_open_loop
+from importer_scenario import SECONDS, TS, end_of_step_to_sampled, fmpy_runs as scenario_fmpy_runs
+from importer_scenario import max_dev as _max_dev
 
 REPO = Path(__file__).resolve().parents[1]
 JAVA_DIR = REPO / "tests" / "java"
 TARGET = REPO / "build" / "fmi4j-target"   # Maven's build directory (pom.xml)
-SECONDS = 2.0
-TS = 5e-4
-COLUMNS = ("x", "v", "F_friction", "i")
 
 pytestmark = pytest.mark.skipif(shutil.which("java") is None or shutil.which("mvn") is None,
                                 reason="FMI4j needs a JDK (java) and Maven (mvn); one is not installed")
@@ -56,23 +53,13 @@ def fmi4j_runs(fmu_path: Path, tmp_path_factory) -> dict[str, np.ndarray]:
     # the Java host records every output at the end of each step (the left limit at t_k+1);
     # feeddrive.harness.simulate records the sampled current as Eq. 2's i[k] at row k: align it
     for d in runs.values():
-        d["i"] = np.concatenate((d["i"][1:], d["i"][-1:]))
+        d["i"] = end_of_step_to_sampled(d["i"])
     return runs
 
 
 @pytest.fixture(scope="module")
 def fmpy_runs(fmu_path: Path) -> dict[str, dict[str, np.ndarray]]:
-    t = np.arange(int(round(SECONDS / TS)) + 1) * TS
-    u = 0.5 * np.sin(2 * np.pi * t)
-    runs = {}
-    for iface, tol in (("cs", 1e-6), ("me", 1e-9)):
-        with Plant(interface=iface, tolerance=tol, path=fmu_path) as p:
-            runs[iface] = simulate_open_loop(p, t, u, start_values={"x": 0.15, "v": 0.0})
-    return runs
-
-
-def _max_dev(a, b) -> dict[str, float]:
-    return {c: float(np.max(np.abs(np.asarray(a[c]) - np.asarray(b[c])))) for c in COLUMNS}
+    return scenario_fmpy_runs(fmu_path)
 
 
 def test_fmi4j_ran_the_scenario(fmi4j_runs):

@@ -3,7 +3,8 @@
 #                     python/feeddrive/, git-ignored: the package data of installs and wheels)
 #                     and the controller FMU build/DriveController.fmu
 #   make run          set-up, FMU, the paper's closed-loop reproductions, report (prints the tables)
-#   make test         set-up, FMU, every test
+#   make test         set-up, FMU, the importers, every test
+#   make importers    the importers the tests run besides fmpy, from registries only (below)
 #   make bench        benchmark table (build/bench.md)
 #   make wheel        build/feeddrive-*.whl carrying the FMU
 MODEL      := LinearMotorFeedDrive
@@ -34,7 +35,20 @@ CTRL_SRC_C := $(wildcard fmu_src/controller/*.c) $(CTRL_SHARED)
 CTRL_SHARED_H := fmu_src/params.h fmu_src/plant.h fmu_src/fmi2_allowed.h fmu_src/fmi2_log.h
 CTRL_SRC_H := $(wildcard fmu_src/controller/*.h) $(CTRL_SHARED_H)
 
-.PHONY: all fmu run test bench wheel clean venv fuzz-tools
+# the importers besides fmpy (the Python ones, libcosimpy and ecospy, are in python[test]):
+# * fmi-sim (Rust, crates.io): `cargo install --locked` into IMPORTERS_CACHE, outside the clone
+#   and keyed by version, so another clone (or a CI job that keeps ~/.cache) links the binary
+#   instead of compiling it again; linked as build/importers/fmi-sim
+# * FMI4j (Maven Central): tests/java compiled, its classpath written; the test runs Maven offline
+# Each that cannot be installed writes its one-line reason to build/importers/<name>.skip
+# (make goes on; the test skips with that reason).
+FMI_SIM_VERSION := 0.7.0
+IMPORTERS_CACHE ?= $(HOME)/.cache/feeddrive/importers
+FMI_SIM_ROOT    := $(IMPORTERS_CACHE)/fmi-sim-$(FMI_SIM_VERSION)
+FMI_SIM         := $(BUILD)/importers/fmi-sim
+FMI4J_CP        := $(BUILD)/fmi4j-target/classpath.txt
+
+.PHONY: all fmu run test bench wheel clean venv fuzz-tools importers
 all: fmu
 fmu: $(FMU) $(PKG_FMU) $(CTRL_FMU) $(PKG_CTRL_FMU)
 venv: $(STAMP)
@@ -98,7 +112,27 @@ fuzz-tools:
 	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq clang >/dev/null; } || \
 	    echo "note: clang is not installed and cannot be installed here: the libFuzzer run is skipped"
 
-test: fmu fuzz-tools
+importers: $(FMI_SIM) $(FMI4J_CP)
+
+$(FMI_SIM):
+	@mkdir -p $(dir $@); rm -f $@.skip
+	@if [ ! -x $(FMI_SIM_ROOT)/bin/fmi-sim ]; then \
+	    if ! command -v cargo >/dev/null 2>&1; then \
+	        echo "fmi-sim $(FMI_SIM_VERSION) not installed: cargo (Rust) is not installed" > $@.skip; \
+	    else echo "cargo install fmi-sim $(FMI_SIM_VERSION) (crates.io) into $(FMI_SIM_ROOT): once per machine, minutes"; \
+	        nice cargo install -q fmi-sim --version $(FMI_SIM_VERSION) --locked --root $(FMI_SIM_ROOT) || \
+	        echo "fmi-sim $(FMI_SIM_VERSION) not installed: cargo install from crates.io failed (offline?)" > $@.skip; fi; fi
+	@if [ -x $(FMI_SIM_ROOT)/bin/fmi-sim ]; then ln -sf $(FMI_SIM_ROOT)/bin/fmi-sim $@; else cat $@.skip; fi
+
+$(FMI4J_CP): tests/java/pom.xml $(wildcard tests/java/src/main/java/feeddrive/fmi4j/*.java)
+	@mkdir -p $(BUILD)/importers; rm -f $(BUILD)/importers/fmi4j.skip
+	@if ! command -v java >/dev/null 2>&1 || ! command -v mvn >/dev/null 2>&1; then \
+	    echo "FMI4j not installed: it needs a JDK (java) and Maven (mvn)" | tee $(BUILD)/importers/fmi4j.skip; \
+	else mvn -q -B -f tests/java/pom.xml compile dependency:build-classpath -Dmdep.outputFile=$(CURDIR)/$@ || \
+	    echo "FMI4j not installed: Maven could not resolve info.laht.fmi4j from Maven Central (offline?)" | \
+	    tee $(BUILD)/importers/fmi4j.skip; fi
+
+test: fmu fuzz-tools importers
 	$(PY) -m pytest -q tests
 
 # the C benchmark hosts are test code (tests/c); built here and handed to the benchmark

@@ -105,8 +105,9 @@ $(PKG_CTRL_FMU): $(CTRL_FMU)
 run: fmu
 	$(PY) -m feeddrive.cli run --shared $(SHARED) --force
 
-# the coverage-guided fuzz run of the tests needs clang's libFuzzer: installed here from Debian's
-# packages when missing and apt-get is usable (root); otherwise that test is skipped and says why
+# the coverage-guided fuzz run of the tests needs clang's libFuzzer (and fmi-sim's build its
+# libclang, for bindgen): installed here from Debian's packages when missing and apt-get is usable
+# (root); otherwise that test is skipped and says why
 fuzz-tools:
 	@command -v $${CLANG:-clang} >/dev/null 2>&1 || { [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1 && \
 	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq clang >/dev/null; } || \
@@ -114,14 +115,14 @@ fuzz-tools:
 
 importers: $(FMI_SIM) $(FMI4J_CP)
 
-$(FMI_SIM):
+$(FMI_SIM): | fuzz-tools
 	@mkdir -p $(dir $@); rm -f $@.skip
 	@if [ ! -x $(FMI_SIM_ROOT)/bin/fmi-sim ]; then \
 	    if ! command -v cargo >/dev/null 2>&1; then \
 	        echo "fmi-sim $(FMI_SIM_VERSION) not installed: cargo (Rust) is not installed" > $@.skip; \
 	    else echo "cargo install fmi-sim $(FMI_SIM_VERSION) (crates.io) into $(FMI_SIM_ROOT): once per machine, minutes"; \
 	        nice cargo install -q fmi-sim --version $(FMI_SIM_VERSION) --locked --root $(FMI_SIM_ROOT) || \
-	        echo "fmi-sim $(FMI_SIM_VERSION) not installed: cargo install from crates.io failed (offline?)" > $@.skip; fi; fi
+	        echo "fmi-sim $(FMI_SIM_VERSION) not installed: cargo install from crates.io failed (offline? its fmi-sys build needs libclang: Debian clang)" > $@.skip; fi; fi
 	@if [ -x $(FMI_SIM_ROOT)/bin/fmi-sim ]; then ln -sf $(FMI_SIM_ROOT)/bin/fmi-sim $@; else cat $@.skip; fi
 
 $(FMI4J_CP): tests/java/pom.xml $(wildcard tests/java/src/main/java/feeddrive/fmi4j/*.java)

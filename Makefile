@@ -40,6 +40,9 @@ CTRL_SRC_H := $(wildcard fmu_src/controller/*.h) $(CTRL_SHARED_H)
 #   and keyed by version, so another clone (or a CI job that keeps ~/.cache) links the binary
 #   instead of compiling it again; linked as build/importers/fmi-sim
 # * FMI4j (Maven Central): tests/java compiled, its classpath written; the test runs Maven offline
+# * fmipp (FMI++, PyPI sdist): swig and boost from Debian (as root), the sdist patched by
+#   tools/patch_fmipp.py (no SUNDIALS: Debian's is too new for it; the import module only), built
+#   once into a wheel in IMPORTERS_CACHE (per Python), installed into .venv
 # Each that cannot be installed writes its one-line reason to build/importers/<name>.skip
 # (make goes on; the test skips with that reason).
 FMI_SIM_VERSION := 0.7.0
@@ -47,6 +50,10 @@ IMPORTERS_CACHE ?= $(HOME)/.cache/feeddrive/importers
 FMI_SIM_ROOT    := $(IMPORTERS_CACHE)/fmi-sim-$(FMI_SIM_VERSION)
 FMI_SIM         := $(BUILD)/importers/fmi-sim
 FMI4J_CP        := $(BUILD)/fmi4j-target/classpath.txt
+FMIPP_VERSION   := 2.1.0
+FMIPP_SRC       := $(BUILD)/importers/fmipp-src
+FMIPP_STAMP     := $(VENV)/.fmipp-installed
+FMIPP_APT       := swig libboost-filesystem-dev libboost-system-dev
 
 .PHONY: all fmu run test bench wheel clean venv fuzz-tools importers
 all: fmu
@@ -113,7 +120,7 @@ fuzz-tools:
 	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq clang >/dev/null; } || \
 	    echo "note: clang is not installed and cannot be installed here: the libFuzzer run is skipped"
 
-importers: $(FMI_SIM) $(FMI4J_CP)
+importers: $(FMI_SIM) $(FMI4J_CP) $(FMIPP_STAMP)
 
 $(FMI_SIM): | fuzz-tools
 	@mkdir -p $(dir $@); rm -f $@.skip
@@ -132,6 +139,26 @@ $(FMI4J_CP): tests/java/pom.xml $(wildcard tests/java/src/main/java/feeddrive/fm
 	else mvn -q -B -f tests/java/pom.xml compile dependency:build-classpath -Dmdep.outputFile=$(CURDIR)/$@ || \
 	    echo "FMI4j not installed: Maven could not resolve info.laht.fmi4j from Maven Central (offline?)" | \
 	    tee $(BUILD)/importers/fmi4j.skip; fi
+
+$(FMIPP_STAMP): $(STAMP) tools/patch_fmipp.py
+	@mkdir -p $(BUILD)/importers; rm -f $(BUILD)/importers/fmipp.skip
+	@skip=$(BUILD)/importers/fmipp.skip; \
+	wheels=$(IMPORTERS_CACHE)/fmipp-$(FMIPP_VERSION)-$$($(PY) -c 'import sys; print(sys.implementation.cache_tag)'); \
+	if ! ls $$wheels/fmipp-*.whl >/dev/null 2>&1; then \
+	    if ! command -v swig >/dev/null 2>&1 || [ ! -e /usr/include/boost/filesystem.hpp ]; then \
+	        [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1 && \
+	        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $(FMIPP_APT) >/dev/null; fi; \
+	    if ! command -v swig >/dev/null 2>&1 || [ ! -e /usr/include/boost/filesystem.hpp ]; then \
+	        echo "fmipp $(FMIPP_VERSION) not installed: it needs swig and boost (Debian: $(FMIPP_APT))" > $$skip; \
+	    else echo "building fmipp $(FMIPP_VERSION) from its PyPI sdist into $$wheels: once per machine, minutes"; \
+	        rm -rf $(FMIPP_SRC) && mkdir -p $(FMIPP_SRC) && \
+	        $(PY) -m pip download -q --no-deps --no-binary :all: fmipp==$(FMIPP_VERSION) -d $(FMIPP_SRC) && \
+	        tar xzf $(FMIPP_SRC)/fmipp-$(FMIPP_VERSION).tar.gz -C $(FMIPP_SRC) && \
+	        $(PY) tools/patch_fmipp.py $(FMIPP_SRC)/fmipp-$(FMIPP_VERSION)/setup.py && \
+	        nice $(PY) -m pip wheel -q --no-deps -w $$wheels $(FMIPP_SRC)/fmipp-$(FMIPP_VERSION) >/dev/null || \
+	        echo "fmipp $(FMIPP_VERSION) not installed: its PyPI sdist did not download or build (offline?)" > $$skip; fi; fi; \
+	if ls $$wheels/fmipp-*.whl >/dev/null 2>&1; then \
+	    $(PY) -m pip install -q --no-deps --force-reinstall $$wheels/fmipp-*.whl && touch $@; else cat $$skip; fi
 
 test: fmu fuzz-tools importers
 	$(PY) -m pytest -q tests

@@ -14,69 +14,54 @@ tools/patch_fmipp.py), co-simulation and model exchange, on the importer scenari
   0.002 N from fmpy's CS, 0.045 um / 0.004 N from fmpy's ME).  Outputs are read just before
   t_k+1, so the current is the end-of-step value.
 
-In one process the ME instance must come first (fmipp caches one parsed model description per
-model identifier; ME after CS aborts with the "No such node (Real.<xmlattr>.derivative)" of
-the issue's report -- the XML comments were not its only cause).  Skipped when ``make
+The runs are made by tests/fmipp_run.py in their own process, ME first.  fmipp's loader aborts
+with the issue's "No such node (Real.<xmlattr>.derivative)" (the XML comments were not its
+only cause): always for an ME instance after a CS one of the same model in one process (it
+keeps the first parse), and in ~8 % of fresh loads, from a read past the end of its own
+derivative-index array (:data:`ABORT`); the fixture then tries again in a fresh process.  Skipped when ``make
 importers`` could not build it (the reason it wrote).
 """
 from __future__ import annotations
 
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from importer_scenario import COLUMNS, N, TS, X0, end_of_step_to_sampled, fmpy_runs, grid, max_dev, u_input
+from importer_scenario import COLUMNS, fmpy_runs, max_dev
 
-REPO = Path(__file__).resolve().parents[1]
+HERE = Path(__file__).resolve().parent
+REPO = HERE.parent
 SKIP = REPO / "build" / "importers" / "fmipp.skip"
 try:
-    import fmipp
+    import fmipp  # noqa: F401  (the runs are in tests/fmipp_run.py, in their own process)
 except ImportError as e:
     why = SKIP.read_text().strip() if SKIP.is_file() else f"fmipp is not installed ({e}): run `make importers`"
     pytest.skip(why, allow_module_level=True)
 
-EVENT_PRECISION = 1e-12      #: [s] fmipp's event search precision (ME)
-MODEL = "LinearMotorFeedDrive"
 
-
-def _run(fmu_path: Path, tmp: Path, interface: str) -> dict[str, np.ndarray]:
-    uri = fmipp.extractFMU(str(fmu_path), str(tmp))
-    t, u = grid(), u_input(grid())
-    if interface == "cs":
-        f = fmipp.FMUCoSimulationV2(uri, MODEL, False, 1e-6)
-        assert f.instantiate("fmipp_cs", 0.0, False, False) == fmipp.statusOK
-    else:
-        f = fmipp.FMUModelExchangeV2(uri, MODEL, False, True, EVENT_PRECISION, fmipp.integratorDP)
-        assert f.instantiate("fmipp_me") == fmipp.statusOK
-    for name, value in (("x", X0), ("v", 0.0), ("u", float(u[0]))):
-        f.setRealValue(name, value)
-    ok = f.initialize(0.0, False, 0.0) if interface == "cs" else f.initialize(True, 1e-6)
-    assert ok == fmipp.statusOK
-    out = np.empty((N + 1, len(COLUMNS)))
-    out[0] = [f.getRealValue(c) for c in COLUMNS]
-    for k in range(N):
-        f.setRealValue("u", float(u[k]))
-        if interface == "cs":
-            assert f.doStep(k * TS, TS, True) == fmipp.statusOK, f"doStep at {k * TS}"
-        else:
-            calls = 0
-            while f.getTime() < t[k + 1] - EVENT_PRECISION:      # it stops before every event
-                f.integrate(float(t[k + 1]), 1e-5)
-                calls += 1
-                assert calls < 1000, f"fmipp ME stuck at t = {f.getTime()!r}"
-        out[k + 1] = [f.getRealValue(c) for c in COLUMNS]
-    d = {c: out[:, j] for j, c in enumerate(COLUMNS)}
-    d["i"] = end_of_step_to_sampled(d["i"])
-    return d
+#: fmipp 2.1's loader reads past the end of its derivative-index array
+#: (ModelDescription::getStatesAndDerivativesReferences compares der_ref[i] for i = nStates with
+#: every variable after the last derivative): when that heap word happens to equal a later
+#: variable's index it asks that variable for a "derivative" attribute and aborts
+ABORT = "No such node (Real.<xmlattr>.derivative)"
+ATTEMPTS = 4    #: fresh processes; measured ~8 % of fresh loads abort (3 of 36)
 
 
 @pytest.fixture(scope="module")
 def fmipp_runs(fmu_path, tmp_path_factory) -> dict[str, dict[str, np.ndarray]]:
-    # ME first: fmipp's ModelManager keeps the model description parsed for the first instance
-    # of a model identifier, and an ME instance after a CS one of the same model aborts the
-    # process (boost ptree_bad_path "No such node (Real.<xmlattr>.derivative)"); CS after ME works
-    return {k: _run(fmu_path, tmp_path_factory.mktemp(f"fmipp_{k}"), k) for k in ("me", "cs")}
+    for attempt in range(1, ATTEMPTS + 1):
+        out = tmp_path_factory.mktemp("fmipp")
+        p = subprocess.run([sys.executable, str(HERE / "fmipp_run.py"), str(fmu_path), str(out)],
+                           capture_output=True, text=True, timeout=600, cwd=HERE)
+        if p.returncode == 0 or ABORT not in p.stderr:
+            break
+        print(f"fmipp attempt {attempt}: its loader aborted ({ABORT}); again in a fresh process")
+    assert p.returncode == 0, f"fmipp run failed ({p.returncode}):\n{p.stdout[-3000:]}\n{p.stderr[-3000:]}"
+    z = np.load(out / "fmipp.npz")
+    return {k: {c: z[f"{k}_{c}"] for c in COLUMNS} for k in ("me", "cs")}
 
 
 def test_fmipp_ran_the_scenario(fmipp_runs) -> None:

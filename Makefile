@@ -147,7 +147,7 @@ $(FMIPP_STAMP): $(STAMP) tools/patch_fmipp.py
 	if ! ls $$wheels/fmipp-*.whl >/dev/null 2>&1; then \
 	    if ! command -v swig >/dev/null 2>&1 || [ ! -e /usr/include/boost/filesystem.hpp ]; then \
 	        [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1 && \
-	        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $(FMIPP_APT) >/dev/null; fi; \
+	        apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $(FMIPP_APT) >/dev/null; fi; \
 	    if ! command -v swig >/dev/null 2>&1 || [ ! -e /usr/include/boost/filesystem.hpp ]; then \
 	        echo "fmipp $(FMIPP_VERSION) not installed: it needs swig and boost (Debian: $(FMIPP_APT))" > $$skip; \
 	    else echo "building fmipp $(FMIPP_VERSION) from its PyPI sdist into $$wheels: once per machine, minutes"; \

@@ -5,7 +5,8 @@
 #                     FMU build/LinearMotorFeedDrive3.fmu (same physics; FMI 2.0 stays the default)
 #                     and the controller as FMI 3.0, build/DriveController3.fmu
 #   make run          set-up, FMU, the paper's closed-loop reproductions, report (prints the tables)
-#   make test         set-up, FMU, every test
+#   make test         set-up, FMU, the importers, every test
+#   make importers    the importers the tests run besides fmpy, from registries only (below)
 #   make bench        benchmark table (build/bench.md)
 #   make wheel        build/feeddrive-*.whl carrying the FMU
 MODEL      := LinearMotorFeedDrive
@@ -52,7 +53,27 @@ PKG_CTRL3_FMU := python/feeddrive/$(CTRL3).fmu
 CTRL3_SO   := $(BUILD)/controller3/binaries/x86_64-linux/$(CTRL3).so
 CTRL3_SRC_C := $(CTRL_SRC_C) fmu_src/controller/ctrl_fmi3.c fmu_src/fmi3_stubs.c
 
-.PHONY: all fmu run test bench wheel clean venv fuzz-tools
+# the importers besides fmpy (the Python ones, libcosimpy and ecospy, are in python[test]):
+# * fmi-sim (Rust, crates.io): `cargo install --locked` into IMPORTERS_CACHE, outside the clone
+#   and keyed by version, so another clone (or a CI job that keeps ~/.cache) links the binary
+#   instead of compiling it again; linked as build/importers/fmi-sim
+# * FMI4j (Maven Central): tests/java compiled, its classpath written; the test runs Maven offline
+# * fmipp (FMI++, PyPI sdist): swig and boost from Debian (as root), the sdist patched by
+#   tools/patch_fmipp.py (no SUNDIALS: Debian's is too new for it; the import module only), built
+#   once into a wheel in IMPORTERS_CACHE (per Python), installed into .venv
+# Each that cannot be installed writes its one-line reason to build/importers/<name>.skip
+# (make goes on; the test skips with that reason).
+FMI_SIM_VERSION := 0.7.0
+IMPORTERS_CACHE ?= $(HOME)/.cache/feeddrive/importers
+FMI_SIM_ROOT    := $(IMPORTERS_CACHE)/fmi-sim-$(FMI_SIM_VERSION)
+FMI_SIM         := $(BUILD)/importers/fmi-sim
+FMI4J_CP        := $(BUILD)/fmi4j-target/classpath.txt
+FMIPP_VERSION   := 2.1.0
+FMIPP_SRC       := $(BUILD)/importers/fmipp-src
+FMIPP_STAMP     := $(VENV)/.fmipp-installed
+FMIPP_APT       := swig libboost-filesystem-dev libboost-system-dev
+
+.PHONY: all fmu run test bench wheel clean venv fuzz-tools importers
 all: fmu
 fmu: $(FMU) $(PKG_FMU) $(CTRL_FMU) $(PKG_CTRL_FMU) $(FMU3) $(PKG_FMU3) $(CTRL3_FMU) $(PKG_CTRL3_FMU)
 venv: $(STAMP)
@@ -150,14 +171,55 @@ $(PKG_CTRL3_FMU): $(CTRL3_FMU)
 run: fmu
 	$(PY) -m feeddrive.cli run --shared $(SHARED) --force
 
-# the coverage-guided fuzz run of the tests needs clang's libFuzzer: installed here from Debian's
-# packages when missing and apt-get is usable (root); otherwise that test is skipped and says why
+# the coverage-guided fuzz run of the tests needs clang's libFuzzer (and fmi-sim's build its
+# libclang, for bindgen): installed here from Debian's packages when missing and apt-get is usable
+# (root); otherwise that test is skipped and says why
 fuzz-tools:
 	@command -v $${CLANG:-clang} >/dev/null 2>&1 || { [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1 && \
 	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq clang >/dev/null; } || \
 	    echo "note: clang is not installed and cannot be installed here: the libFuzzer run is skipped"
 
-test: fmu fuzz-tools
+importers: $(FMI_SIM) $(FMI4J_CP) $(FMIPP_STAMP)
+
+$(FMI_SIM): | fuzz-tools
+	@mkdir -p $(dir $@); rm -f $@.skip
+	@if [ ! -x $(FMI_SIM_ROOT)/bin/fmi-sim ]; then \
+	    if ! command -v cargo >/dev/null 2>&1; then \
+	        echo "fmi-sim $(FMI_SIM_VERSION) not installed: cargo (Rust) is not installed" > $@.skip; \
+	    else echo "cargo install fmi-sim $(FMI_SIM_VERSION) (crates.io) into $(FMI_SIM_ROOT): once per machine, minutes"; \
+	        nice cargo install -q fmi-sim --version $(FMI_SIM_VERSION) --locked --root $(FMI_SIM_ROOT) || \
+	        echo "fmi-sim $(FMI_SIM_VERSION) not installed: cargo install from crates.io failed (offline? its fmi-sys build needs libclang: Debian clang)" > $@.skip; fi; fi
+	@if [ -x $(FMI_SIM_ROOT)/bin/fmi-sim ]; then ln -sf $(FMI_SIM_ROOT)/bin/fmi-sim $@; else cat $@.skip; fi
+
+$(FMI4J_CP): tests/java/pom.xml $(wildcard tests/java/src/main/java/feeddrive/fmi4j/*.java)
+	@mkdir -p $(BUILD)/importers; rm -f $(BUILD)/importers/fmi4j.skip
+	@if ! command -v java >/dev/null 2>&1 || ! command -v mvn >/dev/null 2>&1; then \
+	    echo "FMI4j not installed: it needs a JDK (java) and Maven (mvn)" | tee $(BUILD)/importers/fmi4j.skip; \
+	else mvn -q -B -f tests/java/pom.xml compile dependency:build-classpath -Dmdep.outputFile=$(CURDIR)/$@ || \
+	    echo "FMI4j not installed: Maven could not resolve info.laht.fmi4j from Maven Central (offline?)" | \
+	    tee $(BUILD)/importers/fmi4j.skip; fi
+
+$(FMIPP_STAMP): $(STAMP) tools/patch_fmipp.py
+	@mkdir -p $(BUILD)/importers; rm -f $(BUILD)/importers/fmipp.skip
+	@skip=$(BUILD)/importers/fmipp.skip; \
+	wheels=$(IMPORTERS_CACHE)/fmipp-$(FMIPP_VERSION)-$$($(PY) -c 'import sys; print(sys.implementation.cache_tag)'); \
+	if ! ls $$wheels/fmipp-*.whl >/dev/null 2>&1; then \
+	    if ! command -v swig >/dev/null 2>&1 || [ ! -e /usr/include/boost/filesystem.hpp ]; then \
+	        [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1 && \
+	        apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $(FMIPP_APT) >/dev/null; fi; \
+	    if ! command -v swig >/dev/null 2>&1 || [ ! -e /usr/include/boost/filesystem.hpp ]; then \
+	        echo "fmipp $(FMIPP_VERSION) not installed: it needs swig and boost (Debian: $(FMIPP_APT))" > $$skip; \
+	    else echo "building fmipp $(FMIPP_VERSION) from its PyPI sdist into $$wheels: once per machine, minutes"; \
+	        rm -rf $(FMIPP_SRC) && mkdir -p $(FMIPP_SRC) && \
+	        $(PY) -m pip download -q --no-deps --no-binary :all: fmipp==$(FMIPP_VERSION) -d $(FMIPP_SRC) && \
+	        tar xzf $(FMIPP_SRC)/fmipp-$(FMIPP_VERSION).tar.gz -C $(FMIPP_SRC) && \
+	        $(PY) tools/patch_fmipp.py $(FMIPP_SRC)/fmipp-$(FMIPP_VERSION)/setup.py && \
+	        nice $(PY) -m pip wheel -q --no-deps -w $$wheels $(FMIPP_SRC)/fmipp-$(FMIPP_VERSION) >/dev/null || \
+	        echo "fmipp $(FMIPP_VERSION) not installed: its PyPI sdist did not download or build (offline?)" > $$skip; fi; fi; \
+	if ls $$wheels/fmipp-*.whl >/dev/null 2>&1; then \
+	    $(PY) -m pip install -q --no-deps --force-reinstall $$wheels/fmipp-*.whl && touch $@; else cat $$skip; fi
+
+test: fmu fuzz-tools importers
 	$(PY) -m pytest -q tests
 
 # the C benchmark hosts are test code (tests/c); built here and handed to the benchmark

@@ -1,8 +1,8 @@
 """The FMU in a second importer: FMI4j (JNI, Maven Central info.laht.fmi4j:fmi-import 0.38.0) runs
 it as co-simulation and as model exchange (tests/java: its own RK4 with 10 µs steps, time events
-at the 0.5 ms samples, state events located by bisection to 1e-12 s) for the open-loop input
-u(t_k) = 0.5 sin(2 pi t_k) V, 2 s from rest at 150 mm (about 57 mm of travel, 0.2 m/s peak, stick
-and slip at every reversal). fmpy runs the same input (CS; ME with CVode at 1e-9).
+at the 0.5 ms samples, state events located by bisection to 1e-12 s) for the open-loop scenario
+of tests/importer_scenario.py (u(t_k) = 0.5 sin(2 pi t_k) V, 2 s from rest at 150 mm). fmpy runs
+the same input (CS; ME with CVode at 1e-9).
 
 Tolerances:
 * FMI4j CS against fmpy CS: the same binary doing the same fmi2DoStep calls; only the inputs
@@ -11,7 +11,8 @@ Tolerances:
   (measured: FMI4j ME vs fmpy CS 0.009 µm / 0.002 N, vs fmpy ME 0.04 µm / 0.004 N — CVode's
   1e-9 tolerance is the larger error).
 
-Skipped only when java or mvn is missing. Maven resolves online the first time, then offline.
+Skipped when java or mvn is missing or `make importers` could not resolve FMI4j from Maven Central
+(the reason it wrote); the test itself runs Maven offline.
 """
 from __future__ import annotations
 
@@ -22,27 +23,34 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from feeddrive.fmu import Plant
-from feeddrive.harness.simulate import simulate_open_loop
+from importer_scenario import SECONDS, TS, end_of_step_to_sampled, fmpy_runs as scenario_fmpy_runs
+from importer_scenario import max_dev as _max_dev
 
 REPO = Path(__file__).resolve().parents[1]
 JAVA_DIR = REPO / "tests" / "java"
 TARGET = REPO / "build" / "fmi4j-target"   # Maven's build directory (pom.xml)
-SECONDS = 2.0
-TS = 5e-4
-COLUMNS = ("x", "v", "F_friction", "i")
 
-pytestmark = pytest.mark.skipif(shutil.which("java") is None or shutil.which("mvn") is None,
-                                reason="FMI4j needs a JDK (java) and Maven (mvn); one is not installed")
+CLASSPATH = TARGET / "classpath.txt"                 # make importers: Maven resolved and compiled
+SKIP = REPO / "build" / "importers" / "fmi4j.skip"    # make importers: why it could not
+
+
+def _skip_reason() -> str | None:
+    if shutil.which("java") is None or shutil.which("mvn") is None:
+        return "FMI4j needs a JDK (java) and Maven (mvn); one is not installed"
+    if not CLASSPATH.is_file():
+        return SKIP.read_text().strip() if SKIP.is_file() else "FMI4j is not installed: run `make importers`"
+    return None
+
+
+pytestmark = pytest.mark.skipif(_skip_reason() is not None, reason=str(_skip_reason()))
 
 
 def _maven_classpath() -> str:
-    goals = ["-q", "-B", "compile", "dependency:build-classpath", "-Dmdep.outputFile=" + str(TARGET / "classpath.txt")]
-    p = subprocess.run(["mvn", "-o", *goals], cwd=JAVA_DIR, capture_output=True, text=True, timeout=600)
-    if p.returncode != 0:   # first run on this machine: resolve from Maven Central
-        p = subprocess.run(["mvn", *goals], cwd=JAVA_DIR, capture_output=True, text=True, timeout=900)
-    assert p.returncode == 0, f"maven failed in {JAVA_DIR}:\n{p.stdout[-3000:]}\n{p.stderr[-3000:]}"
-    return str(TARGET / "classes") + ":" + (TARGET / "classpath.txt").read_text().strip()
+    """tests/java compiled offline (its dependencies were resolved by `make importers`)."""
+    p = subprocess.run(["mvn", "-o", "-q", "-B", "compile"], cwd=JAVA_DIR, capture_output=True, text=True,
+                       timeout=600)
+    assert p.returncode == 0, f"maven (offline) failed in {JAVA_DIR}:\n{p.stdout[-3000:]}\n{p.stderr[-3000:]}"
+    return str(TARGET / "classes") + ":" + CLASSPATH.read_text().strip()
 
 
 @pytest.fixture(scope="module")
@@ -56,23 +64,13 @@ def fmi4j_runs(fmu_path: Path, tmp_path_factory) -> dict[str, np.ndarray]:
     # the Java host records every output at the end of each step (the left limit at t_k+1);
     # feeddrive.harness.simulate records the sampled current as Eq. 2's i[k] at row k: align it
     for d in runs.values():
-        d["i"] = np.concatenate((d["i"][1:], d["i"][-1:]))
+        d["i"] = end_of_step_to_sampled(d["i"])
     return runs
 
 
 @pytest.fixture(scope="module")
 def fmpy_runs(fmu_path: Path) -> dict[str, dict[str, np.ndarray]]:
-    t = np.arange(int(round(SECONDS / TS)) + 1) * TS
-    u = 0.5 * np.sin(2 * np.pi * t)
-    runs = {}
-    for iface, tol in (("cs", 1e-6), ("me", 1e-9)):
-        with Plant(interface=iface, tolerance=tol, path=fmu_path) as p:
-            runs[iface] = simulate_open_loop(p, t, u, start_values={"x": 0.15, "v": 0.0})
-    return runs
-
-
-def _max_dev(a, b) -> dict[str, float]:
-    return {c: float(np.max(np.abs(np.asarray(a[c]) - np.asarray(b[c])))) for c in COLUMNS}
+    return scenario_fmpy_runs(fmu_path)
 
 
 def test_fmi4j_ran_the_scenario(fmi4j_runs):

@@ -30,6 +30,7 @@ from .harness.simulate import simulate_closed_loop
 from .harness.two_fmus import simulate_two_fmus
 from .paper import paper_parameters
 from .systems import run_container, sec3_system, write_all
+from .systems.ecos import time_ecos
 from .systems.engines import time_libcosim_osp
 
 
@@ -232,6 +233,19 @@ def engine_rows(wall_python: float, res_python: dict, repeats: int = 5) -> list[
              f"max abs(dx) {dx * 1e6:.3g} um", "<= 1/3 (issue 12)")]
 
 
+def ecos_rows(wall_python: float, repeats: int = 3) -> list[tuple[str, str, str]]:
+    """The same 6 s loop in Ecos (ecospy: structure built in feeddrive.systems.ecos, macro step
+    Ts/10, step_until)."""
+    s = sec3_system()
+    try:
+        w = min(time_ecos(s) for _ in range(repeats))
+        cell = (f"{w * 1e3:.0f} ms wall, {w / wall_python:.2f} x the Python-controller run, "
+                f"{w / (s.n * s.jacobi_substeps) * 1e6:.1f} us per macro step", "<= 1/3 (issue 12)")
+    except ImportError as e:
+        cell = (f"not measured ({e})", "")
+    return [(f"same, Ecos (macro step Ts/{s.jacobi_substeps}, step_until, best of {repeats})", *cell)]
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--out", default="build/bench.md")
@@ -254,6 +268,7 @@ def main(argv: list[str] | None = None) -> int:
     rows += study
     rows += engine_rows(figs["wall_cs"], figs["res_cs"], a.repeats)
     rows += fast_path_rows()
+    rows += ecos_rows(figs["wall_cs"], min(a.repeats, 3))
     if a.bench_cs:
         rows += c_rows(Path(a.bench_cs), Path(a.cycles) if a.cycles else None, Path(a.library), a.repeats)
     else:

@@ -179,6 +179,7 @@ def c_table(vars3: list[dict], src: str) -> tuple[str, str]:
         kind = 0 if v["name"] == "time" else (2 if "nz" in v else (1 if v["dim"] else 3))
         rows.append((v["vr"], v["name"], v["type"][0] if v["type"] != "Float64" else "R", first,
                      len(v["elems"]) if v["elems"] else v.get("nz", 1), kind))
+    rows.sort(key=lambda r: r[0])     # fmi3_values.c finds a row by binary search on the vr
     h = [f"/* Generated from {src} by gen_fmi3.py: do not edit. */", "#ifndef MODEL_VARS3_H", "#define MODEL_VARS3_H",
          "", f"#define MODEL3_NVARS {len(rows)}", f"#define MODEL3_NELEMS {len(elems)}",
          f"#define VR3_time {VR_TIME}u", f"#define VR3_eventIndicators {VR_INDICATORS}u", "",

@@ -3,10 +3,12 @@ parameters; the ``slow`` marker."""
 from __future__ import annotations
 
 import subprocess
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 
+from feeddrive.model_description import FMU_ENV
 from feeddrive.paper import paper_parameters
 
 REPO = Path(__file__).resolve().parents[1]
@@ -16,12 +18,31 @@ FMU3 = REPO / "build" / "LinearMotorFeedDrive3.fmu"    # the same plant as FMI 3
 VERSIONS = ("2.0", "3.0")
 
 
+#: test modules that exercise the plant's physics through feeddrive.fmu.Plant: each of their
+#: tests that uses ``fmu_path`` runs on both FMUs (``[fmi2]``, ``[fmi3]``), except those marked
+#: ``fmi2_only`` (FMI 2.0 specifics, or a slow test whose FMI 3.0 twin is a subset: see there)
+BOTH_VERSIONS = {
+    "test_fmu_breakaway", "test_fmu_compliance", "test_fmu_current_loop", "test_fmu_elements",
+    "test_fmu_events", "test_fmu_friction_steady", "test_fmu_frictional_lag", "test_fmu_maps",
+    "test_fmu_prerolling", "test_fmu_static_friction", "test_fmu_tolerance", "test_fmu_shared",
+    "test_cs_agreement", "test_physics_effects", "test_position_friction", "test_cs_fast_path",
+}
+
+
 def pytest_configure(config: pytest.Config) -> None:
     config.addinivalue_line("markers", "slow: takes more than ~20 s (deselect with -m 'not slow')")
+    config.addinivalue_line("markers", "fmi2_only: in a BOTH_VERSIONS module, run on FMI 2.0 only")
+
+
+def pytest_generate_tests(metafunc: pytest.Metafunc) -> None:
+    """Parametrise ``fmi`` (and so ``fmu_path``) over both versions in BOTH_VERSIONS modules."""
+    if metafunc.module.__name__.rpartition(".")[2] in BOTH_VERSIONS and "fmi" in metafunc.fixturenames:
+        versions = VERSIONS[:1] if metafunc.definition.get_closest_marker("fmi2_only") else VERSIONS
+        metafunc.parametrize("fmi", versions, ids=lambda v: f"fmi{v[0]}", scope="module")
 
 
 @pytest.fixture(scope="session")
-def fmu_path() -> Path:
+def fmu2_path() -> Path:
     """build/LinearMotorFeedDrive.fmu, built with `make fmu` when it or the package's copy is missing."""
     if not (FMU.is_file() and PKG_FMU.is_file()):
         subprocess.run(["make", "fmu"], cwd=REPO, check=True)
@@ -30,7 +51,7 @@ def fmu_path() -> Path:
 
 
 @pytest.fixture(scope="session")
-def fmu3_path(fmu_path: Path) -> Path:
+def fmu3_path(fmu2_path: Path) -> Path:
     """build/LinearMotorFeedDrive3.fmu (built by the same `make fmu`)."""
     if not FMU3.is_file():
         subprocess.run(["make", "fmu"], cwd=REPO, check=True)
@@ -38,10 +59,29 @@ def fmu3_path(fmu_path: Path) -> Path:
     return FMU3
 
 
+@pytest.fixture(scope="session")
+def fmi() -> str:
+    """The FMI version of ``fmu_path``: "2.0", or each of VERSIONS in BOTH_VERSIONS modules."""
+    return VERSIONS[0]
+
+
+@pytest.fixture(scope="module")
+def fmu_path(fmi: str, fmu2_path: Path, fmu3_path: Path) -> Iterator[Path]:
+    """The plant FMU of version ``fmi``: build/LinearMotorFeedDrive.fmu (FMI 2.0), or
+    build/LinearMotorFeedDrive3.fmu, which ``$FEEDDRIVE_FMU`` then names for the module's
+    tests (a ``Plant()`` without a path loads it)."""
+    if fmi == "2.0":
+        yield fmu2_path
+        return
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv(FMU_ENV, str(fmu3_path))
+        yield fmu3_path
+
+
 @pytest.fixture(scope="session", params=VERSIONS, ids=lambda v: f"fmi{v[0]}")
-def fmu_version(request: pytest.FixtureRequest, fmu_path: Path, fmu3_path: Path) -> tuple[Path, str]:
+def fmu_version(request: pytest.FixtureRequest, fmu2_path: Path, fmu3_path: Path) -> tuple[Path, str]:
     """(path, FMI version) of each build of the plant: the tests that take it run on both."""
-    return (fmu_path if request.param == "2.0" else fmu3_path), request.param
+    return (fmu2_path if request.param == "2.0" else fmu3_path), request.param
 
 
 @pytest.fixture(scope="session")

@@ -65,7 +65,6 @@ def run_law(plant: Plant, dt: float, n: int, law: Law | None,
     plant.start(sv, t0=0.0)
     out = plant.raw(list(REAL_OUT))
     inp = plant.raw(["u", "F_ext"])
-    ivr = [plant.vr(s) for s in integers]
     stepper = _Stepper(plant, dt, 0.0)
     names = ["time", "u", "F_ext", *REAL_OUT, *integers]
     rows = np.empty((n + 1, len(names)))
@@ -77,7 +76,7 @@ def run_law(plant: Plant, dt: float, n: int, law: Law | None,
         if k > 0 and law is not None:
             u, F = law(k, t, y)
             inp.set((u, F))
-        ints = list(plant.fmu.getInteger(ivr)) if ivr else []
+        ints = list(plant.get(integers).values()) if integers else []
         rows[k] = [t, u, F, *[y[s] for s in REAL_OUT], *ints]
         if k == n or (stop is not None and stop(k, y | dict(zip(integers, ints)))):
             last = k

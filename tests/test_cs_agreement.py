@@ -30,7 +30,8 @@ import pytest
 from feeddrive.fmu import DEFAULT_FMU, Plant
 from feeddrive.harness.simulate import simulate_closed_loop
 
-pytestmark = pytest.mark.skipif(not DEFAULT_FMU.is_file(), reason="build the FMU first: make fmu")
+pytestmark = [pytest.mark.skipif(not DEFAULT_FMU.is_file(), reason="build the FMU first: make fmu"),
+              pytest.mark.usefixtures("fmu_path")]     # on both FMI versions (conftest)
 
 TS = 5e-4
 PERIOD = 6.0
@@ -114,7 +115,8 @@ def _dev(a: np.ndarray, b: np.ndarray) -> tuple[float, float]:
 
 
 @pytest.fixture(scope="module")
-def cs_ideal() -> np.ndarray:
+def cs_ideal(fmu_path) -> np.ndarray:
+    """(on the module's FMI version: it takes fmu_path)"""
     return _cs_loop(1e-6, 0.0)
 
 

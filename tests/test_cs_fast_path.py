@@ -22,7 +22,8 @@ from feeddrive.harness.sensors import Sensors
 from feeddrive.harness.simulate import simulate_open_loop
 from feeddrive.paper import paper_parameters
 
-pytestmark = pytest.mark.skipif(not DEFAULT_FMU.is_file(), reason="build the FMU first: make fmu")
+pytestmark = [pytest.mark.skipif(not DEFAULT_FMU.is_file(), reason="build the FMU first: make fmu"),
+              pytest.mark.usefixtures("fmu_path")]     # on both FMI versions (conftest)
 
 TS = 5e-4
 IDEAL = Sensors(quantum=0.0, current_noise=0.0)

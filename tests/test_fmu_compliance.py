@@ -27,7 +27,8 @@ from feeddrive.harness.controllers import make_controller
 from feeddrive.harness.simulate import simulate_closed_loop, simulate_open_loop
 from feeddrive.physics import Compliance, compile
 
-pytestmark = pytest.mark.skipif(not DEFAULT_FMU.is_file(), reason="build the FMU first: make fmu")
+pytestmark = [pytest.mark.skipif(not DEFAULT_FMU.is_file(), reason="build the FMU first: make fmu"),
+              pytest.mark.usefixtures("fmu_path")]     # on both FMI versions (conftest)
 
 DP = ctypes.POINTER(ctypes.c_double)
 ON = {"effects.compliance": True, "compliance.m2": 2.0, "compliance.f": 40.0,
@@ -58,7 +59,7 @@ def test_derivatives_agree_with_the_python_mirror():
              (0.149, -0.01, 0.0, 2e-5, 5e-3)]
     with Plant({**ON, "compliance.zeta": 0.2}, interface="me") as p:
         p.start({"u": 0.4})
-        p.fmu.newDiscreteStates()
+        p.update_discrete_states()
         p.fmu.enterContinuousTimeMode()
         md = p.md
         nx = md.numberOfContinuousStates
@@ -69,7 +70,7 @@ def test_derivatives_agree_with_the_python_mirror():
             y[0], y[1], y[2], y[-2], y[-1] = x, v, F1, q, w
             p.fmu.setContinuousStates(y.ctypes.data_as(DP), nx)
             dy = np.zeros(nx)
-            p.fmu.getDerivatives(dy.ctypes.data_as(DP), nx)
+            p.get_derivatives(dy.ctypes.data_as(DP), nx)
             g = p.get(["F_motor", "F_cogging", "F_friction", "compliance.F", "a"])
             F = float(c.force(q, w))
             assert math.isclose(g["compliance.F"], F, rel_tol=1e-12)
@@ -127,7 +128,7 @@ def test_sensor_on_the_load():
         alone, inp = p.raw(["x_measured"]), p.raw(["u"])
         for k in range(40):
             inp.set([1.0 if k < 20 else -1.0])
-            p.fmu.doStep(k * 5e-4, 5e-4)
+            p.do_step(k * 5e-4, 5e-4)
             xm = float(alone.get()[0])
             g = p.get(["x", "x_load"])
             assert xm == g["x_load"] and (k < 2 or xm != g["x"])
@@ -143,19 +144,19 @@ def test_serialised_state_holds_the_load():
         inp = p.raw(["u"])
         for k in range(300):
             inp.set([u[k]])
-            p.fmu.doStep(k * 5e-4, 5e-4)
-        st = p.fmu.serializeFMUstate(p.fmu.getFMUstate())
+            p.do_step(k * 5e-4, 5e-4)
+        st = p.serialize_state(p.get_state())
         assert raw.get()[1] != 0.0
         tail = []
         for k in range(300, 400):
             inp.set([u[k]])
-            p.fmu.doStep(k * 5e-4, 5e-4)
+            p.do_step(k * 5e-4, 5e-4)
             tail.append(raw.get().copy())
-        p.fmu.setFMUstate(p.fmu.deSerializeFMUstate(st))
+        p.set_state(p.deserialize_state(st))
         again = []
         for k in range(300, 400):
             inp.set([u[k]])
-            p.fmu.doStep(k * 5e-4, 5e-4)
+            p.do_step(k * 5e-4, 5e-4)
             again.append(raw.get().copy())
     assert np.array_equal(np.array(tail), np.array(again))
     del ref

@@ -25,7 +25,7 @@ SPEED, DT = 5e-5, 4e-3
 
 
 @pytest.fixture(scope="module")
-def loop(paper: dict) -> dict:
+def loop(paper: dict, fmu_path) -> dict:      # fmu_path: on the module's FMI version
     path = [X0, X0 + A, X0 - A, X0 + B, X0 + B - b, X0 + B, X0 + A]
     ref, knots = triangle(path, SPEED, t_hold=0.05)
     plant = me_plant(FRICTION_ONLY)

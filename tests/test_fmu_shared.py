@@ -1,16 +1,21 @@
 """Plants of one FMU file share one extraction per process and stay independent instances."""
 from __future__ import annotations
 
+import gc
 import os
 import shutil
 import subprocess
 import sys
+import tracemalloc
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from feeddrive.fmu import Plant, unpacked
 from feeddrive.harness import make_controller, pid_spec, simulate_closed_loop, sinusoid
+
+pytestmark = pytest.mark.usefixtures("fmu_path")     # on both FMI versions (conftest)
 
 
 def _run(plant: Plant, ref) -> np.ndarray:
@@ -67,3 +72,25 @@ def test_extraction_removed_at_exit(fmu_path: Path) -> None:
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     directory = out.stdout.strip()
     assert directory and not os.path.exists(directory)
+
+
+def test_a_started_plant_holds_under_64_kib(fmu_path: Path) -> None:
+    """Ten started Plants (with their raw arrays) on a warm extraction: < 64 KiB of Python heap
+    each (the FMI 3.0 ones share fmpy's function table of the library)."""
+    with Plant(path=fmu_path) as warm:
+        warm.start()
+        warm.raw(["x"])
+    gc.collect()
+    tracemalloc.start()
+    try:
+        plants = [Plant(path=fmu_path, interface=itf) for itf in ("cs", "me") * 5]
+        for p in plants:
+            p.start({"x": 0.1})
+            p.raw(["x", "v"])
+        gc.collect()
+        used = tracemalloc.get_traced_memory()[0]
+    finally:
+        tracemalloc.stop()
+    for p in plants:
+        p.close()
+    assert used / len(plants) < 64 * 1024

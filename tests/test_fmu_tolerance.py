@@ -3,9 +3,12 @@ experiment tolerance of fmi2SetupExperiment would otherwise override the paramet
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from feeddrive.fmu import Plant
 from feeddrive.harness.simulate import simulate_open_loop
+
+pytestmark = pytest.mark.usefixtures("fmu_path")     # on both FMI versions (conftest)
 
 
 def _x(parameters: dict, tolerance: float = 1e-6) -> np.ndarray:

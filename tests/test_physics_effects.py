@@ -13,6 +13,8 @@ from feeddrive.paper import SWITCHABLE_EFFECTS, paper_parameters
 from feeddrive.physics import (GMSParameters, applied_force, compile, element_forces,
                                element_rates, karnopp_friction)
 
+pytestmark = pytest.mark.usefixtures("fmu_path")     # on both FMI versions (conftest)
+
 TOL = 1e-9          #: N (and N/A for K_f, A for i)
 OUT = ("K_f", "F_cogging", "i", "F_motor", "F_friction", "a")
 #: Parameters that make every switch visible: asymmetry and offset non-zero.
@@ -108,8 +110,7 @@ def test_current_loop_samples_python_equals_fmu(fmu_path) -> None:
         got = []
         for k in range(1, len(u)):
             plant.set({"u": float(u[k])})
-            plant.fmu.doStep(currentCommunicationPoint=(k - 1) * P.Ts,
-                             communicationStepSize=P.Ts)
+            plant.do_step((k - 1) * P.Ts, P.Ts)
             got.append(plant.get(["i"])["i"])
     n0 = 2000                       # long enough at u[0] for the steady state (poles < 0.8)
     i = P.current.current(np.concatenate((np.full(n0, u[0]), u[2:])))[n0:]

@@ -31,6 +31,8 @@ from feeddrive.physics import FrictionProfile, compile, profile_basis
 from test_cs_agreement import PID, TOL_F, TOL_X
 from test_physics_effects import TOL, fmu_outputs, python_outputs, states
 
+pytestmark = pytest.mark.usefixtures("fmu_path")     # on both FMI versions (conftest)
+
 #: +30 % over 40 mm (full width at half height) centred at x = 0.155 m, on 10 mm knots
 PATCH = FrictionProfile(0.11, 0.19, (0.0, 0.0, 0.0, 0.3, 0.3, 0.3, 0.3, 0.0, 0.0))
 ROUGH = FrictionProfile(0.05, 0.25, (0.0, 0.1, 0.45, -0.2, 0.3, 0.25))
@@ -123,7 +125,7 @@ def test_serialised_state_round_trip_with_the_effect_on(fmu_path):
         out = []
         for k in range(k0, k1):
             plant.set({"u": float(u[k])})
-            plant.fmu.doStep(currentCommunicationPoint=k * h, communicationStepSize=h)
+            plant.do_step(k * h, h)
             g = plant.get(["x", "F_friction"])
             out.append((g["x"], g["F_friction"]))
         return out
@@ -131,10 +133,9 @@ def test_serialised_state_round_trip_with_the_effect_on(fmu_path):
     with Plant(params, interface="cs", path=fmu_path) as plant:
         plant.start(start_values={"x": 0.13})
         first = steps(plant, 0, n1)
-        blob = plant.fmu.serializeFMUstate(plant.fmu.getFMUstate())
+        blob = plant.serialize_state(plant.get_state())
         ref = steps(plant, n1, n1 + n2)
-        state = plant.fmu.deSerializeFMUstate(blob)
-        plant.fmu.setFMUstate(state)
+        plant.set_state(plant.deserialize_state(blob))
         again = steps(plant, n1, n1 + n2)
     assert again == ref                                   # bit for bit
     # the state was saved on the patch's flank, after sliding over it from p = 1.05
@@ -174,26 +175,27 @@ def test_model_file_round_trip(tmp_path):
 
 
 @functools.lru_cache(maxsize=None)
-def _cv_runs() -> tuple:
+def _cv_runs(fmu: str) -> tuple:
+    """(cached per FMU file: ``fmu`` is the module's fmu_path, the runs' FMU)"""
     truth = paper_model().with_effect("position_friction", True, **PATCH.parameters())
     return tuple(constant_speed_runs(truth.fmu_parameters(),
                                      Sensors(quantum=1e-7, current_noise=0.005, seed=5),
                                      speeds=(0.01, 0.03), segment=(0.08, 0.22), dwell=0.2))
 
 
-def test_profile_identified_from_constant_speed_runs():
+def test_profile_identified_from_constant_speed_runs(fmu_path):
     """FMU runs at +-10 and +-30 mm/s over 80-220 mm with the patch: p(x) within 10 % of the
     0.3 level change everywhere the runs slid (16 knots of 9.3 mm: the patch's 10 mm flanks
     are resolved), the levels kept (median p = 1)."""
-    fit = identify_position_friction(list(_cv_runs()), paper_model().fmu_parameters())
+    fit = identify_position_friction(list(_cv_runs(str(fmu_path))), paper_model().fmu_parameters())
     x = np.linspace(0.09, 0.21, 300)
     assert np.max(np.abs(fit.profile(x) - PATCH(x))) < 0.1 * 0.3
     assert fit.scale == pytest.approx(1.0, abs=0.01)
     assert fit.parameters["friction.F_c"] == pytest.approx(21.6, rel=0.01)
 
 
-def test_pipeline_switches_the_effect_on_when_asked():
-    runs = list(_cv_runs())
+def test_pipeline_switches_the_effect_on_when_asked(fmu_path):
+    runs = list(_cv_runs(str(fmu_path)))
     truth = paper_model().with_effect("position_friction", True, **PATCH.parameters())
     res = identify_runs(runs, truth=truth, position_friction=True)
     row = next(r for r in res.table if r.quantity.startswith("friction profile"))

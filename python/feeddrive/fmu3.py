@@ -12,18 +12,23 @@ fmu_instance=fmu)`` then runs.
 from __future__ import annotations
 
 import copy
+import ctypes
+import re
+from collections.abc import Callable
 from importlib import resources
 from pathlib import Path
 
 import numpy as np
 from fmpy import extract, read_model_description
 from fmpy.fmi3 import FMU3Model, FMU3Slave
-from fmpy.model_description import ModelDescription
+from fmpy.model_description import ModelDescription, ModelVariable
 
 DEFAULT_FMU3 = Path(str(resources.files(__package__) / "LinearMotorFeedDrive3.fmu"))
 N_NAME = "friction.N"
 N_MAX = 10
 INTERFACES = ("ModelExchange", "CoSimulation")
+#: an FMI 2.0 element name: friction.F[3], der(friction.F[3])
+_ELEMENT = re.compile(r"(der\()?(.+)\[(\d+)\]\)?")
 
 
 def with_dimension(md: ModelDescription, n: int) -> ModelDescription:
@@ -112,3 +117,48 @@ def set_values(fmu: FMU3Model | FMU3Slave, md: ModelDescription,
             continue
         vals = list(value) if isinstance(value, list) else [value]
         getattr(fmu, "set" + var.type)([var.valueReference], [var._python_type(x) for x in vals])
+
+
+def element(md: ModelDescription, name: str) -> tuple[ModelVariable, int] | None:
+    """The FMI 3.0 array variable of ``md`` and the 1-based index that the FMI 2.0 scalar
+    ``name`` (``friction.F[3]``, ``der(friction.F[3])``) stands for; None when ``name`` is
+    not an element name of an array of ``md``.  The index may exceed the array's size
+    (``friction.N`` < 10): such an FMI 2.0 slot has no counterpart in the FMI 3.0 instance."""
+    m = _ELEMENT.fullmatch(name)
+    if m is None:
+        return None
+    base = f"der({m.group(2)})" if m.group(1) else m.group(2)
+    for v in md.modelVariables:
+        if v.name == base and v.dimensions:
+            return v, int(m.group(3))
+    return None
+
+
+def raw_handles3(dll: ctypes.CDLL) -> tuple[Callable[..., int], ...]:
+    """fmi3DoStep, fmi3GetFloat64, fmi3SetFloat64 of ``dll`` behind the FMI 2.0 call shapes
+    of :class:`feeddrive.fmu.RawCalls`: ``do_step(c, t, h, flag)``, ``get_real(c, vr, n,
+    values)`` / ``set_real(c, vr, n, values)`` on n scalar Float64 variables (nValues = n)."""
+    ptr, n, dbl, b = ctypes.c_void_p, ctypes.c_size_t, ctypes.c_double, ctypes.c_bool
+    do = dll["fmi3DoStep"]
+    do.restype = ctypes.c_int
+    do.argtypes = [ptr, dbl, dbl, b, ptr, ptr, ptr, ptr]
+    flags = (b * 3)()
+    last = dbl()
+    a_event, a_term, a_early = (ctypes.addressof(flags) + k for k in range(3))
+    a_last = ctypes.addressof(last)
+    get, set_ = dll["fmi3GetFloat64"], dll["fmi3SetFloat64"]
+    for f in (get, set_):
+        f.restype = ctypes.c_int
+        f.argtypes = [ptr, ptr, n, ptr, n]
+
+    def do_step(c: int, t: float, h: float, no_set_prior: int, _keep=(flags, last)) -> int:
+        # _keep: the output buffers live as long as the function (their addresses are passed)
+        return do(c, t, h, bool(no_set_prior), a_event, a_term, a_early, a_last)
+
+    def get_real(c: int, vr: object, k: int, values: object) -> int:
+        return get(c, vr, k, values, k)
+
+    def set_real(c: int, vr: object, k: int, values: object) -> int:
+        return set_(c, vr, k, values, k)
+
+    return do_step, get_real, set_real

@@ -81,12 +81,66 @@ def _read(path: str, mtime: float) -> dict[str, Variable]:
     except (OSError, KeyError, zipfile.BadZipFile, ElementTree.ParseError) as e:
         raise ValueError(f"{path}: no readable modelDescription.xml ({e})") from None
     out: dict[str, Variable] = {}
+    if root.get("fmiVersion", "").startswith("3"):
+        return _read3(root)
     for sv in root.iter("ScalarVariable"):
         typed = next(iter(sv))
         out[sv.get("name")] = Variable(
             name=sv.get("name"), kind=typed.tag, causality=sv.get("causality", "local"),
             variability=sv.get("variability", "continuous"), unit=typed.get("unit", ""),
             lo=_number(typed.get("min"), -math.inf), hi=_number(typed.get("max"), math.inf))
+    return out
+
+
+@lru_cache(maxsize=8)
+def _version(path: str, mtime: float) -> str:
+    try:
+        with zipfile.ZipFile(path) as z:
+            root = ElementTree.fromstring(z.read("modelDescription.xml"))
+    except (OSError, KeyError, zipfile.BadZipFile, ElementTree.ParseError) as e:
+        raise ValueError(f"{path}: no readable modelDescription.xml ({e})") from None
+    version = root.get("fmiVersion", "")
+    if not version.startswith(("2.", "3.")):
+        raise ValueError(f"{path}: fmiVersion = {version!r}: allowed 2.0 or 3.0")
+    return version
+
+
+def fmi_version(fmu: str | Path | None = None) -> str:
+    """The ``fmiVersion`` of the FMU file ``fmu`` (default: :func:`fmu_path`): "2.0" or "3.0".
+
+    Raises ValueError naming the file when its modelDescription.xml is unreadable or declares
+    another version.
+    """
+    p = fmu_path(fmu)
+    return _version(str(p.resolve()), p.stat().st_mtime)
+
+
+_KIND3 = {"Float64": "Real", "Int32": "Integer", "Boolean": "Boolean"}
+
+
+def _read3(root: ElementTree.Element) -> dict[str, Variable]:
+    """FMI 3.0 variables under their FMI 2.0 names: an array of dimension ``friction.N``
+    as its elements ``friction.F[1]`` ... up to the structural parameter's ``max``."""
+    mv = list(root.find("ModelVariables"))
+    size = {v.get("valueReference"): int(v.get("max", v.get("start", "1")))
+            for v in mv if v.get("causality") == "structuralParameter"}
+    out: dict[str, Variable] = {}
+    for v in mv:
+        kind = _KIND3.get(v.tag, v.tag)
+        name = v.get("name")
+        dims = v.findall("Dimension")
+
+        def make(n: str) -> Variable:
+            return Variable(name=n, kind=kind, causality=v.get("causality", "local"),
+                            variability=v.get("variability", "continuous"), unit=v.get("unit", ""),
+                            lo=_number(v.get("min"), -math.inf), hi=_number(v.get("max"), math.inf))
+        if not dims:
+            out[name] = make(name)
+            continue
+        n = size.get(dims[0].get("valueReference"), int(dims[0].get("start", "1")))
+        for k in range(1, n + 1):
+            el = f"der({name[4:-1]}[{k}])" if name.startswith("der(") else f"{name}[{k}]"
+            out[el] = make(el)
     return out
 
 

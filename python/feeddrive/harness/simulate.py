@@ -43,7 +43,8 @@ class _NoInput:
 
 
 class Stepper:
-    """Advance the FMU by one sample [t_k, t_k + dt] through either interface."""
+    """Advance the FMU by one sample [t_k, t_k + dt] through either interface (FMI 2.0 or
+    3.0: the plant's calls of either version)."""
 
     def __init__(self, plant: Plant, dt: float, t0: float) -> None:
         self.p = plant
@@ -66,16 +67,16 @@ class Stepper:
         self.solver = CVodeSolver(
             nx=md.numberOfContinuousStates, nz=md.numberOfEventIndicators,
             get_x=fmu.getContinuousStates, set_x=fmu.setContinuousStates,
-            get_dx=fmu.getDerivatives, get_z=fmu.getEventIndicators,
+            get_dx=fmu.getContinuousStateDerivatives if self.p.fmi3 else fmu.getDerivatives,
+            get_z=fmu.getEventIndicators,
             get_nominals=fmu.getNominalsOfContinuousStates, set_time=fmu.setTime,
             input=_NoInput(), startTime=self.t0, maxStep=self.dt,
             relativeTolerance=self.p.tolerance, maxNumSteps=100000)
 
     def _event_iteration(self) -> None:
-        fmu = self.p.fmu
         need = True
         while need:
-            need, terminate, _, _, _, _ = fmu.newDiscreteStates()
+            need, terminate, _, _, _, _ = self.p.update_discrete_states()
             if terminate:
                 raise FMUError("the FMU asked to terminate")
 

@@ -99,7 +99,9 @@ typedef struct { int valid; double x, K_f, F_cg; } plant_memo_t;
 /* position_maps.c */
 double posmap_eval(const posmap_t *m, double x);
 void posmap_prepare(posmap_t *m);
-void posmap_eval_pair(const posmap_t *m1, const posmap_t *m2, double x, double *f1, double *f2);   /* fill the fast-path fields from kw, a, b */
+void posmap_eval_pair(const posmap_t *m1, const posmap_t *m2, double x, double *f1, double *f2);
+void posmap_sum_pair(const posmap_t *m1, const posmap_t *m2, double x, double c1, double s1,
+                     double *f1, double *f2);   /* fill the fast-path fields from kw, a, b */
 
 /* current_loop.c */
 void current_loop_init(const plant_params_t *p, plant_disc_t *d, double u0);

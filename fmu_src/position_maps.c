@@ -55,20 +55,22 @@ double posmap_eval(const posmap_t *m, double x) {
 /* Both maps at one position; one sin/cos pair when they share the fundamental (the paper's
  * cogging and ripple both use the magnet pitch). */
 void posmap_eval_pair(const posmap_t *m1, const posmap_t *m2, double x, double *f1, double *f2) {
-    double c1, s1, ck, sk, t, a = 0.0, b = 0.0;
-    int k, kmax;
     if (!(m1->harmonic && m2->harmonic && m1->kw0 == m2->kw0)) {
         *f1 = posmap_eval(m1, x);
         *f2 = posmap_eval(m2, x);
         return;
     }
+    posmap_sum_pair(m1, m2, x, cos(m1->kw0 * x), sin(m1->kw0 * x), f1, f2);
+}
+
+/* Both maps of a shared fundamental at x, given c1 = cos(kw0 x) and s1 = sin(kw0 x) (however
+ * the caller got them): the polynomials and one recurrence for every harmonic. */
+void posmap_sum_pair(const posmap_t *m1, const posmap_t *m2, double x, double c1, double s1,
+                     double *f1, double *f2) {
+    double ck = c1, sk = s1, t, a = 0.0, b = 0.0;
+    int k, kmax = m1->kmax > m2->kmax ? m1->kmax : m2->kmax;
     for (k = m1->npoly - 1; k >= 0; k--) a = a * x + m1->c[k];
     for (k = m2->npoly - 1; k >= 0; k--) b = b * x + m2->c[k];
-    kmax = m1->kmax > m2->kmax ? m1->kmax : m2->kmax;
-    c1 = cos(m1->kw0 * x);
-    s1 = sin(m1->kw0 * x);
-    ck = c1;
-    sk = s1;
     for (k = 1;; k++) {
         a += m1->ha[k] * ck + m1->hb[k] * sk;
         b += m2->ha[k] * ck + m2->hb[k] * sk;

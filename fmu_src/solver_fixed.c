@@ -55,8 +55,7 @@ static double clamp(double x, double lo, double hi) { return x < lo ? lo : (x > 
 
 static void maps(rctx_t *c, double x, double *Kf, double *Fcg) {
     const posmap_t *m1 = &c->p->rip, *m2 = &c->p->cog;
-    double xc = clamp(x, c->p->x_min, c->p->x_max), d, d2, cd, sd, c1, s1, ck, sk, t, a = 0.0, b = 0.0;
-    int k, kmax;
+    double xc = clamp(x, c->p->x_min, c->p->x_max), d, d2, cd, sd, c1, s1;
     if (!c->rot) {
         posmap_eval_pair(m1, m2, xc, Kf, Fcg);
         return;
@@ -74,21 +73,7 @@ static void maps(rctx_t *c, double x, double *Kf, double *Fcg) {
     s1 = c->s0 * cd + c->c0 * sd;
     c->l_c1 = c1;
     c->l_s1 = s1;
-    for (k = m1->npoly - 1; k >= 0; k--) a = a * xc + m1->c[k];
-    for (k = m2->npoly - 1; k >= 0; k--) b = b * xc + m2->c[k];
-    kmax = m1->kmax > m2->kmax ? m1->kmax : m2->kmax;
-    ck = c1;
-    sk = s1;
-    for (k = 1;; k++) {
-        a += m1->ha[k] * ck + m1->hb[k] * sk;
-        b += m2->ha[k] * ck + m2->hb[k] * sk;
-        if (k == kmax) break;
-        t = ck * c1 - sk * s1;
-        sk = sk * c1 + ck * s1;
-        ck = t;
-    }
-    *Kf = a;
-    *Fcg = b;
+    posmap_sum_pair(m1, m2, xc, c1, s1, Kf, Fcg);    /* the rotated fundamental, one recurrence */
 }
 
 /* S(|v|) on the side of the motion (friction_level's value) */

@@ -98,8 +98,25 @@ static int scalars(fmi3Instance instance, const char *fn, size_t nvr, size_t nv)
     return 0;
 }
 
+/* value reference 0 is the independent variable `time` of the FMI 3.0 description (the FMI 2.0
+ * controller has no such variable): served from the instance's time, the rest by fmi2GetReal */
 fmi3Status fmi3GetFloat64(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, fmi3Float64 v[], size_t nv) {
-    return scalars(i, "fmi3GetFloat64", nvr, nv) ? (fmi3Status)fmi2GetReal(i, vr, nvr, v) : fmi3Error;
+    size_t k, j;
+    if (!scalars(i, "fmi3GetFloat64", nvr, nv)) return fmi3Error;
+    for (k = 0; k < nvr && vr && vr[k] != 0; k++) {}
+    if (k == nvr || !v) return (fmi3Status)fmi2GetReal(i, vr, nvr, v);
+    for (k = 0; k < nvr; k = j) {
+        fmi2Status st;
+        if (vr[k] == 0) {
+            st = fmi2GetRealStatus(i, fmi2LastSuccessfulTime, &v[k]);
+            j = k + 1;
+        } else {
+            for (j = k; j < nvr && vr[j] != 0; j++) {}
+            st = fmi2GetReal(i, vr + k, j - k, v + k);
+        }
+        if (st != fmi2OK) return (fmi3Status)st;
+    }
+    return fmi3OK;
 }
 fmi3Status fmi3SetFloat64(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, const fmi3Float64 v[], size_t nv) {
     return scalars(i, "fmi3SetFloat64", nvr, nv) ? (fmi3Status)fmi2SetReal(i, vr, nvr, v) : fmi3Error;

@@ -228,6 +228,7 @@ void fmi2FreeInstance(fmi2Component comp) {
     fmi2CallbackFreeMemory fr;
     if (!c) return;
     fr = c->cb.freeMemory;
+    fmu_states_free_all(c);
     c->m.magic = 0;
     fr(c->name);
     fr(c);

@@ -49,7 +49,13 @@ typedef struct {
     int fmi3;
     void *ext;
     void (*on_switch)(void *instance);
+    /* the FMU states this instance's Get/DeserializeFMUState allocated and no FreeFMUState has
+     * freed yet (fmi2_state.c): fmi2FreeInstance frees them ("frees all the allocated memory") */
+    void *states;
 } instance_t;
+
+/* free the FMU states still held by c (fmi2FreeInstance) */
+void fmu_states_free_all(instance_t *c);
 
 void fmu_log(instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...)
 #if defined(__GNUC__)

@@ -8,9 +8,11 @@
 
 #define BLOB_MAGIC 0x46444253u   /* marks an fmi2FMUstate of this FMU */
 
-typedef struct {
+typedef struct blob {
     unsigned magic;
     size_t len;
+    instance_t *owner;              /* the instance that allocated it; listed in owner->states */
+    struct blob *prev, *next;
     unsigned char bytes[STATE_MAX_BYTES];
 } blob_t;
 
@@ -28,7 +30,26 @@ static blob_t *new_blob(instance_t *c, const char *fn) {
     if (!s) { fmu_log(c, fmi2Error, LOG_ERROR, "%s: out of memory", fn); return NULL; }
     s->magic = BLOB_MAGIC;
     s->len = state_bytes();
+    s->owner = c;
+    s->prev = NULL;
+    s->next = (blob_t *)c->states;
+    if (s->next) s->next->prev = s;
+    c->states = s;
     return s;
+}
+
+/* unlink s from its owner's list and free it with the owner's callbacks */
+static void drop_blob(blob_t *s) {
+    instance_t *o = s->owner;
+    if (s->prev) s->prev->next = s->next;
+    else o->states = s->next;
+    if (s->next) s->next->prev = s->prev;
+    s->magic = 0;
+    o->cb.freeMemory(s);
+}
+
+void fmu_states_free_all(instance_t *c) {
+    while (c->states) drop_blob((blob_t *)c->states);
 }
 
 fmi2Status fmu_state_get(instance_t *c, const char *fn, void **state) {
@@ -67,8 +88,7 @@ fmi2Status fmu_state_free(instance_t *c, const char *fn, void **state) {
     if (!c) return fmi2Error;
     if (!state || !*state) return fmi2OK;
     if (!(s = as_blob(c, fn, *state))) return fmi2Error;
-    s->magic = 0;
-    c->cb.freeMemory(s);
+    drop_blob(s);
     *state = NULL;
     return fmi2OK;
 }

@@ -13,7 +13,7 @@
  *   refused, and many instances created and freed (leaks: run with ASAN_OPTIONS=detect_leaks=1).
  * Prints one JSON line per part and a last line "fmi3_host: <n> checks, 0 failed"; the first
  * failed check prints "FAIL: <reason>" and exits 1. With --leave-states only the many-instances part
- * runs, its FMU states left to fmi3FreeInstance (LeakSanitizer then shows whether it frees them). */
+ * runs, its FMU states left to fmi3FreeInstance, which must free them (LeakSanitizer checks). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -610,7 +610,7 @@ static void part_many(void) {
             if (k % 5 == 0) {
                 fmi3FMUState s = NULL;
                 CHECK(fmi3GetFMUState(inst[k], &s) == fmi3OK, "fmi3GetFMUState of many instances", &envs[k]);
-                /* freed here; with --leave-states left to fmi3FreeInstance, which the FMI 3.0 standard says
+                /* freed here; with --leave-states left to fmi3FreeInstance, which (the FMI 3.0 standard)
                  * frees all memory the FMU's functions allocated */
                 if (!leave_states)
                     CHECK(fmi3FreeFMUState(inst[k], &s) == fmi3OK && !s, "fmi3FreeFMUState", &envs[k]);

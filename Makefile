@@ -219,8 +219,11 @@ $(FMIPP_STAMP): $(STAMP) tools/patch_fmipp.py
 	if ls $$wheels/fmipp-*.whl >/dev/null 2>&1; then \
 	    $(PY) -m pip install -q --no-deps --force-reinstall $$wheels/fmipp-*.whl && touch $@; else cat $$skip; fi
 
+# the suite on TEST_WORKERS processes (pytest-xdist; default one per core), the tests of one
+# file in one process (their module fixtures and C-host builds stay together); TEST_WORKERS=0: one
+TEST_WORKERS ?= $(shell nproc 2>/dev/null || echo 2)
 test: fmu fuzz-tools importers
-	$(PY) -m pytest -q tests
+	$(PY) -m pytest -q -n $(TEST_WORKERS) --dist loadfile tests
 
 # the C benchmark hosts are test code (tests/c); built here and handed to the benchmark
 bench: fmu

@@ -18,6 +18,7 @@ import shutil
 import tempfile
 import zipfile
 import zlib
+from collections.abc import Sequence
 from pathlib import Path
 from xml.etree import ElementTree as ET
 
@@ -122,33 +123,47 @@ def write_ssp(system: ClosedLoopSystem, path: str | Path) -> Path:
     return path
 
 
-def write_osp(system: ClosedLoopSystem, directory: str | Path) -> Path:
-    """Write ``directory/OspSystemStructure.xml`` and the two FMUs beside it; returns the XML."""
+def osp_structure(directory: str | Path, step: float,
+                  simulators: Sequence[tuple[str, Path, list[tuple[str, str, str]]]],
+                  connections: Sequence[tuple[str, str, str, str]]) -> Path:
+    """Write ``directory/OspSystemStructure.xml`` (fixed step ``step`` [s]) with each simulator
+    (name, FMU, typed initial values (variable, kind, literal)) and its FMU copied beside it,
+    and the connections (simulator, output, simulator, input); returns the XML's path."""
     d = Path(directory)
     d.mkdir(parents=True, exist_ok=True)
     ET.register_namespace("", OSP)
     root = ET.Element(f"{{{OSP}}}OspSystemStructure", {"version": "0.1"})
     ET.SubElement(root, f"{{{OSP}}}StartTime").text = "0.0"
-    ET.SubElement(root, f"{{{OSP}}}BaseStepSize").text = repr(float(system.jacobi_step))
+    ET.SubElement(root, f"{{{OSP}}}BaseStepSize").text = repr(float(step))
     ET.SubElement(root, f"{{{OSP}}}Algorithm").text = "fixedStep"
     sims = ET.SubElement(root, f"{{{OSP}}}Simulators")
-    fmus = {"controller": system.controller_fmu, "plant": system.plant_fmu}
-    for comp, values in _typed(system).items():
-        shutil.copyfile(fmus[comp], d / fmus[comp].name)
-        s = ET.SubElement(sims, f"{{{OSP}}}Simulator", {"name": comp, "source": fmus[comp].name,
-                                                         "stepSize": repr(float(system.jacobi_step))})
+    copied: set[Path] = set()
+    for name, fmu, values in simulators:
+        if fmu not in copied:
+            shutil.copyfile(fmu, d / fmu.name)
+            copied.add(fmu)
+        s = ET.SubElement(sims, f"{{{OSP}}}Simulator", {"name": name, "source": fmu.name,
+                                                         "stepSize": repr(float(step))})
         iv = ET.SubElement(s, f"{{{OSP}}}InitialValues")
         for var, kind, lit in values:
             ET.SubElement(ET.SubElement(iv, f"{{{OSP}}}InitialValue", {"variable": var}),
                           f"{{{OSP}}}{kind}", {"value": lit})
     conns = ET.SubElement(root, f"{{{OSP}}}Connections")
-    for a, ac, b, bc in CONNECTIONS:
+    for a, ac, b, bc in connections:
         vc = ET.SubElement(conns, f"{{{OSP}}}VariableConnection")
         ET.SubElement(vc, f"{{{OSP}}}Variable", {"simulator": a, "name": ac})
         ET.SubElement(vc, f"{{{OSP}}}Variable", {"simulator": b, "name": bc})
     out = d / "OspSystemStructure.xml"
     ET.ElementTree(root).write(out, encoding="utf-8", xml_declaration=True)
     return out
+
+
+def write_osp(system: ClosedLoopSystem, directory: str | Path) -> Path:
+    """Write ``directory/OspSystemStructure.xml`` and the two FMUs beside it; returns the XML."""
+    fmus = {"controller": system.controller_fmu, "plant": system.plant_fmu}
+    return osp_structure(directory, system.jacobi_step,
+                         [(comp, fmus[comp], values) for comp, values in _typed(system).items()],
+                         CONNECTIONS)
 
 
 def write_container(system: ClosedLoopSystem, path: str | Path) -> Path:

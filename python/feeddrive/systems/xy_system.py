@@ -13,13 +13,11 @@ see :mod:`.engines`).  :func:`master_run` runs the same system on
 """
 from __future__ import annotations
 
-import shutil
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
-from xml.etree import ElementTree as ET
 
 import numpy as np
 from fmpy import read_model_description
@@ -32,7 +30,7 @@ from ..harness.xy_table import AxisLoop, simulate_axes
 from ..validation.circle_test import centre_of, check_fits, controller_values
 from ..validation.xy_machine import AxisModel
 from .engines import quiet_libcosim
-from .files import OSP
+from .files import osp_structure
 
 START_DEG = 45.0
 
@@ -126,34 +124,11 @@ def components(system: XYSystem) -> dict[str, tuple[Path, dict[str, Any]]]:
 
 def write_xy_osp(system: XYSystem, directory: str | Path) -> Path:
     """``directory/OspSystemStructure.xml`` and both FMUs beside it; returns the XML."""
-    d = Path(directory)
-    d.mkdir(parents=True, exist_ok=True)
-    step = repr(float(system.Ts / system.jacobi_substeps))
-    ET.register_namespace("", OSP)
-    root = ET.Element(f"{{{OSP}}}OspSystemStructure", {"version": "0.1"})
-    ET.SubElement(root, f"{{{OSP}}}StartTime").text = "0.0"
-    ET.SubElement(root, f"{{{OSP}}}BaseStepSize").text = step
-    ET.SubElement(root, f"{{{OSP}}}Algorithm").text = "fixedStep"
-    sims = ET.SubElement(root, f"{{{OSP}}}Simulators")
-    for name, (fmu, values) in components(system).items():
-        if not (d / fmu.name).exists():
-            shutil.copyfile(fmu, d / fmu.name)
-        s = ET.SubElement(sims, f"{{{OSP}}}Simulator", {"name": name, "source": fmu.name,
-                                                         "stepSize": step})
-        iv = ET.SubElement(s, f"{{{OSP}}}InitialValues")
-        for var, kind, lit in _typed(fmu, values):
-            ET.SubElement(ET.SubElement(iv, f"{{{OSP}}}InitialValue", {"variable": var}),
-                          f"{{{OSP}}}{kind}", {"value": lit})
-    conns = ET.SubElement(root, f"{{{OSP}}}Connections")
-    for ax in system.axes:
-        c, p = f"{ax.lower()}_controller", f"{ax.lower()}_plant"
-        for a, ac, b, bc in ((p, "x", c, "x_meas"), (c, "u", p, "u")):
-            vc = ET.SubElement(conns, f"{{{OSP}}}VariableConnection")
-            ET.SubElement(vc, f"{{{OSP}}}Variable", {"simulator": a, "name": ac})
-            ET.SubElement(vc, f"{{{OSP}}}Variable", {"simulator": b, "name": bc})
-    out = d / "OspSystemStructure.xml"
-    ET.ElementTree(root).write(out, encoding="utf-8", xml_declaration=True)
-    return out
+    sims = [(name, fmu, _typed(fmu, values)) for name, (fmu, values) in components(system).items()]
+    conns = [(a, ac, b, bc) for ax in system.axes
+             for c, p in ((f"{ax.lower()}_controller", f"{ax.lower()}_plant"),)
+             for a, ac, b, bc in ((p, "x", c, "x_meas"), (c, "u", p, "u"))]
+    return osp_structure(directory, system.Ts / system.jacobi_substeps, sims, conns)
 
 
 def run_libcosim_xy(directory: str | Path, system: XYSystem) -> tuple[dict[str, np.ndarray], float]:

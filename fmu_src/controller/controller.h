@@ -14,6 +14,8 @@
 #define CTRL_NZ_MAX 16       /* ZPETC coefficients (order + 1) */
 #define CTRL_PREVIEW_MAX 64  /* ZPETC preview [samples] */
 #define CTRL_RB (CTRL_PREVIEW_MAX + 1)
+/* the most samples a reference may last: an exact double and a long (sample indices) */
+#define REF_MAX_SAMPLES 1e15
 
 enum { CTRL_STATE_SPACE = 1, CTRL_PID = 2, CTRL_PID_LEAD = 3 };
 enum { REF_INPUT = 0, REF_SINUSOID = 1, REF_POINT_TO_POINT = 2 };
@@ -39,6 +41,7 @@ typedef struct {
     double amp, w, centre, phase;     /* sinusoid */
     long n_sin;
     double x_start, sgn, speed, accel, dwell, t_acc, t_cruise;   /* point to point */
+    double p2p_samples;               /* ceil(duration of the move / Ts), checked before n_p2p */
     long n_p2p;
     /* feedforward */
     bool ff, ff_inertia, ff_cogging, ff_ripple, ff_offset;
@@ -62,12 +65,14 @@ typedef struct {
     ref_gen_t gen;
     gms_track_t gms;
     double u, x_cmd, u_ff, r_x;       /* outputs of the last sample */
+    double u_law;                     /* u of the last sample before the clamp */
 } ctrl_state_t;
 
 typedef struct { double x_ref, v_ref, a_ref, x_meas; } ctrl_in_t;
 
 /* ctrl_reference.c: sample j of the internal reference (x, v, a) */
-void ref_prepare(ctrl_params_t *p, double duration, double x_end);   /* derived constants */
+/* derived constants; n_sin only for a sinusoid (duration checked first), n_p2p left to ctrl_compile */
+void ref_prepare(ctrl_params_t *p, double duration, double x_end);
 void ref_sample(const ctrl_params_t *p, ref_gen_t *g, long j, double *x, double *v, double *a);
 
 /* ctrl_feedforward.c: u_ff [V] at the reference (x, v, a); advances the GMS along the reference */
@@ -75,7 +80,9 @@ double feedforward_sample(const ctrl_params_t *p, gms_track_t *g, double x, doub
 
 /* ctrl_law.c */
 void ctrl_reset(const ctrl_params_t *p, ctrl_state_t *s);
-/* one sample: u (and x_cmd, u_ff, r_x) from the inputs of this instant; advances the state */
-void ctrl_sample(const ctrl_params_t *p, ctrl_state_t *s, const ctrl_in_t *in);
+/* one sample: u (and x_cmd, u_ff, r_x) from the inputs of this instant; advances the state.
+ * false when a number it produced or keeps is not finite (a diverging controller or filter,
+ * inputs out of scale), with `why` naming it; the state is then unusable */
+bool ctrl_sample(const ctrl_params_t *p, ctrl_state_t *s, const ctrl_in_t *in, char *why, size_t whylen);
 
 #endif

@@ -6,6 +6,8 @@
  * fmi2DoStep commits it and takes every further sample inside the step with the inputs held. */
 #include <math.h>
 #include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -15,6 +17,11 @@
 #include "ctrl_params.h"
 
 #define CTRL_MAGIC 0x46444354u   /* "FDCT" */
+/* Work budget of one call (README "The controller FMU"): fmi2DoStep takes at most this many
+ * controller samples (h/Ts), a longer step is refused before any sample is taken */
+#define CTRL_BUDGET_SAMPLES 1e6
+/* the most values an array can hold (fmi2Real, the widest element): a larger nvr is no array */
+#define CTRL_MAX_NVR ((size_t)PTRDIFF_MAX / sizeof(fmi2Real))
 
 typedef struct {
     unsigned magic;
@@ -85,28 +92,38 @@ static int due(const ctrl_instance_t *c, double t) {
     return sample_time(c, c->s.k) <= t + time_eps(c, t);
 }
 
-/* the sample at the current instant from the current inputs (not yet committed) */
-static void evaluate(ctrl_instance_t *c) {
+/* the sample at the current instant from the current inputs (not yet committed); 0 when it is
+ * not finite (logged as fn's error, the instance in state Error, the outputs those of the last
+ * finite sample) */
+static int evaluate(ctrl_instance_t *c, const char *fn) {
     ctrl_in_t in;
-    if (c->pending_ok || !due(c, c->time)) return;
+    char why[160];
+    if (c->pending_ok || !due(c, c->time)) return 1;
     inputs(c, &in);
     c->pending = c->s;
-    ctrl_sample(&c->p, &c->pending, &in);
+    if (!ctrl_sample(&c->p, &c->pending, &in, why, sizeof why)) {
+        ctrl_log(c, fmi2Error, LOG_ERROR, "%s: sample %ld at t = %.17g s: %s (x_meas = %g m, x_ref = %g m): the "
+                 "controller or its pre-filter diverged (unstable ss.Ac / zpetc.a) or its inputs are out of scale",
+                 fn, c->s.k, sample_time(c, c->s.k), why, in.x_meas, in.x_ref);
+        c->fsm = ST_ERROR;
+        return 0;
+    }
     store_outputs(c, &c->pending);
     c->pending_ok = 1;
+    return 1;
 }
 
-static fmi2Status compile(ctrl_instance_t *c) {
+static fmi2Status compile(ctrl_instance_t *c, const char *fn) {
     char msg[512];
     if (!ctrl_compile(c->val, &c->p, msg, sizeof msg)) {
-        ctrl_log(c, fmi2Error, LOG_ERROR, "%s", msg);
+        ctrl_log(c, fmi2Error, LOG_ERROR, "%s: %s", fn, msg);
         return fmi2Error;
     }
     return fmi2OK;
 }
 
-static fmi2Status initialize(ctrl_instance_t *c) {
-    if (compile(c) != fmi2OK) { c->params_ok = 0; return fmi2Error; }
+static fmi2Status initialize(ctrl_instance_t *c, const char *fn) {
+    if (compile(c, fn) != fmi2OK) { c->params_ok = 0; return fmi2Error; }
     c->params_ok = 1;
     ctrl_reset(&c->p, &c->s);
     c->pending_ok = 0;
@@ -214,7 +231,7 @@ fmi2Status fmi2EnterInitializationMode(fmi2Component comp) {
 fmi2Status fmi2ExitInitializationMode(fmi2Component comp) {
     ctrl_instance_t *c = FMU_ENTER(comp, fmi2ExitInitializationMode);
     if (!c) return fmi2Error;
-    if (!c->params_ok && initialize(c) != fmi2OK) { c->fsm = ST_ERROR; return fmi2Error; }
+    if (!c->params_ok && initialize(c, "fmi2ExitInitializationMode") != fmi2OK) { c->fsm = ST_ERROR; return fmi2Error; }
     c->fsm = ST_STEP_COMPLETE;
     return fmi2OK;
 }
@@ -249,21 +266,36 @@ static int lookup(ctrl_instance_t *c, const char *fn, fmi2ValueReference vr, cha
     return row;
 }
 
+/* the value arrays of a get/set: not NULL when nvr > 0, nvr no more than an array can hold */
+static int arrays_ok(ctrl_instance_t *c, const char *fn, const fmi2ValueReference vr[], size_t nvr,
+                     const void *value) {
+    if (nvr > 0 && (!vr || !value)) {
+        ctrl_log(c, fmi2Error, LOG_ERROR, "%s: NULL array with nvr = %zu", fn, nvr);
+        return 0;
+    }
+    if (nvr > CTRL_MAX_NVR) {
+        ctrl_log(c, fmi2Error, LOG_ERROR, "%s: nvr = %zu: allowed at most %zu (no array holds more values)", fn,
+                 nvr, CTRL_MAX_NVR);
+        return 0;
+    }
+    return 1;
+}
+
 static fmi2Status get_values(ctrl_instance_t *c, const char *fn, const fmi2ValueReference vr[], size_t nvr,
                              char type, void *value) {
     size_t k;
-    if (!c) return fmi2Error;
-    if (nvr > 0 && (!vr || !value)) {
-        ctrl_log(c, fmi2Error, LOG_ERROR, "%s: NULL array with nvr = %zu", fn, nvr);
-        return fmi2Error;
-    }
-    if (c->fsm == ST_INIT && !c->params_ok && initialize(c) != fmi2OK) return fmi2Error;
-    if (c->params_ok && (c->fsm & (ST_INIT | ST_STEP_COMPLETE))) evaluate(c);
+    if (!c || !arrays_ok(c, fn, vr, nvr, value)) return fmi2Error;
+    if (c->fsm == ST_INIT && !c->params_ok && initialize(c, fn) != fmi2OK) return fmi2Error;
+    if (c->params_ok && (c->fsm & (ST_INIT | ST_STEP_COMPLETE)) && !evaluate(c, fn)) return fmi2Error;
     for (k = 0; k < nvr; k++) {
         int row = lookup(c, fn, vr[k], type);
         double v;
         if (row < 0) return fmi2Error;
         v = c->val[vr[k]];
+        if (!isfinite(v)) {   /* every value stored is finite: this guards the rule, it never fires */
+            ctrl_log(c, fmi2Error, LOG_ERROR, "%s: %s = %g is not finite", fn, CTRL_VARS[row].name, v);
+            return fmi2Error;
+        }
         if (type == 'R') ((fmi2Real *)value)[k] = v;
         else if (type == 'I') ((fmi2Integer *)value)[k] = (fmi2Integer)v;
         else ((fmi2Boolean *)value)[k] = v != 0.0 ? fmi2True : fmi2False;
@@ -310,11 +342,7 @@ static fmi2Status set_values(ctrl_instance_t *c, const char *fn, const fmi2Value
     size_t k;
     int param_changed = 0;
     char msg[512];
-    if (!c) return fmi2Error;
-    if (nvr > 0 && (!vr || !value)) {
-        ctrl_log(c, fmi2Error, LOG_ERROR, "%s: NULL array with nvr = %zu", fn, nvr);
-        return fmi2Error;
-    }
+    if (!c || !arrays_ok(c, fn, vr, nvr, value)) return fmi2Error;
     for (k = 0; k < nvr; k++) {   /* every value checked before any is stored */
         int row = lookup(c, fn, vr[k], type);
         const ctrl_var_t *mv;
@@ -345,7 +373,7 @@ static fmi2Status set_values(ctrl_instance_t *c, const char *fn, const fmi2Value
         double save[CTRL_NVR];
         memcpy(save, c->val, sizeof save);
         for (k = 0; k < nvr; k++) c->val[vr[k]] = as_double(type, value, k);
-        if (compile(c) != fmi2OK) {
+        if (compile(c, fn) != fmi2OK) {
             memcpy(c->val, save, sizeof save);
             c->p = old;
             return fmi2Error;
@@ -380,18 +408,34 @@ fmi2Status fmi2SetString(fmi2Component comp, const fmi2ValueReference vr[], size
 /* ---------------------------------------------------------------- co-simulation */
 fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h, fmi2Boolean noSetFMUStatePriorToCurrentPoint) {
     ctrl_instance_t *c = FMU_ENTER(comp, fmi2DoStep);
+    double samples, taken = 0.0;
     (void)noSetFMUStatePriorToCurrentPoint;
     if (!c) return fmi2Error;
-    if (!(h > 0.0) || !isfinite(t) || fabs(t - c->time) > 1e-9 * (fabs(t) > 1.0 ? fabs(t) : 1.0)) {
-        ctrl_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: currentCommunicationPoint = %.17g, step = %.17g: allowed the "
-                 "FMU's time %.17g and a step > 0", t, h, c->time);
+    if (!isfinite(h) || !(h > 0.0) || !isfinite(t) || !isfinite(t + h) ||
+        fabs(t - c->time) > 1e-9 * (fabs(t) > 1.0 ? fabs(t) : 1.0)) {
+        ctrl_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: currentCommunicationPoint = %.17g, communicationStepSize = "
+                 "%.17g: allowed the FMU's time %.17g and a finite communicationStepSize > 0", t, h, c->time);
+        return fmi2Error;
+    }
+    /* the samples this step takes, counted before the first: a refused step changes nothing */
+    samples = ceil((t + h - sample_time(c, c->s.k)) / c->p.Ts);
+    if (samples > CTRL_BUDGET_SAMPLES) {
+        ctrl_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: communicationStepSize = %.17g s spans %.0f samples of Ts = "
+                 "%g s: allowed at most %.0f samples per call (budget), communicationStepSize <= %g s at this Ts",
+                 h, samples, c->p.Ts, CTRL_BUDGET_SAMPLES, CTRL_BUDGET_SAMPLES * c->p.Ts);
         return fmi2Error;
     }
     while (sample_time(c, c->s.k) < t + h - time_eps(c, t + h)) {
         c->time = fmax(c->time, sample_time(c, c->s.k));
-        evaluate(c);
+        if (!evaluate(c, "fmi2DoStep")) return fmi2Error;
         c->s = c->pending;
         c->pending_ok = 0;
+        if (++taken > CTRL_BUDGET_SAMPLES + 2.0) {   /* the count above bounds this loop; kept as its guard */
+            ctrl_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: more than %.0f samples in one step (budget)",
+                     CTRL_BUDGET_SAMPLES);
+            c->fsm = ST_ERROR;
+            return fmi2Error;
+        }
     }
     c->time = t + h;
     return fmi2OK;

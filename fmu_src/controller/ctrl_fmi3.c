@@ -3,6 +3,9 @@
  * call sequence and messages (fmi3_log.h renames the functions), calloc/free for memory.
  * No event mode, no early return, no FMU state, no model exchange (as the FMI 2.0 FMU); the
  * functions neither FMU provides are in fmu_src/fmi3_stubs.c. */
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -92,9 +95,22 @@ fmi3Status fmi3Reset(fmi3Instance instance) { return (fmi3Status)fmi2Reset(insta
 
 /* ---------------------------------------------------------------- values: scalars only */
 
-static int scalars(fmi3Instance instance, const char *fn, size_t nvr, size_t nv) {
-    if (nvr == nv) return 1;
-    ctrl_refuse_message(instance, fn, "nValues must equal nValueReferences (this FMU has no arrays)");
+/* the arguments of a get/set of scalars: nValues = nValueReferences, no NULL array with
+ * nValueReferences > 0, no more values than an array of the widest element (fmi3Float64) holds
+ * (so that the Boolean conversion buffer's size cannot wrap) */
+static int scalars(fmi3Instance instance, const char *fn, const fmi3ValueReference vr[], size_t nvr,
+                   const void *v, size_t nv) {
+    char why[160];
+    if (nvr != nv)
+        snprintf(why, sizeof why, "nValues = %zu must equal nValueReferences = %zu (this FMU has no arrays)", nv, nvr);
+    else if (nvr > 0 && (!vr || !v))
+        snprintf(why, sizeof why, "NULL array with nValueReferences = %zu", nvr);
+    else if (nvr > (size_t)PTRDIFF_MAX / sizeof(fmi3Float64))
+        snprintf(why, sizeof why, "nValueReferences = %zu: allowed at most %zu (no array holds more values)", nvr,
+                 (size_t)PTRDIFF_MAX / sizeof(fmi3Float64));
+    else
+        return 1;
+    ctrl_refuse_message(instance, fn, why);
     return 0;
 }
 
@@ -102,9 +118,9 @@ static int scalars(fmi3Instance instance, const char *fn, size_t nvr, size_t nv)
  * controller has no such variable): served from the instance's time, the rest by fmi2GetReal */
 fmi3Status fmi3GetFloat64(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, fmi3Float64 v[], size_t nv) {
     size_t k, j;
-    if (!scalars(i, "fmi3GetFloat64", nvr, nv)) return fmi3Error;
-    for (k = 0; k < nvr && vr && vr[k] != 0; k++) {}
-    if (k == nvr || !v) return (fmi3Status)fmi2GetReal(i, vr, nvr, v);
+    if (!scalars(i, "fmi3GetFloat64", vr, nvr, v, nv)) return fmi3Error;
+    for (k = 0; k < nvr && vr[k] != 0; k++) {}
+    if (k == nvr) return (fmi3Status)fmi2GetReal(i, vr, nvr, v);
     for (k = 0; k < nvr; k = j) {
         fmi2Status st;
         if (vr[k] == 0) {
@@ -119,22 +135,32 @@ fmi3Status fmi3GetFloat64(fmi3Instance i, const fmi3ValueReference vr[], size_t 
     return fmi3OK;
 }
 fmi3Status fmi3SetFloat64(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, const fmi3Float64 v[], size_t nv) {
-    return scalars(i, "fmi3SetFloat64", nvr, nv) ? (fmi3Status)fmi2SetReal(i, vr, nvr, v) : fmi3Error;
+    return scalars(i, "fmi3SetFloat64", vr, nvr, v, nv) ? (fmi3Status)fmi2SetReal(i, vr, nvr, v) : fmi3Error;
 }
 fmi3Status fmi3GetInt32(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, fmi3Int32 v[], size_t nv) {
-    return scalars(i, "fmi3GetInt32", nvr, nv) ? (fmi3Status)fmi2GetInteger(i, vr, nvr, v) : fmi3Error;
+    return scalars(i, "fmi3GetInt32", vr, nvr, v, nv) ? (fmi3Status)fmi2GetInteger(i, vr, nvr, v) : fmi3Error;
 }
 fmi3Status fmi3SetInt32(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, const fmi3Int32 v[], size_t nv) {
-    return scalars(i, "fmi3SetInt32", nvr, nv) ? (fmi3Status)fmi2SetInteger(i, vr, nvr, v) : fmi3Error;
+    return scalars(i, "fmi3SetInt32", vr, nvr, v, nv) ? (fmi3Status)fmi2SetInteger(i, vr, nvr, v) : fmi3Error;
 }
+/* the FMI 2.0 Booleans of n FMI 3.0 ones (n checked by scalars: n + 1 cannot wrap) */
+static fmi2Boolean *bool_buffer(fmi3Instance i, const char *fn, size_t n) {
+    fmi2Boolean *b = (fmi2Boolean *)calloc(n + 1, sizeof *b);
+    char why[96];
+    if (b) return b;
+    snprintf(why, sizeof why, "no memory for %zu Boolean values", n);
+    ctrl_refuse_message(i, fn, why);
+    return NULL;
+}
+
 fmi3Status fmi3GetBoolean(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, fmi3Boolean v[], size_t nv) {
     fmi2Boolean *b;
     fmi3Status st;
     size_t k;
-    if (!scalars(i, "fmi3GetBoolean", nvr, nv)) return fmi3Error;
-    if (!(b = (fmi2Boolean *)calloc(nvr + 1, sizeof *b))) return fmi3Error;
-    st = (fmi3Status)fmi2GetBoolean(i, vr, nvr, v ? b : NULL);
-    if (st == fmi3OK && v)
+    if (!scalars(i, "fmi3GetBoolean", vr, nvr, v, nv)) return fmi3Error;
+    if (!(b = bool_buffer(i, "fmi3GetBoolean", nvr))) return fmi3Error;
+    st = (fmi3Status)fmi2GetBoolean(i, vr, nvr, b);
+    if (st == fmi3OK)
         for (k = 0; k < nvr; k++) v[k] = b[k] != fmi2False;
     free(b);
     return st;
@@ -143,10 +169,10 @@ fmi3Status fmi3SetBoolean(fmi3Instance i, const fmi3ValueReference vr[], size_t 
     fmi2Boolean *b;
     fmi3Status st;
     size_t k;
-    if (!scalars(i, "fmi3SetBoolean", nvr, nv)) return fmi3Error;
-    if (!(b = (fmi2Boolean *)calloc(nvr + 1, sizeof *b))) return fmi3Error;
-    for (k = 0; k < nvr && v; k++) b[k] = v[k] ? fmi2True : fmi2False;
-    st = (fmi3Status)fmi2SetBoolean(i, vr, nvr, v ? b : NULL);
+    if (!scalars(i, "fmi3SetBoolean", vr, nvr, v, nv)) return fmi3Error;
+    if (!(b = bool_buffer(i, "fmi3SetBoolean", nvr))) return fmi3Error;
+    for (k = 0; k < nvr; k++) b[k] = v[k] ? fmi2True : fmi2False;
+    st = (fmi3Status)fmi2SetBoolean(i, vr, nvr, b);
     free(b);
     return st;
 }

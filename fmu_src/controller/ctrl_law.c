@@ -5,6 +5,7 @@
  * (scipy.signal.lfilter's direct form II transposed, steady at the first reference sample),
  * and the feedforward. The operations are those of the Python twins, in the same order. */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "controller.h"
@@ -42,14 +43,18 @@ static double push_reference(const ctrl_params_t *p, ctrl_state_t *s, long j, do
     return zpetc_filter(p, s->z, x);
 }
 
+/* the output clamp +-u_limit; NaN stays NaN (fmin/fmax would turn it into a limit), so that
+ * ctrl_sample's finiteness check sees it */
+static double clamp_u(double u, double lim) { return u > lim ? lim : (u < -lim ? -lim : u); }
+
 static double state_space(const ctrl_params_t *p, ctrl_state_t *s, double y, double r, double uff) {
     double u = 0.0, w, old[CTRL_NS_MAX];
     int i, j, n = p->n;
     if (s->fresh) { s->s[0] = y; s->fresh = false; }
     for (j = 0; j < n; j++) u = u + p->Cc[j] * s->s[j];
     u = u + p->Dy * y + p->Dr * r + uff;
-    if (u > p->u_limit) u = p->u_limit;
-    if (u < -p->u_limit) u = -p->u_limit;
+    s->u_law = u;
+    u = clamp_u(u, p->u_limit);
     w = u - uff;
     memcpy(old, s->s, sizeof old);
     for (i = 0; i < n; i++) {
@@ -82,11 +87,45 @@ static double pid(const ctrl_params_t *p, ctrl_state_t *s, double y, double r, d
     }
     u = F / p->fpv;
     if (p->ff) u += uff;
+    s->u_law = u;
     if (p->anti_windup && fabs(u) > p->u_limit && u * e > 0) s->q = q_before;
-    return fmin(fmax(u, -p->u_limit), p->u_limit);
+    return clamp_u(u, p->u_limit);
 }
 
-void ctrl_sample(const ctrl_params_t *p, ctrl_state_t *s, const ctrl_in_t *in) {
+/* every number the sample produced or keeps is finite, else false with the first one named */
+static bool finite_or_why(const char *what, int idx, double v, char *why, size_t n) {
+    if (isfinite(v)) return true;
+    if (idx >= 0) snprintf(why, n, "%s[%d] = %g is not finite", what, idx + 1, v);
+    else snprintf(why, n, "%s = %g is not finite", what, v);
+    return false;
+}
+
+static bool sample_finite(const ctrl_params_t *p, const ctrl_state_t *s, double y, char *why, size_t n) {
+    int j;
+    if (!finite_or_why("x_meas after the scale quantisation", -1, y, why, n)) return false;
+    if (!finite_or_why("the reference r_x", -1, s->r_x, why, n) ||
+        !finite_or_why("the command x_cmd (ZPETC output)", -1, s->x_cmd, why, n))
+        return false;
+    for (j = 0; p->zpetc && j < p->nzc - 1; j++)
+        if (!finite_or_why("the ZPETC filter state", j, s->z[j], why, n)) return false;
+    if (!finite_or_why("the feedforward u_ff", -1, s->u_ff, why, n)) return false;
+    if (p->type == CTRL_STATE_SPACE) {
+        if (!finite_or_why("the state-space output before the clamp", -1, s->u_law, why, n)) return false;
+        for (j = 0; j < p->n; j++)
+            if (!finite_or_why("the state-space state s", j, s->s[j], why, n)) return false;
+    } else {
+        if (!finite_or_why("the PID output before the clamp", -1, s->u_law, why, n) ||
+            !finite_or_why("the PID integral", -1, s->q, why, n) ||
+            !finite_or_why("the PID derivative", -1, s->D, why, n) ||
+            !finite_or_why("the PID error", -1, s->e_prev, why, n) ||
+            !finite_or_why("the lead filter input", -1, s->F_prev, why, n) ||
+            !finite_or_why("the lead filter output", -1, s->L_prev, why, n))
+            return false;
+    }
+    return finite_or_why("u", -1, s->u, why, n);
+}
+
+bool ctrl_sample(const ctrl_params_t *p, ctrl_state_t *s, const ctrl_in_t *in, char *why, size_t whylen) {
     long k = s->k, j;
     int slot = (int)(k % CTRL_RB);
     double y = in->x_meas, r, uff = 0.0;
@@ -101,4 +140,5 @@ void ctrl_sample(const ctrl_params_t *p, ctrl_state_t *s, const ctrl_in_t *in) {
     s->r_x = s->rx[slot];
     s->u = p->type == CTRL_STATE_SPACE ? state_space(p, s, y, r, uff) : pid(p, s, y, r, uff);
     s->k = k + 1;
+    return sample_finite(p, s, y, why, whylen);
 }

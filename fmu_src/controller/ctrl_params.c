@@ -66,7 +66,7 @@ static bool compile_pid(const double *val, ctrl_params_t *p, char *msg, size_t m
     p->fpv = val[CVR_pid_force_per_volt];
     p->tf = val[CVR_pid_tf];
     p->anti_windup = val[CVR_pid_anti_windup] != 0.0;
-    if (!(p->fpv > 0.0)) FAIL("pid.force_per_volt = %.17g: allowed (0, inf) N/V", p->fpv);
+    if (!(p->fpv > 0.0)) FAIL("pid.force_per_volt = %.17g: allowed (0, 1e15] N/V", p->fpv);
     p->pid_a = p->tf / (p->tf + p->Ts);
     p->pid_b = p->Kv / (p->tf + p->Ts);
     p->lead = p->type == CTRL_PID_LEAD;
@@ -131,7 +131,9 @@ static bool compile_reference(const double *val, ctrl_params_t *p, char *msg, si
     if (p->source == REF_SINUSOID) {
         double T = val[CVR_ref_period];
         if (!(T > 0.0)) FAIL("ref.period = %.17g: allowed (0, inf) s", T);
-        if (!(dur >= 0.0 && dur / p->Ts < 1e12)) FAIL("ref.duration = %.17g: allowed [0, %.17g] s", dur, 1e12 * p->Ts);
+        if (!(dur >= 0.0 && dur / p->Ts <= REF_MAX_SAMPLES))
+            FAIL("ref.duration = %.17g s is %g samples of Ts = %g s: allowed at most %g samples, ref.duration <= "
+                 "%g s", dur, dur / p->Ts, p->Ts, REF_MAX_SAMPLES, REF_MAX_SAMPLES * p->Ts);
         p->w = 2 * M_PI / T;
     }
     if (p->source == REF_POINT_TO_POINT) {
@@ -140,6 +142,12 @@ static bool compile_reference(const double *val, ctrl_params_t *p, char *msg, si
         if (!(x_end != p->x_start)) FAIL("ref.x_end = %.17g: allowed any position but ref.x_start = %.17g m", x_end, p->x_start);
     }
     ref_prepare(p, dur, x_end);
+    if (p->source == REF_POINT_TO_POINT && !(p->p2p_samples <= REF_MAX_SAMPLES))
+        FAIL("ref.x_start = %.17g m, ref.x_end = %.17g m, ref.speed = %.17g m/s, ref.accel = %.17g m/s2, ref.dwell = "
+             "%.17g s: the move lasts %g s, %g samples of Ts = %g s: allowed at most %g samples", p->x_start,
+             x_end, val[CVR_ref_speed], p->accel, p->dwell, p->p2p_samples * p->Ts, p->p2p_samples, p->Ts,
+             REF_MAX_SAMPLES);
+    if (p->source == REF_POINT_TO_POINT) p->n_p2p = (long)p->p2p_samples;
     return true;
 }
 
@@ -155,7 +163,7 @@ bool ctrl_compile(const double *val, ctrl_params_t *p, char *msg, size_t msglen)
         FAIL("ctrl.type = %d: allowed 1 (state_space), 2 (pid), 3 (pid_lead)", p->type);
     if (p->source < REF_INPUT || p->source > REF_POINT_TO_POINT)
         FAIL("ref.source = %d: allowed 0 (inputs), 1 (sinusoid), 2 (point to point)", p->source);
-    if (!(p->u_limit > 0.0)) FAIL("u_limit = %.17g: allowed (0, inf) V", p->u_limit);
+    if (!(p->u_limit > 0.0)) FAIL("u_limit = %.17g: allowed (0, 1e6] V", p->u_limit);
     if (!(p->quantum >= 0.0)) FAIL("scale.quantum = %.17g: allowed [0, inf) m", p->quantum);
     if (p->type == CTRL_STATE_SPACE) { if (!compile_state_space(val, p, msg, msglen)) return false; }
     else if (!compile_pid(val, p, msg, msglen)) return false;
@@ -170,7 +178,7 @@ bool ctrl_compile(const double *val, ctrl_params_t *p, char *msg, size_t msglen)
     if (p->ff_friction < FF_FRICTION_NONE || p->ff_friction > FF_FRICTION_GMS)
         FAIL("ff.friction = %d: allowed 0 (none), 1 (static), 2 (gms)", p->ff_friction);
     if (p->ff && p->ff_friction == FF_FRICTION_STATIC && !(p->v_eps > 0.0))
-        FAIL("ff.v_eps = %.17g: allowed (0, inf) m/s", p->v_eps);
+        FAIL("ff.v_eps = %.17g: allowed (0, 1000] m/s", p->v_eps);
     if (p->ff && !compile_plant(val, p, msg, msglen)) return false;
     return true;
 }

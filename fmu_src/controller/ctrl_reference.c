@@ -9,7 +9,9 @@
 
 void ref_prepare(ctrl_params_t *p, double duration, double x_end) {
     double d = x_end - p->x_start, L, T;
-    p->n_sin = (long)nearbyint(duration / p->Ts);
+    /* the sample counts as doubles first: ctrl_compile converts them to long only when they are
+     * at most REF_MAX_SAMPLES (a larger double to long is undefined) */
+    p->n_sin = p->source == REF_SINUSOID ? (long)nearbyint(duration / p->Ts) : 0;
     if (p->source == REF_POINT_TO_POINT) {
         p->sgn = (double)((d > 0.0) - (d < 0.0));
         L = fabs(d);
@@ -20,7 +22,7 @@ void ref_prepare(ctrl_params_t *p, double duration, double x_end) {
         }
         p->t_cruise = (L - p->accel * (p->t_acc * p->t_acc)) / p->speed;
         T = p->dwell + 2 * p->t_acc + p->t_cruise + p->dwell;
-        p->n_p2p = (long)ceil(T / p->Ts);
+        p->p2p_samples = ceil(T / p->Ts);
     }
 }
 

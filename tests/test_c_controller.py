@@ -1,0 +1,128 @@
+"""The controller FMU (DriveController, FMI 2.0 and 3.0) under the C test host tests/c/ctrl_host
+(ctrl_host.c, ctrl_fuzz.c, ctrl_threads.c), built here with make: the controller's sources linked
+in under AddressSanitizer + UBSan (``ctrl_host_san``) or ThreadSanitizer (``ctrl_host_tsan``), or
+the shipped DriveController.so loaded with dlopen (``ctrl_host``, FMI 2.0).
+
+* the defect cases, one process each: a step of +-Inf/NaN, a step of 2e12 samples and one of 1e8
+  samples at the smallest Ts are refused with the budget named (and change nothing);
+  fmi3GetFloat64 with a NULL value-reference array, the Boolean calls (FMI 2.0 and 3.0) with
+  nValueReferences = SIZE_MAX answer Error; an unstable state-space controller ends with an
+  error naming the state that left the finite numbers and no getter answers OK with a
+  non-finite value; reference parameters whose sample counts do not fit a long are refused (at
+  the set: out of the declared range; at initialisation: the derived count, rule named);
+* random FMI 2.0 and 3.0 calls and random settings (ctrl_fuzz.c's checks: valid status, a
+  message with every non-OK answer, Error for every call illegal by its arguments, finite
+  values from every getter that answers OK, no allocation left);
+* 8 instances in threads give the runs of one at a time to the bit (no data race under TSan).
+"""
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+OUT = REPO / "build" / "tests_c"
+CTRL_SO = REPO / "build" / "controller" / "binaries" / "linux64" / "DriveController.so"
+SAN_ENV = {"ASAN_OPTIONS": "detect_leaks=1:abort_on_error=1:halt_on_error=1",
+           "UBSAN_OPTIONS": "print_stacktrace=1:halt_on_error=1"}
+SANITIZER_MARKS = ("runtime error:", "AddressSanitizer", "LeakSanitizer", "UndefinedBehaviorSanitizer",
+                   "ThreadSanitizer")
+CASES = ["step_inf", "step_huge", "step_tiny_ts", "get_float64_null", "boolean_size_max3",
+         "boolean_size_max2", "unstable_state_space", "ref_duration", "ref_duration_samples",
+         "ref_point_to_point", "ref_p2p_samples"]
+#: the cases of the FMI 2.0 library alone (the plain, dlopen-ed build)
+CASES_FMI2 = [c for c in CASES if c not in ("get_float64_null", "boolean_size_max3")]
+
+
+def build(*targets: str) -> None:
+    subprocess.run(["make", "-s", "-j2", "-C", str(REPO / "tests" / "c")] + [str(OUT / t) for t in targets],
+                   check=True, capture_output=True, text=True)
+
+
+def run(prog: str, *args: str, timeout: float = 300) -> subprocess.CompletedProcess:
+    """Run a ctrl_host build; a run that does not end within ``timeout`` fails the test."""
+    lib = str(CTRL_SO) if prog == "ctrl_host" else "-"
+    try:
+        return subprocess.run([str(OUT / prog), lib, *args], capture_output=True, text=True, timeout=timeout,
+                              env=dict(os.environ, **SAN_ENV))
+    except subprocess.TimeoutExpired:
+        pytest.fail(f"{prog} {' '.join(args)} did not end within {timeout} s")
+
+
+def assert_clean(p: subprocess.CompletedProcess) -> None:
+    report = p.stdout[-3000:] + "\n" + p.stderr[-3000:]
+    assert not any(m in p.stderr for m in SANITIZER_MARKS), report
+    assert p.returncode == 0, report
+    assert p.stdout.splitlines() and " 0 failed" in p.stdout.splitlines()[-1], report
+
+
+@pytest.fixture(scope="module")
+def san(fmu_path: Path) -> None:
+    build("ctrl_host_san")
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_defect_case_sanitized(san, case: str) -> None:
+    """Each case in its own process under ASan + UBSan: a hang, a crash or a sanitizer report fails it."""
+    p = run("ctrl_host_san", "defects", case, timeout=60)
+    print(p.stdout)
+    assert_clean(p)
+    assert p.stdout.startswith(f"PASS {case}:"), p.stdout
+
+
+def test_defect_cases_shipped_library(fmu_path: Path) -> None:
+    """The FMI 2.0 cases against build/controller/.../DriveController.so as an importer loads it."""
+    build("ctrl_host")
+    for case in CASES_FMI2:
+        p = run("ctrl_host", "defects", case, timeout=60)
+        assert_clean(p)
+
+
+def _counts(stdout: str) -> dict[str, int]:
+    """The fuzz run's counts by name (the numbers of its two summary lines)."""
+    lines = stdout.splitlines()[-3:-1]
+    text = " ".join(lines).replace("FMI 3.0", "")
+    keys = ["calls", "fmi3", "illegal", "finite_gets", "values", "steps", "settings", "set_refused",
+            "init_refused", "diverged", "samples", "ran"]
+    return dict(zip(keys, map(int, re.findall(r"\d+", text)), strict=True))
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_fuzz_sanitized(san, seed: int) -> None:
+    """1 000 000 random FMI 2.0 / 3.0 calls per seed under ASan + UBSan."""
+    p = run("ctrl_host_san", "fuzz", "1000000", str(seed))
+    print("\n".join(p.stdout.splitlines()[-3:]))
+    assert_clean(p)
+    n = _counts(p.stdout)
+    # deep enough to mean something: both versions, every kind of answer
+    assert n["calls"] >= 1_000_000 and n["fmi3"] > 300_000, n
+    assert n["illegal"] > 40_000 and n["finite_gets"] > 300_000 and n["steps"] > 300_000, n
+    assert n["settings"] > 8_000 and n["init_refused"] > 500 and n["diverged"] > 50 and n["ran"] > 5_000, n
+
+
+def test_fuzz_shipped_library(fmu_path: Path) -> None:
+    """The FMI 2.0 part of the fuzz against the shipped DriveController.so."""
+    build("ctrl_host")
+    p = run("ctrl_host", "fuzz", "500000", "11")
+    print("\n".join(p.stdout.splitlines()[-3:]))
+    assert_clean(p)
+
+
+def test_threads_sanitized(san) -> None:
+    p = run("ctrl_host_san", "threads", "1", "8")
+    print(p.stdout)
+    assert_clean(p)
+    assert p.stdout.count("PASS instance") == 8
+
+
+def test_threads_thread_sanitizer(fmu_path: Path) -> None:
+    """ThreadSanitizer: no data race between instances in 8 threads."""
+    build("ctrl_host_tsan")
+    p = run("ctrl_host_tsan", "threads", "0.5", "8")
+    print(p.stdout)
+    assert_clean(p)
+    assert p.stdout.count("PASS instance") == 8

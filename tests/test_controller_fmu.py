@@ -217,6 +217,7 @@ def _refused(values: Mapping[str, Any], set_after: Mapping[str, Any] | None = No
     ({"x_meas": float("nan")}, "x_meas", "nan", "finite"),
     ({"ctrl.type": 3, "lead.zero_hz": 200.0}, "lead.zero_hz", "200", "(0, lead.pole_hz = 120) Hz"),
     ({"ctrl.type": 3, "lead.pole_hz": 1500.0}, "lead.pole_hz", "1500", "1000) Hz (Nyquist)"),
+    ({"ctrl.type": 3, "lead.zero_hz": 1e-320}, "lead.zero_hz", "9.9998886718268301e-321", "not finite"),
     ({"u_limit": 0.0}, "u_limit", "0", "(0, 1e6] V"),
     ({"pid.force_per_volt": 0.0}, "pid.force_per_volt", "0", "(0, 1e15] N/V"),
     ({"ref.source": 1, "ref.period": 0.0}, "ref.period", "0", "allowed [1.0000000000000001e-09, 1000000000] s"),

@@ -82,6 +82,9 @@ static bool compile_pid(const double *val, ctrl_params_t *p, char *msg, size_t m
         p->lead_b0 = (1.0 + K / wz) / a0;
         p->lead_b1 = (1.0 - K / wz) / a0;
         p->lead_a1 = (1.0 - K / wp) / a0;
+        if (!(isfinite(p->lead_b0) && isfinite(p->lead_b1) && isfinite(p->lead_a1)))
+            FAIL("lead.zero_hz = %.17g Hz, lead.pole_hz = %.17g Hz: the lead's Tustin coefficients at Ts = %g s are "
+                 "not finite (allowed: 2/(Ts 2 pi lead.zero_hz) a finite number)", fz, fp, p->Ts);
     }
     return true;
 }

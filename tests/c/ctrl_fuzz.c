@@ -40,6 +40,26 @@ static uint64_t rng_state = 88172645463325252ull;
 static long n_calls, n_pass, n_fail, n_illegal, n_finite_gets, n_values_checked, n_settings, n_set_refused,
     n_init_refused, n_diverged, n_ran, n_steps_ok, n_fmi3_calls;
 static const char *cur_fn = "";
+/* the variables the refusals at initialisation named (the message's first "<name> = "), counted */
+#define NRULES 48
+static char rule_name[NRULES][48];
+static long rule_count[NRULES];
+
+static void count_rule(const char *msg) {
+    const char *p = strstr(msg, ": "), *q;
+    size_t n;
+    int k;
+    p = p ? p + 2 : msg;
+    q = strchr(p, ' ');
+    n = q ? (size_t)(q - p) : strlen(p);
+    if (n >= sizeof rule_name[0]) n = sizeof rule_name[0] - 1;
+    for (k = 0; k < NRULES && rule_name[k][0]; k++)
+        if (strlen(rule_name[k]) == n && !strncmp(rule_name[k], p, n)) { rule_count[k]++; return; }
+    if (k == NRULES) return;
+    memcpy(rule_name[k], p, n);
+    rule_name[k][n] = 0;
+    rule_count[k] = 1;
+}
 
 static uint64_t rnd(void) {
     rng_state ^= rng_state << 13;
@@ -450,7 +470,7 @@ static void random_setting(slot_t *s) {
     }
     call_progress(s);
     if (s->st == S_INIT) call_progress(s);
-    if (s->st != S_STEP) { n_init_refused++; return; }
+    if (s->st != S_STEP) { n_init_refused++; count_rule(s->v3 ? s->e3.last : s->env.last); return; }
     for (j = 0; j < N_SAMPLES_SETTING; j++) {
         double r[4];
         unsigned vr[4] = {CVR_u, CVR_x_cmd, CVR_u_ff, CVR_r_x};
@@ -523,6 +543,9 @@ int fuzz_main(int argc, char **argv) {
         n_fail++;
         printf("FAIL %ld callback allocations left after every instance was freed\n", host_live_allocations() - live0);
     }
+    printf("refused at initialisation, by the variable named:");
+    for (j = 0; j < NRULES && rule_name[j][0]; j++) printf(" %s %ld%s", rule_name[j], rule_count[j], j + 1 < NRULES && rule_name[j + 1][0] ? "," : "\n");
+    if (!rule_name[0][0]) printf(" none\n");
     printf("calls: %ld (FMI 3.0: %ld), illegal calls checked: %ld, OK getters checked finite: %ld (%ld values), "
            "steps OK: %ld\n", n_calls, n_fmi3_calls, n_illegal, n_finite_gets, n_values_checked, n_steps_ok);
     printf("settings tried: %ld (%ld sets refused), refused at initialisation: %ld, stopped by a non-finite value: "

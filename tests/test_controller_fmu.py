@@ -334,3 +334,40 @@ def test_sources_listed_shipped_and_rebuildable(ctrl_fmu, tmp_path) -> None:
             c.start({"x_meas": float(x_meas[0])})
             us.append(np.array([c.step(k, float(x_meas[k])) for k in range(ref.n)]))
     assert float(np.max(np.abs(us[0] - us[1]))) <= TOL_V
+
+
+# ---------------------------------------------------------------- bounded work, finite answers
+def test_step_budget_refuses_before_any_sample(ctrl_fmu) -> None:
+    """0.1 s at Ts = 1 ns (its declared minimum) is 1e8 samples, past the budget of 1e6 per
+    call: fmi2Error naming the rule, the time unchanged; 1e-5 s (1e4 samples) then steps."""
+    with ControllerFMU({"Ts": 1e-9}) as c:
+        c.start({"x_meas": 0.15})
+        r = c.raw_calls()
+        assert r.do_step(r.component, 0.0, 0.1, 1) == 3
+        assert "spans 100000000 samples of Ts = 1e-09 s: allowed at most 1000000" in c.messages[-1]
+        assert r.do_step(r.component, 0.0, 1e-5, 1) == 0
+
+
+def test_unstable_state_space_ends_with_an_error_not_nan(ctrl_fmu) -> None:
+    """Ac = 1.5 I on two states, By = [1, 2], Cc = [1, -1], x_meas = 0.15 m held: the states grow
+    as 1.5^k until one overflows, where u would be inf - inf = NaN. Every u answered is finite
+    and the sample whose update overflows (found by running the same recursion in Python, the
+    C's operations in its order) is the one refused, naming the state."""
+    values = {"ctrl.type": 1, "ss.n": 2, "ss.Ac[1,1]": 1.5, "ss.Ac[2,2]": 1.5, "ss.By[1]": 1.0,
+              "ss.By[2]": 2.0, "ss.Cc[1]": 1.0, "ss.Cc[2]": -1.0}
+    y, s1, s2, k_bad = 0.15, 0.15, 0.0, 0
+    with np.errstate(over="ignore"):
+        while np.isfinite(s1) and np.isfinite(s2):
+            s1, s2 = np.float64(1.5) * s1 + 0.0 * s2 + 1.0 * y, 0.0 * s1 + np.float64(1.5) * s2 + 2.0 * y
+            k_bad += 1
+    k_bad -= 1   # sample k updates the state to s[k + 1]
+    us: list[float] = []
+    with ControllerFMU(values) as c:
+        c.start({"x_meas": y})
+        with pytest.raises(FMUError) as err:
+            for k in range(k_bad + 10):
+                us.append(c.step(k, y))
+    assert len(us) == k_bad and 1700 < k_bad < 1800, (len(us), k_bad)
+    assert np.isfinite(us).all() and us[-1] == -10.0   # saturated at -u_limit before the overflow
+    msg = str(err.value)
+    assert f"sample {k_bad} " in msg and "state-space state s[" in msg and "= inf is not finite" in msg, msg

@@ -1,7 +1,8 @@
 """The controller FMU (DriveController, FMI 2.0 and 3.0) under the C test host tests/c/ctrl_host
 (ctrl_host.c, ctrl_fuzz.c, ctrl_threads.c), built here with make: the controller's sources linked
 in under AddressSanitizer + UBSan (``ctrl_host_san``) or ThreadSanitizer (``ctrl_host_tsan``), or
-the shipped DriveController.so loaded with dlopen (``ctrl_host``, FMI 2.0).
+the shipped libraries as an importer loads them (``ctrl_host3``: DriveController.so through dlopen,
+DriveController3.so linked for the FMI 3.0 calls).
 
 * the defect cases, one process each: a step of +-Inf/NaN, a step of 2e12 samples and one of 1e8
   samples at the smallest Ts are refused with the budget named (and change nothing);
@@ -34,8 +35,6 @@ SANITIZER_MARKS = ("runtime error:", "AddressSanitizer", "LeakSanitizer", "Undef
 CASES = ["step_inf", "step_huge", "step_tiny_ts", "get_float64_null", "boolean_size_max3",
          "boolean_size_max2", "unstable_state_space", "ref_duration", "ref_duration_samples",
          "ref_point_to_point", "ref_p2p_samples"]
-#: the cases of the FMI 2.0 library alone (the plain, dlopen-ed build)
-CASES_FMI2 = [c for c in CASES if c not in ("get_float64_null", "boolean_size_max3")]
 
 
 def build(*targets: str) -> None:
@@ -45,7 +44,7 @@ def build(*targets: str) -> None:
 
 def run(prog: str, *args: str, timeout: float = 300) -> subprocess.CompletedProcess:
     """Run a ctrl_host build; a run that does not end within ``timeout`` fails the test."""
-    lib = str(CTRL_SO) if prog == "ctrl_host" else "-"
+    lib = str(CTRL_SO) if prog == "ctrl_host3" else "-"
     try:
         return subprocess.run([str(OUT / prog), lib, *args], capture_output=True, text=True, timeout=timeout,
                               env=dict(os.environ, **SAN_ENV))
@@ -74,11 +73,11 @@ def test_defect_case_sanitized(san, case: str) -> None:
     assert p.stdout.startswith(f"PASS {case}:"), p.stdout
 
 
-def test_defect_cases_shipped_library(fmu_path: Path) -> None:
-    """The FMI 2.0 cases against build/controller/.../DriveController.so as an importer loads it."""
-    build("ctrl_host")
-    for case in CASES_FMI2:
-        p = run("ctrl_host", "defects", case, timeout=60)
+def test_defect_cases_shipped_libraries(fmu_path: Path) -> None:
+    """Every case against the built DriveController.so and DriveController3.so."""
+    build("ctrl_host3")
+    for case in CASES:
+        p = run("ctrl_host3", "defects", case, timeout=60)
         assert_clean(p)
 
 
@@ -104,10 +103,10 @@ def test_fuzz_sanitized(san, seed: int) -> None:
     assert n["settings"] > 8_000 and n["init_refused"] > 500 and n["diverged"] > 50 and n["ran"] > 5_000, n
 
 
-def test_fuzz_shipped_library(fmu_path: Path) -> None:
-    """The FMI 2.0 part of the fuzz against the shipped DriveController.so."""
-    build("ctrl_host")
-    p = run("ctrl_host", "fuzz", "500000", "11")
+def test_fuzz_shipped_libraries(fmu_path: Path) -> None:
+    """The fuzz against the built DriveController.so and DriveController3.so."""
+    build("ctrl_host3")
+    p = run("ctrl_host3", "fuzz", "500000", "11")
     print("\n".join(p.stdout.splitlines()[-3:]))
     assert_clean(p)
 

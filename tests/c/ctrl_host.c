@@ -3,7 +3,8 @@
  *                                            FMU's answer: "PASS|FAIL <case>: <answer>"
  *        ctrl_host LIB|- fuzz [calls] [seed] random FMI 2.0 / 3.0 calls and settings (ctrl_fuzz.c)
  *        ctrl_host LIB|- threads [seconds] [threads]   parallel == sequential (ctrl_threads.c)
- * LIB: DriveController.so (FMI 2.0 only), or - for the sources linked in. Ends with
+ * LIB: DriveController.so (the plain build ctrl_host3, linked against DriveController3.so for
+ * the FMI 3.0 calls), or - for the sources linked in (ctrl_host_san, ctrl_host_tsan). Ends with
  * "N passed, M failed"; exit 0 only without a failure. */
 #include "ctrl_host.h"
 
@@ -245,15 +246,15 @@ static void case_boolean_size_max2(void) {
 
 /* an unstable state-space controller (Ac = 2 I, Cc = [1, -1]): its states double every sample
  * until they overflow, where u = inf - inf = NaN; no getter may answer OK with it */
+static const unsigned UNSTABLE_VR[6] = {CVRA2_ss_Ac[1][1], CVRA2_ss_Ac[2][2], CVRA_ss_By[1], CVRA_ss_By[2],
+                                        CVRA_ss_Cc[1], CVRA_ss_Cc[2]};
+static const double UNSTABLE_VALUE[6] = {2.0, 2.0, 1.0, 2.0, 1.0, -1.0};
+static const unsigned UNSTABLE_IVR[2] = {CVR_ctrl_type, CVR_ss_n};
+static const int UNSTABLE_IVALUE[2] = {1, 2};
+
 static void unstable_values(fmi2Component c) {
-    ctrl2_set(c, CVR_ctrl_type, 1);
-    ctrl2_set(c, CVR_ss_n, 2);
-    ctrl2_set(c, CVRA2_ss_Ac[1][1], 2.0);
-    ctrl2_set(c, CVRA2_ss_Ac[2][2], 2.0);
-    ctrl2_set(c, CVRA_ss_By[1], 1.0);
-    ctrl2_set(c, CVRA_ss_By[2], 2.0);
-    ctrl2_set(c, CVRA_ss_Cc[1], 1.0);
-    ctrl2_set(c, CVRA_ss_Cc[2], -1.0);
+    api.SetInteger(c, UNSTABLE_IVR, 2, UNSTABLE_IVALUE);
+    api.SetReal(c, UNSTABLE_VR, 6, UNSTABLE_VALUE);
 }
 
 static void case_unstable_state_space(void) {
@@ -298,7 +299,8 @@ static void case_unstable_state_space(void) {
         fmi3Float64 last;
         fmi3Status s = fmi3OK;
         EXPECT(i, "FMI 3.0 instantiate failed: %s", e.last);
-        unstable_values(i);   /* the FMI 3.0 instance is the FMI 2.0 one underneath */
+        EXPECT(fmi3SetInt32(i, UNSTABLE_IVR, 2, UNSTABLE_IVALUE, 2) == fmi3OK &&
+               fmi3SetFloat64(i, UNSTABLE_VR, 6, UNSTABLE_VALUE, 6) == fmi3OK, "FMI 3.0 values refused: %s", e.last);
         EXPECT(fmi3EnterInitializationMode(i, fmi3False, 0.0, 0.0, fmi3False, 0.0) == fmi3OK &&
                fmi3ExitInitializationMode(i) == fmi3OK, "FMI 3.0 initialise failed: %s", e.last);
         for (k = 0; k < 4000 && s == fmi3OK; k++) {

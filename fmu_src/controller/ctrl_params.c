@@ -66,7 +66,8 @@ static bool compile_pid(const double *val, ctrl_params_t *p, char *msg, size_t m
     p->fpv = val[CVR_pid_force_per_volt];
     p->tf = val[CVR_pid_tf];
     p->anti_windup = val[CVR_pid_anti_windup] != 0.0;
-    if (!(p->fpv > 0.0)) FAIL("pid.force_per_volt = %.17g: allowed (0, 1e15] N/V", p->fpv);
+    /* u = F / force_per_volt: at least 1e-9 N/V keeps u finite for every force a finite gain gives */
+    if (!(p->fpv >= 1e-9)) FAIL("pid.force_per_volt = %.17g: allowed [1e-9, 1e15] N/V", p->fpv);
     p->pid_a = p->tf / (p->tf + p->Ts);
     p->pid_b = p->Kv / (p->tf + p->Ts);
     p->lead = p->type == CTRL_PID_LEAD;
@@ -167,7 +168,9 @@ bool ctrl_compile(const double *val, ctrl_params_t *p, char *msg, size_t msglen)
     if (p->source < REF_INPUT || p->source > REF_POINT_TO_POINT)
         FAIL("ref.source = %d: allowed 0 (inputs), 1 (sinusoid), 2 (point to point)", p->source);
     if (!(p->u_limit > 0.0)) FAIL("u_limit = %.17g: allowed (0, 1e6] V", p->u_limit);
-    if (!(p->quantum >= 0.0)) FAIL("scale.quantum = %.17g: allowed [0, inf) m", p->quantum);
+    /* x_meas / quantum stays finite for any position of the declared ranges from 1 pm up */
+    if (!(p->quantum == 0.0 || p->quantum >= 1e-12))
+        FAIL("scale.quantum = %.17g m: allowed 0 (no quantisation) or [1e-12, 1] m", p->quantum);
     if (p->type == CTRL_STATE_SPACE) { if (!compile_state_space(val, p, msg, msglen)) return false; }
     else if (!compile_pid(val, p, msg, msglen)) return false;
     if (!compile_zpetc(val, p, msg, msglen) || !compile_reference(val, p, msg, msglen)) return false;

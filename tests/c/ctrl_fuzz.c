@@ -10,8 +10,8 @@
  *   - an answer other than OK from a live instance comes with a logged message;
  *   - a call whose arguments make it illegal whatever the state (NULL array with a count > 0, a
  *     count no array can hold, nValues != nValueReferences, unknown or mistyped value reference,
- *     a non-finite or out-of-[min, max] value, a non-finite or non-positive step, a function
- *     the FMU does not provide) is answered Error;
+ *     a non-finite or out-of-[min, max] value, a non-finite or non-positive step, an unknown log
+ *     category, a function the FMU does not provide) is answered Error;
  *   - a getter that answers OK gives finite values only;
  *   - every callback allocation is freed with the instances.
  * Prints the counts and "N passed, M failed" (N = calls whose checks passed). */
@@ -40,25 +40,43 @@ static uint64_t rng_state = 88172645463325252ull;
 static long n_calls, n_pass, n_fail, n_illegal, n_finite_gets, n_values_checked, n_settings, n_set_refused,
     n_init_refused, n_diverged, n_ran, n_steps_ok, n_fmi3_calls;
 static const char *cur_fn = "";
-/* the variables the refusals at initialisation named (the message's first "<name> = "), counted */
+/* what the refusals named, counted: the variable of a refusal at initialisation (the message's
+ * first word after "fn: "), the number that left the finite ones in a stopped setting (the text
+ * between "s: " and " = ") */
 #define NRULES 48
-static char rule_name[NRULES][48];
-static long rule_count[NRULES];
+typedef struct { char name[NRULES][64]; long count[NRULES]; } tally_t;
+static tally_t init_rules, stop_causes;
+
+static void tally(tally_t *t, const char *p, size_t n) {
+    int k;
+    if (n >= sizeof t->name[0]) n = sizeof t->name[0] - 1;
+    for (k = 0; k < NRULES && t->name[k][0]; k++)
+        if (strlen(t->name[k]) == n && !strncmp(t->name[k], p, n)) { t->count[k]++; return; }
+    if (k == NRULES) return;
+    memcpy(t->name[k], p, n);
+    t->name[k][n] = 0;
+    t->count[k] = 1;
+}
 
 static void count_rule(const char *msg) {
     const char *p = strstr(msg, ": "), *q;
-    size_t n;
-    int k;
     p = p ? p + 2 : msg;
     q = strchr(p, ' ');
-    n = q ? (size_t)(q - p) : strlen(p);
-    if (n >= sizeof rule_name[0]) n = sizeof rule_name[0] - 1;
-    for (k = 0; k < NRULES && rule_name[k][0]; k++)
-        if (strlen(rule_name[k]) == n && !strncmp(rule_name[k], p, n)) { rule_count[k]++; return; }
-    if (k == NRULES) return;
-    memcpy(rule_name[k], p, n);
-    rule_name[k][n] = 0;
-    rule_count[k] = 1;
+    tally(&init_rules, p, q ? (size_t)(q - p) : strlen(p));
+}
+
+static void count_cause(const char *msg) {
+    const char *p = strstr(msg, " s: "), *q;
+    p = p ? p + 4 : msg;
+    q = strstr(p, " = ");
+    tally(&stop_causes, p, q ? (size_t)(q - p) : strlen(p));
+}
+
+static void print_tally(const char *what, const tally_t *t) {
+    int j;
+    printf("%s:", what);
+    for (j = 0; j < NRULES && t->name[j][0]; j++) printf("%s %s %ld", j ? "," : "", t->name[j], t->count[j]);
+    printf("%s\n", t->name[0][0] ? "" : " none");
 }
 
 static uint64_t rnd(void) {
@@ -359,6 +377,28 @@ static void call_progress(slot_t *s) {
     }
 }
 
+/* fmi2/fmi3SetDebugLogging with known, unknown and NULL categories (legal in any state) */
+static void call_logging(slot_t *s) {
+    static const char *const CAT[] = {"logEvents", "logStatusWarning", "logStatusError", "logDebug", "logNothing",
+                                      "", NULL};
+    const char *cats[4];
+    size_t n = (size_t)rint_(5), k;
+    int illegal = 0, null_array = n > 0 && chance(0.05), status;
+    for (k = 0; k < n; k++) {
+        cats[k] = CAT[rint_(7)];
+        if (!cats[k] || !cats[k][0] || !strcmp(cats[k], "logNothing")) illegal = 1;
+    }
+    if (null_array) illegal = 1;
+    cur_fn = "SetDebugLogging";
+    mark(s);
+#ifdef CTRL_FMI3
+    if (s->v3) status = fmi3SetDebugLogging(s->c, chance(0.5), n, null_array ? NULL : cats);
+    else
+#endif
+        status = api.SetDebugLogging(s->c, chance(0.5), n, null_array ? NULL : cats);
+    judge(s, status, illegal);
+}
+
 /* functions the FMU does not provide: Error with a message, in any state */
 static void call_refused(slot_t *s) {
     int status;
@@ -502,6 +542,7 @@ static void random_setting(slot_t *s) {
     if (j == N_SAMPLES_SETTING) n_ran++;
     else {
         n_diverged++;
+        count_cause(s->v3 ? s->e3.last : s->env.last);
         if (!strstr(s->v3 ? s->e3.last : s->env.last, "not finite") &&
             !strstr(s->v3 ? s->e3.last : s->env.last, "resolves"))
             fail("a setting stopped without naming a non-finite value", s);
@@ -536,6 +577,7 @@ int fuzz_main(int argc, char **argv) {
             slot_new(s, v3);
             if (s->c) random_setting(s);
         } else if (a < 92) slot_free(s);
+        else if (a < 95) call_logging(s);
         else call_progress(s);
     }
     for (j = 0; j < NSLOT; j++) slot_free(&slots[j]);
@@ -543,9 +585,8 @@ int fuzz_main(int argc, char **argv) {
         n_fail++;
         printf("FAIL %ld callback allocations left after every instance was freed\n", host_live_allocations() - live0);
     }
-    printf("refused at initialisation, by the variable named:");
-    for (j = 0; j < NRULES && rule_name[j][0]; j++) printf(" %s %ld%s", rule_name[j], rule_count[j], j + 1 < NRULES && rule_name[j + 1][0] ? "," : "\n");
-    if (!rule_name[0][0]) printf(" none\n");
+    print_tally("settings refused at initialisation, by the variable named", &init_rules);
+    print_tally("settings stopped by a non-finite number, by the number", &stop_causes);
     printf("calls: %ld (FMI 3.0: %ld), illegal calls checked: %ld, OK getters checked finite: %ld (%ld values), "
            "steps OK: %ld\n", n_calls, n_fmi3_calls, n_illegal, n_finite_gets, n_values_checked, n_steps_ok);
     printf("settings tried: %ld (%ld sets refused), refused at initialisation: %ld, stopped by a non-finite value: "

@@ -5,7 +5,8 @@ the shipped libraries as an importer loads them (``ctrl_host3``: DriveController
 DriveController3.so linked for the FMI 3.0 calls).
 
 * the defect cases, one process each: a step of +-Inf/NaN, a step of 2e12 samples and one of 1e8
-  samples at the smallest Ts are refused with the budget named (and change nothing);
+  samples at the smallest Ts are refused with the budget named (and change nothing), as is a
+  step at a time whose double cannot tell the sample instants apart (t = 1e12 s, Ts = 0.5 ms);
   fmi3GetFloat64 with a NULL value-reference array, the Boolean calls (FMI 2.0 and 3.0) with
   nValueReferences = SIZE_MAX answer Error; an unstable state-space controller ends with an
   error naming the state that left the finite numbers and no getter answers OK with a
@@ -32,7 +33,7 @@ SAN_ENV = {"ASAN_OPTIONS": "detect_leaks=1:abort_on_error=1:halt_on_error=1",
            "UBSAN_OPTIONS": "print_stacktrace=1:halt_on_error=1"}
 SANITIZER_MARKS = ("runtime error:", "AddressSanitizer", "LeakSanitizer", "UndefinedBehaviorSanitizer",
                    "ThreadSanitizer")
-CASES = ["step_inf", "step_huge", "step_tiny_ts", "get_float64_null", "boolean_size_max3",
+CASES = ["step_inf", "step_huge", "step_tiny_ts", "step_coarse_time", "get_float64_null", "boolean_size_max3",
          "boolean_size_max2", "unstable_state_space", "ref_duration", "ref_duration_samples",
          "ref_point_to_point", "ref_p2p_samples"]
 

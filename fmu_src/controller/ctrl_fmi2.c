@@ -417,6 +417,13 @@ fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h, fmi2Boolean no
                  "%.17g: allowed the FMU's time %.17g and a finite communicationStepSize > 0", t, h, c->time);
         return fmi2Error;
     }
+    /* the sample instants must be times a double tells apart (as the plant's: 16 ulp <= Ts/8) */
+    if (16.0 * (nextafter(fabs(t + h), HUGE_VAL) - fabs(t + h)) > c->p.Ts / 8.0) {
+        ctrl_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: at t = %.17g s a double resolves only %g s, too coarse for "
+                 "the controller samples of Ts = %g s (allowed: 16 ulp(t) <= Ts/8, a start time nearer 0)", t + h,
+                 nextafter(fabs(t + h), HUGE_VAL) - fabs(t + h), c->p.Ts);
+        return fmi2Error;
+    }
     /* the samples this step takes, counted before the first: a refused step changes nothing */
     samples = ceil((t + h - sample_time(c, c->s.k)) / c->p.Ts);
     if (samples > CTRL_BUDGET_SAMPLES) {

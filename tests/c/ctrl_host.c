@@ -153,6 +153,25 @@ static void case_step_tiny_ts(void) {
     api.FreeInstance(c);
 }
 
+/* sample instants a double cannot tell apart: startTime 1e12 s (ulp 1.2e-4 s) at Ts = 0.5 ms */
+static void case_step_coarse_time(void) {
+    host_env_t env = {0};
+    fmi2Component c = ctrl2_new(&env, "coarse_time");
+    fmi2Status s;
+    fmi2Real t_after = 0.0;
+    EXPECT(c && api.SetupExperiment(c, fmi2False, 0.0, 1e12, fmi2False, 0.0) == fmi2OK &&
+           api.EnterInitializationMode(c) == fmi2OK && api.ExitInitializationMode(c) == fmi2OK,
+           "initialise at startTime 1e12 s failed: %s", env.last);
+    host_env_mark(&env);
+    s = api.DoStep(c, 1e12, 5e-4, fmi2True);
+    EXPECT(s == fmi2Error && strstr(env.last, "a double resolves only 0.00012207 s") &&
+           strstr(env.last, "16 ulp(t) <= Ts/8"), "a step at t = 1e12 s answered %s \"%s\"", st2(s), env.last);
+    EXPECT(api.GetRealStatus(c, fmi2LastSuccessfulTime, &t_after) == fmi2OK && t_after == 1e12,
+           "the refused step moved the time to %.17g", t_after);
+    SAY("fmi2DoStep(1e12, 5e-4) -> %s \"%s\"", st2(s), env.last);
+    api.FreeInstance(c);
+}
+
 #ifdef CTRL_FMI3
 static fmi3Instance ctrl3_ready(env3_t *e, const char *name) {
     fmi3Instance i = fmi3InstantiateCoSimulation(name, CTRL_GUID, NULL, fmi3False, fmi3False, fmi3False, fmi3False,
@@ -395,6 +414,7 @@ static const case_t CASES[] = {
     {"step_inf", case_step_inf},
     {"step_huge", case_step_huge},
     {"step_tiny_ts", case_step_tiny_ts},
+    {"step_coarse_time", case_step_coarse_time},
 #ifdef CTRL_FMI3
     {"get_float64_null", case_get_float64_null},
     {"boolean_size_max3", case_boolean_size_max3},

@@ -15,12 +15,15 @@ DriveController3.so linked for the FMI 3.0 calls).
 * random FMI 2.0 and 3.0 calls and random settings (ctrl_fuzz.c's checks: valid status, a
   message with every non-OK answer, Error for every call illegal by its arguments, finite
   values from every getter that answers OK, no allocation left);
-* 8 instances in threads give the runs of one at a time to the bit (no data race under TSan).
+* 8 instances in threads give the runs of one at a time to the bit (no data race under TSan);
+* a coverage-guided libFuzzer run (tests/c/ctrl_fuzz_lib.c: programs of FMI 2.0 and 3.0 calls,
+  the same oracle) for 20 s from an empty corpus, when clang is installed.
 """
 from __future__ import annotations
 
 import os
 import re
+import shutil
 import subprocess
 from pathlib import Path
 
@@ -126,3 +129,22 @@ def test_threads_thread_sanitizer(fmu_path: Path) -> None:
     print(p.stdout)
     assert_clean(p)
     assert p.stdout.count("PASS instance") == 8
+
+
+@pytest.mark.skipif(shutil.which(os.environ.get("CLANG", "clang")) is None,
+                    reason="clang (libFuzzer) is not installed: apt-get install clang (make test does as root)")
+def test_libfuzzer_bounded_run(fmu_path: Path, tmp_path: Path) -> None:
+    """20 s of coverage-guided programs of calls (seed 1) under ASan + UBSan: no finding."""
+    build("ctrl_fuzz_lib")
+    corpus = tmp_path / "corpus"
+    corpus.mkdir()
+    p = subprocess.run([str(OUT / "ctrl_fuzz_lib"), "-seed=1", "-max_total_time=20", "-timeout=10",
+                        "-rss_limit_mb=2048", f"-artifact_prefix={tmp_path}/", str(corpus)],
+                       capture_output=True, text=True, timeout=140)
+    report = p.stderr[-4000:]
+    done = re.search(r"Done (\d+) runs in (\d+) second", p.stderr)
+    assert p.returncode == 0 and done, report
+    assert "ctrl_fuzz_lib finding" not in p.stderr and "ERROR:" not in p.stderr, report
+    cov = re.findall(r"cov: (\d+)", p.stderr)
+    print(f"{done.group(1)} executions in {done.group(2)} s, coverage {cov[-1] if cov else '?'} edges")
+    assert int(done.group(1)) > 1000

@@ -171,9 +171,9 @@ def _cmd_diagnose(a: argparse.Namespace) -> int:
     inputs = [a.model, *a.runs, *(sidecar_path(p) for p in a.runs)]
     check_dir(a.out, inputs, a.force)
     runs = [load_run(p) for p in a.runs]
-    for run in runs:
-        check_run(run)
     model = load_model(a.model)
+    for run in runs:
+        check_run(run, model)
     diag = diagnose(runs, model, max_steps=a.max_steps, force_gain=a.force_gain,
                     window=a.window, n_blocks=a.blocks, closed_loop=not a.no_closed_loop)
     report = write_diagnosis(diag, a.out, inputs, a.force)

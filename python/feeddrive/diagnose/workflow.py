@@ -15,7 +15,10 @@ the run's noise floor (:mod:`noise_floor`) and 0.5 % of the Coulomb level.  A st
 (the values of an effect already on, with the old and new values and the force the change
 makes) or ``ambiguous`` (the group the data cannot separate).  The final ``verdict`` is
 ``explained`` when the residual's excess over the floor is below the same gates, else
-``unexplained_residual`` with its size and where it sits (:func:`localise.excess_location`).
+``unexplained_residual`` with its size, where it sits (:func:`localise.excess_location`,
+and in time: :mod:`timeaxis`) and the best signature outside the catalogue as a hint
+(:mod:`hints`; never a model change).  ``model`` holds every fit; ``model_confirmed`` only
+the steps :mod:`confirmed` confirms (the two model files of the diagnosis).
 """
 from __future__ import annotations
 
@@ -30,7 +33,9 @@ from ..harness.sidecar import read_sidecar
 from ..model_file import ModelFile
 from ..physics import compile
 from .candidates import CANDIDATES
+from .confirmed import confirm_steps, confirmed_model
 from .context import DEFAULT_BLOCKS, Context
+from .hints import hints as fit_hints
 from .localise import (displacement_since_reversal, excess_location, localise, spatial_spectrum,
                        spectral_peaks, where)
 from .noise_floor import NoiseFloor, floor_table, noise_floor
@@ -38,6 +43,7 @@ from .residual import RunResidual, gap, residuals
 from .scoring import I_MIN, T_MIN, Score, score, separable
 from .significance import (NOISE_FACTOR, PRACTICAL_SHARE, Gate, excess, explained_force,
                            make_gate, passes)
+from .timeaxis import time_axis, trend_text
 
 #: Travel after a reversal [m] within which the closed-loop error counts as reversal error.
 REVERSAL_ZONE = 1e-3
@@ -158,6 +164,10 @@ class Diagnosis:
     floors: list[NoiseFloor] = field(default_factory=list, repr=False)
     gate: Gate | None = None
     verdict: dict = field(default_factory=dict)
+    #: the start model with only the confirmed steps (model.json); ``model`` has every fit
+    model_confirmed: ModelFile | None = None
+    #: per step: confirmed or not and why (:mod:`confirmed`), and the confirmed model's gap
+    confirmation: dict = field(default_factory=dict)
 
     @property
     def named(self) -> list[str]:
@@ -171,17 +181,20 @@ class Diagnosis:
                 "noise_floor": floor_table(self.residual_start, self.floors)
                 if self.floors else {},
                 "significance": self.gate.to_json() if self.gate else {},
-                "localisation_start": localisation_summary(self.residual_start),
+                "localisation_start": localisation_summary(self.residual_start, self.floors),
                 "steps": [s.to_json() for s in self.steps], "stop": self.stop,
-                "final_model": self.model.name,
-                "localisation_final": localisation_summary(self.residual_final)}
+                "final_model": self.model.name, "confirmation": self.confirmation,
+                "localisation_final": localisation_summary(self.residual_final, self.floors)}
 
 
-def localisation_summary(res: list[RunResidual]) -> dict:
-    """Regime and position table of a residual plus the peaks of its spatial spectra."""
+def localisation_summary(res: list[RunResidual], floors: list[NoiseFloor] | None = None
+                         ) -> dict:
+    """Regime and position table of a residual, the peaks of its spatial spectra and its
+    time axis (per time block of each run, with the noise floor when ``floors`` are given)."""
     if not res:
         return {}
     loc = localise(res)
+    loc["time"] = time_axis(res, [f.sigma for f in floors] if floors else None)
     peaks = {}
     for weight, key in ((None, "cogging_like_N"), ("i", "ripple_like_N_per_A")):
         if weight == "i" and any(q.i is None for q in res):
@@ -388,12 +401,32 @@ def verdict(res: list[RunResidual], floors: list[NoiseFloor], gate: Gate) -> dic
                            "a named effect must explain.")
         return out
     loc = excess_location(res, [f.sigma for f in floors])
+    loc["time"] = time_axis(res, [f.sigma for f in floors])
+    trend = trend_text(loc["time"])
     out["verdict"] = "unexplained_residual"
     out["where"] = loc
     out["sentence"] = (f"Unexplained residual: {g:.3g} N rms ({out['x_noise_floor']:.1f} x the "
                        f"noise floor {gate.floor_N:.3g} N) that no catalogue effect explains, "
-                       f"mostly at {_where_text(loc)}.")
+                       f"mostly at {_where_text(loc)}" + (f"; {trend}" if trend else "") + ".")
     return out
+
+
+def add_hint(v: dict, found: list[dict], gate: Gate) -> dict:
+    """The verdict ``v`` with the signatures of :mod:`hints` (``found``, best first): all of
+    them, and the best one as the hint when it explains at least the gate's threshold."""
+    v["hints"] = found
+    best = found[0] if found else None
+    if best is None or best["explained_force_N"] < gate.threshold_N:
+        v["hint"] = None
+        v["sentence"] += (" No signature outside the catalogue (drift, timing offset, play, "
+                          f"resonance) explains {gate.threshold_N:.3g} N of it.")
+        return v
+    share = best["explained_force_N"] ** 2 / max(v["excess_N"] ** 2, 1e-300)
+    v["hint"] = {**best, "share_of_excess": share}
+    v["sentence"] += (f" Hint (not a model change): {best['text']} would explain "
+                      f"{best['explained_force_N']:.3g} N rms ({min(share, 1.0):.0%} of the "
+                      "excess energy).")
+    return v
 
 
 def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
@@ -457,7 +490,24 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
         current, res = step.model_after, step.residual_after
     else:
         stop["gap"] = gap(res)
+    v = verdict(res, floors, gate)
+    if v["verdict"] == "unexplained_residual":
+        v = add_hint(v, fit_hints(runs, current, res, kw), gate)
+    records = confirm_steps(steps, res, [f.sigma for f in floors], gate,
+                            v["verdict"] == "explained")
+    kept = confirmed_model(model, steps, records, current)
+    kept_gap = gap(res) if kept is current else gap(start_res) if not any(
+        r["confirmed"] for r in records) else gap(residuals(runs, kept, **kw))
+    confirmation = {
+        "rule": "a step is confirmed when the verdict is explained, or when the final residual "
+                "where it acted exceeds the noise floor there by less than the threshold a "
+                "named effect must explain",
+        "steps": records,
+        "model_json": {"file": "model.json", "name": kept.name, "gap_N": kept_gap,
+                       "effects_added": [r["effect"] for r in records if r["confirmed"]]},
+        "model_all_fits_json": {"file": "model_all_fits.json", "name": current.name,
+                                "gap_N": gap(res), "effects_added": [s.effect for s in steps]}}
     return Diagnosis(steps=steps, stop=stop, model_start=model, model=current,
                      runs=[r.name or f"run{j}" for j, r in enumerate(runs)], notes=notes,
                      residual_start=start_res, residual_final=res, floors=floors, gate=gate,
-                     verdict=verdict(res, floors, gate))
+                     verdict=v, model_confirmed=kept, confirmation=confirmation)

@@ -14,6 +14,7 @@ from feeddrive.data import DataError, Run, load_run, write_run
 from feeddrive.diagnose.emps import emps_baseline_model
 from feeddrive.model_file import paper_model, save_model
 from feeddrive.plausibility import A_MAX, I_MAX, V_MAX, check_units
+from feeddrive.realdata.odrive import COUNTS_PER_REV, load_slow_run
 from feeddrive.validation.replay import check_run
 
 SHARED = Path(__file__).resolve().parents[2] / "shared"
@@ -53,6 +54,26 @@ def test_real_and_own_recordings_pass(emps):
     # the margins the bounds keep over the EMPS drive (the argument of the thresholds)
     v = np.abs(emps.x[10:] - emps.x[:-10]).max() / (10 * emps.Ts)
     assert 0.1 < v < 0.15 and V_MAX / v > 100 and A_MAX / 1.3 > 1000
+
+
+ODRIVE = SHARED / "realdata" / "odrive-cogging"
+#: arc length per revolution of the ODrive's rotor taken as a linear axis [m] (a 16 mm radius)
+ODRIVE_M_PER_REV = 0.1
+
+
+def test_odrive_slow_runs_as_a_linear_axis_pass():
+    # the measured ODrive runs (rotary, 0.03 and 0.1 rev/s, 1 revolution, Iq up to 2.1 A; one
+    # run starts with a 0.19 rev jump of the counter) as arc length on the rotor: accepted;
+    # the same in mm: refused
+    paths = sorted(ODRIVE.glob("slow2*/*.npy"))
+    assert len(paths) == 10
+    for p in paths:
+        sr = load_slow_run(p)
+        x = sr.position / COUNTS_PER_REV * ODRIVE_M_PER_REV
+        run = Run(time=sr.time, u=sr.current, i=sr.current, x=x, meta={"name": p.stem})
+        check_units(run, (0.0, 0.3))
+        with pytest.raises(DataError, match="positions in mm"):
+            check_units(dataclasses.replace(run, x=(x + 0.05) * 1e3), (0.0, 0.3))
 
 
 @pytest.mark.parametrize("scale, unit", [(1e3, "mm"), (1e6, "um")])

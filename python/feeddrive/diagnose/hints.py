@@ -22,9 +22,10 @@ the mechanics between stage and scale).  Each signature is fitted to the final r
   direction of motion, crossing over each dwell at the reversals as a constant
   deceleration would) for ``b`` on a grid and refined; ``F_expl`` from the re-computed gap.
   Size: ``b`` [m].
-- **resonance band**: the narrowest strong peak of the residual's spectrum above
-  ``RESONANCE_F_MIN`` (Welch periodogram against its running median over an octave); the
-  band of half an octave around it, less what the background puts there.  Size: the
+- **resonance band**: the strongest narrow peak of the residual's spectrum above
+  ``RESONANCE_F_MIN`` (Welch periodogram, 2 s segments, against its running median over
+  ``RESONANCE_MEDIAN_HZ``); the band of half an octave around it, less what the
+  background puts there.  Size: the
   peak frequency [Hz] and the band's rms [N].
 
 The best hint is the one explaining the most force; the verdict reports it with its size
@@ -48,6 +49,8 @@ from .residual import RunResidual, residuals
 PLAY_GRID = tuple(np.geomspace(1e-6, 300e-6, 12).tolist())
 #: Lowest frequency of a resonance band [Hz] (below: the motion's own frequencies).
 RESONANCE_F_MIN = 5.0
+#: Width of the running median the spectrum's background is taken as [Hz].
+RESONANCE_MEDIAN_HZ = 10.0
 #: A spectral peak counts when it stands this many times above its running median.
 RESONANCE_PEAK = 5.0
 #: Span over which the reading's speed after a dwell is taken [s].
@@ -224,7 +227,7 @@ def resonance_hint(res: Sequence[RunResidual]) -> dict:
             continue
         f, p = welch(r, fs=1.0 / q.Ts, nperseg=min(r.size, int(round(2.0 / q.Ts))))
         df = float(f[1] - f[0])
-        width = max(3, int(round(0.5 * RESONANCE_F_MIN / df)) | 1)
+        width = max(3, int(round(RESONANCE_MEDIAN_HZ / df)) | 1)
         bg = median_filter(p, size=width, mode="nearest")
         ok = f >= RESONANCE_F_MIN
         if not ok.any():

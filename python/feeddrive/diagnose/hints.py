@@ -72,13 +72,13 @@ def _added_regressor(r: np.ndarray, base: np.ndarray, g: np.ndarray
                      ) -> tuple[float, float, float]:
     """Least-squares coefficient of ``g`` fitted with ``base``, the force ``g`` adds to what
     ``base`` alone explains and the force both explain [N rms]."""
+    if not r.size:
+        return 0.0, 0.0, 0.0
     A0 = base[:, None]
     A1 = np.column_stack([base, g])
     th0 = np.linalg.lstsq(A0, r, rcond=None)[0]
     th1 = np.linalg.lstsq(A1, r, rcond=None)[0]
     e0, e1 = r - A0 @ th0, r - A1 @ th1
-    if not r.size:
-        return 0.0, 0.0, 0.0
     d = float(e0 @ e0 - e1 @ e1)
     return float(th1[1]), float(np.sqrt(max(d, 0.0) / r.size)), _explained(r, A1 @ th1)
 

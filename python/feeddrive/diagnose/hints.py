@@ -142,7 +142,8 @@ def play_position(x: np.ndarray, time: np.ndarray, b: float,
     Moving up the scale trails the stage by b/2 (and moving down, leads it); at each
     reversal the scale stands still (from the sample the reading reached its extreme to the
     last one it held it) while the stage crosses the play: from rest, at constant
-    acceleration, to the speed the reading takes up after the dwell (``PLAY_SPEED_S``),
+    acceleration, to the speed the reading takes up after the dwell (the slope at the
+    dwell's end of a parabola fitted over the next ``PLAY_SPEED_S``),
     which takes ``2 b / v`` before the dwell's end (the whole dwell at most): a parabola in
     time from +b/2 to -b/2.  The start of the run counts as a reversal from the middle of
     the play.
@@ -174,7 +175,8 @@ def play_position(x: np.ndarray, time: np.ndarray, b: float,
     for ks, ke, d_old, d_new in turns:
         c[ks:ke + 1] = 0.5 * b * d_old
         # crossing from rest to the speed the reading takes up after the dwell: b = v T / 2
-        v = abs(x[min(ke + m, n - 1)] - x[ke]) / max(t[min(ke + m, n - 1)] - t[ke], 1e-300)
+        seg = slice(ke, min(ke + m, n - 1) + 1)
+        v = abs(float(np.polyfit(t[seg] - t[ke], x[seg], 2)[1])) if t[seg].size >= 3 else 0.0
         t_c = max(t[ke] - 2.0 * b / v, t[ks]) if v > 0 else t[ks]
         cross = (t >= t_c) & (np.arange(n) >= ks) & (np.arange(n) <= ke)
         if t[ke] > t_c:

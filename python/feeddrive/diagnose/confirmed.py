@@ -21,10 +21,16 @@ from typing import Any
 
 import numpy as np
 
+from ..data import Run
 from ..model_file import ModelFile
 from .localise import regime_masks
-from .residual import RunResidual
+from .residual import RunResidual, gap, residuals
 from .significance import Gate
+
+#: The rule, as diagnosis.json states it.
+RULE = ("a step is confirmed when the verdict is explained, or when the final residual where it "
+        "acted exceeds the noise floor there by less than the threshold a named effect must "
+        "explain")
 
 
 def confirm_steps(steps: Sequence[Any], res: Sequence[RunResidual], sigma: Sequence[np.ndarray],
@@ -85,3 +91,28 @@ def confirmed_model(start: ModelFile, steps: Sequence[Any], records: Sequence[di
     desc = (f"{start.name} with the effects the diagnosis confirmed ({', '.join(s.effect for s in ok) or 'none'}); "
             f"fitted but not confirmed (in model_all_fits.json): {', '.join(left)}")
     return ModelFile(name=name, effects=effects, parameters=params, description=desc)
+
+
+def confirmation_of(runs: Sequence[Run], steps: Sequence[Any], start: ModelFile,
+                    final: ModelFile, res_start: Sequence[RunResidual],
+                    res_final: Sequence[RunResidual], sigma: Sequence[np.ndarray], gate: Gate,
+                    explained: bool, kw: dict) -> tuple[ModelFile, dict]:
+    """The confirmed model (model.json) and diagnosis.json ``confirmation``: the rule, the
+    record of every step (:func:`confirm_steps`) and, for model.json and
+    model_all_fits.json, the name, the force gap over all runs [N] and the effects added
+    (``kw``: the residual's keywords, to compute the confirmed model's gap)."""
+    records = confirm_steps(steps, res_final, sigma, gate, explained)
+    kept = confirmed_model(start, steps, records, final)
+    if kept is final:
+        kept_gap = gap(list(res_final))
+    elif not any(r["confirmed"] for r in records):
+        kept_gap = gap(list(res_start))
+    else:
+        kept_gap = gap(residuals(list(runs), kept, **kw))
+    return kept, {
+        "rule": RULE, "steps": records,
+        "model_json": {"file": "model.json", "name": kept.name, "gap_N": kept_gap,
+                       "effects_added": [r["effect"] for r in records if r["confirmed"]]},
+        "model_all_fits_json": {"file": "model_all_fits.json", "name": final.name,
+                                "gap_N": gap(list(res_final)),
+                                "effects_added": [s.effect for s in steps]}}

@@ -29,7 +29,8 @@ the mechanics between stage and scale).  Each signature is fitted to the final r
   peak frequency [Hz] and the band's rms [N].
 
 The best hint is the one explaining the most force; the verdict reports it with its size
-and the share of the residual's excess it accounts for.
+and the share of the residual's excess it accounts for (:func:`add_hint`) when it explains
+at least the threshold a named effect must explain.
 """
 from __future__ import annotations
 
@@ -44,6 +45,7 @@ from scipy.signal import welch
 from ..data import Run
 from ..model_file import ModelFile
 from .residual import RunResidual, residuals
+from .significance import Gate
 
 #: Play grid [m] (the best point is refined on log b).
 PLAY_GRID = tuple(np.geomspace(1e-6, 300e-6, 12).tolist())
@@ -262,3 +264,21 @@ def hints(runs: Sequence[Run], model: ModelFile, res: Sequence[RunResidual],
            resonance_hint(res)]
     out.sort(key=lambda h: -h["explained_force_N"])
     return out
+
+
+def add_hint(v: dict, found: list[dict], gate: Gate) -> dict:
+    """The verdict ``v`` with the signatures of :func:`hints` (``found``, best first): all of
+    them, and the best one as the hint when it explains at least the gate's threshold."""
+    v["hints"] = found
+    best = found[0] if found else None
+    if best is None or best["explained_force_N"] < gate.threshold_N:
+        v["hint"] = None
+        v["sentence"] += (" No signature outside the catalogue (drift, timing offset, play, "
+                          f"resonance) explains {gate.threshold_N:.3g} N of it.")
+        return v
+    share = best["explained_force_N"] ** 2 / max(v["excess_N"] ** 2, 1e-300)
+    v["hint"] = {**best, "share_of_excess": share}
+    v["sentence"] += (f" Hint (not a model change): {best['text']} would explain "
+                      f"{best['explained_force_N']:.3g} N rms ({min(share, 1.0):.0%} of the "
+                      "excess energy).")
+    return v

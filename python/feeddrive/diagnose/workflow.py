@@ -33,9 +33,9 @@ from ..harness.sidecar import read_sidecar
 from ..model_file import ModelFile
 from ..physics import compile
 from .candidates import CANDIDATES
-from .confirmed import confirm_steps, confirmed_model
+from .confirmed import confirmation_of
 from .context import DEFAULT_BLOCKS, Context
-from .hints import hints as fit_hints
+from .hints import add_hint, hints as fit_hints
 from .localise import (displacement_since_reversal, excess_location, localise, spatial_spectrum,
                        spectral_peaks, where)
 from .noise_floor import NoiseFloor, floor_table, noise_floor
@@ -411,24 +411,6 @@ def verdict(res: list[RunResidual], floors: list[NoiseFloor], gate: Gate) -> dic
     return out
 
 
-def add_hint(v: dict, found: list[dict], gate: Gate) -> dict:
-    """The verdict ``v`` with the signatures of :mod:`hints` (``found``, best first): all of
-    them, and the best one as the hint when it explains at least the gate's threshold."""
-    v["hints"] = found
-    best = found[0] if found else None
-    if best is None or best["explained_force_N"] < gate.threshold_N:
-        v["hint"] = None
-        v["sentence"] += (" No signature outside the catalogue (drift, timing offset, play, "
-                          f"resonance) explains {gate.threshold_N:.3g} N of it.")
-        return v
-    share = best["explained_force_N"] ** 2 / max(v["excess_N"] ** 2, 1e-300)
-    v["hint"] = {**best, "share_of_excess": share}
-    v["sentence"] += (f" Hint (not a model change): {best['text']} would explain "
-                      f"{best['explained_force_N']:.3g} N rms ({min(share, 1.0):.0%} of the "
-                      "excess energy).")
-    return v
-
-
 def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
              force_gain: float | None = None, window: int | None = None,
              n_blocks: int = DEFAULT_BLOCKS, closed_loop: bool = True) -> "Diagnosis":
@@ -493,20 +475,9 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
     v = verdict(res, floors, gate)
     if v["verdict"] == "unexplained_residual":
         v = add_hint(v, fit_hints(runs, current, res, kw), gate)
-    records = confirm_steps(steps, res, [f.sigma for f in floors], gate,
-                            v["verdict"] == "explained")
-    kept = confirmed_model(model, steps, records, current)
-    kept_gap = gap(res) if kept is current else gap(start_res) if not any(
-        r["confirmed"] for r in records) else gap(residuals(runs, kept, **kw))
-    confirmation = {
-        "rule": "a step is confirmed when the verdict is explained, or when the final residual "
-                "where it acted exceeds the noise floor there by less than the threshold a "
-                "named effect must explain",
-        "steps": records,
-        "model_json": {"file": "model.json", "name": kept.name, "gap_N": kept_gap,
-                       "effects_added": [r["effect"] for r in records if r["confirmed"]]},
-        "model_all_fits_json": {"file": "model_all_fits.json", "name": current.name,
-                                "gap_N": gap(res), "effects_added": [s.effect for s in steps]}}
+    kept, confirmation = confirmation_of(runs, steps, model, current, start_res, res,
+                                         [f.sigma for f in floors], gate,
+                                         v["verdict"] == "explained", kw)
     return Diagnosis(steps=steps, stop=stop, model_start=model, model=current,
                      runs=[r.name or f"run{j}" for j, r in enumerate(runs)], notes=notes,
                      residual_start=start_res, residual_final=res, floors=floors, gate=gate,

@@ -205,4 +205,7 @@ def test_pipeline_switches_the_effect_on_when_asked(fmu_path):
     x = np.linspace(0.09, 0.21, 300)
     assert np.max(np.abs(prof(x) - PATCH(x))) < 0.1 * 0.3
     assert "position friction: 16 knots" in res.text()
-    assert identify_runs(runs).model.effects["position_friction"] is False
+    # without the profile these four unloaded runs identify nothing (the Stribeck curve needs
+    # 12): refused with the reasons, not the paper's model
+    with pytest.raises(ValueError, match=r"nothing identified.*Stribeck: 4 unloaded"):
+        identify_runs(runs)

@@ -171,9 +171,9 @@ def _cmd_diagnose(a: argparse.Namespace) -> int:
     inputs = [a.model, *a.runs, *(sidecar_path(p) for p in a.runs)]
     check_dir(a.out, inputs, a.force)
     runs = [load_run(p) for p in a.runs]
-    for run in runs:
-        check_run(run)
     model = load_model(a.model)
+    for run in runs:
+        check_run(run, model)
     diag = diagnose(runs, model, max_steps=a.max_steps, force_gain=a.force_gain,
                     window=a.window, n_blocks=a.blocks, closed_loop=not a.no_closed_loop)
     report = write_diagnosis(diag, a.out, inputs, a.force)
@@ -187,7 +187,14 @@ def _cmd_diagnose(a: argparse.Namespace) -> int:
               f"{s.gap_after['force_rms_N']:.3g} N")
     print(f"stopped: {diag.stop.get('reason')}")
     print(f"verdict: {diag.verdict['verdict']}: {diag.verdict['sentence']}")
-    print(f"wrote {a.out / 'diagnosis.json'}, {a.out / 'model.json'}, {report}")
+    for rec in diag.confirmation.get("steps", []):
+        print(f"{rec['effect']}: {'confirmed' if rec['confirmed'] else 'not confirmed'}: {rec['why']}")
+    mj, ma = diag.confirmation["model_json"], diag.confirmation["model_all_fits_json"]
+    print(f"model.json: the confirmed effects ({', '.join(mj['effects_added']) or 'none added'}), "
+          f"force gap {mj['gap_N']:.3g} N; model_all_fits.json: every fit "
+          f"({', '.join(ma['effects_added']) or 'none added'}), force gap {ma['gap_N']:.3g} N")
+    print(f"wrote {a.out / 'diagnosis.json'}, {a.out / 'model.json'}, "
+          f"{a.out / 'model_all_fits.json'}, {report}")
     return 0
 
 

@@ -1,4 +1,5 @@
-"""Files of a diagnosis: diagnosis.json, model.json and one model file per step.
+"""Files of a diagnosis: diagnosis.json, model.json (the confirmed effects), model_all_fits.json
+(every fit) and one model file per step.
 
 Schema of diagnosis.json: see the README, section "Discrepancy diagnosis".  The HTML report
 with the plots is made by :func:`feeddrive.report.diagnosis.write_diagnosis`.
@@ -37,13 +38,15 @@ def diagnosis_json(diag: Diagnosis) -> dict:
 
 
 def write_files(diag: Diagnosis, out_dir: str | Path) -> dict:
-    """diagnosis.json, model.json and model_stepK.json in ``out_dir``; returns the document."""
+    """diagnosis.json, model.json (the confirmed effects only), model_all_fits.json (every
+    fit) and model_stepK.json in ``out_dir``; returns the document."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     doc = diagnosis_json(diag)
     (out / "diagnosis.json").write_text(json.dumps(doc, indent=2, allow_nan=False) + "\n",
                                         encoding="utf-8")
-    save_model(diag.model, out / "model.json")
+    save_model(diag.model_confirmed or diag.model, out / "model.json")
+    save_model(diag.model, out / "model_all_fits.json")
     for k, st in enumerate(diag.steps, 1):
         if st.model_after is not None:
             save_model(st.model_after, out / f"model_step{k}.json")

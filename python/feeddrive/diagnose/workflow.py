@@ -15,7 +15,10 @@ the run's noise floor (:mod:`noise_floor`) and 0.5 % of the Coulomb level.  A st
 (the values of an effect already on, with the old and new values and the force the change
 makes) or ``ambiguous`` (the group the data cannot separate).  The final ``verdict`` is
 ``explained`` when the residual's excess over the floor is below the same gates, else
-``unexplained_residual`` with its size and where it sits (:func:`localise.excess_location`).
+``unexplained_residual`` with its size, where it sits (:func:`localise.excess_location`,
+and in time: :mod:`timeaxis`) and the best signature outside the catalogue as a hint
+(:mod:`hints`; never a model change).  ``model`` holds every fit; ``model_confirmed`` only
+the steps :mod:`confirmed` confirms (the two model files of the diagnosis).
 """
 from __future__ import annotations
 
@@ -30,7 +33,9 @@ from ..harness.sidecar import read_sidecar
 from ..model_file import ModelFile
 from ..physics import compile
 from .candidates import CANDIDATES
+from .confirmed import confirmation_of
 from .context import DEFAULT_BLOCKS, Context
+from .hints import add_hint, hints as fit_hints
 from .localise import (displacement_since_reversal, excess_location, localise, spatial_spectrum,
                        spectral_peaks, where)
 from .noise_floor import NoiseFloor, floor_table, noise_floor
@@ -38,6 +43,7 @@ from .residual import RunResidual, gap, residuals
 from .scoring import I_MIN, T_MIN, Score, score, separable
 from .significance import (NOISE_FACTOR, PRACTICAL_SHARE, Gate, excess, explained_force,
                            make_gate, passes)
+from .timeaxis import time_axis, trend_text
 
 #: Travel after a reversal [m] within which the closed-loop error counts as reversal error.
 REVERSAL_ZONE = 1e-3
@@ -158,6 +164,10 @@ class Diagnosis:
     floors: list[NoiseFloor] = field(default_factory=list, repr=False)
     gate: Gate | None = None
     verdict: dict = field(default_factory=dict)
+    #: the start model with only the confirmed steps (model.json); ``model`` has every fit
+    model_confirmed: ModelFile | None = None
+    #: per step: confirmed or not and why (:mod:`confirmed`), and the confirmed model's gap
+    confirmation: dict = field(default_factory=dict)
 
     @property
     def named(self) -> list[str]:
@@ -171,17 +181,20 @@ class Diagnosis:
                 "noise_floor": floor_table(self.residual_start, self.floors)
                 if self.floors else {},
                 "significance": self.gate.to_json() if self.gate else {},
-                "localisation_start": localisation_summary(self.residual_start),
+                "localisation_start": localisation_summary(self.residual_start, self.floors),
                 "steps": [s.to_json() for s in self.steps], "stop": self.stop,
-                "final_model": self.model.name,
-                "localisation_final": localisation_summary(self.residual_final)}
+                "final_model": self.model.name, "confirmation": self.confirmation,
+                "localisation_final": localisation_summary(self.residual_final, self.floors)}
 
 
-def localisation_summary(res: list[RunResidual]) -> dict:
-    """Regime and position table of a residual plus the peaks of its spatial spectra."""
+def localisation_summary(res: list[RunResidual], floors: list[NoiseFloor] | None = None
+                         ) -> dict:
+    """Regime and position table of a residual, the peaks of its spatial spectra and its
+    time axis (per time block of each run, with the noise floor when ``floors`` are given)."""
     if not res:
         return {}
     loc = localise(res)
+    loc["time"] = time_axis(res, [f.sigma for f in floors] if floors else None)
     peaks = {}
     for weight, key in ((None, "cogging_like_N"), ("i", "ripple_like_N_per_A")):
         if weight == "i" and any(q.i is None for q in res):
@@ -388,11 +401,13 @@ def verdict(res: list[RunResidual], floors: list[NoiseFloor], gate: Gate) -> dic
                            "a named effect must explain.")
         return out
     loc = excess_location(res, [f.sigma for f in floors])
+    loc["time"] = time_axis(res, [f.sigma for f in floors])
+    trend = trend_text(loc["time"])
     out["verdict"] = "unexplained_residual"
     out["where"] = loc
     out["sentence"] = (f"Unexplained residual: {g:.3g} N rms ({out['x_noise_floor']:.1f} x the "
                        f"noise floor {gate.floor_N:.3g} N) that no catalogue effect explains, "
-                       f"mostly at {_where_text(loc)}.")
+                       f"mostly at {_where_text(loc)}" + (f"; {trend}" if trend else "") + ".")
     return out
 
 
@@ -457,7 +472,13 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
         current, res = step.model_after, step.residual_after
     else:
         stop["gap"] = gap(res)
+    v = verdict(res, floors, gate)
+    if v["verdict"] == "unexplained_residual":
+        v = add_hint(v, fit_hints(runs, current, res, kw), gate)
+    kept, confirmation = confirmation_of(runs, steps, model, current, start_res, res,
+                                         [f.sigma for f in floors], gate,
+                                         v["verdict"] == "explained", kw)
     return Diagnosis(steps=steps, stop=stop, model_start=model, model=current,
                      runs=[r.name or f"run{j}" for j, r in enumerate(runs)], notes=notes,
                      residual_start=start_res, residual_final=res, floors=floors, gate=gate,
-                     verdict=verdict(res, floors, gate))
+                     verdict=v, model_confirmed=kept, confirmation=confirmation)

@@ -21,7 +21,8 @@ The model file keeps the paper's model structure (its effect switches); every pa
 step identifies replaces the paper's value, the others (sample time aside, which comes from
 the runs) keep the paper's defaults and are listed in the result and in the model's
 description.  A step whose runs are absent is skipped and says so; a step that fails raises
-a ValueError naming the step.  With ``truth`` (a model the runs were generated from), the
+a ValueError naming the step; when every step is skipped (nothing identified) a ValueError
+gives each step's reason and how each run was classified, and no model file is written.  With ``truth`` (a model the runs were generated from), the
 result holds the table of true versus identified parameters (:mod:`.truth_table`).
 """
 from __future__ import annotations
@@ -333,6 +334,10 @@ def identify_runs(runs: Sequence[Run], truth: ModelFile | Mapping[str, Any] | st
     if position_friction:
         effects["position_friction"] = _position_friction_step(res, groups, acc, dc_gain,
                                                                current_timing, profile_knots)
+    if not acc.identified - {"Ts"}:
+        raise ValueError("identify: nothing identified, every step was skipped: " + "; ".join(
+            f"{step}: {why}" for step, why in res.skipped.items()) + " (runs taken as: " + ", ".join(
+            f"{r.name or run_label(r)} {kind}" for kind, rs in groups.items() for r in rs) + ")")
     params = acc.params
     res.defaulted = tuple(k for k in params if k not in acc.identified)
     desc = ("identified by feeddrive.identify.pipeline from " + ", ".join(

@@ -1,8 +1,10 @@
 """The diagnosis report: report.html with the residual plots, beside the diagnosis files.
 
-``write_diagnosis(diag, out_dir)`` writes diagnosis.json, model.json and model_stepK.json
+``write_diagnosis(diag, out_dir)`` writes diagnosis.json, model.json (the confirmed effects),
+model_all_fits.json (every fit) and model_stepK.json
 (:func:`feeddrive.diagnose.output.write_files`) and then report.html with PNGs: the verdict
-in one sentence at the top, the noise floor per run, the residual of the start and final
+in one sentence at the top (with the hint when the residual is unexplained), which effects
+are confirmed and why, the hints, the final residual per time block, the noise floor per run, the residual of the start and final
 models against time, position and displacement since reversal, the spatial spectrum of the
 starting residual, and one overlay per step: the residual before and after against the
 noise band (+-1 and +-3 x the per-sample noise floor).
@@ -114,6 +116,20 @@ def _step_row(k: int, s: dict) -> list[list[str]]:
              f"(held-out {_fmt(ga.get('force_rms_heldout_N'))} N)"]]
 
 
+def _time_table(page: Page, ax: dict) -> None:
+    """The final residual per time block of each run, and its trend."""
+    rows = []
+    for run, tab in ax.get("runs", {}).items():
+        for b in tab["blocks"]:
+            rows.append({"run": run, "t [s]": f"{b['t_lo_s']:.2f}-{b['t_hi_s']:.2f}",
+                         "rms [N]": b["rms_N"], "noise floor [N]": b.get("floor_N"),
+                         "excess [N]": b.get("excess_N"),
+                         "run trend [N/s]": tab.get("trend_N_per_s")})
+    if rows:
+        page.table(rows, caption="time axis: the final residual per time block of each run "
+                                 "(a drift or a warm-up shows as a trend)")
+
+
 def write_diagnosis(diag: Diagnosis, out_dir: str | Path,
                     inputs: Iterable[str | Path | None] = (), force: bool = False) -> Path:
     """diagnosis.json, model.json (+ one per step) and report.html with PNGs in ``out_dir``;
@@ -144,8 +160,28 @@ def _write_diagnosis(diag: Diagnosis, out: Path) -> Path:
                                               "sample_share", "concentration") if k in sb}})
         page.table(rows, caption="where the residual above the noise floor sits "
                                  "(concentration: share of the excess energy / share of samples)")
-    page.lines([f"Runs: {', '.join(doc['runs'])}. Start model: {doc['model_start']}. "
-                f"Final model: {doc['final_model']} (model.json)."])
+    conf = doc["confirmation"]
+    mj, ma = conf["model_json"], conf["model_all_fits_json"]
+    page.lines([f"Runs: {', '.join(doc['runs'])}. Start model: {doc['model_start']}.",
+                f"model.json: {mj['name']}, the effects the diagnosis confirmed "
+                f"({', '.join(mj['effects_added']) or 'none added'}; force gap "
+                f"{_fmt(mj['gap_N'])} N). model_all_fits.json: {ma['name']}, every fit "
+                f"({', '.join(ma['effects_added']) or 'none added'}; force gap "
+                f"{_fmt(ma['gap_N'])} N).", f"Confirmed: {conf['rule']}."])
+    if conf["steps"]:
+        page.table([{"effect": r["effect"], "confirmed": r["confirmed"],
+                     "where it acted": ", ".join(r["regimes"]),
+                     "final residual there [N]": r.get("rms_final_N"),
+                     "noise floor there [N]": r.get("floor_N"), "excess [N]": r.get("excess_N"),
+                     "threshold [N]": r["threshold_N"], "why": r["why"]} for r in conf["steps"]],
+                   caption="which fitted effects are confirmed (model.json) and which are only "
+                           "in model_all_fits.json")
+    if doc["verdict"].get("hints"):
+        page.table([{"signature": h["signature"], "explained force [N]": h["explained_force_N"],
+                     "size": h["text"]} for h in doc["verdict"]["hints"]],
+                   caption="signatures outside the catalogue fitted to the final residual "
+                           "(hints, never model changes; the best is in the verdict)")
+    _time_table(page, doc["localisation_final"].get("time", {}))
     page.lines(doc["notes"])
     nf, sig = doc["noise_floor"], doc["significance"]
     page.heading("Noise floor")

@@ -17,6 +17,8 @@ from ..harness.references import from_positions
 from ..harness.runs import replay
 from ..harness.sidecar import Sidecar, read_sidecar
 from ..model_file import ModelFile, load_model, paper_model
+from ..paper import STROKE
+from ..plausibility import check_units
 from .metrics import ErrorSummary, reversal_mask, summarise
 
 
@@ -42,15 +44,26 @@ class ValidationReport:
         return "\n".join(lines)
 
 
-def check_run(run: Run) -> Sidecar:
+def model_stroke(model: ModelFile | None) -> tuple[float, float]:
+    """The stroke ``stroke.x_min``, ``stroke.x_max`` of a model [m] (the paper's without one)."""
+    if model is None:
+        return STROKE
+    p = model.parameters
+    return float(p.get("stroke.x_min", STROKE[0])), float(p.get("stroke.x_max", STROKE[1]))
+
+
+def check_run(run: Run, model: ModelFile | None = None) -> Sidecar:
     """The refusals every command that reads a measured run applies before any work.
 
     :func:`feeddrive.data.check_plausible` (rows, magnitudes, sampling, a run that carries
-    something), then the sidecar: the schema's fields (:func:`read_sidecar`), a controller
+    something), :func:`feeddrive.plausibility.check_units` (positions, speeds,
+    accelerations and currents a feed drive can have, against the stroke of ``model``, the
+    paper's without one: the likely unit mistake), then the sidecar: the schema's fields (:func:`read_sidecar`), a controller
     the harness can build from it, ``force_gain`` a number > 0.  Returns the read sidecar;
     raises ValueError naming the CSV or the JSON file and the field.
     """
     check_plausible(run)
+    check_units(run, model_stroke(model))
     where = str(sidecar_path(run.path)) if run.path is not None else f"{run.name}: sidecar"
     side = read_sidecar(run.meta, where=where)
     if side.controller is not None:
@@ -119,6 +132,6 @@ def validate(run: Run, model: ModelFile) -> ValidationReport:
 def validate_file(measured: Path, model_path: Path | None = None) -> ValidationReport:
     """CLI entry: load the run and the model file (default: the paper's model)."""
     run = load_run(measured)
-    check_run(run)
     model = load_model(model_path) if model_path else paper_model()
+    check_run(run, model)
     return validate(run, model)

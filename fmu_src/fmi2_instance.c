@@ -157,14 +157,15 @@ fmi2Status fmu_recompile(instance_t *c, const double *backup_val) {
     model_t *m = &c->m;
     char msg[512];
     plant_params_t old = m->p;
-    m->memo.valid = 0;
-    m->carry.valid = 0;
+    /* refused: values and compiled parameters back, the caches untouched (nothing changes) */
     if (!params_compile(m->val, &m->p, msg, sizeof msg)) {
         fmu_log(c, fmi2Error, LOG_ERROR, "%s", msg);
         if (backup_val) memcpy(m->val, backup_val, sizeof m->val);
         m->p = old;
         return fmi2Error;
     }
+    m->memo.valid = 0;
+    m->carry.valid = 0;
     plant_retune(&old, &m->p, &m->d, m->y);
     m->params_ok = 1;
     m->out_valid = 0;

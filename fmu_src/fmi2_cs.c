@@ -122,6 +122,7 @@ static fmi2Status integrate(instance_t *c, double tau, double tau_end, double h,
         if (fast && fast_interval(m, tau_target - tau, fresh)) {
             tau = tau_target;
             m->time = m->t0 + tau;
+            m->tau = tau;
             fresh = 0;
             if (tau < tau_end && fmu_sample_due(m, tau, 0.0)) {
                 if (fmu_event_update(c, "fmi2DoStep", tau, 0.0, &changed) < 0) return step_failed(c, &b, h);
@@ -133,6 +134,7 @@ static fmi2Status integrate(instance_t *c, double tau, double tau_end, double h,
         m->solver.max_steps = budget_left(m, &b);
         r = dp45_advance(&m->solver, m, rhs, indicators, &tau, tau_target, m->y, roots);
         m->time = m->t0 + tau;
+        m->tau = tau;
         if (r == DP45_ROOT && ++b.n_events > b.events) r = DP45_ERROR;
         if (r == DP45_ERROR) return step_failed(c, &b, h);
         if (r == DP45_ROOT || (tau < tau_end && fmu_sample_due(m, tau, 0.0))) {
@@ -154,23 +156,28 @@ fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h, fmi2Boolean no
 /* fmi2DoStep's work, shared with fmi3DoStep (fmi3_cs.c) */
 fmi2Status fmu_cs_do_step(instance_t *c, double t, double h) {
     model_t *m = &c->m;
-    double t_end, eps;
+    double t_end, eps, tau;
     fmi2Boolean changed;
     int fresh = 0;
     eps = fmu_time_eps(m, t);
     if (!step_args_ok(c, t, h, eps)) return fmi2Error;
     t_end = t + h;
+    /* from the time reached (an early return's end, FMI 3.0, is t0 + tau rounded: the step goes on
+     * from tau itself, as the step that did not return would have) */
+    tau = t == m->time ? m->tau : t - m->t0;
     m->time = t;
+    m->tau = tau;
     params_inputs(m->val, &m->in);
     /* what is due now, with the inputs the master has just set */
-    if (fmu_sample_due(m, t - m->t0, 0.0) || m->solver_restart) {
-        if (fmu_event_update(c, "fmi2DoStep", t - m->t0, 0.0, &changed) < 0) { m->fsm = ST_ERROR; return fmi2Error; }
+    if (fmu_sample_due(m, tau, 0.0) || m->solver_restart) {
+        if (fmu_event_update(c, "fmi2DoStep", tau, 0.0, &changed) < 0) { m->fsm = ST_ERROR; return fmi2Error; }
         dp45_restart(&m->solver);
         m->solver_restart = 0;
         fresh = 1;
     }
-    if (integrate(c, t - m->t0, t_end - m->t0, h, eps, fresh) != fmi2OK) return fmi2Error;
+    if (integrate(c, tau, t_end - m->t0, h, eps, fresh) != fmi2OK) return fmi2Error;
     m->time = t_end;
+    m->tau = t_end - m->t0;
     fmu_check_stroke(c);
     m->out_valid = 0;
     return fmi2OK;

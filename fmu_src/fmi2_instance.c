@@ -267,6 +267,7 @@ fmi2Status fmi2SetupExperiment(fmi2Component comp, fmi2Boolean toleranceDefined,
         return fmi2Error;
     }
     c->m.time = c->m.t0 = startTime;
+    c->m.tau = 0.0;
     c->m.stop_defined = stopTimeDefined != 0;
     c->m.stop_time = stopTime;
     c->m.tol_defined = toleranceDefined != 0;

@@ -19,6 +19,8 @@ typedef struct {
     unsigned magic, size;
     int fsm;
     double time, t0, stop_time;
+    double tau;                     /* co-simulation: the time since t0 as the integrator holds it (time is
+                                       t0 + tau rounded); a step starting at time continues from it */
     int stop_defined, tol_defined;
     double tol;
     double val[MODEL_NVR];          /* every variable by value reference */

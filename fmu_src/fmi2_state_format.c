@@ -76,7 +76,7 @@ static uint32_t layout_crc(void) {
     return crc;
 }
 static size_t payload_bytes(void) {
-    return 2 * 4 + 4 * 8 + 8 * ((size_t)PLANT_NX + n_stored() + PLANT_ND + SOLVER_NUMS + FAST_CARRY_ND);
+    return 2 * 4 + 5 * 8 + 8 * ((size_t)PLANT_NX + n_stored() + PLANT_ND + SOLVER_NUMS + FAST_CARRY_ND);
 }
 size_t state_bytes(void) { return HEADER_BYTES + payload_bytes(); }
 
@@ -114,6 +114,7 @@ void state_encode(const model_t *m, int type, unsigned char *out) {
     put_f64(&w, m->t0);
     put_f64(&w, m->stop_time);
     put_f64(&w, m->tol);
+    put_f64(&w, m->tau);
     for (j = 0; j < PLANT_NX; j++) put_f64(&w, m->y[j]);
     for (j = 0; j < MODEL_NVARS; j++)
         if (stored(&MODEL_VARS[j])) put_f64(&w, m->val[MODEL_VARS[j].vr]);
@@ -143,7 +144,7 @@ static int header_ok(instance_t *c, const char *fn, const unsigned char *b, size
     magic = get_u32(&r); version = get_u32(&r); hb = get_u32(&r); pb = get_u32(&r);
     if (magic != STATE_MAGIC) BAD("%s: not a state of this FMU (magic 0x%08x, expected 0x%08x)", fn,
                                   (unsigned)magic, STATE_MAGIC);
-    if (version != STATE_VERSION) BAD("%s: state format version %u, this FMU reads version %u", fn,
+    if (version != STATE_VERSION) BAD("%s: state format version %u, this FMU reads version %u only (a state saved by another build of the FMU)", fn,
                                       (unsigned)version, STATE_VERSION);
     if (hb != HEADER_BYTES || pb != payload_bytes() || len != state_bytes())
         BAD("%s: state of %zu bytes (header %u + payload %u), a state of this FMU has %zu (%d + %zu)", fn, len,
@@ -188,10 +189,15 @@ static int read_scalars(instance_t *c, const char *fn, rd_t *r, model_t *m) {
     m->t0 = get_f64(r);
     m->stop_time = get_f64(r);
     m->tol = get_f64(r);
+    m->tau = get_f64(r);
     if (!isfinite(m->time) || !isfinite(m->t0) || !isfinite(m->stop_time) || !(m->tol > 0.0 && m->tol < 1.0) ||
         (m->stop_defined && m->stop_time < m->t0))
         BAD("%s: time %g, startTime %g, stopTime %g, tolerance %g: allowed finite times, stopTime >= "
             "startTime, tolerance in (0, 1)", fn, m->time, m->t0, m->stop_time, m->tol);
+    /* time = startTime + tau up to the rounding of that sum (and of an importer's times) */
+    if (!(fabs(m->t0 + m->tau - m->time) <= fmu_ulp_slack(m->time) + fmu_ulp_slack(m->t0)))
+        BAD("%s: the integrator's time since startTime %.17g s does not match time %.17g s - startTime %.17g s",
+            fn, m->tau, m->time, m->t0);
     if ((m->fsm & ST_INSTANTIATED) ? m->params_ok : (!(m->fsm & ST_INIT) && !m->params_ok))
         BAD("%s: parameters-compiled flag %d contradicts the call-sequence state 0x%x", fn, m->params_ok, m->fsm);
     return 1;

@@ -1,7 +1,10 @@
-"""A refused call changes nothing, to the bit (both builds of the plant, co-simulation):
+"""A refused call changes nothing, to the bit, and the FMI 3.0 early return leaves the FMI 2.0
+step's trajectory unchanged, to the bit (both builds of the plant, co-simulation):
 
 * a tunable set refused at recompilation (friction.F_c above friction.F_s) leaves the solver's
   caches as they were: the trajectory after it is the one without the attempt;
+* with earlyReturnAllowed (and eventModeUsed) the FMI 3.0 plant gives the FMI 2.0 plant's x at
+  every communication point of an open-loop drive, from startTime 0 and from other start times.
 """
 from __future__ import annotations
 
@@ -10,8 +13,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from fmpy import extract, read_model_description
+from fmpy.fmi3 import FMU3Slave
 
 from feeddrive.fmu import Plant
+from feeddrive.fmu3 import set_values
 
 H = 1e-3                      # s, communication step
 VERSIONS = ("2.0", "3.0")
@@ -43,3 +49,55 @@ def test_refused_tunable_set_changes_nothing(path: Path) -> None:
         p.close()
         return np.array(xs)
     np.testing.assert_array_equal(run(True), run(False))
+
+
+@pytest.mark.parametrize("t0", [0.0, 1.0, 0.3])
+def test_early_return_bit_identical_to_fmi2(fmu2_path: Path, fmu3_path: Path, t0: float) -> None:
+    """Open-loop drive u = 1.2 V sin(2 pi 3 t) over 0.6 s in steps of 1 ms from startTime t0:
+    the FMI 3.0 plant with early return (and event mode) gives the FMI 2.0 plant's x at every
+    communication point to the bit (from t0 = 1 s it differed by 1e-13 m: the step after an
+    early return went on from t0 + tau rounded instead of tau)."""
+    n = 600
+
+    def u_of(t: float) -> float:
+        return 1.2 * math.sin(2 * math.pi * 3 * (t - t0))
+    p = Plant({}, path=fmu2_path)
+    p.start({"u": u_of(t0)}, t0=t0)
+    x2 = [p.get(["x"])["x"]]
+    for k in range(n):
+        t = t0 + k * H
+        p.set({"u": u_of(t)})
+        p.fmu.doStep(currentCommunicationPoint=t, communicationStepSize=(t0 + (k + 1) * H) - t)
+        x2.append(p.get(["x"])["x"])
+    p.close()
+    md = read_model_description(str(fmu3_path))
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    for em in (False, True):
+        f = FMU3Slave(guid=md.guid, unzipDirectory=extract(str(fmu3_path)),
+                      modelIdentifier=md.coSimulation.modelIdentifier, instanceName="er")
+        f.instantiate(eventModeUsed=em, earlyReturnAllowed=True)
+        set_values(f, md, {"u": u_of(t0)})
+        f.enterInitializationMode(tolerance=1e-6, startTime=t0)
+        f.exitInitializationMode()
+        if em:
+            f.updateDiscreteStates()
+            f.enterStepMode()
+        x3, n_early = [f.getFloat64([vr["x"]])[0]], 0
+        for k in range(n):
+            t, t_end = t0 + k * H, t0 + (k + 1) * H
+            f.setFloat64([vr["u"]], [u_of(t)])
+            while True:
+                need, _, early, t_last = f.doStep(t, t_end - t)
+                if need:
+                    f.enterEventMode()
+                    f.updateDiscreteStates()
+                    f.enterStepMode()
+                if not early:
+                    break
+                n_early, t = n_early + 1, t_last
+            x3.append(f.getFloat64([vr["x"]])[0])
+        f.terminate()
+        f.freeInstance()
+        dx = float(np.max(np.abs(np.array(x3) - np.array(x2))))
+        print(f"t0 = {t0} s, event mode {em}: {n_early} early returns, max |dx| vs FMI 2.0 = {dx:.3g} m")
+        assert n_early > 10 and dx == 0.0

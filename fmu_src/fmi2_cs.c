@@ -5,6 +5,7 @@
  * step. A sample that falls on the end of a communication step is taken at the start of the
  * next one, after the master has set that instant's inputs. */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "fast_path.h"
@@ -84,7 +85,7 @@ static long budget_left(const model_t *m, const budget_t *b) {
 /* the integrator failed or a budget ran out: the message, state Error */
 static fmi2Status step_failed(instance_t *c, const budget_t *b, double h) {
     model_t *m = &c->m;
-    char why[160];
+    char why[320];
     double used = (double)(m->solver.n_steps + m->solver.n_rejected) - b->start_attempts;
     params_fastest_rate(m->val, &m->p, why, sizeof why);
     if (b->n_events > b->events)
@@ -104,8 +105,32 @@ static fmi2Status step_failed(instance_t *c, const budget_t *b, double h) {
     return fmi2Error;
 }
 
+/* every continuous state inside the min/max of modelDescription.xml (a NaN is outside); else the
+ * message names the state, its value, the range and the cause, and the step fails */
+static int states_in_range(instance_t *c) {
+    model_t *m = &c->m;
+    char cause[320], vb[40];
+    int j;
+    for (j = 0; j < PLANT_NX; j++) {
+        const model_var_t *v = &MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]];
+        if (m->y[j] >= v->min && m->y[j] <= v->max) continue;
+        snprintf(vb, sizeof vb, "%.9g", m->y[j]);
+        m->out_valid = 0;
+        fmu_update_outputs(c);
+        params_state_cause(&m->p, m->y, &m->in, &m->out, j, cause, sizeof cause);
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s = %s %s left its declared range [%g, %g] %s at t = %.17g s: %s",
+                c->fmi3 ? "fmi3DoStep" : "fmi2DoStep", v->name, vb, v->unit, v->min, v->max, v->unit, m->time,
+                cause);
+        m->fsm = ST_ERROR;
+        m->out_valid = 0;
+        return 0;
+    }
+    return 1;
+}
+
 /* integrate from tau (= time - t0, exact for t0 = 0) to tau_end, stopping at every sample
- * (keyed to its index: tau_k = k Ts) and every friction switch */
+ * (keyed to its index: tau_k = k Ts) and every friction switch; every continuous state is checked
+ * against its declared range where each interval ends (sample, switch, step end) */
 static fmi2Status integrate(instance_t *c, double tau, double tau_end, double h, double eps, int fresh) {
     model_t *m = &c->m;
     int roots[PLANT_NZ], fast = m->val[VR_solver_fast] != 0.0 && fast_path_ok(&m->p);
@@ -124,6 +149,7 @@ static fmi2Status integrate(instance_t *c, double tau, double tau_end, double h,
             m->time = m->t0 + tau;
             m->tau = tau;
             fresh = 0;
+            if (!states_in_range(c)) return fmi2Error;
             if (tau < tau_end && fmu_sample_due(m, tau, 0.0)) {
                 if (fmu_event_update(c, "fmi2DoStep", tau, 0.0, &changed) < 0) return step_failed(c, &b, h);
                 fresh = 1;
@@ -137,6 +163,7 @@ static fmi2Status integrate(instance_t *c, double tau, double tau_end, double h,
         m->tau = tau;
         if (r == DP45_ROOT && ++b.n_events > b.events) r = DP45_ERROR;
         if (r == DP45_ERROR) return step_failed(c, &b, h);
+        if (!states_in_range(c)) return fmi2Error;
         if (r == DP45_ROOT || (tau < tau_end && fmu_sample_due(m, tau, 0.0))) {
             if (fmu_event_update(c, "fmi2DoStep", tau, 0.0, &changed) < 0) return step_failed(c, &b, h);
             dp45_restart(&m->solver);

@@ -260,9 +260,9 @@ fmi2Status fmi2SetupExperiment(fmi2Component comp, fmi2Boolean toleranceDefined,
     instance_t *c = FMU_ENTER(comp, fmi2SetupExperiment);
     if (!c) return fmi2Error;
     if (!isfinite(startTime) || (stopTimeDefined && (!isfinite(stopTime) || stopTime < startTime)) ||
-        (toleranceDefined && (!isfinite(tolerance) || tolerance <= 0.0 || tolerance >= 1.0))) {
+        (toleranceDefined && (!isfinite(tolerance) || tolerance <= 0.0))) {
         fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SetupExperiment: startTime = %g, stopTime = %g, tolerance = %g: "
-                "allowed finite startTime, stopTime >= startTime, tolerance in (0, 1)",
+                "allowed finite startTime, stopTime >= startTime, tolerance > 0",
                 startTime, stopTime, tolerance);
         return fmi2Error;
     }
@@ -271,7 +271,14 @@ fmi2Status fmi2SetupExperiment(fmi2Component comp, fmi2Boolean toleranceDefined,
     c->m.stop_defined = stopTimeDefined != 0;
     c->m.stop_time = stopTime;
     c->m.tol_defined = toleranceDefined != 0;
-    if (toleranceDefined) c->m.tol = tolerance;
+    if (toleranceDefined) c->m.tol = tolerance < TOL_MAX ? tolerance : TOL_MAX;
+    if (toleranceDefined && tolerance > TOL_MAX) {
+        /* FMI: the FMU may integrate with a smaller tolerance than the importer's */
+        fmu_log(c, fmi2Warning, LOG_WARNING, "fmi2SetupExperiment: tolerance = %g is looser than %g, the loosest "
+                "at which the integrator's error follows its tolerance: integrating with %g", tolerance, TOL_MAX,
+                TOL_MAX);
+        return fmi2Warning;
+    }
     return fmi2OK;
 }
 

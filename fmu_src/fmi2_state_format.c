@@ -190,10 +190,10 @@ static int read_scalars(instance_t *c, const char *fn, rd_t *r, model_t *m) {
     m->stop_time = get_f64(r);
     m->tol = get_f64(r);
     m->tau = get_f64(r);
-    if (!isfinite(m->time) || !isfinite(m->t0) || !isfinite(m->stop_time) || !(m->tol > 0.0 && m->tol < 1.0) ||
+    if (!isfinite(m->time) || !isfinite(m->t0) || !isfinite(m->stop_time) || !(m->tol > 0.0 && m->tol <= TOL_MAX) ||
         (m->stop_defined && m->stop_time < m->t0))
         BAD("%s: time %g, startTime %g, stopTime %g, tolerance %g: allowed finite times, stopTime >= "
-            "startTime, tolerance in (0, 1)", fn, m->time, m->t0, m->stop_time, m->tol);
+            "startTime, tolerance in (0, %g]", fn, m->time, m->t0, m->stop_time, m->tol, TOL_MAX);
     /* time = startTime + tau up to the rounding of that sum (and of an importer's times) */
     if (!(fabs(m->t0 + m->tau - m->time) <= fmu_ulp_slack(m->time) + fmu_ulp_slack(m->t0)))
         BAD("%s: the integrator's time since startTime %.17g s does not match time %.17g s - startTime %.17g s",
@@ -219,7 +219,7 @@ static int read_values(instance_t *c, const char *fn, rd_t *r, model_t *m) {
         x = get_f64(r);
         if (!params_check_value(v->vr, x, msg, sizeof msg)) BAD("%s: %s", fn, msg);
         if ((v->type == 'B' && x != 0.0 && x != 1.0) || (v->type == 'I' && x != floor(x)) ||
-            (v->vr == VR_solver_tol && !(x > 0.0 && x < 1.0)))
+            (v->vr == VR_solver_tol && !(x > 0.0 && x <= TOL_MAX)))
             BAD("%s: %s = %g is not a valid %s value", fn, v->name, x, v->type == 'B' ? "Boolean" :
                 (v->type == 'I' ? "Integer" : "Real"));
         m->val[v->vr] = x;

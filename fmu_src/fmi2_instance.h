@@ -55,6 +55,7 @@ typedef struct {
     /* an FMI 3.0 instance (fmi3_*.c; 0 for FMI 2.0): its glue's data, and the hook that
      * fmu_event_update calls after a friction switch (NULL: none) */
     int fmi3;
+    int event_mode_used;            /* an FMI 3.0 co-simulation instance made with eventModeUsed */
     void *ext;
     void (*on_switch)(void *instance);
     /* the FMU states this instance's Get/DeserializeFMUState allocated and no FreeFMUState has

@@ -211,6 +211,8 @@ static int read_values(instance_t *c, const char *fn, rd_t *r, model_t *m) {
         m->y[j] = get_f64(r);
         if (!isfinite(m->y[j])) BAD("%s: state %s = %g is not finite", fn,
                                     MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]].name, m->y[j]);
+        /* the range fmi2SetContinuousStates enforces (the XML's min/max) */
+        if (!params_check_value(MODEL_STATE_VR[j], m->y[j], msg, sizeof msg)) BAD("%s: state %s", fn, msg);
     }
     for (j = 0; j < MODEL_NVARS; j++) {
         const model_var_t *v = &MODEL_VARS[j];
@@ -258,12 +260,30 @@ static int read_rest(instance_t *c, const char *fn, rd_t *r, model_t *m) {
     return 1;
 }
 
+/* what the instance was made with and cannot change by a state: an FMI 3.0 instance's number of
+ * continuous states 2 + friction.N (a structural parameter, set only in Configuration Mode), and
+ * a co-simulation instance's eventModeUsed (Event Mode exists only with it) */
+static int structure_ok(instance_t *c, const char *fn, const model_t *m) {
+    double n_state = m->val[VR_friction_N], n_inst = c->m.val[VR_friction_N];
+    if (c->fmi3 && n_state != n_inst)
+        BAD("%s: the state has friction.N = %g, this instance %g: friction.N is a structural parameter (it sets "
+            "the number of continuous states, 2 + friction.N); allowed: a state of the same friction.N (set it "
+            "in Configuration Mode before loading)", fn, n_state, n_inst);
+    if (c->type == fmi2CoSimulation && (m->fsm & ST_EVENT) && !c->event_mode_used)
+        BAD("%s: the state was saved in Event Mode; this co-simulation instance was instantiated with "
+            "eventModeUsed = false (allowed: a state saved in Step Mode, or an instance with eventModeUsed = true)",
+            fn);
+    return 1;
+}
+
 int state_decode(instance_t *c, const char *fn, const unsigned char *b, size_t len, model_t *out) {
     rd_t r = {b, HEADER_BYTES};
     if (!b) BAD("%s: the state is NULL", fn);
     if (!header_ok(c, fn, b, len)) return 0;
     fmu_model_defaults(out);
-    if (!read_scalars(c, fn, &r, out) || !read_values(c, fn, &r, out) || !read_rest(c, fn, &r, out)) return 0;
+    if (!read_scalars(c, fn, &r, out) || !read_values(c, fn, &r, out) || !structure_ok(c, fn, out) ||
+        !read_rest(c, fn, &r, out))
+        return 0;
     params_inputs(out->val, &out->in);
     out->out_valid = 0;
     out->solver_restart = 1;

@@ -24,6 +24,7 @@ static instance_t *instantiate(fmi3String name, fmi2Type type, fmi3String token,
     c = (instance_t *)fmi2Instantiate(name, type, token, NULL, &cb, fmi2False, logging_on ? fmi2True : fmi2False);
     if (!c) { free(e); return NULL; }
     c->fmi3 = 1;
+    c->event_mode_used = event_mode_used;
     c->ext = e;
     return c;
 }

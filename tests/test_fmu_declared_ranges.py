@@ -5,7 +5,9 @@
   roots), a tolerance looser than solver.tol's declared max (the loosest at which the DP45's error
   still follows its tolerance, measured here at the stiffest declared settings);
 * a continuous state leaving its declared [min, max] during a co-simulation step ends the step
-  with an error naming the state, its range and the cause; no message prints "inf" as a rate;
+  with an error naming the state, its range and the cause; in model exchange the setter of the
+  continuous states refuses one beyond its range (the integration stops there); no message prints
+  "inf" as a rate;
 * a sweep of extreme settings (every parameter and input at its min and at its max alone, and
   random combinations of them): each is refused at initialisation with a message, or runs with
   every step OK and every continuous state inside its declared range, or ends a step with an
@@ -13,6 +15,7 @@
 """
 from __future__ import annotations
 
+import ctypes
 import re
 from pathlib import Path
 
@@ -23,6 +26,7 @@ from fmpy import read_model_description
 from feeddrive.fmu import FMUError, Plant
 
 H = 1e-3                      # s, communication step
+DP = ctypes.POINTER(ctypes.c_double)
 STATES = ["x", "v"] + [f"friction.F[{j}]" for j in range(1, 11)] + ["compliance.dx", "compliance.dv"]
 VERSIONS = ("2.0", "3.0")
 
@@ -142,6 +146,28 @@ def test_state_leaving_its_range_ends_the_step(path: Path) -> None:
     assert re.search(r"DoStep: v = -?1\d{3}\.\d+ m/s left its declared range \[-1000, 1000\] m/s", msg), msg
     assert "F_ext = 100000 N" in msg and "a = " in msg
     assert vs and max(abs(v) for v in vs) <= 1000.0
+
+
+def test_model_exchange_state_beyond_its_range_refused(path: Path) -> None:
+    """Model exchange: the importer's integrator sets the states, so fmi2SetContinuousStates /
+    fmi3SetContinuousStates refuse v = 1500 m/s naming v and its range (the integration stops
+    there); the instance keeps its states and its derivatives answer as before."""
+    p = Plant({}, interface="me", path=path)
+    p.start({"u": 1.0})
+    p.update_discrete_states()
+    p.fmu.enterContinuousTimeMode()
+    nx = p.md.numberOfContinuousStates
+    y, dy0, dy1 = np.zeros(nx), np.zeros(nx), np.zeros(nx)
+    p.fmu.getContinuousStates(y.ctypes.data_as(DP), nx)
+    p.get_derivatives(dy0.ctypes.data_as(DP), nx)
+    bad = y.copy()
+    bad[1] = 1500.0
+    with pytest.raises(Exception):
+        p.fmu.setContinuousStates(bad.ctypes.data_as(DP), nx)
+    assert "state v = 1500 is out of range: allowed [-1000, 1000] m/s" in p.messages[-1], p.messages[-1]
+    p.get_derivatives(dy1.ctypes.data_as(DP), nx)
+    p.close()
+    np.testing.assert_array_equal(dy1, dy0)
 
 
 def test_no_rate_printed_as_inf(path: Path) -> None:

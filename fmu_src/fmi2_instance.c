@@ -274,9 +274,9 @@ fmi2Status fmi2SetupExperiment(fmi2Component comp, fmi2Boolean toleranceDefined,
     if (toleranceDefined) c->m.tol = tolerance < TOL_MAX ? tolerance : TOL_MAX;
     if (toleranceDefined && tolerance > TOL_MAX) {
         /* FMI: the FMU may integrate with a smaller tolerance than the importer's */
-        fmu_log(c, fmi2Warning, LOG_WARNING, "fmi2SetupExperiment: tolerance = %g is looser than %g, the loosest "
-                "at which the integrator's error follows its tolerance: integrating with %g", tolerance, TOL_MAX,
-                TOL_MAX);
+        fmu_log(c, fmi2Warning, LOG_WARNING, "%s: tolerance = %g is looser than %g, the loosest at which the "
+                "integrator's error follows its tolerance: integrating with %g",
+                c->fmi3 ? "fmi3EnterInitializationMode" : "fmi2SetupExperiment", tolerance, TOL_MAX, TOL_MAX);
         return fmi2Warning;
     }
     return fmi2OK;

@@ -32,8 +32,8 @@ def path(request, fmu2_path: Path, fmu3_path: Path) -> Path:
 
 def test_refused_tunable_set_changes_nothing(path: Path) -> None:
     """friction.F_c above friction.F_s at 0.05 s is refused (fmi2Error / fmi3Error) and the
-    trajectory on to 0.15 s is the one without the attempt, to the bit (it differed by
-    1.6e-13 m: the refusal cleared the solver's caches)."""
+    trajectory on to 0.15 s is the one without the attempt, to the bit (clearing the solver's
+    caches at the refusal would move x by 1.6e-13 m)."""
     def run(attempt: bool) -> np.ndarray:
         p = Plant({}, path=path)
         p.start({"u": 1.5})
@@ -55,8 +55,9 @@ def test_refused_tunable_set_changes_nothing(path: Path) -> None:
 def test_early_return_bit_identical_to_fmi2(fmu2_path: Path, fmu3_path: Path, t0: float) -> None:
     """Open-loop drive u = 1.2 V sin(2 pi 3 t) over 0.6 s in steps of 1 ms from startTime t0:
     the FMI 3.0 plant with early return (and event mode) gives the FMI 2.0 plant's x at every
-    communication point to the bit (from t0 = 1 s it differed by 1e-13 m: the step after an
-    early return went on from t0 + tau rounded instead of tau)."""
+    communication point to the bit (the step after an early return goes on from the integrator's
+    tau; going on from lastSuccessfulTime - t0, t0 + tau rounded, moves x by up to 1e-13 m from
+    t0 = 1 s)."""
     n = 600
 
     def u_of(t: float) -> float:

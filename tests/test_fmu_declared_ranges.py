@@ -58,7 +58,7 @@ def _a_from_roots(roots: list[complex]) -> dict:
 
 
 def test_unstable_current_loop_refused_at_initialisation(path: Path) -> None:
-    """current.a[1] = 10 (the issue's case: x = 2.5e174 m after 0.1 s with OK) is refused at
+    """current.a[1] = 10 (unchecked: x = 2.5e174 m after 0.1 s) is refused at
     initialisation naming the rule; a loop with a pole pair at |z| = 1.02 is refused, one at
     |z| = 0.98 runs."""
     for params in ({"current.a[1]": 10.0}, _a_from_roots([1.02 * np.exp(0.3j), 1.02 * np.exp(-0.3j), 0.5])):
@@ -99,7 +99,7 @@ def test_current_loop_rule_agrees_with_the_roots(fmu2_path: Path) -> None:
 # ------------------------------------------------------------------ tolerance
 
 def test_solver_tol_beyond_its_declared_max(path: Path) -> None:
-    """solver.tol = 0.99 (m = 1e-3 kg gave v = 3.7e298 m/s with OK) is refused naming the
+    """solver.tol = 0.99 (with m = 1e-3 kg: v = 3.7e298 m/s after 0.1 s) is refused naming the
     allowed (0, 0.01]; an experiment tolerance of 0.5 integrates at 0.01 (the same trajectory
     to the bit)."""
     with pytest.raises(FMUError, match=r"solver\.tol = 0\.99.*\(0, 0\.01\]"):
@@ -131,7 +131,7 @@ def test_error_follows_the_tolerance_up_to_its_max(fmu2_path: Path, extra: dict)
 # ------------------------------------------------------------------ a state leaving its range
 
 def test_state_leaving_its_range_ends_the_step(path: Path) -> None:
-    """F_ext = 1e5 N drives |v| past its declared 1000 m/s (it reached 1175 m/s with OK): the
+    """F_ext = 1e5 N drives |v| past its declared 1000 m/s (unchecked, to 1175 m/s): the
     step that crosses ends with an error naming v, its range and the forces; every earlier step
     ended with |v| <= 1000 m/s."""
     p = Plant({}, path=path)

@@ -1,8 +1,8 @@
 """FMU states that carry and check every structural parameter, and a loader that checks what the
 setters check (both builds of the plant, co-simulation):
 
-* a continuous state beyond its declared range in a state whose CRC-32 was recomputed (v = 1e300
-  loaded and ran with OK) is refused naming v and its range, and the instance is unchanged;
+* a continuous state beyond its declared range in a state whose CRC-32 was recomputed (v = 1e300)
+  is refused naming v and its range, and the instance is unchanged;
 * FMI 3.0: a state of another friction.N (another number of continuous states) is refused naming
   both values; a state saved in Event Mode is refused by an instance made with
   eventModeUsed = false, and loads into one made with it;

@@ -130,7 +130,8 @@ static int states_in_range(instance_t *c) {
 
 /* integrate from tau (= time - t0, exact for t0 = 0) to tau_end, stopping at every sample
  * (keyed to its index: tau_k = k Ts) and every friction switch; every continuous state is checked
- * against its declared range where each interval ends (sample, switch, step end) */
+ * against its declared range after every accepted integrator step and where each interval ends
+ * (sample, switch, step end) */
 static fmi2Status integrate(instance_t *c, double tau, double tau_end, double h, double eps, int fresh) {
     model_t *m = &c->m;
     int roots[PLANT_NZ], fast = m->val[VR_solver_fast] != 0.0 && fast_path_ok(&m->p);
@@ -163,7 +164,7 @@ static fmi2Status integrate(instance_t *c, double tau, double tau_end, double h,
         m->tau = tau;
         if (r == DP45_ROOT && ++b.n_events > b.events) r = DP45_ERROR;
         if (r == DP45_ERROR) return step_failed(c, &b, h);
-        if (!states_in_range(c)) return fmi2Error;
+        if (!states_in_range(c)) return fmi2Error;   /* also after DP45_BOUND, which leaves one outside */
         if (r == DP45_ROOT || (tau < tau_end && fmu_sample_due(m, tau, 0.0))) {
             if (fmu_event_update(c, "fmi2DoStep", tau, 0.0, &changed) < 0) return step_failed(c, &b, h);
             dp45_restart(&m->solver);

@@ -307,6 +307,12 @@ void fmu_solver_setup(model_t *m) {
         dp45_init(&m->solver, 2 + m->p.N, PLANT_NZ, m->tol, atol, m->p.Ts);
         m->solver.n_norm = PLANT_NX_BASE;
     }
+    /* every accepted step is checked against the states' declared ranges (fmi2_cs.c) */
+    m->solver.bounded = 1;
+    for (j = 0; j < m->solver.n; j++) {
+        m->solver.y_lo[j] = MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]].min;
+        m->solver.y_hi[j] = MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]].max;
+    }
 }
 
 /* compile parameters and initialise the plant from the current values */

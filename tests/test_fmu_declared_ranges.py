@@ -148,6 +148,20 @@ def test_state_leaving_its_range_ends_the_step(path: Path) -> None:
     assert vs and max(abs(v) for v in vs) <= 1000.0
 
 
+def test_state_leaving_its_range_inside_a_long_step(path: Path) -> None:
+    """The current loop ideal (no samples) and one step of 1 s: |v| passes 1000 m/s at about
+    0.23 s, inside the step; the error names the time of the integrator step that crossed
+    (within the solver's largest step Ts of the crossing), not the step's end."""
+    p = Plant({"effects.current_dynamics": False}, path=path)
+    p.start({"F_ext": 1e5})
+    with pytest.raises(FMUError) as e:
+        p.do_step(0.0, 1.0)
+    p.close()
+    m = re.search(r"v = (-?[\d.]+) m/s left its declared range \[-1000, 1000\] m/s at t = ([\d.]+) s", str(e.value))
+    assert m, str(e.value)
+    assert 1000.0 < abs(float(m.group(1))) < 1002.0 and 0.2 < float(m.group(2)) < 0.3, str(e.value)
+
+
 def test_model_exchange_state_beyond_its_range_refused(path: Path) -> None:
     """Model exchange: the importer's integrator sets the states, so fmi2SetContinuousStates /
     fmi3SetContinuousStates refuse v = 1500 m/s naming v and its range (the integration stops

@@ -5,6 +5,7 @@
  * step. A sample that falls on the end of a communication step is taken at the start of the
  * next one, after the master has set that instant's inputs. */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "fast_path.h"
@@ -84,7 +85,7 @@ static long budget_left(const model_t *m, const budget_t *b) {
 /* the integrator failed or a budget ran out: the message, state Error */
 static fmi2Status step_failed(instance_t *c, const budget_t *b, double h) {
     model_t *m = &c->m;
-    char why[160];
+    char why[320];
     double used = (double)(m->solver.n_steps + m->solver.n_rejected) - b->start_attempts;
     params_fastest_rate(m->val, &m->p, why, sizeof why);
     if (b->n_events > b->events)
@@ -104,8 +105,33 @@ static fmi2Status step_failed(instance_t *c, const budget_t *b, double h) {
     return fmi2Error;
 }
 
+/* every continuous state inside the min/max of modelDescription.xml (a NaN is outside); else the
+ * message names the state, its value, the range and the cause, and the step fails */
+static int states_in_range(instance_t *c) {
+    model_t *m = &c->m;
+    char cause[320], vb[40];
+    int j;
+    for (j = 0; j < PLANT_NX; j++) {
+        const model_var_t *v = &MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]];
+        if (m->y[j] >= v->min && m->y[j] <= v->max) continue;
+        snprintf(vb, sizeof vb, "%.9g", m->y[j]);
+        m->out_valid = 0;
+        fmu_update_outputs(c);
+        params_state_cause(&m->p, m->y, &m->in, &m->out, j, cause, sizeof cause);
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s = %s %s left its declared range [%g, %g] %s at t = %.17g s: %s",
+                c->fmi3 ? "fmi3DoStep" : "fmi2DoStep", v->name, vb, v->unit, v->min, v->max, v->unit, m->time,
+                cause);
+        m->fsm = ST_ERROR;
+        m->out_valid = 0;
+        return 0;
+    }
+    return 1;
+}
+
 /* integrate from tau (= time - t0, exact for t0 = 0) to tau_end, stopping at every sample
- * (keyed to its index: tau_k = k Ts) and every friction switch */
+ * (keyed to its index: tau_k = k Ts) and every friction switch; every continuous state is checked
+ * against its declared range after every accepted integrator step and where each interval ends
+ * (sample, switch, step end) */
 static fmi2Status integrate(instance_t *c, double tau, double tau_end, double h, double eps, int fresh) {
     model_t *m = &c->m;
     int roots[PLANT_NZ], fast = m->val[VR_solver_fast] != 0.0 && fast_path_ok(&m->p);
@@ -122,7 +148,9 @@ static fmi2Status integrate(instance_t *c, double tau, double tau_end, double h,
         if (fast && fast_interval(m, tau_target - tau, fresh)) {
             tau = tau_target;
             m->time = m->t0 + tau;
+            m->tau = tau;
             fresh = 0;
+            if (!states_in_range(c)) return fmi2Error;
             if (tau < tau_end && fmu_sample_due(m, tau, 0.0)) {
                 if (fmu_event_update(c, "fmi2DoStep", tau, 0.0, &changed) < 0) return step_failed(c, &b, h);
                 fresh = 1;
@@ -133,8 +161,10 @@ static fmi2Status integrate(instance_t *c, double tau, double tau_end, double h,
         m->solver.max_steps = budget_left(m, &b);
         r = dp45_advance(&m->solver, m, rhs, indicators, &tau, tau_target, m->y, roots);
         m->time = m->t0 + tau;
+        m->tau = tau;
         if (r == DP45_ROOT && ++b.n_events > b.events) r = DP45_ERROR;
         if (r == DP45_ERROR) return step_failed(c, &b, h);
+        if (!states_in_range(c)) return fmi2Error;   /* also after DP45_BOUND, which leaves one outside */
         if (r == DP45_ROOT || (tau < tau_end && fmu_sample_due(m, tau, 0.0))) {
             if (fmu_event_update(c, "fmi2DoStep", tau, 0.0, &changed) < 0) return step_failed(c, &b, h);
             dp45_restart(&m->solver);
@@ -154,23 +184,28 @@ fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h, fmi2Boolean no
 /* fmi2DoStep's work, shared with fmi3DoStep (fmi3_cs.c) */
 fmi2Status fmu_cs_do_step(instance_t *c, double t, double h) {
     model_t *m = &c->m;
-    double t_end, eps;
+    double t_end, eps, tau;
     fmi2Boolean changed;
     int fresh = 0;
     eps = fmu_time_eps(m, t);
     if (!step_args_ok(c, t, h, eps)) return fmi2Error;
     t_end = t + h;
+    /* from the time reached (an early return's end, FMI 3.0, is t0 + tau rounded: the step goes on
+     * from tau itself, as the step that did not return would have) */
+    tau = t == m->time ? m->tau : t - m->t0;
     m->time = t;
+    m->tau = tau;
     params_inputs(m->val, &m->in);
     /* what is due now, with the inputs the master has just set */
-    if (fmu_sample_due(m, t - m->t0, 0.0) || m->solver_restart) {
-        if (fmu_event_update(c, "fmi2DoStep", t - m->t0, 0.0, &changed) < 0) { m->fsm = ST_ERROR; return fmi2Error; }
+    if (fmu_sample_due(m, tau, 0.0) || m->solver_restart) {
+        if (fmu_event_update(c, "fmi2DoStep", tau, 0.0, &changed) < 0) { m->fsm = ST_ERROR; return fmi2Error; }
         dp45_restart(&m->solver);
         m->solver_restart = 0;
         fresh = 1;
     }
-    if (integrate(c, t - m->t0, t_end - m->t0, h, eps, fresh) != fmi2OK) return fmi2Error;
+    if (integrate(c, tau, t_end - m->t0, h, eps, fresh) != fmi2OK) return fmi2Error;
     m->time = t_end;
+    m->tau = t_end - m->t0;
     fmu_check_stroke(c);
     m->out_valid = 0;
     return fmi2OK;

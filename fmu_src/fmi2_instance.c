@@ -157,14 +157,15 @@ fmi2Status fmu_recompile(instance_t *c, const double *backup_val) {
     model_t *m = &c->m;
     char msg[512];
     plant_params_t old = m->p;
-    m->memo.valid = 0;
-    m->carry.valid = 0;
+    /* refused: values and compiled parameters back, the caches untouched (nothing changes) */
     if (!params_compile(m->val, &m->p, msg, sizeof msg)) {
         fmu_log(c, fmi2Error, LOG_ERROR, "%s", msg);
         if (backup_val) memcpy(m->val, backup_val, sizeof m->val);
         m->p = old;
         return fmi2Error;
     }
+    m->memo.valid = 0;
+    m->carry.valid = 0;
     plant_retune(&old, &m->p, &m->d, m->y);
     m->params_ok = 1;
     m->out_valid = 0;
@@ -259,17 +260,25 @@ fmi2Status fmi2SetupExperiment(fmi2Component comp, fmi2Boolean toleranceDefined,
     instance_t *c = FMU_ENTER(comp, fmi2SetupExperiment);
     if (!c) return fmi2Error;
     if (!isfinite(startTime) || (stopTimeDefined && (!isfinite(stopTime) || stopTime < startTime)) ||
-        (toleranceDefined && (!isfinite(tolerance) || tolerance <= 0.0 || tolerance >= 1.0))) {
+        (toleranceDefined && (!isfinite(tolerance) || tolerance <= 0.0))) {
         fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SetupExperiment: startTime = %g, stopTime = %g, tolerance = %g: "
-                "allowed finite startTime, stopTime >= startTime, tolerance in (0, 1)",
+                "allowed finite startTime, stopTime >= startTime, tolerance > 0",
                 startTime, stopTime, tolerance);
         return fmi2Error;
     }
     c->m.time = c->m.t0 = startTime;
+    c->m.tau = 0.0;
     c->m.stop_defined = stopTimeDefined != 0;
     c->m.stop_time = stopTime;
     c->m.tol_defined = toleranceDefined != 0;
-    if (toleranceDefined) c->m.tol = tolerance;
+    if (toleranceDefined) c->m.tol = tolerance < TOL_MAX ? tolerance : TOL_MAX;
+    if (toleranceDefined && tolerance > TOL_MAX) {
+        /* FMI: the FMU may integrate with a smaller tolerance than the importer's */
+        fmu_log(c, fmi2Warning, LOG_WARNING, "%s: tolerance = %g is looser than %g, the loosest at which the "
+                "integrator's error follows its tolerance: integrating with %g",
+                c->fmi3 ? "fmi3EnterInitializationMode" : "fmi2SetupExperiment", tolerance, TOL_MAX, TOL_MAX);
+        return fmi2Warning;
+    }
     return fmi2OK;
 }
 
@@ -297,6 +306,12 @@ void fmu_solver_setup(model_t *m) {
     } else {
         dp45_init(&m->solver, 2 + m->p.N, PLANT_NZ, m->tol, atol, m->p.Ts);
         m->solver.n_norm = PLANT_NX_BASE;
+    }
+    /* every accepted step is checked against the states' declared ranges (fmi2_cs.c) */
+    m->solver.bounded = 1;
+    for (j = 0; j < m->solver.n; j++) {
+        m->solver.y_lo[j] = MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]].min;
+        m->solver.y_hi[j] = MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]].max;
     }
 }
 

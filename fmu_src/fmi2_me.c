@@ -77,6 +77,7 @@ fmi2Status fmi2SetTime(fmi2Component comp, fmi2Real time) {
         return fmi2Error;
     }
     c->m.time = time;
+    c->m.tau = time - c->m.t0;
     c->m.out_valid = 0;
     return fmi2OK;
 }

@@ -76,7 +76,7 @@ static uint32_t layout_crc(void) {
     return crc;
 }
 static size_t payload_bytes(void) {
-    return 2 * 4 + 4 * 8 + 8 * ((size_t)PLANT_NX + n_stored() + PLANT_ND + SOLVER_NUMS + FAST_CARRY_ND);
+    return 2 * 4 + 5 * 8 + 8 * ((size_t)PLANT_NX + n_stored() + PLANT_ND + SOLVER_NUMS + FAST_CARRY_ND);
 }
 size_t state_bytes(void) { return HEADER_BYTES + payload_bytes(); }
 
@@ -114,6 +114,7 @@ void state_encode(const model_t *m, int type, unsigned char *out) {
     put_f64(&w, m->t0);
     put_f64(&w, m->stop_time);
     put_f64(&w, m->tol);
+    put_f64(&w, m->tau);
     for (j = 0; j < PLANT_NX; j++) put_f64(&w, m->y[j]);
     for (j = 0; j < MODEL_NVARS; j++)
         if (stored(&MODEL_VARS[j])) put_f64(&w, m->val[MODEL_VARS[j].vr]);
@@ -143,7 +144,7 @@ static int header_ok(instance_t *c, const char *fn, const unsigned char *b, size
     magic = get_u32(&r); version = get_u32(&r); hb = get_u32(&r); pb = get_u32(&r);
     if (magic != STATE_MAGIC) BAD("%s: not a state of this FMU (magic 0x%08x, expected 0x%08x)", fn,
                                   (unsigned)magic, STATE_MAGIC);
-    if (version != STATE_VERSION) BAD("%s: state format version %u, this FMU reads version %u", fn,
+    if (version != STATE_VERSION) BAD("%s: state format version %u, this FMU reads version %u only (a state saved by another build of the FMU)", fn,
                                       (unsigned)version, STATE_VERSION);
     if (hb != HEADER_BYTES || pb != payload_bytes() || len != state_bytes())
         BAD("%s: state of %zu bytes (header %u + payload %u), a state of this FMU has %zu (%d + %zu)", fn, len,
@@ -188,10 +189,15 @@ static int read_scalars(instance_t *c, const char *fn, rd_t *r, model_t *m) {
     m->t0 = get_f64(r);
     m->stop_time = get_f64(r);
     m->tol = get_f64(r);
-    if (!isfinite(m->time) || !isfinite(m->t0) || !isfinite(m->stop_time) || !(m->tol > 0.0 && m->tol < 1.0) ||
+    m->tau = get_f64(r);
+    if (!isfinite(m->time) || !isfinite(m->t0) || !isfinite(m->stop_time) || !(m->tol > 0.0 && m->tol <= TOL_MAX) ||
         (m->stop_defined && m->stop_time < m->t0))
         BAD("%s: time %g, startTime %g, stopTime %g, tolerance %g: allowed finite times, stopTime >= "
-            "startTime, tolerance in (0, 1)", fn, m->time, m->t0, m->stop_time, m->tol);
+            "startTime, tolerance in (0, %g]", fn, m->time, m->t0, m->stop_time, m->tol, TOL_MAX);
+    /* time = startTime + tau up to the rounding of that sum (and of an importer's times) */
+    if (!(fabs(m->t0 + m->tau - m->time) <= fmu_ulp_slack(m->time) + fmu_ulp_slack(m->t0)))
+        BAD("%s: the integrator's time since startTime %.17g s does not match time %.17g s - startTime %.17g s",
+            fn, m->tau, m->time, m->t0);
     if ((m->fsm & ST_INSTANTIATED) ? m->params_ok : (!(m->fsm & ST_INIT) && !m->params_ok))
         BAD("%s: parameters-compiled flag %d contradicts the call-sequence state 0x%x", fn, m->params_ok, m->fsm);
     return 1;
@@ -205,6 +211,8 @@ static int read_values(instance_t *c, const char *fn, rd_t *r, model_t *m) {
         m->y[j] = get_f64(r);
         if (!isfinite(m->y[j])) BAD("%s: state %s = %g is not finite", fn,
                                     MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]].name, m->y[j]);
+        /* the range fmi2SetContinuousStates enforces (the XML's min/max) */
+        if (!params_check_value(MODEL_STATE_VR[j], m->y[j], msg, sizeof msg)) BAD("%s: state %s", fn, msg);
     }
     for (j = 0; j < MODEL_NVARS; j++) {
         const model_var_t *v = &MODEL_VARS[j];
@@ -213,7 +221,7 @@ static int read_values(instance_t *c, const char *fn, rd_t *r, model_t *m) {
         x = get_f64(r);
         if (!params_check_value(v->vr, x, msg, sizeof msg)) BAD("%s: %s", fn, msg);
         if ((v->type == 'B' && x != 0.0 && x != 1.0) || (v->type == 'I' && x != floor(x)) ||
-            (v->vr == VR_solver_tol && !(x > 0.0 && x < 1.0)))
+            (v->vr == VR_solver_tol && !(x > 0.0 && x <= TOL_MAX)))
             BAD("%s: %s = %g is not a valid %s value", fn, v->name, x, v->type == 'B' ? "Boolean" :
                 (v->type == 'I' ? "Integer" : "Real"));
         m->val[v->vr] = x;
@@ -252,12 +260,30 @@ static int read_rest(instance_t *c, const char *fn, rd_t *r, model_t *m) {
     return 1;
 }
 
+/* what the instance was made with and cannot change by a state: an FMI 3.0 instance's number of
+ * continuous states 2 + friction.N (a structural parameter, set only in Configuration Mode), and
+ * a co-simulation instance's eventModeUsed (Event Mode exists only with it) */
+static int structure_ok(instance_t *c, const char *fn, const model_t *m) {
+    double n_state = m->val[VR_friction_N], n_inst = c->m.val[VR_friction_N];
+    if (c->fmi3 && n_state != n_inst)
+        BAD("%s: the state has friction.N = %g, this instance %g: friction.N is a structural parameter (it sets "
+            "the number of continuous states, 2 + friction.N); allowed: a state of the same friction.N (set it "
+            "in Configuration Mode before loading)", fn, n_state, n_inst);
+    if (c->type == fmi2CoSimulation && (m->fsm & ST_EVENT) && !c->event_mode_used)
+        BAD("%s: the state was saved in Event Mode; this co-simulation instance was instantiated with "
+            "eventModeUsed = false (allowed: a state saved in Step Mode, or an instance with eventModeUsed = true)",
+            fn);
+    return 1;
+}
+
 int state_decode(instance_t *c, const char *fn, const unsigned char *b, size_t len, model_t *out) {
     rd_t r = {b, HEADER_BYTES};
     if (!b) BAD("%s: the state is NULL", fn);
     if (!header_ok(c, fn, b, len)) return 0;
     fmu_model_defaults(out);
-    if (!read_scalars(c, fn, &r, out) || !read_values(c, fn, &r, out) || !read_rest(c, fn, &r, out)) return 0;
+    if (!read_scalars(c, fn, &r, out) || !read_values(c, fn, &r, out) || !structure_ok(c, fn, out) ||
+        !read_rest(c, fn, &r, out))
+        return 0;
     params_inputs(out->val, &out->in);
     out->out_valid = 0;
     out->solver_restart = 1;

@@ -1,4 +1,4 @@
-/* The serialised FMU state (format version 3): a self-describing little-endian byte string.
+/* The serialised FMU state (format version 4): a self-describing little-endian byte string.
  *
  *   header (u32 unless noted)
  *     magic 0x53524446 ("FDRS"), format version, header bytes, payload bytes,
@@ -9,6 +9,7 @@
  *   payload
  *     u32 call-sequence state, u32 flags (1 stopTime defined, 2 tolerance defined,
  *     4 parameters compiled, 8 stroke warning given), f64 time, startTime, stopTime, tolerance,
+ *     the integrator's time since startTime (time = startTime + it, rounded),
  *     f64 continuous states (x, v, friction.F[1..10], compliance.dx, compliance.dv),
  *     f64 value of every parameter, input and state start (table order),
  *     f64 discrete state (plant_disc_pack), f64 the per-sample scheme's carry (fast_carry_pack:
@@ -23,8 +24,9 @@
 #include "fmi2_instance.h"
 
 #define STATE_MAGIC 0x53524446u
-#define STATE_VERSION 3u   /* 2: + compliance (14 continuous states, its parameters);
-                              3: + the per-sample scheme's carry */
+#define STATE_VERSION 4u   /* 2: + compliance (14 continuous states, its parameters);
+                              3: + the per-sample scheme's carry;
+                              4: + the integrator's time since startTime */
 #define STATE_MAX_BYTES 4096u
 
 /* the serialised size of a state of this FMU */

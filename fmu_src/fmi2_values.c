@@ -128,11 +128,12 @@ static int settable(instance_t *c, const char *fn, int row) {
 }
 
 /* params_check_value binds every variable to the physics' ranges and the min/max of
- * modelDescription.xml; solver.tol must in addition lie in (0, 1) like fmi2SetupExperiment's. */
+ * modelDescription.xml; solver.tol must in addition be > 0 (its declared min 0 is open). */
 static int declared_range_ok(instance_t *c, const char *fn, int row, double v) {
     const model_var_t *mv = &MODEL_VARS[row];
-    if (mv->vr == VR_solver_tol && !(v > 0.0 && v < 1.0)) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "%s: solver.tol = %.17g is out of range: allowed (0, 1)", fn, v);
+    if (mv->vr == VR_solver_tol && !(v > 0.0 && v <= TOL_MAX)) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: solver.tol = %.17g is out of range: allowed (0, %g] (the loosest "
+                "tolerance at which the integrator's error follows it)", fn, v, TOL_MAX);
         return 0;
     }
     return 1;

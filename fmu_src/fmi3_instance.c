@@ -24,6 +24,7 @@ static instance_t *instantiate(fmi3String name, fmi2Type type, fmi3String token,
     c = (instance_t *)fmi2Instantiate(name, type, token, NULL, &cb, fmi2False, logging_on ? fmi2True : fmi2False);
     if (!c) { free(e); return NULL; }
     c->fmi3 = 1;
+    c->event_mode_used = event_mode_used;
     c->ext = e;
     return c;
 }
@@ -131,9 +132,10 @@ fmi3Status fmi3EnterInitializationMode(fmi3Instance instance, fmi3Boolean tolera
                                        fmi3Float64 startTime, fmi3Boolean stopTimeDefined, fmi3Float64 stopTime) {
     instance_t *c = FMU_ENTER(instance, fmi3EnterInitializationMode);
     if (!c) return fmi3Error;
-    if (fmi2SetupExperiment(c, toleranceDefined, tolerance, startTime, stopTimeDefined, stopTime) != fmi2OK)
-        return fmi3Error;
-    return (fmi3Status)fmi2EnterInitializationMode(c);
+    fmi2Status st = fmi2SetupExperiment(c, toleranceDefined, tolerance, startTime, stopTimeDefined, stopTime);
+    if (st != fmi2OK && st != fmi2Warning) return fmi3Error;
+    if (fmi2EnterInitializationMode(c) != fmi2OK) return fmi3Error;
+    return (fmi3Status)st;
 }
 
 fmi3Status fmi3ExitInitializationMode(fmi3Instance instance) {

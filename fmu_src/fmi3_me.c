@@ -46,6 +46,7 @@ fmi3Status fmi3SetTime(fmi3Instance instance, fmi3Float64 time) {
         return fmi3Error;
     }
     c->m.time = time;
+    c->m.tau = time - c->m.t0;
     c->m.out_valid = 0;
     return fmi3OK;
 }

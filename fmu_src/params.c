@@ -53,6 +53,10 @@ static bool range_of(unsigned vr, range_t *r) {
         vr == VR_friction_delta || vr == VR_friction_C) { *r = POS; return true; }
     if (vr == VR_friction_F_c || vr == VR_friction_sigma2) { *r = NONNEG; return true; }
     if (vr == VR_friction_N) { *r = NEL; return true; }
+    if (vr == VR_solver_tol) {   /* (0, declared max]: a tolerance of 0 controls nothing */
+        r->lo = 0.0; r->lo_open = 1; r->hi = MODEL_VARS[MODEL_VR_INDEX[VR_solver_tol]].max; r->hi_open = 0;
+        return true;
+    }
     for (j = 1; j <= PLANT_NE_MAX; j++) {
         if (vr == VRA_friction_nu[j]) { *r = UNIT; return true; }
         if (vr == VRA_friction_k[j]) { *r = POS; return true; }
@@ -136,16 +140,45 @@ static bool check_each_parameter(const double *val, char *msg, size_t msglen) {
     return true;
 }
 
-/* G(z) coefficients and its DC gain (Eq. 2); refuses a pole at z = 1 */
+/* Schur-Cohn (step-down) test of the denominator z^n - a_1 z^(n-1) - ... - a_n of Eq. 2:
+ * with alpha_i = -a_i (A(z) = 1 + sum alpha_i z^-i), the reflection coefficient of order j is
+ * k_j = alpha_j^(j) and the order j - 1 coefficients alpha_i^(j-1) = (alpha_i - k_j alpha_(j-i))
+ * / (1 - k_j^2); every root lies inside the unit circle iff |k_j| < 1 for j = n..1. Returns 0 when
+ * stable, else the order j whose |k_j| >= 1 (its value in *k). */
+static int current_loop_unstable(const double *a, int n, double *k) {
+    double al[PLANT_NA_MAX + 1], nx[PLANT_NA_MAX + 1];
+    int i, j;
+    for (i = 1; i <= n; i++) al[i] = -a[i - 1];
+    for (j = n; j >= 1; j--) {
+        *k = al[j];
+        if (!(fabs(*k) < 1.0)) return j;
+        for (i = 1; i < j; i++) nx[i] = (al[i] - *k * al[j - i]) / (1.0 - *k * *k);
+        for (i = 1; i < j; i++) al[i] = nx[i];
+    }
+    return 0;
+}
+
+/* G(z) coefficients and its DC gain (Eq. 2); refuses a pole at z = 1 and any pole on or outside
+ * the unit circle (an unstable loop's current grows without bound, whether or not
+ * effects.current_dynamics is on: its DC gain G(1) is then meaningless too) */
 static bool compile_current_loop(const double *val, plant_params_t *p, char *msg, size_t msglen) {
-    double sa = 0.0, sb = 0.0;
-    int j;
+    double sa = 0.0, sb = 0.0, k;
+    int j, n = 0, bad;
     p->current_dynamics = val[VR_effects_current_dynamics] != 0.0;
-    for (j = 1; j <= PLANT_NA_MAX; j++) { p->ca[j - 1] = val[VRA_current_a[j]]; sa += p->ca[j - 1]; }
+    for (j = 1; j <= PLANT_NA_MAX; j++) {
+        p->ca[j - 1] = val[VRA_current_a[j]];
+        sa += p->ca[j - 1];
+        if (p->ca[j - 1] != 0.0) n = j;
+    }
     for (j = 0; j < PLANT_NB_MAX; j++) { p->cb[j] = val[VRA_current_b[j]]; sb += p->cb[j]; }
     if (fabs(1.0 - sa) < 1e-9)
         FAIL("current.a[1..5] sum to %.17g: the current loop has a pole at z = 1 and no finite DC gain; "
              "allowed: sum(current.a) != 1", sa);
+    if ((bad = current_loop_unstable(p->ca, n, &k)) != 0)
+        FAIL("current.a[1..5] = %.9g, %.9g, %.9g, %.9g, %.9g: the current loop is unstable (a root of its "
+             "denominator z^n - a_1 z^(n-1) - ... - a_n, n = %d, lies on or outside the unit circle: Schur-Cohn "
+             "reflection coefficient k_%d = %.9g); allowed: every root inside |z| < 1 (all |k_j| < 1)",
+             p->ca[0], p->ca[1], p->ca[2], p->ca[3], p->ca[4], n, bad, k);
     p->G1 = sb / (1.0 - sa);
     return true;
 }
@@ -319,9 +352,16 @@ void params_fastest_rate(const double *val, const plant_params_t *p, char *buf, 
         for (j = 0; j < p->pf_n; j++) if (p->pf_c[j] < c_min) c_min = p->pf_c[j];
         S_min *= 1.0 + c_min;
     }
-    if (p->prerolling && p->lag)   /* C / S(|v|), S down to F_c: F_c = 0 makes it unbounded */
-        rate_candidate(S_min > 0.0 ? VR_friction_C : VR_friction_F_c, S_min > 0.0 ? p->C / S_min : HUGE_VAL,
-                       &best, &best_vr);
+    if (p->prerolling && p->lag && p->C > 0.0 && !(p->C / S_min < HUGE_VAL)) {
+        /* C / S(|v|) with S falling to S_min = 0 (or so near 0 that the quotient overflows) as |v|
+         * grows: no bound to print as a rate */
+        snprintf(buf, n, "%s = %s N (with effects.frictional_lag the lag rate friction.C / S(|v|) has no bound: "
+                 "the level S(|v|) falls to it as |v| grows; friction.C = %s N/s)",
+                 p->Fc[0] <= p->Fc[1] ? "friction.F_c" : "friction.F_c + asymmetry.dF", num(vb, sizeof vb, S_min),
+                 num(mb, sizeof mb, p->C));
+        return;
+    }
+    if (p->prerolling && p->lag && p->C > 0.0) rate_candidate(VR_friction_C, p->C / S_min, &best, &best_vr);
     for (j = 0; j < PLANT_NE_MAX; j++)
         if (p->active[j]) rate_candidate(VRA_friction_k[j + 1], sqrt(p->k[j] / p->m), &best, &best_vr);
     rate_candidate(VR_friction_sigma2, (p->sigma2[0] > p->sigma2[1] ? p->sigma2[0] : p->sigma2[1]) / p->m,
@@ -336,4 +376,20 @@ void params_fastest_rate(const double *val, const plant_params_t *p, char *buf, 
     if (best < 1.0 / p->Ts) { best = 1.0 / p->Ts; best_vr = VR_Ts; }
     snprintf(buf, n, "%s = %s (rate %.3g 1/s with m = %s kg)", var_name(best_vr), num(vb, sizeof vb, val[best_vr]),
              best, num(mb, sizeof mb, p->m));
+}
+
+void params_state_cause(const plant_params_t *p, const double *y, const plant_in_t *in, const plant_out_t *o,
+                        int j, char *buf, size_t n) {
+    if (j == PLANT_IX)
+        snprintf(buf, n, "the slide travelled beyond it at v = %g m/s", y[PLANT_IV]);
+    else if (j == PLANT_IV)
+        snprintf(buf, n, "the forces on the slide accelerate it at a = %g m/s^2 (F_motor = %g N, F_ext = %g N, "
+                 "F_friction = %g N, F_cogging = %g N, m = %g kg)", o->a, o->F_motor, in->F_ext, o->F_fric, o->F_cg,
+                 p->m);
+    else if (j >= PLANT_IF && j < PLANT_IF + PLANT_NE_MAX)
+        snprintf(buf, n, "the element's stiffness friction.k[%d] = %g N/m deflected by the slide's motion "
+                 "(v = %g m/s)", j - PLANT_IF + 1, p->k[j - PLANT_IF], y[PLANT_IV]);
+    else
+        snprintf(buf, n, "the load m2 = %g kg on its spring (k2 = %g N/m) driven by the slide's acceleration "
+                 "a = %g m/s^2", p->m2, p->k2, o->a);
 }

@@ -23,6 +23,11 @@ bool params_compile(const double *val, plant_params_t *p, char *msg, size_t msgl
  * frequency sqrt(k_j / m) of a stuck element, sigma2 / m, the cogging stiffness
  * sqrt(|a_j| 2 pi / (lambda_j m))), written as "name = value (rate R 1/s with m = M kg)". */
 void params_fastest_rate(const double *val, const plant_params_t *p, char *buf, size_t n);
+/* why continuous state j (PLANT_I*) has the value it has, from the outputs o at (y, in): the
+ * forces accelerating the slide (x, v), the element's stiffness (friction.F[j]), the load's
+ * spring (compliance); for the message of a state leaving its declared range */
+void params_state_cause(const plant_params_t *p, const double *y, const plant_in_t *in, const plant_out_t *o,
+                        int j, char *buf, size_t n);
 /* the inputs and the continuous states (start values) from the value table */
 void params_inputs(const double *val, plant_in_t *in);
 void params_states(const double *val, double *y);

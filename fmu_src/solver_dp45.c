@@ -481,6 +481,15 @@ static void next_step_size(dp45_t *s, double h, double hp, double err2)
     if (s->h > s->h_max) s->h = s->h_max;
 }
 
+/* is a state of y outside the bounds (a NaN is)? */
+static int out_of_bounds(const dp45_t *s, const double *y)
+{
+    int j;
+    for (j = 0; j < s->n; ++j)
+        if (!(y[j] >= s->y_lo[j] && y[j] <= s->y_hi[j])) return 1;
+    return 0;
+}
+
 /* Keep the accepted step [tc, t1] for dense output; k7 becomes the next k1 (FSAL). */
 static void record_step(dp45_t *s, const double *y, double tc, double t1, double h)
 {
@@ -558,6 +567,10 @@ int dp45_advance(dp45_t *s, void *ctx, dp45_rhs_fn f, dp45_ind_fn g, double *t, 
         copy_n(y, s->y_new, s->n);
         tc = t1;
         s->t_cur = tc;
+        if (s->bounded && out_of_bounds(s, y)) {
+            *t = tc;
+            return DP45_BOUND;
+        }
         if (last) {
             *t = t_end;
             return DP45_REACHED;

@@ -39,7 +39,7 @@
 typedef void (*dp45_rhs_fn)(void *ctx, double t, const double *y, double *dydt);
 typedef void (*dp45_ind_fn)(void *ctx, double t, const double *y, double *g);
 
-enum { DP45_REACHED = 0, DP45_ROOT = 1, DP45_ERROR = -1 };
+enum { DP45_REACHED = 0, DP45_ROOT = 1, DP45_BOUND = 2, DP45_ERROR = -1 };
 
 typedef struct {
     /* ---- configuration (set by dp45_init, may be changed between calls) ---- */
@@ -53,6 +53,8 @@ typedef struct {
     double h_min;           /* a rejected step shrinking below this (or below 16 ulp(t)) is an error */
     double root_tol;        /* events are located to root_tol * max(1, |t|) seconds */
     long max_steps;         /* step attempts allowed per dp45_advance call */
+    int bounded;            /* 1: y_lo/y_hi hold bounds of the states (dp45_init: 0) */
+    double y_lo[DP45_MAX_N], y_hi[DP45_MAX_N]; /* an accepted step ending outside returns DP45_BOUND */
 
     /* ---- statistics (cumulative since dp45_init) ---- */
     long n_steps;           /* accepted steps */
@@ -103,6 +105,8 @@ void dp45_drop_derivative(dp45_t *s);
  *                 already changed sign or is exactly 0. roots[j] (s->ng values,
  *                 may be NULL when ng == 0) is +1 (rising) / -1 (falling) for every
  *                 indicator that changed sign in the final bracket, 0 otherwise;
+ *   DP45_BOUND    (s->bounded) when an accepted step ended with a state outside
+ *                 [y_lo, y_hi] (or NaN): *t and y are at that step's end;
  *   DP45_ERROR    on invalid arguments, step-size underflow, non-finite
  *                 state/derivative, or more than max_steps attempts. *t and y are
  *                 then the last accepted point.

@@ -11,7 +11,10 @@ tests/c/fmi3_host.c (+ fmi3_host_robust.c) under AddressSanitizer + UBSan + Leak
 * 1 s of co-simulation of u = 1.5 V sin(2 pi 2 Hz t), 1 ms steps, in the four event-mode /
   early-return combinations: every position identical (0 m) to the FMI 2.0 co-simulation;
 * the FMU state (get, set, serialise, deserialise into the same and a fresh instance) continues
-  bit-identically; every flipped byte and every truncation of a serialised state is refused;
+  bit-identically; every flipped byte and every truncation of a serialised state is refused; a
+  state of friction.N = 5 into an instance at N = 9, a state saved in Event Mode into an instance
+  made with eventModeUsed = false, and states with x = -2000 m or v = 1e300 m/s (CRC recomputed)
+  are refused naming what differs;
 * NaN and beyond-[min, max] values of every Float64 parameter and input refused naming it;
 * calls in wrong states refused naming the call; 900 instances created and freed, no leak, also
   when their FMU states are left to fmi3FreeInstance.
@@ -99,6 +102,10 @@ def test_fmu_state(figures: dict[str, list[dict]]) -> None:
     assert s["bit_identical"] and s["continued_steps"] == 300
     assert s["byte_flips"] == s["flips_refused"] == s["bytes"] > 1000
     assert s["truncations"] == s["truncations_refused"] == s["bytes"]
+
+
+def test_state_structure_and_ranges(figures: dict[str, list[dict]]) -> None:
+    assert figures["state_structure"][0]["refused"] == 4
 
 
 def test_limits_and_wrong_states(figures: dict[str, list[dict]]) -> None:

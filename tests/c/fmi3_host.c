@@ -370,6 +370,7 @@ int main(int argc, char **argv) {
     part_me(me);
     part_cs();
     part_state();
+    part_state_structure();
     part_limits();
     part_wrong_states();
     part_many();

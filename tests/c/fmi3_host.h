@@ -54,6 +54,7 @@ int initialise(fmi3Instance c, double u0);
 void cs_steps(fmi3Instance c, env3_t *env, int event_mode, cs_run_t *r, int k0, int k1);
 fmi3Instance cs_open(env3_t *env, int event_mode, int early, cs_run_t *r);
 void part_state(void);
+void part_state_structure(void);
 void part_limits(void);
 void part_wrong_states(void);
 void part_many(void);

@@ -1,6 +1,9 @@
 /* The FMI 3.0 host's robustness parts (see fmi3_host.c): the FMU state (round trips continuing
- * bit-identically, every flipped byte and truncation refused), parameter limits, calls in wrong
- * states, and many instances created and freed. */
+ * bit-identically, every flipped byte and truncation refused; states of another friction.N, of
+ * Event Mode without eventModeUsed and with a continuous state out of range refused), parameter
+ * limits, calls in wrong states, and many instances created and freed. */
+#include <stdint.h>
+
 #include "fmi3_host.h"
 
 /* ---------------------------------------------------------------- FMU state */
@@ -74,6 +77,118 @@ void part_state(void) {
     printf("{\"state\": {\"bytes\": %zu, \"continued_steps\": %d, \"bit_identical\": true, \"byte_flips\": %ld, "
            "\"flips_refused\": %ld, \"truncations\": %ld, \"truncations_refused\": %ld, \"x_at_0.6s\": %.17g}}\n",
            size, K1 - K0, flips, flips_refused, truncs, truncs_refused, a.x[K1]);
+}
+
+/* ---------------------------------------------------------------- structure and ranges of a state */
+
+static uint32_t crc32_ieee(const unsigned char *b, size_t n) {
+    uint32_t crc = 0xFFFFFFFFu;
+    size_t i;
+    int k;
+    for (i = 0; i < n; i++) {
+        crc ^= b[i];
+        for (k = 0; k < 8; k++) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
+    }
+    return ~crc;
+}
+static uint32_t rd_u32(const unsigned char *b) {
+    return (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
+}
+static void wr_u32(unsigned char *b, uint32_t v) {
+    int j;
+    for (j = 0; j < 4; j++) b[j] = (unsigned char)(v >> (8 * j));
+}
+
+/* the serialised state of instance c (malloc'ed, *size bytes) */
+static fmi3Byte *serialised(fmi3Instance c, env3_t *env, size_t *size) {
+    fmi3FMUState s = NULL;
+    fmi3Byte *buf;
+    CHECK(fmi3GetFMUState(c, &s) == fmi3OK && fmi3SerializedFMUStateSize(c, s, size) == fmi3OK, "get a state", env);
+    buf = (fmi3Byte *)malloc(*size);
+    if (!buf) fail("out of memory", NULL);
+    CHECK(fmi3SerializeFMUState(c, s, buf, *size) == fmi3OK && fmi3FreeFMUState(c, &s) == fmi3OK, "serialise", env);
+    return buf;
+}
+
+/* deserialising b into c is refused with a message containing `what` */
+static int refused_with(fmi3Instance c, env3_t *env, const fmi3Byte *b, size_t size, const char *what) {
+    fmi3FMUState s = NULL;
+    fmi3Status st;
+    env->n_msgs = 0;
+    st = fmi3DeserializeFMUState(c, b, size, &s);
+    if (s) fmi3FreeFMUState(c, &s);
+    return st == fmi3Error && env->n_msgs > 0 && strstr(env->last, what) != NULL;
+}
+
+/* A state carries what the instance was made with: a state of friction.N = 5 into an instance
+ * at N = 9, a state saved in Event Mode into an instance made with eventModeUsed = false, and a
+ * continuous state beyond its declared range with the CRC recomputed (v = 1e300, x = -2000 m) are
+ * refused naming what differs; the refused instance then steps on. */
+void part_state_structure(void) {
+    static cs_run_t r;
+    env3_t env_e, env_p, env_9;
+    const fmi3ValueReference vr_nu = VR3_friction_nu;
+    const fmi3Float64 nu9[9] = {1.0 / 9, 1.0 / 9, 1.0 / 9, 1.0 / 9, 1.0 / 9, 1.0 / 9, 1.0 / 9, 1.0 / 9, 1.0 - 8.0 / 9};
+    fmi3Instance ev = cs_open(&env_e, 1, 0, &r), plain, n9;
+    fmi3Boolean a, b, d, e, f;
+    fmi3Float64 t;
+    fmi3Byte *s_event, *s_step;
+    size_t n_event, n_step, hb;
+    long refused = 0;
+    /* saved in Event Mode (after a step's event handling) */
+    cs_steps(ev, &env_e, 1, &r, 0, 100);
+    CHECK(fmi3EnterEventMode(ev) == fmi3OK, "fmi3EnterEventMode", &env_e);
+    s_event = serialised(ev, &env_e, &n_event);
+    CHECK(fmi3UpdateDiscreteStates(ev, &a, &b, &d, &e, &f, &t) == fmi3OK && fmi3EnterStepMode(ev) == fmi3OK,
+          "back to Step Mode", &env_e);
+    s_step = serialised(ev, &env_e, &n_step);
+    plain = cs_open(&env_p, 0, 0, &r);
+    CHECK(refused_with(plain, &env_p, s_event, n_event, "saved in Event Mode"), "an Event Mode state loads into an "
+          "instance made with eventModeUsed = false", &env_p);
+    refused++;
+    CHECK(!refused_with(plain, &env_p, s_step, n_step, "?"), "a Step Mode state is refused without event mode",
+          &env_p);
+    /* friction.N = 9 against the states' 5 */
+    n9 = cs_new(&env_9, "n9", 0, 0);
+    CHECK(n9 && configure(n9, 9) == 0 && fmi3SetFloat64(n9, &vr_nu, 1, nu9, 9) == fmi3OK &&
+          initialise(n9, 0.5) == 0, "instance with friction.N = 9", &env_9);
+    CHECK(refused_with(n9, &env_9, s_step, n_step, "friction.N = 5, this instance 9"),
+          "a state of friction.N = 5 loads into an instance at N = 9", &env_9);
+    refused++;
+    {
+        fmi3Float64 F[9];
+        const fmi3ValueReference vr_F = VR3_friction_F;
+        fmi3Boolean ev9, term, early;
+        CHECK(fmi3DoStep(n9, 0.0, 1e-3, fmi3False, &ev9, &term, &early, &t) == fmi3OK &&
+              fmi3GetFloat64(n9, &vr_F, 1, F, 9) == fmi3OK, "the refused instance steps on with 9 elements", &env_9);
+    }
+    /* a continuous state beyond its range, the checksum recomputed: x = y[0], v = y[1] follow the
+     * call-sequence state, flags and five f64 times (fmi2_state_format.h) */
+    hb = rd_u32(s_step + 8);
+    {
+        const double bad[2] = {-2000.0, 1e300};
+        const char *what[2] = {"state x = -2000 is out of range", "state v = 1e+300 is out of range"};
+        int j;
+        for (j = 0; j < 2; j++) {
+            fmi3Byte *forged = (fmi3Byte *)malloc(n_step);
+            uint64_t u;
+            int q;
+            if (!forged) fail("out of memory", NULL);
+            memcpy(forged, s_step, n_step);
+            memcpy(&u, &bad[j], sizeof u);
+            for (q = 0; q < 8; q++) forged[hb + 8 + 5 * 8 + 8 * (size_t)j + (size_t)q] = (unsigned char)(u >> (8 * q));
+            wr_u32(forged + hb - 4, crc32_ieee(forged + hb, n_step - hb));
+            CHECK(refused_with(plain, &env_p, forged, n_step, what[j]), "a forged out-of-range state loads", &env_p);
+            refused++;
+            free(forged);
+        }
+    }
+    free(s_event);
+    free(s_step);
+    fmi3FreeInstance(ev);
+    fmi3FreeInstance(plain);
+    fmi3FreeInstance(n9);
+    printf("{\"state_structure\": {\"refused\": %ld}}\n", refused);
 }
 
 /* ---------------------------------------------------------------- parameter limits */

@@ -2,7 +2,8 @@
  *   ranges    every parameter and input with a declared min/max, set at and just beyond both ends
  *             (one at a time, the rest at their defaults): beyond is refused with a message; at the
  *             end the set is accepted or refused with a message, and an accepted value runs 0.1 s
- *             at u = +10 V with every answer fmi2OK and finite, or fmi2Error with a message;
+ *             at u = +10 V with every answer fmi2OK, finite and inside its declared range, or
+ *             fmi2Error with a message;
  *   budget    friction.C = 1e9: a 1 s step is refused within the budget naming friction.C; a 100 s
  *             step at rest with the current loop ideal succeeds; an ME fmi2SetTime jump of 1e7 s is
  *             refused by fmi2NewDiscreteStates naming Ts; Ts = 1e-6 s runs a 0.5 ms step;
@@ -67,13 +68,17 @@ static double get1i(inst_t *I, unsigned vr) {
     fmi2Integer v = 0;
     return api.GetInteger(I->c, &r, 1, &v) == fmi2OK ? (double)v : NAN;
 }
-/* every Real: fmi2OK and finite, or refused with a message */
+/* every Real: fmi2OK, finite and inside its declared [min, max] (the states x, v, friction.F[j],
+ * compliance.dx, compliance.dv, and every parameter and input), or refused with a message */
 static int reals_clean(inst_t *I) {
     double v[MODEL_NVARS];
     size_t j;
     host_env_mark(&I->env);
     if (api.GetReal(I->c, real_vr, n_real, v) > fmi2Warning) return I->env.n_since_mark > 0;
-    for (j = 0; j < n_real; j++) if (!isfinite(v[j])) return 0;
+    for (j = 0; j < n_real; j++) {
+        const model_var_t *mv = &MODEL_VARS[MODEL_VR_INDEX[real_vr[j]]];
+        if (!isfinite(v[j]) || v[j] < mv->min || v[j] > mv->max) return 0;
+    }
     return 1;
 }
 
@@ -108,8 +113,9 @@ static void try_value(unsigned vr, double v, int beyond, rtally_t *t) {
                     t->runs_error++;
                     break;
                 }
-                snprintf(detail, sizeof detail, "%s = %.17g: a non-finite value with fmi2OK at t = %g", mv->name, v, tt);
-                if (!reals_clean(&I)) { check(0, "outputs finite", detail); break; }
+                snprintf(detail, sizeof detail, "%s = %.17g: a non-finite or out-of-range value with fmi2OK at t = %g",
+                         mv->name, v, tt);
+                if (!reals_clean(&I)) { check(0, "outputs finite and in their declared ranges", detail); break; }
             }
             if (k == 200) t->runs_clean++;
         }

@@ -4,7 +4,7 @@ in under AddressSanitizer + UBSan (``ctrl_host_san``) or ThreadSanitizer (``ctrl
 the shipped libraries as an importer loads them (``ctrl_host3``: DriveController.so through dlopen,
 DriveController3.so linked for the FMI 3.0 calls).
 
-* the defect cases, one process each: a step of +-Inf/NaN, a step of 2e12 samples and one of 1e8
+* the hostile cases, one process each: a step of +-Inf/NaN, a step of 2e12 samples and one of 1e8
   samples at the smallest Ts are refused with the budget named (and change nothing), as is a
   step at a time whose double cannot tell the sample instants apart (t = 1e12 s, Ts = 0.5 ms);
   fmi3GetFloat64 with a NULL value-reference array, the Boolean calls (FMI 2.0 and 3.0) with
@@ -69,19 +69,19 @@ def san(fmu_path: Path) -> None:
 
 
 @pytest.mark.parametrize("case", CASES)
-def test_defect_case_sanitized(san, case: str) -> None:
+def test_hostile_case_sanitized(san, case: str) -> None:
     """Each case in its own process under ASan + UBSan: a hang, a crash or a sanitizer report fails it."""
-    p = run("ctrl_host_san", "defects", case, timeout=60)
+    p = run("ctrl_host_san", "hostile", case, timeout=60)
     print(p.stdout)
     assert_clean(p)
     assert p.stdout.startswith(f"PASS {case}:"), p.stdout
 
 
-def test_defect_cases_shipped_libraries(fmu_path: Path) -> None:
+def test_hostile_cases_shipped_libraries(fmu_path: Path) -> None:
     """Every case against the built DriveController.so and DriveController3.so."""
     build("ctrl_host3")
     for case in CASES:
-        p = run("ctrl_host3", "defects", case, timeout=60)
+        p = run("ctrl_host3", "hostile", case, timeout=60)
         assert_clean(p)
 
 

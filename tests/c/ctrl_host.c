@@ -1,5 +1,5 @@
 /* The controller FMU's C test host (see ctrl_host.h).
- * Usage: ctrl_host LIB|- defects [case]     the defect cases (all, or one), each printing the
+ * Usage: ctrl_host LIB|- hostile [case]     the hostile cases (all, or one), each printing the
  *                                            FMU's answer: "PASS|FAIL <case>: <answer>"
  *        ctrl_host LIB|- fuzz [calls] [seed] random FMI 2.0 / 3.0 calls and settings (ctrl_fuzz.c)
  *        ctrl_host LIB|- threads [seconds] [threads]   parallel == sequential (ctrl_threads.c)
@@ -57,7 +57,7 @@ fmi2Status ctrl2_init(fmi2Component c) {
     return api.ExitInitializationMode(c);
 }
 
-/* ---------------------------------------------------------------- the defect cases */
+/* ---------------------------------------------------------------- the hostile cases */
 
 static char answer[2048];
 static int case_failed;
@@ -427,7 +427,7 @@ static const case_t CASES[] = {
     {"ref_p2p_samples", case_ref_p2p_samples},
 };
 
-static int defects_main(int argc, char **argv) {
+static int hostile_main(int argc, char **argv) {
     size_t k;
     int n_pass = 0, n_fail = 0;
     long live0 = host_live_allocations();
@@ -454,11 +454,11 @@ int main(int argc, char **argv) {
     const char *lib = argc > 1 && strcmp(argv[1], "-") != 0 ? argv[1] : NULL;
     int rc;
     if (argc < 3) {
-        fprintf(stderr, "usage: ctrl_host LIB|- defects [case] | fuzz [calls] [seed] | threads [seconds] [threads]\n");
+        fprintf(stderr, "usage: ctrl_host LIB|- hostile [case] | fuzz [calls] [seed] | threads [seconds] [threads]\n");
         return 2;
     }
     if (fmi_api_load(&api, lib, err, sizeof err) != 0) { fprintf(stderr, "%s\n", err); return 2; }
-    if (strcmp(argv[2], "defects") == 0) rc = defects_main(argc - 3, argv + 3);
+    if (strcmp(argv[2], "hostile") == 0) rc = hostile_main(argc - 3, argv + 3);
     else if (strcmp(argv[2], "fuzz") == 0) rc = fuzz_main(argc - 3, argv + 3);
     else if (strcmp(argv[2], "threads") == 0) rc = threads_main(argc - 3, argv + 3);
     else { fprintf(stderr, "unknown mode %s\n", argv[2]); rc = 2; }

@@ -1,5 +1,5 @@
 /* Shared by the controller FMU's C test host (DriveController, FMI 2.0 and 3.0):
- * ctrl_host.c (main, the defect cases), ctrl_fuzz.c (random calls, random settings),
+ * ctrl_host.c (main, the hostile cases), ctrl_fuzz.c (random calls, random settings),
  * ctrl_threads.c (instances in parallel threads). Built with the controller's sources linked in
  * (-DFMI_STATIC, CTRL_FMI3: the FMI 3.0 glue too) under AddressSanitizer + UBSan or
  * ThreadSanitizer, or as the shipped libraries: DriveController.so through dlopen, and (ctrl_host3,

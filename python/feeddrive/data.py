@@ -7,19 +7,28 @@ sidecar with the same stem (``run.csv`` + ``run.json``) that says how the experi
 
 The loader is strict: every rule of DATA.md that a file breaks raises :class:`DataError`
 naming the file, the 1-based line (the header is line 1) and the column.  Rows are never
-dropped or reordered.  The writer refuses a run the loader would reject and writes floats
+dropped or reordered.  A run and its sidecar must be regular files (a FIFO or a device is
+refused before it is read); the header row must end within :data:`MAX_HEADER_BYTES`; a number
+is plain ASCII decimal with an optional exponent (``-1.5e-3``; ``nan``/``inf`` are read and
+then refused as non-finite), never what Python's ``float`` also takes (``0.1_2``, digits of
+other scripts).  The writer refuses a run the loader would reject and writes floats
 with ``repr`` (the shortest string that round-trips a float64 exactly).
 """
 from __future__ import annotations
 
+import codecs
 import csv
 import io
 import json
+import os
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from .inputs import InputFileError, open_input, read_text
 
 #: Every column DATA.md defines, in the order the writer puts them.
 KNOWN_COLUMNS: tuple[str, ...] = ("time", "u", "i", "x", "x_ref", "F_load")
@@ -44,8 +53,13 @@ class DataError(ValueError):
         if line is not None:
             where.append(f"line {line}")
         if column is not None:
-            where.append(f"column {column!r}")
+            where.append(f"column {_short(column)!r}")
         super().__init__(f"{', '.join(where)}: {problem}")
+
+
+def _short(text: str, n: int = 80) -> str:
+    """``text`` cut to ``n`` characters (with "...") for a message."""
+    return text if len(text) <= n else text[:n] + "..."
 
 
 @dataclass
@@ -126,14 +140,22 @@ def sidecar_path(path: str | Path) -> Path:
 
 
 def _decode_error(path: Path, e: UnicodeDecodeError) -> DataError:
-    """The file's first invalid byte as a DataError with its line (reads the bytes again)."""
-    raw = path.read_bytes()
-    try:
-        raw.decode("utf-8-sig")
-    except UnicodeDecodeError as err:
-        e = err
-    line = raw[: e.start].count(b"\n") + 1
-    return DataError(path, line, None, f"not UTF-8 text (byte {e.start}: {e.reason})")
+    """The file's first invalid byte as a DataError with its line (reads the bytes again, in
+    blocks: the memory stays bounded whatever the file's size)."""
+    dec = codecs.getincrementaldecoder("utf-8-sig")()
+    offset, line = 0, 1
+    with open_input(path, encoding=None) as f:
+        while block := f.read(_CHUNK_CHARS):
+            try:
+                dec.decode(block)
+            except UnicodeDecodeError as err:
+                at = max(0, min(err.start - len(err.object) + len(block), len(block)))
+                line += block[:at].count(b"\n")
+                return DataError(path, line, None,
+                                 f"not UTF-8 text (byte {offset + at}: {err.reason})")
+            line += block.count(b"\n")
+            offset += len(block)
+    return DataError(path, None, None, f"not UTF-8 text ({e.reason})")
 
 
 class _NotPlain(Exception):
@@ -151,7 +173,46 @@ _BLANK = frozenset({"\n", "\r\n", "\r", ""})
 
 
 def _open(path: Path):
-    return open(path, encoding="utf-8-sig", newline="")
+    return open_input(path, encoding="utf-8-sig")
+
+
+#: the header row must end within this many bytes (a few KiB of column names; a file without
+#: a line end there is no DATA.md CSV, and is not read further for the message)
+MAX_HEADER_BYTES = 1 << 16
+
+#: a number: plain ASCII decimal with an optional exponent, or the words nan/inf (refused
+#: later as non-finite, with that message), spaces or tabs around
+_NUMBER = (r"[ \t]*[+-]?(?:(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?"
+           r"|(?i:nan|inf|infinity))[ \t]*")
+_NUMBER_RE = re.compile(_NUMBER)
+#: cells joined by a unit separator: one match checks a whole column chunk
+_NUMBERS_RE = re.compile(f"{_NUMBER}(?:\x1f{_NUMBER})*")
+#: characters of plain numeric text (the fast path's chunks hold nothing else)
+_NOT_PLAIN_CHAR = re.compile(r"[^0-9eE+\-., \t\r\n]")
+_NUMBER_RULE = ("numbers are plain ASCII decimal: digits 0-9, one '.', an optional exponent "
+                "e/E (no '_', no digits of other scripts)")
+
+
+def _check_header_bytes(path: Path) -> None:
+    """The header row ends within :data:`MAX_HEADER_BYTES` and holds no NUL byte (reads at
+    most that many bytes)."""
+    with open_input(path, encoding=None) as f:
+        head = f.read(MAX_HEADER_BYTES)
+    end = min((k for k in (head.find(b"\n"), head.find(b"\r")) if k >= 0), default=-1)
+    if end < 0 and len(head) == MAX_HEADER_BYTES:
+        raise DataError(path, 1, None, f"no line end in the first {MAX_HEADER_BYTES} bytes: the "
+                        "header row of a DATA.md CSV is one short line of column names (starts "
+                        f"{_short(head[:40].decode('utf-8', 'replace'), 40)!r})")
+    if b"\0" in (head if end < 0 else head[:end]):
+        raise DataError(path, 1, None, "NUL byte in the header row: not a text CSV")
+
+
+def _plain_numbers(cells: tuple[str, ...] | list[str]) -> bool:
+    """True when every cell is a number of the plain ASCII syntax (one regex match)."""
+    if not cells:
+        return True
+    joined = "\x1f".join(cells)
+    return joined.count("\x1f") == len(cells) - 1 and _NUMBERS_RE.fullmatch(joined) is not None
 
 
 def _read_plain(path: Path) -> tuple[list[str], dict[str, np.ndarray]]:
@@ -167,8 +228,8 @@ def _read_plain(path: Path) -> tuple[list[str], dict[str, np.ndarray]]:
             raise _NotPlain
         names = _check_header(path, head.rstrip("\r\n").split(","))
         while lines := f.readlines(_CHUNK_CHARS):
-            if any('"' in ln for ln in lines):
-                raise _NotPlain
+            if _NOT_PLAIN_CHAR.search("".join(lines)):
+                raise _NotPlain             # quotes, words, other digits: the strict reader
             try:
                 a = np.loadtxt(lines, delimiter=",", comments=None, dtype=float, ndmin=2)
             except ValueError:
@@ -231,10 +292,7 @@ def _read_strict(path: Path) -> tuple[list[str], dict[str, np.ndarray], dict[str
     cols = {n: np.concatenate(v) if v else np.empty(0) for n, v in known.items()}
     extra: dict[str, np.ndarray] = {}
     for n, cells in text.items():
-        try:
-            extra[n] = np.array(cells, dtype=float)
-        except ValueError:
-            extra[n] = np.array(cells, dtype=str)
+        extra[n] = np.array(cells, dtype=float if _plain_numbers(cells) else str)
     return names, cols, extra, lines
 
 
@@ -270,15 +328,12 @@ def _check_header(path: Path, header: list[str]) -> list[str]:
 
 def _to_float(path: Path, column: str, cells: tuple[str, ...] | list[str],
               lines: list[int]) -> np.ndarray:
-    try:
+    if _plain_numbers(cells):
         return np.array(cells, dtype=float)
-    except ValueError:
-        for cell, line in zip(cells, lines):
-            try:
-                float(cell)
-            except ValueError:
-                raise DataError(path, line, column, f"not a number: {cell!r}") from None
-        raise  # numpy and float() disagree: let numpy's own message through
+    for cell, line in zip(cells, lines):
+        if not _NUMBER_RE.fullmatch(cell):
+            raise DataError(path, line, column, f"not a number: {_short(cell)!r} ({_NUMBER_RULE})")
+    raise AssertionError("a column that is not plain numbers has a cell that is not")
 
 
 def _check_values(path: Path, cols: dict[str, np.ndarray], lines: list[int] | None) -> None:
@@ -317,10 +372,12 @@ def _no_constant(path: Path):
 
 def _load_sidecar(csv_path: Path) -> dict:
     jpath = sidecar_path(csv_path)
-    if not jpath.exists():
+    if not os.path.lexists(jpath):
         return {}
     try:
-        text = jpath.read_text(encoding="utf-8")
+        text = read_text(jpath)
+    except InputFileError as e:
+        raise DataError(jpath, None, None, e.problem) from None
     except (OSError, UnicodeDecodeError) as e:
         raise DataError(jpath, None, None, f"unreadable sidecar JSON: {e}") from None
     try:
@@ -360,7 +417,10 @@ def load_run(path: str | Path) -> Run:
     """
     path = Path(path)
     try:
+        _check_header_bytes(path)
         names, every = _read_plain(path)
+    except InputFileError as e:
+        raise DataError(path, None, None, e.problem) from None
     except _NotPlain:
         names, cols, extra, lines = _read_strict(path)
     except UnicodeDecodeError as e:

@@ -380,3 +380,14 @@ def test_mode_of_a_replaced_output_kept_when_it_is_not_an_input(tmp_path):
     out.chmod(0o644)
     assert cli.main(["model", "--paper", "--out", str(out)]) == 0
     assert stat.S_IMODE(out.stat().st_mode) == 0o644
+
+
+@pytest.mark.parametrize("name", sorted(ROLES))
+def test_argument_errors_are_one_line(capsys, name):
+    """argparse's refusals (an unknown option, a missing argument) are one line, exit 2."""
+    for argv in ([name, "--no-such-option", "a\nb"], [name, "--out"]):
+        with pytest.raises(SystemExit) as e:
+            cli.main(argv)
+        assert e.value.code == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and err[0].startswith("feeddrive"), err

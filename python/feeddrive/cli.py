@@ -94,6 +94,13 @@ def check_outputs(a: argparse.Namespace, roles: dict[str, str]) -> None:
             check_not_input(getattr(a, dest), reads, folder=role == OUT_DIR)
 
 
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose errors are one line (no usage block), exit status 2."""
+
+    def error(self, message: str):
+        self.exit(2, f"{self.prog}: {one_line(message)} ({self.prog} --help: the options)\n")
+
+
 class UsageError(ValueError):
     """A command was given arguments it cannot use."""
 
@@ -296,7 +303,7 @@ def _force_argument(p: argparse.ArgumentParser) -> None:
 
 def build_parser() -> argparse.ArgumentParser:
     """The parser of every ``feeddrive`` sub-command."""
-    ap = argparse.ArgumentParser(prog="feeddrive", description=__doc__.split("\n\n")[0])
+    ap = _Parser(prog="feeddrive", description=__doc__.split("\n\n")[0])
     sub = ap.add_subparsers(dest="command", required=True)
     for name, text in (("run", "the main job: Secs. 3 and 4 reproduced, report written, tables printed"),
                        ("report", "write build/report/index.html (figures and tables)")):

@@ -20,7 +20,7 @@ from feeddrive import cli
 from feeddrive.data import DataError, load_run, write_run
 from feeddrive.harness.controller_fmu import CONTROLLER_FMU_ENV, controller_fmu_path
 from feeddrive.model_description import FMU_ENV
-from feeddrive.model_file import paper_model, save_model
+from feeddrive.model_file import load_model, paper_model, save_model
 
 PAPER = paper_model()
 ROLES = cli.path_roles(cli.build_parser())
@@ -391,3 +391,21 @@ def test_argument_errors_are_one_line(capsys, name):
         assert e.value.code == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and err[0].startswith("feeddrive"), err
+
+
+def test_json_input_larger_than_the_limit_refused_unread(tmp_path, capsys):
+    """A 64 MiB model file (sparse: NUL bytes) is refused after reading 16 MiB + 1 byte."""
+    big = tmp_path / "big.json"
+    with open(big, "wb") as f:
+        f.truncate(64 << 20)
+    assert cli.main(["sweep", str(big), "--out", str(tmp_path / "o")]) == 2
+    msg = _one_line(capsys, "sweep")
+    assert str(big) in msg and "larger than 16 MiB" in msg
+    with pytest.raises(ValueError, match="larger than 16 MiB"):
+        load_model(big)
+    run = tmp_path / "r.csv"
+    run.write_text("time,u,x\n0,0,0\n0.001,1,0.1\n")
+    side = tmp_path / "r.json"
+    os.link(big, side)
+    with pytest.raises(DataError, match="larger than 16 MiB"):
+        load_run(run)

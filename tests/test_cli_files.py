@@ -21,6 +21,7 @@ from feeddrive.data import DataError, load_run, write_run
 from feeddrive.harness.controller_fmu import CONTROLLER_FMU_ENV, controller_fmu_path
 from feeddrive.model_description import FMU_ENV
 from feeddrive.model_file import load_model, paper_model, save_model
+from feeddrive.realdata import odrive
 
 PAPER = paper_model()
 ROLES = cli.path_roles(cli.build_parser())
@@ -409,3 +410,17 @@ def test_json_input_larger_than_the_limit_refused_unread(tmp_path, capsys):
     os.link(big, side)
     with pytest.raises(DataError, match="larger than 16 MiB"):
         load_run(run)
+
+
+def test_realdata_arrays_special_and_empty_files_refused(tmp_path, unblock):
+    """The shared folder's .npy files (report --shared): a FIFO, a device and an empty file
+    are refused with a ValueError naming the file (no block, no EOFError)."""
+    fifo = _fifo(tmp_path / "cogging_measure_final_a_16.npy", unblock)
+    with pytest.raises(ValueError, match="FIFO"):
+        odrive.load_map(fifo)
+    (tmp_path / "slow.npy").symlink_to("/dev/zero")
+    with pytest.raises(ValueError, match="character device"):
+        odrive.load_slow_run(tmp_path / "slow.npy")
+    (tmp_path / "empty.npy").write_bytes(b"")
+    with pytest.raises(ValueError, match="empty.npy: empty or cut short"):
+        odrive.load_slow_run(tmp_path / "empty.npy")

@@ -21,6 +21,7 @@ from feeddrive.data import DataError, load_run, write_run
 from feeddrive.harness.controller_fmu import CONTROLLER_FMU_ENV, controller_fmu_path
 from feeddrive.model_description import FMU_ENV
 from feeddrive.model_file import load_model, paper_model, save_model
+from feeddrive.outputs import output_dir
 from feeddrive.realdata import odrive
 
 PAPER = paper_model()
@@ -424,3 +425,16 @@ def test_realdata_arrays_special_and_empty_files_refused(tmp_path, unblock):
     (tmp_path / "empty.npy").write_bytes(b"")
     with pytest.raises(ValueError, match="empty.npy: empty or cut short"):
         odrive.load_slow_run(tmp_path / "empty.npy")
+
+
+def test_output_folder_mode_kept_or_from_the_umask(tmp_path):
+    ref = tmp_path / "ref"
+    ref.mkdir()                                 # what mkdir gives here (umask)
+    out = tmp_path / "o"
+    with output_dir(out) as d:
+        (d / "a.txt").write_text("a")
+    assert stat.S_IMODE(out.stat().st_mode) == stat.S_IMODE(ref.stat().st_mode)
+    out.chmod(0o750)
+    with output_dir(out) as d:
+        (d / "a.txt").write_text("b")
+    assert stat.S_IMODE(out.stat().st_mode) == 0o750 and (out / "a.txt").read_text() == "b"

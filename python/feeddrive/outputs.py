@@ -215,6 +215,22 @@ def check_dir(target: str | Path, inputs: Reads | Iterable[str | Path | None] = 
     return target
 
 
+def _stage_dir(target: Path) -> Path:
+    """A new folder beside ``target`` with ``target``'s permission bits when it is a folder,
+    else those of ``mkdir`` (0777 less the umask)."""
+    parent = _real(target).parent
+    while True:
+        stage = parent / f".{target.name[:120]}.new-{secrets.token_hex(6)}"
+        try:
+            os.mkdir(stage, 0o777)
+            break
+        except FileExistsError:
+            continue
+    if target.is_dir():
+        os.chmod(stage, stat.S_IMODE(os.stat(target).st_mode))
+    return stage
+
+
 @contextmanager
 def output_dir(target: str | Path, inputs: Reads | Iterable[str | Path | None] = (),
                force: bool = False, what: str = "feeddrive") -> Iterator[Path]:
@@ -225,7 +241,7 @@ def output_dir(target: str | Path, inputs: Reads | Iterable[str | Path | None] =
     """
     target = check_dir(target, inputs, force)
     parent = _real(target).parent
-    stage = Path(tempfile.mkdtemp(prefix=f".{target.name}.new-", dir=parent))
+    stage = _stage_dir(target)
     try:
         yield stage
         (stage / MARKER).write_text(json.dumps({"written_by": "feeddrive", "what": what}) + "\n",

@@ -98,7 +98,7 @@ class _Parser(argparse.ArgumentParser):
     """An argument parser whose errors are one line (no usage block), exit status 2."""
 
     def error(self, message: str):
-        self.exit(2, f"{self.prog}: {one_line(message)} ({self.prog} --help: the options)\n")
+        self.exit(2, f"{self.prog}: error: {one_line(message)} ({self.prog} --help: the options)\n")
 
 
 class UsageError(ValueError):

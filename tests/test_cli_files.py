@@ -182,16 +182,20 @@ def test_identify_out_over_a_sidecar_path_of_a_run_without_one(tmp_path, capsys,
     assert sorted(p.name for p in runs.iterdir()) == ["a.csv"]
 
 
-def test_identify_out_a_hard_link_to_an_input(tmp_path, capsys, run_text):
+def test_identify_out_a_link_to_an_input(tmp_path, capsys, run_text):
     runs = tmp_path / "runs"
     runs.mkdir()
     write_run(run_text, runs / "a.csv")
     before = (runs / "a.json").read_bytes()
     os.link(runs / "a.json", tmp_path / "other.json")
-    assert cli.main(["identify", str(runs), "--out", str(tmp_path / "other.json")]) == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and RULE.search(err[0])
-    assert (runs / "a.json").read_bytes() == before
+    (tmp_path / "link.json").symlink_to(runs / "a.json")
+    (tmp_path / "dangling.json").symlink_to(runs / "b.json")     # sidecar path of b.csv
+    (runs / "b.csv").write_bytes((runs / "a.csv").read_bytes())
+    for out in ("other.json", "link.json", "dangling.json"):
+        assert cli.main(["identify", str(runs), "--out", str(tmp_path / out)]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and RULE.search(err[0]), (out, err)
+    assert (runs / "a.json").read_bytes() == before and not (runs / "b.json").exists()
 
 
 # ---------------------------------------------------------------- special files

@@ -349,7 +349,7 @@ def _to_float(path: Path, column: str, cells: tuple[str, ...] | list[str],
     for cell, line in zip(cells, lines):
         if not _NUMBER_RE.fullmatch(cell):
             raise DataError(path, line, column, f"not a number: {_short(cell)!r} ({_NUMBER_RULE})")
-    raise AssertionError("a column that is not plain numbers has a cell that is not")
+    raise DataError(path, lines[0] if lines else None, column, f"not numbers ({_NUMBER_RULE})")
 
 
 def _check_values(path: Path, cols: dict[str, np.ndarray], lines: list[int] | None) -> None:

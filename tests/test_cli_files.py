@@ -17,6 +17,7 @@ import pytest
 
 from diagnosis_runs import simulate_run, sinusoid_reference
 from feeddrive import cli
+from feeddrive import data as data_mod
 from feeddrive.data import DataError, load_run, write_run
 from feeddrive.harness.controller_fmu import CONTROLLER_FMU_ENV, controller_fmu_path
 from feeddrive.model_description import FMU_ENV
@@ -442,3 +443,35 @@ def test_output_folder_mode_kept_or_from_the_umask(tmp_path):
     with output_dir(out) as d:
         (d / "a.txt").write_text("b")
     assert stat.S_IMODE(out.stat().st_mode) == 0o750 and (out / "a.txt").read_text() == "b"
+
+
+@pytest.mark.parametrize("quoted", [False, True])
+def test_data_line_without_an_end_refused_after_a_bounded_read(tmp_path, capsys, quoted):
+    """A good header, two rows, then 64 MiB without a line end (sparse NUL bytes, or a
+    quoted field): refused naming line 4, without reading the line whole."""
+    p = tmp_path / "long.csv"
+    with open(p, "wb") as f:
+        f.write(b"time,u,x\n0,0,0\n0.001,1,0.1\n" + (b'"' if quoted else b"0.002,"))
+        f.truncate(64 << 20)
+    with pytest.raises(DataError, match="line longer than") as e:
+        load_run(p)
+    assert e.value.line == 4
+    assert cli.main(["validate", str(p)]) == 2
+    msg = _one_line(capsys, "validate")
+    assert str(p) in msg and "line 4" in msg and len(msg) < 400
+
+
+@pytest.mark.parametrize("ending", ["\n", "\r\n", "\r"])
+def test_line_ends_across_read_blocks(tmp_path, monkeypatch, ending):
+    """Blocks cut anywhere (a "\\r\\n" in two too): the same rows as one read, blank lines at
+    the end only."""
+    rows = [f"{k * 1e-3!r},{k % 7 - 3},{k * 1e-4!r}" for k in range(300)]
+    text = ending.join(["time,u,x", *rows]) + ending + ending
+    p = tmp_path / "r.csv"
+    p.write_bytes(text.encode())
+    want = load_run(p)
+    for size in (7, 8, 13, 64):
+        monkeypatch.setattr(data_mod, "_CHUNK_CHARS", size)
+        got = load_run(p)
+        assert np.array_equal(got.time, want.time) and np.array_equal(got.u, want.u)
+    assert want.n == 300

@@ -22,6 +22,7 @@ import io
 import json
 import os
 import re
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -229,6 +230,53 @@ def _floats(cells: tuple[str, ...] | list[str]) -> np.ndarray | None:
         return None
 
 
+#: longest line of a run CSV [characters]; a longer one is refused without being read whole
+MAX_LINE_CHARS = 1 << 22
+
+
+def _too_long(path: Path, line: int) -> DataError:
+    return DataError(path, line, None, f"line longer than {MAX_LINE_CHARS} characters: not a "
+                     "DATA.md row (not read further)")
+
+
+def _line_chunks(f, path: Path) -> Iterator[list[str]]:
+    """The remaining lines of the text file ``f`` (line ends kept) in lists of about
+    :data:`_CHUNK_CHARS` characters, read in blocks of that size; a line longer than
+    :data:`MAX_LINE_CHARS` raises :class:`DataError` (line numbers count the header as 1).
+    ``str.splitlines`` also splits at rarer separators (form feed, U+2028...): those are no
+    plain numeric text, and the fast path hands such a file to the strict reader."""
+    carry, done = "", 1
+    while True:
+        block = f.read(_CHUNK_CHARS)
+        lines = (carry + block).splitlines(keepends=True)
+        carry = ""
+        if block and lines and (lines[-1][-1] not in "\r\n" or lines[-1][-1] == "\r"):
+            carry = lines.pop()         # may go on in the next block (a "\r\n" cut in two too)
+            if len(carry) > MAX_LINE_CHARS:
+                raise _too_long(path, done + len(lines) + 1)
+        if not lines and not block:
+            return
+        # only the first line holds the carry; the others fit in the block
+        if lines and (len(lines[0]) > MAX_LINE_CHARS
+                      or len(block) > MAX_LINE_CHARS and max(map(len, lines)) > MAX_LINE_CHARS):
+            k = next(k for k, ln in enumerate(lines) if len(ln) > MAX_LINE_CHARS)
+            raise _too_long(path, done + k + 1)
+        done += len(lines)
+        if lines:
+            yield lines
+
+
+def _bounded_lines(f, path: Path) -> Iterator[str]:
+    """The lines of the text file ``f`` one by one (as iterating it gives them), each at most
+    :data:`MAX_LINE_CHARS` characters, else :class:`DataError`."""
+    n = 0
+    while line := f.readline(MAX_LINE_CHARS + 1):
+        n += 1
+        if len(line) > MAX_LINE_CHARS:
+            raise _too_long(path, n)
+        yield line
+
+
 def _read_plain(path: Path) -> tuple[list[str], dict[str, np.ndarray]]:
     """Fast path: header and every cell as float64 through numpy's C parser, in chunks.
 
@@ -241,11 +289,14 @@ def _read_plain(path: Path) -> tuple[list[str], dict[str, np.ndarray]]:
         if not head.strip() or '"' in head:
             raise _NotPlain
         names = _check_header(path, head.rstrip("\r\n").split(","))
-        while lines := f.readlines(_CHUNK_CHARS):
-            if not _ascii_plain("".join(lines)):
+        chunks = _line_chunks(f, path)
+        for lines in chunks:
+            text = "".join(lines)
+            if not _ascii_plain(text):
                 raise _NotPlain             # quotes, '_', other digits: the strict reader
             try:
-                a = np.loadtxt(lines, delimiter=",", comments=None, dtype=float, ndmin=2)
+                a = np.loadtxt(lines, delimiter=",", comments=None, dtype=float, ndmin=2) \
+                    if not text.isspace() else np.empty((0, len(names)))
             except ValueError:
                 raise _NotPlain from None
             if a.shape[1:] != (len(names),):
@@ -253,7 +304,7 @@ def _read_plain(path: Path) -> tuple[list[str], dict[str, np.ndarray]]:
             if a.shape[0] != len(lines):     # blank lines: only at the end of the file
                 k = a.shape[0]
                 if any(ln in _BLANK for ln in lines[:k]) or any(ln not in _BLANK for ln in lines[k:]) \
-                        or any(ln not in _BLANK for ln in f):
+                        or any(ln not in _BLANK for rest in chunks for ln in rest):
                     raise _NotPlain
             parts.append(a)
     cols = {n: np.concatenate([p[:, k] for p in parts]) if parts else np.empty(0)
@@ -269,7 +320,7 @@ def _read_strict(path: Path) -> tuple[list[str], dict[str, np.ndarray], dict[str
     text: dict[str, list[str]] = {}
     lines: list[int] = []
     with _open(path) as f:
-        reader = csv.reader(f, strict=True)
+        reader = csv.reader(_bounded_lines(f, path), strict=True)
         try:
             header = next(reader, None)
             if header is None:

@@ -306,7 +306,7 @@ def test_huge_file_without_a_line_end_refused_after_a_bounded_read(tmp_path, cap
         load_run(big)
 
 
-def test_long_header_and_data_line_bounded(tmp_path):
+def test_long_header_refused_with_a_short_message(tmp_path):
     p = tmp_path / "long.csv"
     p.write_text("time,u,x," + "y" * (1 << 20) + "\n0,0,0,1\n")
     with pytest.raises(DataError) as e:

@@ -2,7 +2,10 @@
 identification, validation, diagnosis, report).
 
 Bad input (a file, a field, a parameter) ends a command with one line on stderr naming it
-and exit status 2, never a traceback.
+and exit status 2, never a traceback; control characters of a file name are escaped in it.
+Before a command starts, every output option is checked against everything the command reads
+(:func:`check_outputs`, from the role of each path argument): no command writes over a file
+it read.
 """
 from __future__ import annotations
 
@@ -17,15 +20,18 @@ from .diagnose.emps import emps_baseline_model
 from .diagnose.workflow import diagnose
 from .experiments.campaign import MAX_REPEATS, write_campaign
 from .fmu import FMUError, fmu_path
-from .harness.controller_fmu import controller_fmu_path
+from .harness.controller_fmu import (CONTROLLER_FMU_ENV, DEFAULT_CONTROLLER_FMU,
+                                     controller_fmu_path)
 from .identify.pipeline import identify_folder
+from .inputs import one_line
+from .model_description import DEFAULT_FMU, FMU_ENV
 from .model_file import load_model, paper_model, save_model
-from .outputs import check_dir, check_file, output_dir
+from .outputs import Reads, check_dir, check_file, check_not_input, output_dir
 from .report.circle import write_circle_report
 from .report.diagnosis import write_diagnosis
 from .report.main_job import main_job
 from .report.study import write_bootstrap_report, write_study_report
-from .study import BootstrapStudy, load_study_file, run_bootstrap_study, run_study
+from .study import BootstrapStudy, load_study_file, run_bootstrap_study, run_study, study_reads
 from .study.bootstrap import bootstrap_folder
 from .systems import sec3_system, sec4_system, write_all
 from .systems.compare import compare_engines
@@ -37,6 +43,62 @@ from .validation.xy_machine import MISMATCH, xy_axes
 
 BUILD = Path("build")           # relative to the working directory
 SHARED_ENV = "FEEDDRIVE_SHARED"
+
+
+#: roles of the path arguments: a run CSV (and its sidecar), a folder of runs (every
+#: ``*.csv`` and its sidecar), a file (model file), a folder read as a whole (nothing may be
+#: written inside it), a study file (and the files it names); a file or folder written
+RUN, RUNS, FILE, TREE, STUDY, OUT_FILE, OUT_DIR = ("run", "runs", "file", "tree", "study",
+                                                   "out-file", "out-dir")
+OUTPUT_ROLES = (OUT_FILE, OUT_DIR)
+_ROLE = "feeddrive_role"
+
+
+def _path(p: argparse.ArgumentParser, role: str, *flags: str, **kw) -> argparse.Action:
+    """Add a path argument with its ``role`` (what the guard reads from it or checks)."""
+    action = p.add_argument(*flags, **kw)
+    setattr(action, _ROLE, role)
+    return action
+
+
+def path_roles(parser: argparse.ArgumentParser) -> dict[str, dict[str, str]]:
+    """Every sub-command of ``parser`` -> {argument dest: role} of its path arguments."""
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    return {name: {a.dest: getattr(a, _ROLE) for a in p._actions if hasattr(a, _ROLE)}
+            for name, p in sub.choices.items()}
+
+
+def command_reads(a: argparse.Namespace, roles: dict[str, str]) -> Reads:
+    """Everything the command of ``a`` reads: the files behind its path arguments (by role)
+    and the plant and controller FMUs."""
+    got: dict[str, list] = {RUN: [], RUNS: [], FILE: [], TREE: [], STUDY: []}
+    for dest, role in roles.items():
+        value = getattr(a, dest, None)
+        if role in got and value is not None:
+            got[role] += value if isinstance(value, list) else [value]
+    fmus = [os.environ.get(FMU_ENV) or DEFAULT_FMU,
+            os.environ.get(CONTROLLER_FMU_ENV) or DEFAULT_CONTROLLER_FMU]
+    reads = Reads.of(files=got[FILE] + fmus, runs=got[RUN], run_folders=got[RUNS],
+                     trees=got[TREE])
+    for study in got[STUDY]:
+        reads = reads + study_reads(study)
+    return reads
+
+
+def check_outputs(a: argparse.Namespace, roles: dict[str, str]) -> None:
+    """The guard run before every command: each output option (a file or a folder) against
+    everything the command reads (:func:`feeddrive.outputs.check_not_input`)."""
+    reads = command_reads(a, roles)
+    for dest, role in roles.items():
+        if role in OUTPUT_ROLES and getattr(a, dest, None) is not None:
+            check_not_input(getattr(a, dest), reads, folder=role == OUT_DIR)
+
+
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose errors are one line (no usage block), exit status 2."""
+
+    def error(self, message: str):
+        self.exit(2, f"{self.prog}: error: {one_line(message)} ({self.prog} --help: the options)\n")
 
 
 class UsageError(ValueError):
@@ -226,9 +288,9 @@ def _cmd_sweep(a: argparse.Namespace) -> int:
 
 
 def _diagnose_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("runs", nargs="+", type=Path, help="measured runs (DATA.md CSV files)")
-    p.add_argument("--model", required=True, type=Path, help="starting model file (JSON)")
-    p.add_argument("--out", required=True, type=Path, help="output directory")
+    _path(p, RUN, "runs", nargs="+", type=Path, help="measured runs (DATA.md CSV files)")
+    _path(p, FILE, "--model", required=True, type=Path, help="starting model file (JSON)")
+    _path(p, OUT_DIR, "--out", required=True, type=Path, help="output directory")
     p.add_argument("--max-steps", type=_STEPS, default=4, help="at most this many effects (>= 1)")
     p.add_argument("--force-gain", type=_POSITIVE, default=None,
                    help="N/V for runs without a current column (else the sidecar's "
@@ -248,25 +310,25 @@ def _force_argument(p: argparse.ArgumentParser) -> None:
 
 def build_parser() -> argparse.ArgumentParser:
     """The parser of every ``feeddrive`` sub-command."""
-    ap = argparse.ArgumentParser(prog="feeddrive", description=__doc__.split("\n\n")[0])
+    ap = _Parser(prog="feeddrive", description=__doc__.split("\n\n")[0])
     sub = ap.add_subparsers(dest="command", required=True)
     for name, text in (("run", "the main job: Secs. 3 and 4 reproduced, report written, tables printed"),
                        ("report", "write build/report/index.html (figures and tables)")):
         p = sub.add_parser(name, help=text)
-        p.add_argument("--out", default=str(BUILD / "report"))
-        p.add_argument("--runs", default=None, help="folder of identification runs to add to the report")
-        p.add_argument("--shared", default=os.environ.get(SHARED_ENV) or None,
+        _path(p, OUT_DIR, "--out", default=str(BUILD / "report"))
+        _path(p, RUNS, "--runs", default=None, help="folder of identification runs to add to the report")
+        _path(p, TREE, "--shared", default=os.environ.get(SHARED_ENV) or None,
                        help=f"the shared data folder (holds realdata/odrive-cogging); default ${SHARED_ENV}")
         _force_argument(p)
         p.set_defaults(func=_cmd_report)
     p = sub.add_parser("model", help="write a model file")
     p.add_argument("--paper", action="store_true", help="the paper's full model")
     p.add_argument("--emps", action="store_true", help="the EMPS benchmark authors' rigid baseline")
-    p.add_argument("--out", default="model.json")
+    _path(p, OUT_FILE, "--out", default="model.json")
     p.set_defaults(func=_cmd_model)
     p = sub.add_parser("system", help="write the closed loop as SSP, OSP and container FMU")
     p.add_argument("--case", choices=sorted(SYSTEMS), default="sec3")
-    p.add_argument("--out", default=str(BUILD / "system"))
+    _path(p, OUT_DIR, "--out", default=str(BUILD / "system"))
     p.add_argument("--run", action="store_true",
                    help="run them in libcosim and fmpy and compare with the harness")
     p.set_defaults(func=_cmd_system)
@@ -280,32 +342,32 @@ def build_parser() -> argparse.ArgumentParser:
                    help="contouring directions (H needs both)")
     p.add_argument("--feedforward", nargs="+", choices=sorted(FEEDFORWARD), default=["none", "gms"],
                    help="feedforward cases (default none gms)")
-    p.add_argument("--x-model", type=Path, default=None, help="model file of the X axis (default: the paper's drive)")
-    p.add_argument("--y-model", type=Path, default=None,
+    _path(p, FILE, "--x-model", type=Path, default=None, help="model file of the X axis (default: the paper's drive)")
+    _path(p, FILE, "--y-model", type=Path, default=None,
                    help="model file of the Y axis (default: the paper's drive, 40 kg, friction x1.5, magnets +9.375 mm)")
     p.add_argument("--mismatch", choices=MISMATCH, default="sec4",
                    help="plant = nominal x the Sec. 4 mismatch (default), or the nominal itself")
     p.add_argument("--osp", action="store_true",
                    help="also write each circle as an OSP system structure (4 FMUs) for libcosim in OUT/osp/")
-    p.add_argument("--out", default=str(BUILD / "circle"), help="output folder (index.html, circle_*.png)")
+    _path(p, OUT_DIR, "--out", default=str(BUILD / "circle"), help="output folder (index.html, circle_*.png)")
     _force_argument(p)
     p.set_defaults(func=_cmd_circle)
     p = sub.add_parser("validate", help="replay a measured run through model and controller")
-    p.add_argument("measured")
-    p.add_argument("--model", default=None)
+    _path(p, RUN, "measured")
+    _path(p, FILE, "--model", default=None)
     p.set_defaults(func=_cmd_validate)
     p = sub.add_parser("experiments", help="write the identification experiments as virtual runs")
-    p.add_argument("--out", required=True)
-    p.add_argument("--model", default=None)
+    _path(p, OUT_DIR, "--out", required=True)
+    _path(p, FILE, "--model", default=None)
     p.add_argument("--seed", type=_SEED, default=1, help="noise seed (>= 0)")
     p.add_argument("--repeats", type=_REPEATS, default=1,
                    help="runs of every experiment with independent noise (for identify --bootstrap)")
     _force_argument(p)
     p.set_defaults(func=_cmd_experiments)
     p = sub.add_parser("identify", help="identify a model file from a folder of runs")
-    p.add_argument("runs")
-    p.add_argument("--out", required=True)
-    p.add_argument("--truth", default=None, help="model file of the truth (virtual runs): print true vs identified")
+    _path(p, RUNS, "runs")
+    _path(p, OUT_FILE, "--out", required=True)
+    _path(p, FILE, "--truth", default=None, help="model file of the truth (virtual runs): print true vs identified")
     p.add_argument("--bootstrap", type=_REPLICATES, default=None, metavar="N",
                    help="N replicates over runs resampled within cells of repeats: intervals in the model file")
     p.add_argument("--level", type=_LEVEL, default=0.95, help="coverage of the bootstrap intervals (0..1)")
@@ -322,8 +384,8 @@ def build_parser() -> argparse.ArgumentParser:
     _diagnose_arguments(p)
     p.set_defaults(func=_cmd_diagnose)
     p = sub.add_parser("sweep", help="a parameter study (STUDY.json) on Dask: table, sensitivities, report")
-    p.add_argument("study", type=Path, help="study file (JSON, schema feeddrive.study/1)")
-    p.add_argument("--out", required=True, type=Path, help="output folder (results.csv/.parquet, report.html)")
+    _path(p, STUDY, "study", type=Path, help="study file (JSON, schema feeddrive.study/1)")
+    _path(p, OUT_DIR, "--out", required=True, type=Path, help="output folder (results.csv/.parquet, report.html)")
     p.add_argument("--scheduler", default=None, help="address of a Dask scheduler (default: a LocalCluster)")
     p.add_argument("--workers", type=int, default=None, help="LocalCluster worker processes (default: one per core)")
     p.add_argument("--resume", action="store_true", help="keep the finished rows in --out, compute the missing runs")
@@ -335,14 +397,16 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run one ``feeddrive`` command; returns its exit status (2: bad input, one line on stderr)."""
-    a = build_parser().parse_args(argv)
+    parser = build_parser()
+    a = parser.parse_args(argv)
     try:
+        check_outputs(a, path_roles(parser)[a.command])
         return int(a.func(a) or 0)
     except (ValueError, OSError, FMUError) as e:
-        print(f"feeddrive {a.command}: {e}", file=sys.stderr)
+        print(f"feeddrive {a.command}: {one_line(str(e))}", file=sys.stderr)
         return 2
     except ImportError as e:            # an optional engine (libcosimpy) is not installed
-        print(f"feeddrive {a.command}: {e.name or e} is not installed "
+        print(f"feeddrive {a.command}: {one_line(str(e.name or e))} is not installed "
               "(pip install 'feeddrive[test]' brings the engines)", file=sys.stderr)
         return 2
 

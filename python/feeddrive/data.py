@@ -7,19 +7,29 @@ sidecar with the same stem (``run.csv`` + ``run.json``) that says how the experi
 
 The loader is strict: every rule of DATA.md that a file breaks raises :class:`DataError`
 naming the file, the 1-based line (the header is line 1) and the column.  Rows are never
-dropped or reordered.  The writer refuses a run the loader would reject and writes floats
+dropped or reordered.  A run and its sidecar must be regular files (a FIFO or a device is
+refused before it is read); the header row must end within :data:`MAX_HEADER_BYTES`; a number
+is plain ASCII decimal with an optional exponent (``-1.5e-3``; ``nan``/``inf`` are read and
+then refused as non-finite), never what Python's ``float`` also takes (``0.1_2``, digits of
+other scripts).  The writer refuses a run the loader would reject and writes floats
 with ``repr`` (the shortest string that round-trips a float64 exactly).
 """
 from __future__ import annotations
 
+import codecs
 import csv
 import io
 import json
+import os
+import re
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from .inputs import InputFileError, open_input, read_text
 
 #: Every column DATA.md defines, in the order the writer puts them.
 KNOWN_COLUMNS: tuple[str, ...] = ("time", "u", "i", "x", "x_ref", "F_load")
@@ -44,8 +54,13 @@ class DataError(ValueError):
         if line is not None:
             where.append(f"line {line}")
         if column is not None:
-            where.append(f"column {column!r}")
+            where.append(f"column {_short(column)!r}")
         super().__init__(f"{', '.join(where)}: {problem}")
+
+
+def _short(text: str, n: int = 80) -> str:
+    """``text`` cut to ``n`` characters (with "...") for a message."""
+    return text if len(text) <= n else text[:n] + "..."
 
 
 @dataclass
@@ -126,14 +141,22 @@ def sidecar_path(path: str | Path) -> Path:
 
 
 def _decode_error(path: Path, e: UnicodeDecodeError) -> DataError:
-    """The file's first invalid byte as a DataError with its line (reads the bytes again)."""
-    raw = path.read_bytes()
-    try:
-        raw.decode("utf-8-sig")
-    except UnicodeDecodeError as err:
-        e = err
-    line = raw[: e.start].count(b"\n") + 1
-    return DataError(path, line, None, f"not UTF-8 text (byte {e.start}: {e.reason})")
+    """The file's first invalid byte as a DataError with its line (reads the bytes again, in
+    blocks: the memory stays bounded whatever the file's size)."""
+    dec = codecs.getincrementaldecoder("utf-8-sig")()
+    offset, line = 0, 1
+    with open_input(path, encoding=None) as f:
+        while block := f.read(_CHUNK_CHARS):
+            try:
+                dec.decode(block)
+            except UnicodeDecodeError as err:
+                at = max(0, min(err.start - len(err.object) + len(block), len(block)))
+                line += block[:at].count(b"\n")
+                return DataError(path, line, None,
+                                 f"not UTF-8 text (byte {offset + at}: {err.reason})")
+            line += block.count(b"\n")
+            offset += len(block)
+    return DataError(path, None, None, f"not UTF-8 text ({e.reason})")
 
 
 class _NotPlain(Exception):
@@ -151,7 +174,107 @@ _BLANK = frozenset({"\n", "\r\n", "\r", ""})
 
 
 def _open(path: Path):
-    return open(path, encoding="utf-8-sig", newline="")
+    return open_input(path, encoding="utf-8-sig")
+
+
+#: the header row must end within this many bytes (a few KiB of column names; a file without
+#: a line end there is no DATA.md CSV, and is not read further for the message)
+MAX_HEADER_BYTES = 1 << 16
+
+#: a number: plain ASCII decimal with an optional exponent, or the words nan/inf (refused
+#: later as non-finite, with that message), spaces or tabs around
+_NUMBER = (r"[ \t]*[+-]?(?:(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?"
+           r"|(?i:nan|inf|infinity))[ \t]*")
+_NUMBER_RE = re.compile(_NUMBER)
+#: the ASCII characters that Python's float() or numpy's parser take in a number beyond
+#: :data:`_NUMBER` ('_' between digits, control characters as spaces) and the quote: a text
+#: that is ASCII and holds none of them is read by both parsers exactly as the syntax says
+#: (any other character makes the number unreadable to them)
+_NOT_IN_NUMBERS = '_"\x00\x0b\x0c\x1c\x1d\x1e\x1f'
+_NUMBER_RULE = ("numbers are plain ASCII decimal: digits 0-9, one '.', an optional exponent "
+                "e/E (no '_', no digits of other scripts)")
+
+
+def _check_header_bytes(path: Path) -> None:
+    """The header row ends within :data:`MAX_HEADER_BYTES` and holds no NUL byte (reads at
+    most that many bytes)."""
+    with open_input(path, encoding=None) as f:
+        head = f.read(MAX_HEADER_BYTES)
+    end = min((k for k in (head.find(b"\n"), head.find(b"\r")) if k >= 0), default=-1)
+    if end < 0 and len(head) == MAX_HEADER_BYTES:
+        raise DataError(path, 1, None, f"no line end in the first {MAX_HEADER_BYTES} bytes: the "
+                        "header row of a DATA.md CSV is one short line of column names (starts "
+                        f"{_short(head[:40].decode('utf-8', 'replace'), 40)!r})")
+    if b"\0" in (head if end < 0 else head[:end]):
+        raise DataError(path, 1, None, "NUL byte in the header row: not a text CSV")
+
+
+def _ascii_plain(text: str) -> bool:
+    """True when ``text`` is ASCII without a character of :data:`_NOT_IN_NUMBERS` (a few
+    passes in C over the text, no regex per cell)."""
+    return text.isascii() and not any(c in text for c in _NOT_IN_NUMBERS)
+
+
+def _floats(cells: tuple[str, ...] | list[str]) -> np.ndarray | None:
+    """The cells as float64 when every one is a number of the syntax :data:`_NUMBER`, else
+    None (checked on the cells' joined text, then parsed by numpy)."""
+    if not cells:
+        return np.empty(0)
+    joined = ",".join(cells)
+    if joined.count(",") != len(cells) - 1 or "\n" in joined or "\r" in joined \
+            or not _ascii_plain(joined):
+        return None
+    try:
+        return np.array(cells, dtype=float)
+    except ValueError:
+        return None
+
+
+#: longest line of a run CSV [characters]; a longer one is refused without being read whole
+MAX_LINE_CHARS = 1 << 22
+
+
+def _too_long(path: Path, line: int) -> DataError:
+    return DataError(path, line, None, f"line longer than {MAX_LINE_CHARS} characters: not a "
+                     "DATA.md row (not read further)")
+
+
+def _line_chunks(f, path: Path) -> Iterator[list[str]]:
+    """The remaining lines of the text file ``f`` (line ends kept) in lists of about
+    :data:`_CHUNK_CHARS` characters, read in blocks of that size; a line longer than
+    :data:`MAX_LINE_CHARS` raises :class:`DataError` (line numbers count the header as 1).
+    ``str.splitlines`` also splits at rarer separators (form feed, U+2028...): those are no
+    plain numeric text, and the fast path hands such a file to the strict reader."""
+    carry, done = "", 1
+    while True:
+        block = f.read(_CHUNK_CHARS)
+        lines = (carry + block).splitlines(keepends=True)
+        carry = ""
+        if block and lines and (lines[-1][-1] not in "\r\n" or lines[-1][-1] == "\r"):
+            carry = lines.pop()         # may go on in the next block (a "\r\n" cut in two too)
+            if len(carry) > MAX_LINE_CHARS:
+                raise _too_long(path, done + len(lines) + 1)
+        if not lines and not block:
+            return
+        # only the first line holds the carry; the others fit in the block
+        if lines and (len(lines[0]) > MAX_LINE_CHARS
+                      or len(block) > MAX_LINE_CHARS and max(map(len, lines)) > MAX_LINE_CHARS):
+            k = next(k for k, ln in enumerate(lines) if len(ln) > MAX_LINE_CHARS)
+            raise _too_long(path, done + k + 1)
+        done += len(lines)
+        if lines:
+            yield lines
+
+
+def _bounded_lines(f, path: Path) -> Iterator[str]:
+    """The lines of the text file ``f`` one by one (as iterating it gives them), each at most
+    :data:`MAX_LINE_CHARS` characters, else :class:`DataError`."""
+    n = 0
+    while line := f.readline(MAX_LINE_CHARS + 1):
+        n += 1
+        if len(line) > MAX_LINE_CHARS:
+            raise _too_long(path, n)
+        yield line
 
 
 def _read_plain(path: Path) -> tuple[list[str], dict[str, np.ndarray]]:
@@ -166,11 +289,14 @@ def _read_plain(path: Path) -> tuple[list[str], dict[str, np.ndarray]]:
         if not head.strip() or '"' in head:
             raise _NotPlain
         names = _check_header(path, head.rstrip("\r\n").split(","))
-        while lines := f.readlines(_CHUNK_CHARS):
-            if any('"' in ln for ln in lines):
-                raise _NotPlain
+        chunks = _line_chunks(f, path)
+        for lines in chunks:
+            text = "".join(lines)
+            if not _ascii_plain(text):
+                raise _NotPlain             # quotes, '_', other digits: the strict reader
             try:
-                a = np.loadtxt(lines, delimiter=",", comments=None, dtype=float, ndmin=2)
+                a = np.loadtxt(lines, delimiter=",", comments=None, dtype=float, ndmin=2) \
+                    if not text.isspace() else np.empty((0, len(names)))
             except ValueError:
                 raise _NotPlain from None
             if a.shape[1:] != (len(names),):
@@ -178,7 +304,7 @@ def _read_plain(path: Path) -> tuple[list[str], dict[str, np.ndarray]]:
             if a.shape[0] != len(lines):     # blank lines: only at the end of the file
                 k = a.shape[0]
                 if any(ln in _BLANK for ln in lines[:k]) or any(ln not in _BLANK for ln in lines[k:]) \
-                        or any(ln not in _BLANK for ln in f):
+                        or any(ln not in _BLANK for rest in chunks for ln in rest):
                     raise _NotPlain
             parts.append(a)
     cols = {n: np.concatenate([p[:, k] for p in parts]) if parts else np.empty(0)
@@ -194,7 +320,7 @@ def _read_strict(path: Path) -> tuple[list[str], dict[str, np.ndarray], dict[str
     text: dict[str, list[str]] = {}
     lines: list[int] = []
     with _open(path) as f:
-        reader = csv.reader(f, strict=True)
+        reader = csv.reader(_bounded_lines(f, path), strict=True)
         try:
             header = next(reader, None)
             if header is None:
@@ -231,10 +357,8 @@ def _read_strict(path: Path) -> tuple[list[str], dict[str, np.ndarray], dict[str
     cols = {n: np.concatenate(v) if v else np.empty(0) for n, v in known.items()}
     extra: dict[str, np.ndarray] = {}
     for n, cells in text.items():
-        try:
-            extra[n] = np.array(cells, dtype=float)
-        except ValueError:
-            extra[n] = np.array(cells, dtype=str)
+        floats = _floats(cells)
+        extra[n] = floats if floats is not None else np.array(cells, dtype=str)
     return names, cols, extra, lines
 
 
@@ -270,15 +394,13 @@ def _check_header(path: Path, header: list[str]) -> list[str]:
 
 def _to_float(path: Path, column: str, cells: tuple[str, ...] | list[str],
               lines: list[int]) -> np.ndarray:
-    try:
-        return np.array(cells, dtype=float)
-    except ValueError:
-        for cell, line in zip(cells, lines):
-            try:
-                float(cell)
-            except ValueError:
-                raise DataError(path, line, column, f"not a number: {cell!r}") from None
-        raise  # numpy and float() disagree: let numpy's own message through
+    floats = _floats(cells)
+    if floats is not None:
+        return floats
+    for cell, line in zip(cells, lines):
+        if not _NUMBER_RE.fullmatch(cell):
+            raise DataError(path, line, column, f"not a number: {_short(cell)!r} ({_NUMBER_RULE})")
+    raise DataError(path, lines[0] if lines else None, column, f"not numbers ({_NUMBER_RULE})")
 
 
 def _check_values(path: Path, cols: dict[str, np.ndarray], lines: list[int] | None) -> None:
@@ -317,10 +439,12 @@ def _no_constant(path: Path):
 
 def _load_sidecar(csv_path: Path) -> dict:
     jpath = sidecar_path(csv_path)
-    if not jpath.exists():
+    if not os.path.lexists(jpath):
         return {}
     try:
-        text = jpath.read_text(encoding="utf-8")
+        text = read_text(jpath)
+    except InputFileError as e:
+        raise DataError(jpath, None, None, e.problem) from None
     except (OSError, UnicodeDecodeError) as e:
         raise DataError(jpath, None, None, f"unreadable sidecar JSON: {e}") from None
     try:
@@ -360,7 +484,10 @@ def load_run(path: str | Path) -> Run:
     """
     path = Path(path)
     try:
+        _check_header_bytes(path)
         names, every = _read_plain(path)
+    except InputFileError as e:
+        raise DataError(path, None, None, e.problem) from None
     except _NotPlain:
         names, cols, extra, lines = _read_strict(path)
     except UnicodeDecodeError as e:

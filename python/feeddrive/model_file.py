@@ -36,6 +36,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
+from feeddrive.inputs import InputFileError, read_text
 from feeddrive.outputs import write_text
 from feeddrive.paper import EFFECT_IDS, PAPER_EFFECTS, SWITCHABLE_EFFECTS, paper_parameters
 from feeddrive.physics import ParameterError, compile
@@ -262,9 +263,11 @@ def load_model(path: str | Path) -> ModelFile:
     path = Path(path)
     src = str(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = read_text(path)
     except UnicodeDecodeError as e:
         raise ModelFileError(src, None, f"not UTF-8 text: {e}") from None
+    except InputFileError as e:
+        raise ModelFileError(src, None, e.problem) from None
     try:
         raw = json.loads(text, object_pairs_hook=_no_duplicates(src))
     except json.JSONDecodeError as e:

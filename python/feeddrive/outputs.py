@@ -11,17 +11,31 @@
   unless ``force`` (then it is replaced).  A target that holds an input, is an input, or
   holds the working directory is always refused.
 
+The one guard, :func:`check_not_input`, compares an output with everything the command
+reads (a :class:`Reads`: each run CSV and its sidecar path, model, study and FMU files, and
+folders read as a whole), by real path (symbolic links resolved) and by file identity (a hard
+link): a file output is none of them, a folder output holds none of them, and neither lies
+inside a folder read as a whole.  A symbolic link loop is refused, and so is an existing
+output that is not a regular file.  The command line runs it for every output option of
+every command before the command starts; :func:`check_file` and :func:`check_dir` run it too.
+
 Every refusal is an :class:`OutputError` (a ValueError) naming the path and the rule.
 """
 from __future__ import annotations
 
+import errno
 import json
 import os
+import secrets
 import shutil
+import stat
 import tempfile
 from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
+from dataclasses import dataclass
 from pathlib import Path
+
+from .data import sidecar_path
 
 #: the file that marks a folder as written by feeddrive
 MARKER = ".feeddrive-output"
@@ -35,8 +49,85 @@ def _inside(path: Path, folder: Path) -> bool:
     return path == folder or folder in path.parents
 
 
-def _resolved(paths: Iterable[str | Path | None]) -> list[Path]:
-    return [Path(p).resolve() for p in paths if p is not None]
+def _real(path: str | Path) -> Path:
+    """The absolute path with every symbolic link resolved (a loop stays unresolved)."""
+    return Path(os.path.realpath(path))
+
+
+@dataclass(frozen=True)
+class Reads:
+    """What a command reads: ``files`` as (path, how it is read: "" or "the sidecar of X, ")
+    and ``trees``, folders read as a whole (nothing may be written inside them)."""
+
+    files: tuple[tuple[Path, str], ...] = ()
+    trees: tuple[Path, ...] = ()
+
+    @classmethod
+    def of(cls, files: Iterable[str | Path | None] = (), runs: Iterable[str | Path | None] = (),
+           run_folders: Iterable[str | Path | None] = (),
+           trees: Iterable[str | Path | None] = ()) -> Reads:
+        """The files and folders given, each run CSV with its sidecar path (whether or not the
+        sidecar exists: a file written there would become one), every ``*.csv`` of each run
+        folder with its sidecar path (and the folder itself)."""
+        items = [(Path(f), "") for f in files if f is not None]
+        csvs = [Path(r) for r in runs if r is not None]
+        for folder in (Path(d) for d in run_folders if d is not None):
+            items.append((folder, ""))
+            if folder.is_dir():
+                csvs += sorted(folder.glob("*.csv"))
+        for run in csvs:
+            items += [(run, ""), (sidecar_path(run), f"the sidecar of {run}, ")]
+        return cls(tuple(items), tuple(Path(t) for t in trees if t is not None))
+
+    def __add__(self, other: Reads) -> Reads:
+        return Reads(self.files + other.files, self.trees + other.trees)
+
+
+def _reads(inputs: Reads | Iterable[str | Path | None]) -> Reads:
+    return inputs if isinstance(inputs, Reads) else Reads.of(files=inputs)
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return False
+
+
+def check_not_input(target: str | Path, inputs: Reads | Iterable[str | Path | None],
+                    folder: bool) -> Path:
+    """The guard of every output: raise :class:`OutputError` when writing the file (or, with
+    ``folder``, replacing the folder) ``target`` could change something the command reads
+    (rules in the module docstring).  Returns ``target``'s real path."""
+    target = Path(target)
+    try:
+        mode: int | None = os.stat(target).st_mode
+    except OSError as e:
+        if e.errno == errno.ELOOP:
+            raise OutputError(f"{target}: is a symbolic link loop; give a path that "
+                              "resolves") from None
+        mode = None         # missing, or a folder that cannot be made: the caller says which
+    if mode is not None and not (stat.S_ISREG(mode) or stat.S_ISDIR(mode)):
+        raise OutputError(f"{target}: exists and is neither a regular file nor a folder "
+                          "(a FIFO, a device, a socket); write elsewhere")
+    res = _real(target)
+    reads = _reads(inputs)
+    for path, how in reads.files:
+        real = _real(path)
+        if res == real or _same_file(target, path):
+            raise OutputError(f"{target}: is {how}an input of this command; write elsewhere")
+        if folder and _inside(real, res):
+            raise OutputError(f"{target}: holds an input of this command ({path}); "
+                              "its contents would be replaced: write elsewhere")
+    for tree in reads.trees:
+        real = _real(tree)
+        if _inside(res, real):
+            raise OutputError(f"{target}: is inside {tree}, a folder this command reads; "
+                              "write elsewhere")
+        if folder and _inside(real, res):
+            raise OutputError(f"{target}: holds {tree}, a folder this command reads; "
+                              "write elsewhere")
+    return res
 
 
 def _probe(folder: Path, what: str) -> None:
@@ -50,16 +141,14 @@ def _probe(folder: Path, what: str) -> None:
         raise OutputError(f"{what}: cannot write in {folder}: {e.strerror or e}") from None
 
 
-def check_file(target: str | Path, inputs: Iterable[str | Path | None] = ()) -> Path:
-    """Check that ``target`` can be written as a file and is none of ``inputs``.
+def check_file(target: str | Path, inputs: Reads | Iterable[str | Path | None] = ()) -> Path:
+    """Check that ``target`` can be written as a file and is none of ``inputs``
+    (:func:`check_not_input`: paths, or a :class:`Reads`).
 
     Returns the target; raises :class:`OutputError` naming it and the rule.
     """
     target = Path(target)
-    res = target.resolve()
-    for p in _resolved(inputs):
-        if res == p:
-            raise OutputError(f"{target}: is an input of this command; write elsewhere")
+    res = check_not_input(target, inputs, folder=False)
     if target.is_dir():
         raise OutputError(f"{target}: is a folder; give a file name")
     if target.exists() and not os.access(target, os.W_OK):
@@ -68,11 +157,28 @@ def check_file(target: str | Path, inputs: Iterable[str | Path | None] = ()) -> 
     return target
 
 
-def write_text(target: str | Path, text: str, inputs: Iterable[str | Path | None] = ()) -> Path:
-    """Write ``text`` to ``target`` atomically (temporary file beside it, then rename)."""
+def _temporary_beside(target: Path) -> tuple[int, Path]:
+    """A new file beside ``target`` (created with mode 0666 less the umask, like ``open``)."""
+    parent = _real(target).parent
+    while True:
+        tmp = parent / f".{target.name[:120]}.{secrets.token_hex(6)}.tmp"
+        try:
+            return os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666), tmp
+        except FileExistsError:
+            continue
+
+
+def write_text(target: str | Path, text: str,
+               inputs: Reads | Iterable[str | Path | None] = ()) -> Path:
+    """Write ``text`` to ``target`` atomically (temporary file beside it, then rename); a
+    file replaced keeps its permission bits, a new one gets those of ``open`` (the umask's)."""
     target = check_file(target, inputs)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.resolve().parent)
+    fd, tmp = _temporary_beside(target)
     try:
+        try:
+            os.chmod(fd, stat.S_IMODE(os.stat(target).st_mode))
+        except FileNotFoundError:
+            pass
         with os.fdopen(fd, "w", encoding="utf-8", newline="") as f:
             f.write(text)
         os.replace(tmp, target)
@@ -87,18 +193,15 @@ def is_ours(folder: str | Path) -> bool:
     return (Path(folder) / MARKER).is_file()
 
 
-def check_dir(target: str | Path, inputs: Iterable[str | Path | None] = (),
+def check_dir(target: str | Path, inputs: Reads | Iterable[str | Path | None] = (),
               force: bool = False) -> Path:
-    """Check that ``target`` may receive one run's results (rules in the module docstring).
+    """Check that ``target`` may receive one run's results (rules in the module docstring;
+    ``inputs``: paths, or a :class:`Reads`).
 
     Returns the target; raises :class:`OutputError` naming it and the rule.
     """
     target = Path(target)
-    res = target.resolve()
-    for p in _resolved(inputs):
-        if _inside(p, res):
-            raise OutputError(f"{target}: holds an input of this command ({p}); "
-                              "its contents would be replaced: write elsewhere")
+    res = check_not_input(target, inputs, folder=True)
     if _inside(Path.cwd().resolve(), res):
         raise OutputError(f"{target}: holds the working directory; give a folder of its own")
     if target.exists():
@@ -112,8 +215,24 @@ def check_dir(target: str | Path, inputs: Iterable[str | Path | None] = (),
     return target
 
 
+def _stage_dir(target: Path) -> Path:
+    """A new folder beside ``target`` with ``target``'s permission bits when it is a folder,
+    else those of ``mkdir`` (0777 less the umask)."""
+    parent = _real(target).parent
+    while True:
+        stage = parent / f".{target.name[:120]}.new-{secrets.token_hex(6)}"
+        try:
+            os.mkdir(stage, 0o777)
+            break
+        except FileExistsError:
+            continue
+    if target.is_dir():
+        os.chmod(stage, stat.S_IMODE(os.stat(target).st_mode))
+    return stage
+
+
 @contextmanager
-def output_dir(target: str | Path, inputs: Iterable[str | Path | None] = (),
+def output_dir(target: str | Path, inputs: Reads | Iterable[str | Path | None] = (),
                force: bool = False, what: str = "feeddrive") -> Iterator[Path]:
     """A fresh temporary folder beside ``target`` to write into; moved into place on success.
 
@@ -121,8 +240,8 @@ def output_dir(target: str | Path, inputs: Iterable[str | Path | None] = (),
     removed and ``target`` keeps its previous contents.
     """
     target = check_dir(target, inputs, force)
-    parent = target.resolve().parent
-    stage = Path(tempfile.mkdtemp(prefix=f".{target.name}.new-", dir=parent))
+    parent = _real(target).parent
+    stage = _stage_dir(target)
     try:
         yield stage
         (stage / MARKER).write_text(json.dumps({"written_by": "feeddrive", "what": what}) + "\n",

@@ -37,7 +37,7 @@ import numpy as np
 
 from ..data import Run, load_runs, sidecar_path
 from ..model_file import ModelFile, load_model, paper_model, save_model
-from ..outputs import check_file
+from ..outputs import Reads, check_file
 from ..validation.replay import check_run
 from ..paper import PAPER_EFFECTS
 from ..physics import CurrentLoop, run_load_mean
@@ -466,7 +466,7 @@ def load_checked_runs(runs_dir: str | Path, out: str | Path | None = None,
     may be written (writable, not an input such as a ``truth`` file); ValueError if none."""
     inputs = (truth,) if isinstance(truth, (str, Path)) else ()
     if out is not None:
-        check_file(out, inputs)
+        check_file(out, Reads.of(files=inputs, run_folders=[runs_dir]))
     runs = load_runs(runs_dir)
     if not runs:
         raise ValueError(f"identify: {runs_dir} holds no *.csv run")

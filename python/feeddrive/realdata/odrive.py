@@ -17,6 +17,8 @@ from pathlib import Path
 import numpy as np
 from scipy import optimize, signal
 
+from ..inputs import open_input
+
 COUNTS_PER_REV = 8192
 MAP_FOLDER = "coggingmap_0"
 SLOW_FOLDERS = ("slow2", "slow2_slower")
@@ -68,6 +70,19 @@ def map_grid(step: int, reverse: bool) -> np.ndarray:
     return np.arange(first, COUNTS_PER_REV, step)
 
 
+def _load_npy(path: Path) -> np.ndarray:
+    """The array of a ``.npy`` regular file (a FIFO or a device is refused, see
+    :func:`feeddrive.inputs.open_input`); ValueError naming the file when it is no array."""
+    with open_input(path, encoding=None) as f:
+        try:
+            data = np.load(f, allow_pickle=False)
+        except EOFError:
+            raise ValueError(f"{path}: empty or cut short: not a .npy array") from None
+    if not isinstance(data, np.ndarray):
+        raise ValueError(f"{path}: not a .npy array")
+    return data
+
+
 def load_map(path: str | Path) -> CoggingMap:
     """Load ``cogging_measure_final_<trial>_<step>[r].npy``; keep only the measured entries."""
     path = Path(path)
@@ -76,7 +91,7 @@ def load_map(path: str | Path) -> CoggingMap:
         raise ValueError(f"{path}: name is not cogging_measure_final_<trial>_<step>[r].npy")
     if m["interp"]:
         raise ValueError(f"{path}: an interpolated (filled-in) map, not a measurement")
-    data = np.load(path, allow_pickle=False)
+    data = _load_npy(path)
     if data.shape != (COUNTS_PER_REV,) or data.dtype.kind != "f":
         raise ValueError(f"{path}: expected float array of shape ({COUNTS_PER_REV},), "
                          f"got {data.dtype} {data.shape}")
@@ -109,7 +124,7 @@ def load_maps(folder: str | Path) -> dict[str, CoggingMap]:
 def load_slow_run(path: str | Path) -> SlowRun:
     """Load a slow run: float array (3, N), rows time [s], position [counts], Iq [A]."""
     path = Path(path)
-    data = np.load(path, allow_pickle=False)
+    data = _load_npy(path)
     if data.ndim != 2 or data.shape[0] != 3 or data.shape[1] < 100 or data.dtype.kind != "f":
         raise ValueError(f"{path}: expected float array of shape (3, N>=100), "
                          f"got {data.dtype} {data.shape}")

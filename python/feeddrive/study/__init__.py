@@ -20,10 +20,10 @@ from .sensitivity import Sensitivity, sensitivities, sensitivity_text
 from .sweep import StudyResult, run_study
 from .table import ResultsTable, read_table
 from .bootstrap_study import (BootstrapStudy, BootstrapStudyResult, load_study_file,
-                              run_bootstrap_study)
+                              run_bootstrap_study, study_reads)
 
 __all__ = ["FAILED", "OK", "RunTask", "run_batch", "run_case", "Case", "cases", "METRICS",
            "SCHEMA", "Study", "StudyError", "load_study", "parse_study", "Sensitivity",
            "sensitivities", "sensitivity_text", "StudyResult", "run_study", "ResultsTable",
            "read_table", "BootstrapStudy", "BootstrapStudyResult", "load_study_file",
-           "run_bootstrap_study"]
+           "run_bootstrap_study", "study_reads"]

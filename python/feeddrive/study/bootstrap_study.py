@@ -32,7 +32,7 @@ import pyarrow.parquet as pq
 from ..identify.bootstrap import Bootstrap
 from ..identify.pipeline import IdentificationResult
 from ..model_file import load_model
-from ..outputs import output_dir
+from ..outputs import Reads, output_dir
 from .bootstrap import bootstrap_folder
 from .schema import KINDS, SCHEMA, Study, StudyError, parse_study, read_study_json
 
@@ -87,6 +87,27 @@ def parse_bootstrap_study(raw: dict[str, Any], src: str, base: Path) -> Bootstra
                           replicates=_int(raw, "replicates", src, 2), level=float(level),
                           seed=_int(raw, "seed", src, 0, 0),
                           truth=(base / truth).resolve() if truth is not None else None)
+
+
+def study_reads(path: str | Path) -> Reads:
+    """Every file a study file makes a sweep read: the study file, its ``model`` or ``truth``
+    file, its ``experiment.measured`` run (and sidecar), its ``runs`` folder (each run and
+    sidecar).  A file that cannot be read as a study names the study file only (loading it
+    then reports the problem)."""
+    path = Path(path)
+    try:
+        raw = read_study_json(path)
+    except (StudyError, OSError):
+        raw = None
+    if not isinstance(raw, dict):
+        return Reads.of(files=[path])
+
+    def rel(value: Any) -> Path | None:
+        return path.parent / value if isinstance(value, str) and value else None
+    exp = raw.get("experiment")
+    return Reads.of(files=[path, rel(raw.get("model")), rel(raw.get("truth"))],
+                    runs=[rel(exp.get("measured")) if isinstance(exp, dict) else None],
+                    run_folders=[rel(raw.get("runs"))])
 
 
 def load_study_file(path: str | Path) -> Study | BootstrapStudy:

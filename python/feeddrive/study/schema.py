@@ -56,6 +56,7 @@ import scipy.stats
 
 from ..harness.controllers import CONTROLLERS
 from ..harness.sensors import Sensors
+from ..inputs import InputFileError, read_text
 from ..model_file import PARAMETER_NAMES, ModelFile, load_model, paper_model
 from ..validation.circle_test import FEEDFORWARD
 
@@ -431,9 +432,11 @@ def read_study_json(path: str | Path) -> Any:
     path = Path(path)
     src = str(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = read_text(path)
     except UnicodeDecodeError as e:
         raise StudyError(src, "(file)", f"not UTF-8 text: {e}") from None
+    except InputFileError as e:
+        raise StudyError(src, "(file)", e.problem) from None
     except OSError as e:
         raise StudyError(src, "(file)", e.strerror or str(e)) from None
     try:

@@ -458,9 +458,10 @@ def compliance(ctx: Context) -> list[Variant]:
     """A load m2 on a spring-damper: the residual gains m2 H(s) a (the load's inertial force,
     ``feeddrive.physics.compliance``), a = the (already filtered) measured acceleration.
     (f, zeta) by the grid + Nelder-Mead of :func:`feeddrive.identify.compliance.fit_compliance`;
-    variants: m2 alone, and m2 with a change of the slide's mass.  At f -> inf the regressor
-    is the mass's: the workflow ranks this family only when held-out data separate it from
-    the mass (workflow.NESTED)."""
+    variants: m2 alone, and m2 with a change of the slide's mass; both carry the load's free
+    responses from each run's first valid sample (its state there is unknown) as nuisance
+    columns.  At f -> inf the regressor is the mass's: the workflow ranks this family only
+    when held-out data show it beyond the mass (workflow.NESTED)."""
     m = ctx.model
     on = m.effects["compliance"]
     P = ctx.plant.compliance

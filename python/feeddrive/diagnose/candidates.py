@@ -23,8 +23,8 @@ from scipy.optimize import minimize, minimize_scalar
 from ..identify.compliance import fit_compliance
 from ..model_file import ModelFile
 from ..paper import N_ELEMENTS_MAX, N_HARMONICS
-from ..physics import (FrictionProfile, gms_force, held_current, load_acceleration, profile_basis,
-                       stribeck_drop)
+from ..physics import (FrictionProfile, gms_force, held_current, load_acceleration,
+                       load_free_response, profile_basis, stribeck_drop)
 from .context import Context
 from .localise import spatial_spectrum, spectral_peaks
 
@@ -55,10 +55,13 @@ class Variant:
     nonneg: bool = False
     sum_to_one: bool = False
     refine: bool = False                  #: the effect is on; this corrects its values
+    #: the last ``nuisance`` columns are fitted but identify nothing (``to_model`` ignores
+    #: their coefficients) and do not count as parameters
+    nuisance: int = 0
 
     @property
     def n_params(self) -> int:
-        return self.Phi.shape[1]
+        return self.Phi.shape[1] - self.nuisance
 
 
 def _poly_basis(x: np.ndarray, centre: float, half: float, powers: range) -> np.ndarray:
@@ -455,9 +458,10 @@ def compliance(ctx: Context) -> list[Variant]:
     """A load m2 on a spring-damper: the residual gains m2 H(s) a (the load's inertial force,
     ``feeddrive.physics.compliance``), a = the (already filtered) measured acceleration.
     (f, zeta) by the grid + Nelder-Mead of :func:`feeddrive.identify.compliance.fit_compliance`;
-    variants: m2 alone, and m2 with a change of the slide's mass.  At f -> inf the regressor
-    is the mass's: the workflow ranks this family only when held-out data separate it from
-    the mass (workflow.NESTED)."""
+    variants: m2 alone, and m2 with a change of the slide's mass; both carry the load's free
+    responses from each run's first valid sample (its state there is unknown) as nuisance
+    columns.  At f -> inf the regressor is the mass's: the workflow ranks this family only
+    when held-out data show it beyond the mass (workflow.NESTED)."""
     m = ctx.model
     on = m.effects["compliance"]
     P = ctx.plant.compliance
@@ -476,17 +480,34 @@ def compliance(ctx: Context) -> list[Variant]:
     f, z = fit.f, fit.zeta
     col = ctx.stack(lambda q: load_acceleration(q.a, q.Ts, f, z), filtered=False)
     acc = ctx.stack(lambda q: q.a, filtered=False)
+    start = _start_columns(ctx, f, z)
+    names = [f"load state at the start of {q.name} ({k})" for q in ctx.res for k in ("1", "2")]
     m_old = float(m.parameters["m"])
     upd = {"compliance.f": f, "compliance.zeta": z}
     label = f"f={f:.4g} Hz, zeta={z:.3g}"
-    return [Variant("compliance", label, col, ["compliance.m2"], base=base, refine=on,
-                    nonneg=True, to_model=lambda th: m.with_effect(
+    return [Variant("compliance", label, np.column_stack([col, start]),
+                    ["compliance.m2"] + names, base=base, refine=on, nuisance=start.shape[1],
+                    to_model=lambda th: m.with_effect(
                         "compliance", True, **{"compliance.m2": float(th[0]), **upd})),
-            Variant("compliance", label + ", with a mass change", np.column_stack([col, acc]),
-                    ["compliance.m2", "m"], base=base, refine=on,
+            Variant("compliance", label + ", with a mass change",
+                    np.column_stack([col, acc, start]), ["compliance.m2", "m"] + names,
+                    base=base, refine=on, nuisance=start.shape[1],
                     to_model=lambda th: m.with_effect(
                         "compliance", True, m=m_old + float(th[1]),
                         **{"compliance.m2": float(th[0]), **upd}))]
+
+
+def _start_columns(ctx: Context, f: float, zeta: float) -> np.ndarray:
+    """Free responses of the load from each run's first valid sample, per run (the load's
+    state there is not measured: ``feeddrive.physics.load_free_response``), stacked."""
+    out = np.zeros((len(ctx.r), 2 * len(ctx.res)))
+    k = 0
+    for j, q in enumerate(ctx.res):
+        n = int(q.valid.sum())
+        out[k:k + n, 2 * j:2 * j + 2] = np.nan_to_num(
+            load_free_response(q.a, q.Ts, f, zeta)[q.valid])
+        k += n
+    return out
 
 
 # --------------------------------------------------------------------------- current loop

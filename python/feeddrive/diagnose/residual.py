@@ -23,8 +23,11 @@ Eq. 1 evaluated on the measured trajectory::
 
 - with ``compliance`` on (encoder on the slide, ``compliance.sensor_side`` 0): the load's force
   on the slide, ``-m2 H(s) a`` (``feeddrive.physics.compliance``), joins the force side; H
-  commutes with K, so the filtered acceleration is its input.  A model with the encoder on
-  the load is refused (ValueError naming the parameter).
+  commutes with K, so the filtered acceleration is its input.  The load's state where the
+  filtered acceleration starts (half a kernel into the run) is not measured: the free
+  response of H from there is fitted to the residual and removed (two numbers per run; it
+  decays within a few 1 / (2 pi zeta f)).  A model with the encoder on the load is refused
+  (ValueError naming the parameter).
 
 Positive r means the model leaves more net force than the measured acceleration shows: a
 resistive force is missing (a positive offset gives r = +offset).
@@ -39,7 +42,7 @@ from ..data import Run
 from ..model_file import ModelFile
 from ..physics import (DEFAULT_V_STICK, PlantParameters, applied_force, compile,
                        force_residual as eq1_residual, gms_force, held_current, karnopp_friction,
-                       load_acceleration, measured_motion, run_load)
+                       load_acceleration, load_free_response, measured_motion, run_load)
 from ..signals import apply_kernel, odd_window, run_label, sample_time
 
 #: Default Savitzky-Golay window [s] (41 samples at 0.5 ms) and polynomial order.
@@ -120,6 +123,20 @@ def model_friction(P: PlantParameters, x: np.ndarray, v: np.ndarray, F_app: np.n
     return karnopp_friction(v, F_app, P.friction, v_stick, x)
 
 
+def load_start_response(r: np.ndarray, a: np.ndarray, Ts: float, f: float, zeta: float
+                        ) -> np.ndarray:
+    """The part of a residual ``r`` that the load's unknown state at the first sample with an
+    acceleration explains: the least-squares combination of the two free responses of the
+    load filter (:func:`feeddrive.physics.load_free_response`) started there [N]."""
+    Z = load_free_response(a, Ts, f, zeta)
+    ok = np.isfinite(r) & np.isfinite(Z).all(axis=1)
+    out = np.zeros(len(r))
+    if ok.sum() > 2:
+        th = np.linalg.lstsq(Z[ok], r[ok], rcond=None)[0]
+        out[ok] = Z[ok] @ th
+    return out
+
+
 def force_residual(run: Run, model: ModelFile, window: int | None = None,
                    polyorder: int = DEFAULT_POLYORDER, force_gain: float | None = None,
                    v_stick: float = DEFAULT_V_STICK) -> RunResidual:
@@ -154,6 +171,7 @@ def force_residual(run: Run, model: ModelFile, window: int | None = None,
             raise ValueError(f"model {model.name!r}: compliance.sensor_side = {c.sensor_side}: the "
                              "force residual needs the encoder on the slide (allowed 0)")
         r = r - c.m2 * load_acceleration(a, Ts, c.f, c.zeta)
+        r = r - load_start_response(r, a, Ts, c.f, c.zeta)
     valid = np.isfinite(r)
     return RunResidual(name=run.name or label, Ts=Ts, K=K, time=np.asarray(run.time, float),
                        x=xs, v=v, a=a, i=i, F_motor=F_motor, F_app=F_app, F_f=F_f, stuck=stuck,

@@ -82,6 +82,26 @@ def _solve_gram(var: Variant, G: np.ndarray, c: np.ndarray, yy: float, n: int) -
     return theta
 
 
+#: A nuisance column (e.g. a free response from a run's start) is left out of a training
+#: fit that holds less than this share of its energy: it lives in the held-out block.
+NUISANCE_SEEN = 0.01
+
+
+def _drop_unseen(Gt: np.ndarray, ct: np.ndarray, G: np.ndarray, k: int
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """Zero the rows and columns of the last ``k`` (nuisance) columns that the training
+    blocks barely see, so that they are not extrapolated into the held-out block."""
+    d, dt = np.diag(G), np.diag(Gt)
+    idx = [j for j in range(len(d) - k, len(d)) if dt[j] < NUISANCE_SEEN * d[j]]
+    if not idx:
+        return Gt, ct
+    Gt, ct = Gt.copy(), ct.copy()
+    Gt[idx, :] = 0.0
+    Gt[:, idx] = 0.0
+    ct[idx] = 0.0
+    return Gt, ct
+
+
 def score(ctx: Context, var: Variant) -> Score:
     """Held-out and in-sample statistics of ``var`` (see module docstring)."""
     r = ctx.r
@@ -103,6 +123,8 @@ def score(ctx: Context, var: Variant) -> Score:
             Gt = Gt - Phi[g].T @ Phi[g]
             ct = ct - Phi[g].T @ y[g]
             yt = yt - float(y[g] @ y[g])
+        if var.nuisance:
+            Gt, ct = _drop_unseen(Gt, ct, G, var.nuisance)
         th = _solve_gram(var, Gt, ct, yt, n)
         e = y[lo:hi] - Phi[lo:hi] @ th
         r_ho[lo:hi] = e

@@ -19,6 +19,10 @@ held-out blocks, ``F_expl = sqrt((SSE_before - SSE_heldout) / n)`` [N rms]:
   value (frictional lag, C = 1.08e4 N/s) explains about 1 % of F_c on a 6 s sinusoid, twice
   the threshold.
 
+A family that reduces to another in a limit (a load on a spring is a mass far below its
+resonance) must also show, on held-out blocks, what it explains *beyond* that family, above
+the noise floor (:func:`nested_separable`).
+
 The same two numbers decide the verdict (:func:`verdict`): the final residual's excess over
 the floor, ``sqrt(gap^2 - floor^2)``, below either gate is ``explained``.
 """
@@ -31,7 +35,7 @@ import numpy as np
 from ..physics import compile
 from ..model_file import ModelFile
 from .residual import RunResidual
-from .scoring import Score
+from .scoring import I_MIN, T_MIN, Score
 
 #: The force a candidate explains must exceed the noise floor's rms by this factor.
 NOISE_FACTOR = 3.0
@@ -92,3 +96,31 @@ def passes(s: Score, gate: Gate) -> bool:
 def excess(gap_N: float, floor_N: float) -> float:
     """The part of an rms residual the noise floor does not explain [N]."""
     return float(np.sqrt(max(gap_N**2 - floor_N**2, 0.0)))
+
+
+def beyond(detail: Score, limit: Score) -> tuple[float, float, float]:
+    """What ``detail`` removes on held-out blocks beyond ``limit`` (a family it reduces to in a
+    limit, e.g. a load on a spring and a mass): the share of ``limit``'s held-out residual
+    energy, the block t statistic of the bounded per-block differences (as :mod:`scoring`'s)
+    and the force [N rms over all samples]."""
+    sd, sl = detail.sse_after, limit.sse_after
+    share = 1.0 - float(sd.sum()) / max(float(sl.sum()), 1e-300)
+    d = (sl - sd) / np.maximum(sl + sd, 1e-300)
+    s = float(np.std(d, ddof=1)) if len(d) > 1 else 0.0
+    t = float(np.mean(d) / (s / np.sqrt(len(d)))) if s > 0 else (np.inf if np.mean(d) > 0 else 0.0)
+    n = len(detail.r_heldout)
+    force = float(np.sqrt(max(float(sl.sum() - sd.sum()), 0.0) / n)) if n else 0.0
+    return share, t, force
+
+
+def nested_separable(detail: Score, limit: Score, gate: Gate) -> bool:
+    """True when held-out data show ``detail`` beyond its limit family ``limit``: it removes
+    >= ``I_MIN`` of the residual energy ``limit`` leaves on held-out blocks, consistently over
+    blocks (t >= ``T_MIN``) or by a wide margin (more than half of it: the rule of
+    :func:`scoring.separable`, for an excitation that rings the load in a few blocks only),
+    and that extra force exceeds the noise floor.  Compared on what the limit leaves, not on
+    the total: a load whose mass-like part is 99 % of the residual still shows its resonance
+    in the remaining 1 %.  This chooses between two families; whether the chosen one is
+    named at all is :func:`passes` (its whole explained force against the gate)."""
+    share, t, force = beyond(detail, limit)
+    return share >= I_MIN and (t >= T_MIN or share > 0.5) and force >= gate.floor_N

@@ -32,6 +32,7 @@ from ..harness.runs import replay
 from ..harness.sidecar import read_sidecar
 from ..model_file import ModelFile
 from ..physics import compile
+from .band import WideBand, wide_band
 from .candidates import CANDIDATES
 from .confirmed import confirmation_of
 from .context import DEFAULT_BLOCKS, Context
@@ -42,7 +43,7 @@ from .noise_floor import NoiseFloor, floor_table, noise_floor
 from .residual import RunResidual, gap, residuals
 from .scoring import I_MIN, T_MIN, Score, score, separable
 from .significance import (NOISE_FACTOR, PRACTICAL_SHARE, Gate, excess, explained_force,
-                           make_gate, passes)
+                           make_gate, nested_separable, passes)
 from .timeaxis import time_axis, trend_text
 
 #: Travel after a reversal [m] within which the closed-loop error counts as reversal error.
@@ -56,8 +57,9 @@ PARSIMONY = 0.01
 #: A re-computed residual must shrink by at least this share of the gap to confirm a step.
 CONFIRM = 0.02
 #: A family that reduces to another in a limit (a compliance's load is a mass for
-#: frequencies far below its resonance) is ranked only when held-out data separate it from
-#: that family's best (:func:`scoring.separable`): else the simpler one explains as much.
+#: frequencies far below its resonance) is ranked only when held-out data show it beyond
+#: that family's best (:func:`significance.nested_separable`): else the simpler one
+#: explains as much.
 NESTED = {"compliance": "mass"}
 
 _UNITS = {"compliance.m2": "kg", "compliance.f": "Hz", "compliance.zeta": "1",
@@ -244,8 +246,10 @@ def _gap_record(res: list[RunResidual], regimes: list[str], cl: dict | None) -> 
     return out
 
 
-def rank(ctx: Context, skip: set[str] = frozenset()) -> list[Score]:
-    """The best variant of every candidate family, best held-out improvement first."""
+def rank(ctx: Context, gate: Gate, skip: set[str] = frozenset()) -> list[Score]:
+    """The best variant of every candidate family, best held-out improvement first; a
+    ``NESTED`` family only when it shows beyond its limit family
+    (:func:`significance.nested_separable`)."""
     best: list[Score] = []
     for eid, make in CANDIDATES.items():
         if eid in skip:
@@ -261,10 +265,20 @@ def rank(ctx: Context, skip: set[str] = frozenset()) -> list[Score]:
             best.append(top)
     by_id = {s.variant.effect: s for s in best}
     for eid, limit in NESTED.items():
-        if eid in by_id and limit in by_id and not separable(by_id[eid], by_id[limit]):
+        if eid in by_id and limit in by_id \
+                and not nested_separable(by_id[eid], by_id[limit], gate):
             best.remove(by_id[eid])
     best.sort(key=lambda s: -s.improvement)
     return best
+
+
+def _told_apart(lead: Score, other: Score, gate: Gate) -> bool:
+    """Held-out data separate ``lead`` from ``other``: :func:`scoring.separable`, or, for a
+    ``NESTED`` family leading its limit family, :func:`significance.nested_separable`."""
+    a, b = lead.variant.effect, other.variant.effect
+    if NESTED.get(a) == b and nested_separable(lead, other, gate):
+        return True
+    return separable(lead, other)
 
 
 def choose(ranking: list[Score], gate: Gate) -> tuple[Score | None, list[Score]]:
@@ -279,7 +293,7 @@ def choose(ranking: list[Score], gate: Gate) -> tuple[Score | None, list[Score]]
     if not sig:
         return None, []
     lead = sig[0]
-    group = [lead] + [s for s in sig[1:] if not separable(lead, s)]
+    group = [lead] + [s for s in sig[1:] if not _told_apart(lead, s, gate)]
     group.sort(key=lambda s: (s.variant.n_params, -s.improvement))
     return group[0], group[1:]
 
@@ -370,6 +384,40 @@ def confirm_step(runs: list[Run], ctx: Context, cand: Score, group: list[Score],
     return step, cl_after
 
 
+def _wide_band_step(runs: list[Run], res: list[RunResidual], wb: WideBand, cl: dict | None,
+                    name: str, n_blocks: int, kw: dict) -> tuple[Step, dict | None] | None:
+    """The compliance step the wide-band look (:mod:`band`) confirmed, identified there and
+    confirmed on the diagnosis's own residual: its gap must shrink by ``CONFIRM``."""
+    c = wb.compliance
+    found = confirm_step(runs, wb.context, c, [c], [c, wb.mass], cl, name, n_blocks, kw, wb.gate)
+    if found is None or found[0].gap_after["force_rms_N"] > (1.0 - CONFIRM) * gap(res):
+        return None
+    step, cl_after = found
+    step.gap_before = _gap_record(res, list(step.gap_after["where"]), cl)
+    step.residual_before = res
+    step.evidence["band"] = wb.to_json()
+    return step, cl_after
+
+
+def _band_record(wb: WideBand, lead: Score) -> dict:
+    """What the verdict says when a resonance shows through the wide band but is not
+    confirmed: the band of the data, the resonance glimpsed and the mass it would be taken
+    for (not named)."""
+    c = wb.compliance
+    dm = float(lead.theta[0])
+    out = {**wb.to_json(), "mass_change_kg": dm}
+    out["sentence"] = (
+        f"The mass-like part of the residual (a mass change of {dm:+.3g} kg) rings: through a "
+        f"{wb.window}-sample acceleration window (band {wb.wide_band_Hz:.0f} Hz; the diagnosis's "
+        f"window resolves {wb.band_Hz:.0f} Hz) a load on a spring ({c.variant.label}) removes "
+        f"{wb.share_beyond:.0%} of what the mass leaves on held-out blocks (t = "
+        f"{wb.t_beyond:.2g}, {wb.force_beyond_N:.3g} N against a floor of {wb.gate.floor_N:.3g} N "
+        "there), too little to confirm it: the data cannot tell a load resonating at or above "
+        f"{wb.band_Hz:.0f} Hz from a mass change, so neither is named; excite the band (moves "
+        "with sharp acceleration steps, a PRBS) or record a faster, finer position.")
+    return out
+
+
 def _where_text(loc: dict) -> str:
     """One phrase of where an excess sits (verdict sentence)."""
     sb = loc["stroke_band"]
@@ -386,9 +434,12 @@ def _where_text(loc: dict) -> str:
     return ", ".join(parts)
 
 
-def verdict(res: list[RunResidual], floors: list[NoiseFloor], gate: Gate) -> dict:
+def verdict(res: list[RunResidual], floors: list[NoiseFloor], gate: Gate,
+            band: dict | None = None) -> dict:
     """``explained`` when the final residual's excess over the noise floor is below the gate
-    (:mod:`significance`), else ``unexplained_residual`` with its size and location."""
+    (:mod:`significance`), else ``unexplained_residual`` with its size and location; a
+    ``band`` record (a resonance the data's band cannot confirm, :mod:`band`) is added with
+    its sentence."""
     g = gap(res)
     e = excess(g, gate.floor_N)
     out = {"gap_N": g, "noise_floor_N": gate.floor_N, "excess_N": e,
@@ -408,6 +459,9 @@ def verdict(res: list[RunResidual], floors: list[NoiseFloor], gate: Gate) -> dic
     out["sentence"] = (f"Unexplained residual: {g:.3g} N rms ({out['x_noise_floor']:.1f} x the "
                        f"noise floor {gate.floor_N:.3g} N) that no catalogue effect explains, "
                        f"mostly at {_where_text(loc)}" + (f"; {trend}" if trend else "") + ".")
+    if band is not None:
+        out["band"] = band
+        out["sentence"] += " " + band["sentence"]
     return out
 
 
@@ -445,8 +499,22 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
     stop = {"reason": f"max_steps = {max_steps} reached"}
     for _ in range(max_steps):
         ctx = Context(res, current, n_blocks=n_blocks)
-        ranking = rank(ctx)
+        ranking = rank(ctx, gate)
         lead, others = choose(ranking, gate)
+        wb = wide_band(runs, current, res, n_blocks, force_gain) \
+            if lead is not None and lead.variant.effect == "mass" else None
+        if wb is not None and wb.confirmed:
+            name = f"{model.name}+{'+'.join([*(s.effect for s in steps), 'compliance'])}"
+            found = _wide_band_step(runs, res, wb, cl, name, n_blocks, kw)
+            if found is not None:
+                step, cl = found
+                steps.append(step)
+                current, res = step.model_after, step.residual_after
+                continue
+        if wb is not None and (wb.trace or wb.confirmed):
+            band = _band_record(wb, lead)
+            stop = {**_stop(band["sentence"], ranking, res, gate), "band": band}
+            break
         if lead is None:
             stop = _stop(f"no candidate removes >= {I_MIN:.0%} of the residual energy on "
                          f"held-out blocks with t >= {T_MIN:g} and explains at least "
@@ -472,7 +540,7 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
         current, res = step.model_after, step.residual_after
     else:
         stop["gap"] = gap(res)
-    v = verdict(res, floors, gate)
+    v = verdict(res, floors, gate, stop.get("band"))
     if v["verdict"] == "unexplained_residual":
         v = add_hint(v, fit_hints(runs, current, res, kw), gate)
     kept, confirmation = confirmation_of(runs, steps, model, current, start_res, res,

@@ -9,7 +9,9 @@ estimator's kernel K (which commutes with H), the rigid model's residual
 
     y = m2 H(s) a_K  (+ dm a_K when the model's mass is off too),
 
-linear in (m2, dm) for fixed (f, zeta): a variable-projection fit, a grid over
+plus the load's free response from each run's first filtered sample (its state there, half a
+kernel into the run, is not measured: two nuisance coefficients per run), linear in (m2, dm)
+for fixed (f, zeta): a variable-projection fit, a grid over
 f in [20, 200] Hz (the FMU's range) and zeta in [0.01, 1] searched by the explained energy,
 the best point refined by Nelder-Mead in (log f, log zeta).  Excitation must reach f: the
 steps of a trapezoidal move's acceleration (point-to-point moves) or a PRBS do; a slow
@@ -27,7 +29,7 @@ from scipy.optimize import minimize
 from ..data import Run
 from ..physics import (DEFAULT_V_STICK, applied_force, compile, force_residual,
                        gms_force, held_current, karnopp_friction, load_acceleration,
-                       measured_motion, run_load)
+                       load_free_response, measured_motion, run_load)
 from ..physics.compliance import F_RANGE
 from ..physics.params import HasFmuParameters
 from ..signals import odd_window, run_label, sample_time
@@ -58,6 +60,19 @@ def _columns(a_runs: list[np.ndarray], Ts: list[float], f: float, zeta: float,
     return np.concatenate([load_acceleration(a, T, f, zeta)[m] for a, T, m in zip(a_runs, Ts, masks)])
 
 
+def start_columns(a_runs: list[np.ndarray], Ts: list[float], f: float, zeta: float,
+                  masks: list[np.ndarray]) -> np.ndarray:
+    """(N, 2 n_runs) free responses of the load from each run's first filtered sample (zero
+    in the other runs' rows): the load's state there is unknown (module docstring)."""
+    n = [int(m.sum()) for m in masks]
+    out = np.zeros((sum(n), 2 * len(n)))
+    k = 0
+    for j, (a, T, m) in enumerate(zip(a_runs, Ts, masks)):
+        out[k:k + n[j], 2 * j:2 * j + 2] = np.nan_to_num(load_free_response(a, T, f, zeta)[m])
+        k += n[j]
+    return out
+
+
 def _explained(A: np.ndarray, y: np.ndarray, stride: int) -> tuple[float, np.ndarray]:
     """Energy of y explained by the columns of A (normal equations) and the coefficients."""
     A, y = A[::stride], y[::stride]
@@ -84,7 +99,8 @@ def fit_compliance(a_runs: list[np.ndarray], y_runs: list[np.ndarray], Ts: list[
 
     def design(f: float, z: float) -> np.ndarray:
         c = _columns(a_runs, Ts, f, z, masks)
-        return np.column_stack([c, a]) if fit_mass else c[:, None]
+        cols = [c, a] if fit_mass else [c]
+        return np.column_stack(cols + [start_columns(a_runs, Ts, f, z, masks)])
 
     def expl(f: float, z: float) -> float:
         return _explained(design(f, z), y, stride)[0]

@@ -14,7 +14,7 @@
 
 Identification, diagnosis and feedforward use only this package.
 """
-from .compliance import Compliance, load_acceleration, load_filter
+from .compliance import Compliance, load_acceleration, load_filter, load_free_response
 from .current_loop import (CurrentLoop, current_loop_dc_gain, current_loop_polynomials,
                            simulate_current)
 from .friction_curves import FrictionCurve, steady_friction, stribeck_drop, stribeck_level
@@ -26,7 +26,7 @@ from .plant import (CURRENT_TIMINGS, applied_force, eq1_friction, eq1_terms, for
                     held_current, measured_motion, run_load, run_load_mean)
 from .position_maps import MapSpec, PositionMap, eval_map
 
-__all__ = ["Compliance", "load_acceleration", "load_filter", "CurrentLoop", "current_loop_dc_gain",
+__all__ = ["Compliance", "load_acceleration", "load_filter", "load_free_response", "CurrentLoop", "current_loop_dc_gain",
            "current_loop_polynomials", "simulate_current", "FrictionCurve", "steady_friction",
            "stribeck_drop", "stribeck_level", "FrictionProfile", "profile_basis",
            "GMSFriction", "GMSParameters", "element_forces", "element_rates", "gms_force",

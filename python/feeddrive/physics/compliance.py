@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.signal import lfilter
+from scipy.signal import lfilter, lfilter_zi
 
 #: The FMU's range of compliance.f [Hz] (modelDescription.xml).
 F_RANGE = (20.0, 200.0)
@@ -124,7 +124,43 @@ def load_filter(f: float, zeta: float, Ts: float) -> tuple[np.ndarray, np.ndarra
 
 
 def load_acceleration(a: ArrayLike, Ts: float, f: float, zeta: float) -> np.ndarray:
-    """The load's acceleration a2 = H(s) a along a sampled slide acceleration ``a`` [m/s^2],
-    from rest (the load relaxed on its spring at the first sample; NaN samples count as 0)."""
+    """The load's acceleration a2 = H(s) a along a sampled slide acceleration ``a`` [m/s^2].
+
+    The filter starts at the first finite sample in steady state for the acceleration there
+    (the load moving with the slide, H(0) = 1: a relaxed spring when the slide is at rest or
+    at constant speed); NaN samples before it give NaN, later NaN samples count as 0.  A
+    start from rest with a non-zero first acceleration would instead ring at f for
+    1 / (2 pi zeta f) seconds, a transient the measurement does not hold.
+    """
+    a = np.asarray(a, dtype=float)
+    out = np.full(a.shape, np.nan)
+    fin = np.flatnonzero(np.isfinite(a))
+    if fin.size == 0:
+        return out
+    k0 = int(fin[0])
+    seg = np.nan_to_num(a[k0:])
     b, den = load_filter(f, zeta, Ts)
-    return lfilter(b, den, np.nan_to_num(np.asarray(a, dtype=float)))
+    zi = lfilter_zi(b, den) * seg[0]
+    out[k0:] = lfilter(b, den, seg, zi=zi)[0]
+    return out
+
+
+def load_free_response(a: ArrayLike, Ts: float, f: float, zeta: float) -> np.ndarray:
+    """(n, 2) free responses of the load filter H from the first finite sample of ``a`` (NaN
+    before it): what an unknown state of the load at that sample adds to
+    :func:`load_acceleration` (a recording that starts with the load ringing, mid-motion or
+    half a kernel after an acceleration step).  Any start state adds a combination of the
+    two columns; they decay as exp(-zeta 2 pi f t)."""
+    a = np.asarray(a, dtype=float)
+    out = np.full((a.size, 2), np.nan)
+    fin = np.flatnonzero(np.isfinite(a))
+    if fin.size == 0:
+        return out
+    k0 = int(fin[0])
+    b, den = load_filter(f, zeta, Ts)
+    zero = np.zeros(a.size - k0)
+    for j in range(2):
+        zi = np.zeros(2)
+        zi[j] = 1.0
+        out[k0:, j] = lfilter(b, den, zero, zi=zi)[0]
+    return out

@@ -81,16 +81,6 @@ void part_state(void) {
 
 /* ---------------------------------------------------------------- structure and ranges of a state */
 
-static uint32_t crc32_ieee(const unsigned char *b, size_t n) {
-    uint32_t crc = 0xFFFFFFFFu;
-    size_t i;
-    int k;
-    for (i = 0; i < n; i++) {
-        crc ^= b[i];
-        for (k = 0; k < 8; k++) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
-    }
-    return ~crc;
-}
 static uint32_t rd_u32(const unsigned char *b) {
     return (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
 }
@@ -177,7 +167,7 @@ void part_state_structure(void) {
             memcpy(forged, s_step, n_step);
             memcpy(&u, &bad[j], sizeof u);
             for (q = 0; q < 8; q++) forged[hb + 8 + 5 * 8 + 8 * (size_t)j + (size_t)q] = (unsigned char)(u >> (8 * q));
-            wr_u32(forged + hb - 4, crc32_ieee(forged + hb, n_step - hb));
+            wr_u32(forged + hb - 4, host_crc32(forged + hb, n_step - hb));
             CHECK(refused_with(plain, &env_p, forged, n_step, what[j]), "a forged out-of-range state loads", &env_p);
             refused++;
             free(forged);

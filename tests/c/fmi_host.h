@@ -7,6 +7,7 @@
 #define FMI_HOST_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "fmi2Functions.h"
 
@@ -84,5 +85,18 @@ long host_peak_bytes(void);   /* most bytes held through the callbacks at once *
 
 /* seconds from a monotonic clock */
 double host_now(void);
+
+/* CRC-32 (IEEE 802.3, reflected) of n bytes: the checksum the FMU's state format keeps over
+   its payload, recomputed by the hosts that forge states to reach the checks behind it */
+static inline uint32_t host_crc32(const unsigned char *b, size_t n) {
+    uint32_t crc = 0xFFFFFFFFu;
+    size_t i;
+    int k;
+    for (i = 0; i < n; i++) {
+        crc ^= b[i];
+        for (k = 0; k < 8; k++) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
+    }
+    return ~crc;
+}
 
 #endif

@@ -147,17 +147,6 @@ static void one_call(ctx_t *x, prog_t *p) {
     }
 }
 
-static uint32_t crc32(const uint8_t *b, size_t n) {
-    uint32_t crc = 0xFFFFFFFFu;
-    size_t i;
-    int k;
-    for (i = 0; i < n; i++) {
-        crc ^= b[i];
-        for (k = 0; k < 8; k++) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
-    }
-    return ~crc;
-}
-
 /* a serialised state: loaded, set, 10 steps (CS) or 10 ME rounds, everything read back */
 static void load_state(ctx_t *x, const uint8_t *d, size_t n, int fix_crc) {
     uint8_t *buf = (uint8_t *)malloc(n ? n : 1);
@@ -166,7 +155,7 @@ static void load_state(ctx_t *x, const uint8_t *d, size_t n, int fix_crc) {
     int k;
     memcpy(buf, d, n);
     if (fix_crc && n > HEADER_BYTES) {
-        uint32_t c = crc32(buf + HEADER_BYTES, n - HEADER_BYTES);
+        uint32_t c = host_crc32(buf + HEADER_BYTES, n - HEADER_BYTES);
         for (k = 0; k < 4; k++) buf[CRC_AT + k] = (uint8_t)(c >> (8 * k));
     }
     host_env_mark(&x->env);

@@ -39,17 +39,6 @@ static void check(int ok, const char *what, const char *detail) {
     if (n_fail <= 20) printf("FAIL %s: %s\n", what, detail);
 }
 
-static uint32_t crc32(const unsigned char *b, size_t n) {
-    uint32_t crc = 0xFFFFFFFFu;
-    size_t i;
-    int k;
-    for (i = 0; i < n; i++) {
-        crc ^= b[i];
-        for (k = 0; k < 8; k++) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
-    }
-    return ~crc;
-}
-
 static void put_u32(unsigned char *b, uint32_t v) {
     int j;
     for (j = 0; j < 4; j++) b[j] = (unsigned char)(v >> (8 * j));
@@ -184,7 +173,7 @@ static int campaign(fmi2Type type, const char *name) {
         buf[i / 8] ^= (unsigned char)(1u << (i % 8));
         snprintf(what, sizeof what, "%s bit %zu", name, i);
         probe(c, type, &env, buf, len, &raw, what);
-        if (i / 8 >= HEADER_BYTES) put_u32(buf + CRC_AT, crc32(buf + HEADER_BYTES, len - HEADER_BYTES));
+        if (i / 8 >= HEADER_BYTES) put_u32(buf + CRC_AT, host_crc32(buf + HEADER_BYTES, len - HEADER_BYTES));
         else continue;
         snprintf(what, sizeof what, "%s forged bit %zu", name, i);
         probe(c, type, &env, buf, len, &forged, what);

@@ -16,14 +16,11 @@ Eq. 1 evaluated on the measured trajectory::
 - ``F_f`` is the model's friction along the measured motion: with ``prerolling`` on, the GMS
   of ``feeddrive.physics.friction_gms`` driven by the measured position (quantised, not smoothed:
   smoothing moves x by fractions of a micrometre near reversals, which the 1.8e6 N/m
-  pre-rolling stiffness turns into newtons) and a Savitzky-Golay velocity over
-  ``feeddrive.physics.FRICTION_VELOCITY_S`` (5 ms: the GMS sticks its elements where v changes sign, and a
-  20 ms smoother moves the sign change of a stop's small overshoot by milliseconds, which
-  leaves the held force wrong by up to 1 N for the whole rest that follows; the 5 ms
-  velocity's quantisation noise, ~15 um/s at 100 nm and 0.5 ms, is far below V_s), started from the
-  element forces that best explain the run's first samples
-  (:func:`feeddrive.physics.gms_start.initial_elements`: a recording starts holding a load,
-  mid-motion or after a reversal, never from the virgin state); with it off,
+  pre-rolling stiffness turns into newtons) and the 5 ms velocity of
+  :func:`feeddrive.physics.friction_velocity` (where v changes sign decides when elements
+  stick), started from the element forces that best explain the run's first samples
+  (:mod:`feeddrive.physics.gms_start`: a recording starts holding a load, mid-motion or
+  after a reversal, never from the virgin state); with it off,
   Eq. 12 as a memoryless function of v plus Karnopp stiction: where |v| < ``v_stick`` and the
   applied force is below the break-away level the stage is taken as stuck and friction
   balances the applied force (the model then predicts a = 0 there).
@@ -45,8 +42,9 @@ import numpy as np
 from ..data import Run
 from ..model_file import ModelFile
 from ..physics import (DEFAULT_V_STICK, PlantParameters, applied_force, compile,
-                       force_residual as eq1_residual, held_current, karnopp_friction,
-                       friction_velocity, load_acceleration, measured_motion, run_load)
+                       force_residual as eq1_residual, friction_velocity, gms_force,
+                       held_current, karnopp_friction, load_acceleration, measured_motion,
+                       run_load)
 from ..physics import GMSStart, started_friction
 from ..signals import apply_kernel, odd_window, run_label, sample_time
 
@@ -124,6 +122,15 @@ def motor_force(run: Run, P: PlantParameters, x: np.ndarray, force_gain: float |
     return kf * i, i, f"no current measured: i = {how}, F = K_f(x) i"
 
 
+def model_friction(P: PlantParameters, x: np.ndarray, v: np.ndarray, F_app: np.ndarray, Ts: float,
+                   v_stick: float = DEFAULT_V_STICK) -> tuple[np.ndarray, np.ndarray]:
+    """The model's friction along a motion (the GMS from the virgin start) and the static
+    model's stuck mask."""
+    if P.prerolling:
+        return gms_force(x, v, Ts, P.friction), np.zeros(len(x), dtype=bool)
+    return karnopp_friction(v, F_app, P.friction, v_stick, x)
+
+
 def force_residual(run: Run, model: ModelFile, window: int | None = None,
                    polyorder: int = DEFAULT_POLYORDER, force_gain: float | None = None,
                    v_stick: float = DEFAULT_V_STICK) -> RunResidual:
@@ -151,22 +158,17 @@ def force_residual(run: Run, model: ModelFile, window: int | None = None,
     F_motor, i, source = motor_force(run, P, xs, force_gain)
     F_load, _ = run_load(run)
     F_app = applied_force(F_motor, P.F_cg(xs), F_load, P.F_offset)
+    F_f, stuck = model_friction(P, xs, v_f, F_app, Ts, v_stick)
+    r = eq1_residual(F_app, F_f, a, P.m, K)
     c = P.compliance
-    if c.on and c.sensor_side != 0:
-        raise ValueError(f"model {model.name!r}: compliance.sensor_side = {c.sensor_side}: the "
-                         "force residual needs the encoder on the slide (allowed 0)")
-    load = c.m2 * load_acceleration(a, Ts, c.f, c.zeta) if c.on else 0.0
-
-    def residual(F_f: np.ndarray) -> np.ndarray:
-        return eq1_residual(F_app, F_f, a, P.m, K) - load
-
+    if c.on:
+        if c.sensor_side != 0:
+            raise ValueError(f"model {model.name!r}: compliance.sensor_side = {c.sensor_side}: the "
+                             "force residual needs the encoder on the slide (allowed 0)")
+        r = r - c.m2 * load_acceleration(a, Ts, c.f, c.zeta)
     start = None
     if P.prerolling:
-        F_f, start = started_friction(xs, v_f, Ts, P.friction, residual, K)
-        stuck = np.zeros(len(xs), dtype=bool)
-    else:
-        F_f, stuck = karnopp_friction(v, F_app, P.friction, v_stick, xs)
-    r = residual(F_f)
+        F_f, start, r = started_friction(xs, v_f, Ts, P.friction, r, K, F_f)
     valid = np.isfinite(r)
     return RunResidual(name=run.name or label, Ts=Ts, K=K, time=np.asarray(run.time, float),
                        x=xs, v=v, a=a, i=i, F_motor=F_motor, F_app=F_app, F_f=F_f, stuck=stuck,

@@ -26,8 +26,8 @@ from scipy.optimize import minimize
 
 from ..data import Run
 from ..physics import (DEFAULT_V_STICK, applied_force, compile, force_residual,
-                       friction_velocity, held_current, karnopp_friction, load_acceleration,
-                       measured_motion, run_load, started_friction)
+                       friction_velocity, gms_force, held_current, karnopp_friction,
+                       load_acceleration, measured_motion, run_load, started_friction)
 from ..physics.compliance import F_RANGE
 from ..physics.params import HasFmuParameters
 from ..signals import odd_window, run_label, sample_time
@@ -127,10 +127,12 @@ def rigid_residual(run: Run, model: HasFmuParameters, window_s: float = 0.02,
     F_load, _ = run_load(run)
     F_app = applied_force(P.K_f(x) * held_current(run.i), P.F_cg(x), F_load, P.F_offset)
     if P.prerolling:
-        F_f, _ = started_friction(x, friction_velocity(x, Ts, w, polyorder), Ts, P.friction,
-                                  lambda F: force_residual(F_app, F, a, P.m, K), K)
-    else:
-        F_f, _ = karnopp_friction(v, F_app, P.friction, DEFAULT_V_STICK)
+        v_f = friction_velocity(x, Ts, w, polyorder)
+        F_f = gms_force(x, v_f, Ts, P.friction)
+        _, _, r = started_friction(x, v_f, Ts, P.friction, force_residual(F_app, F_f, a, P.m, K),
+                                   K, F_f)
+        return a, r, Ts
+    F_f, _ = karnopp_friction(v, F_app, P.friction, DEFAULT_V_STICK)
     return a, force_residual(F_app, F_f, a, P.m, K), Ts
 
 

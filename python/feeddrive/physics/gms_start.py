@@ -35,12 +35,12 @@ that acts after the memory is wiped is untouched by it.
 """
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import least_squares
 
+from ..signals import apply_kernel
 from .friction_gms import GMSParameters, _pieces, _run_element, gms_force
 
 #: Two starts whose element forces differ by less than this share of the element's bound
@@ -209,16 +209,18 @@ def initial_elements(x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters
 
 
 def started_friction(x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters,
-                     residual: Callable[[np.ndarray], np.ndarray], K: np.ndarray
-                     ) -> tuple[np.ndarray, GMSStart]:
-    """The GMS friction along a measured motion from the estimated start, and the start.
+                     r_virgin: np.ndarray, K: np.ndarray, F_virgin: np.ndarray | None = None
+                     ) -> tuple[np.ndarray, GMSStart, np.ndarray]:
+    """The GMS friction along a measured motion from the estimated start, the start, and
+    Eq. 1's residual with that friction.
 
-    ``residual(F_f)`` is Eq. 1's residual with the friction F_f (NaN where undefined); it is
-    evaluated once with the virgin start's friction, whose first samples
-    :func:`initial_elements` fits.
+    ``r_virgin`` is the residual with the virgin start's friction ``F_virgin`` (computed
+    here when None); the residual from the start is ``r_virgin - K * (F_f - F_virgin)``.
     """
-    F = gms_force(x, v, dt, prm)
-    start = initial_elements(x, v, dt, prm, residual(F), K)
-    if np.any(start.F0 != 0.0):
-        F = gms_force(x, v, dt, prm, F0=start.F0)
-    return F, start
+    if F_virgin is None:
+        F_virgin = gms_force(x, v, dt, prm)
+    start = initial_elements(x, v, dt, prm, r_virgin, K)
+    if not np.any(start.F0 != 0.0):
+        return F_virgin, start, r_virgin
+    F = gms_force(x, v, dt, prm, F0=start.F0)
+    return F, start, r_virgin - apply_kernel(F - F_virgin, K)

@@ -20,6 +20,7 @@ from feeddrive.diagnose.residual import force_residual
 from feeddrive.diagnose.workflow import diagnose
 from feeddrive.experiments.campaign import campaign
 from feeddrive.harness.sensors import Sensors
+from feeddrive.identify.compliance import rigid_residual
 from feeddrive.model_file import paper_model
 from feeddrive.physics import compile, gms_force, initial_elements, memory_wiped
 from feeddrive.physics.gms_start import element_bounds
@@ -142,3 +143,15 @@ def test_a_virgin_start_leaves_the_transient_the_estimate_removes():
     hold = slice(0, int(0.45 / q.Ts))                   # 0.5 s at rest before the move
     assert float(np.median(q.F_f[hold])) == pytest.approx(float(np.median(q.F_app[hold])),
                                                           abs=0.1)
+
+
+def test_identification_evaluates_the_gms_from_the_estimated_start():
+    # the compliance fit's rigid residual runs Eq. 1 with the GMS on measured data: on the
+    # loaded run it must be the diagnosis residual (same start estimate), not the virgin
+    # start's transient
+    run = _campaign()["cv_p1mm_s_P272.7"]
+    _, r, _ = rigid_residual(run, PAPER)
+    q = force_residual(run, PAPER)
+    ok = np.isfinite(r)
+    assert float(np.sqrt(np.mean(r[ok] ** 2))) == pytest.approx(q.rms, rel=1e-6)
+    assert q.rms < 0.1

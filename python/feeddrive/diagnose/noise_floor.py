@@ -1,7 +1,7 @@
 """The noise floor: the force residual that the sensors alone explain, per sample.
 
 The floor measures the sensors, never the excitation: a PRBS, an impact or a ringing
-mode is force the model has to explain, not noise.  Four sources, each carried through the
+mode is force the model has to explain, not noise.  Three sources, each carried through the
 estimator that turns it into force (the residual is ``r = K*F - m a``, ``a`` the
 Savitzky-Golay second derivative ``c`` of the position):
 

@@ -63,6 +63,8 @@ class GMSStart:
     wiped : first sample from which the friction no longer depends on F0 (the run's length
         when some element never slips).
     n_fit : samples of the residual the estimate used.
+    basis : (L, N) the filtered friction's change per newton of each F0 over the first L
+        samples (after them it is 0): what the start can absorb of any other force.
     """
 
     F0: np.ndarray
@@ -70,6 +72,16 @@ class GMSStart:
     upper: np.ndarray
     wiped: int
     n_fit: int
+    basis: np.ndarray | None = None
+
+    def full_basis(self, n: int) -> np.ndarray:
+        """:attr:`basis` over a run of n samples (zeros where the start no longer acts)."""
+        N = len(self.F0)
+        out = np.zeros((n, N))
+        if self.basis is not None:
+            L = min(n, len(self.basis))
+            out[:L] = self.basis[:L]
+        return out
 
     def to_json(self, Ts: float) -> dict:
         """diagnosis.json ``initial_friction`` entry of one run."""
@@ -77,6 +89,7 @@ class GMSStart:
                 "friction_N": float(np.sum(self.F0)),
                 "bounds_N": [[float(lo), float(hi)] for lo, hi in zip(self.lower, self.upper)],
                 "memory_wiped_s": float(self.wiped * Ts), "samples_fitted": int(self.n_fit)}
+
 
 
 def element_bounds(prm: GMSParameters, x0: float) -> tuple[np.ndarray, np.ndarray]:
@@ -186,14 +199,18 @@ def initial_elements(x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters
         dF = (tr.all(F0) - base).sum(axis=1)
         return (r - smooth(dF))[ok]
 
-    def jac(F0: np.ndarray) -> np.ndarray:
-        J = np.empty((int(ok.sum()), N))
+    def sensitivity(F0: np.ndarray) -> np.ndarray:
+        """(L, N): K * dF_f / dF0_i on the prefix."""
+        S = np.empty((L, N))
         for i in range(N):
             e = 1e-6 * (hi[i] - lo[i])
             s = -1.0 if F0[i] + e > hi[i] else 1.0
             d = (tr.element(i, F0[i] + s * e) - tr.element(i, F0[i])) / (s * e)
-            J[:, i] = -smooth(d)[ok]
-        return J
+            S[:, i] = smooth(d)
+        return S
+
+    def jac(F0: np.ndarray) -> np.ndarray:
+        return -sensitivity(F0)[ok]
 
     starts = _history_starts(prm, lo, hi)
     costs = [float(np.sum(fun(F) ** 2)) for F in starts]
@@ -204,7 +221,7 @@ def initial_elements(x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters
     F0 = np.clip(sol.x, lo, hi)
     if float(np.sum(fun(F0) ** 2)) > min(costs):
         F0 = F_start
-    return GMSStart(F0, lo, hi, wiped, int(ok.sum()))
+    return GMSStart(F0, lo, hi, wiped, int(ok.sum()), basis=sensitivity(F0))
 
 
 

@@ -11,13 +11,12 @@ Savitzky-Golay second derivative ``c`` of the position):
   motion: a stuck GMS element turns a position error into k_i times it (1.8e6 N/m and
   100 nm: 0.05 N), the velocity the friction sees moves the Stribeck level and the instant
   an element sticks.  No closed form holds all of that, so the residual is re-computed on
-  the measured position plus a rounding-size error (uniform over one step, white,
-  ``POSITION_DRAWS`` draws from a fixed seed), with everything else as measured; the
-  per-sample variance of the change, averaged over ``SMOOTH_WINDOWS`` windows, is the
-  floor's part from quantisation.  At rest the scale reads a constant position whose error
-  is constant: the elements stuck there turn it into a constant force
-  ``q / sqrt(12) * sum k_i`` (stuck i), which a white error filtered by K understates, so
-  that is the floor there when larger;
+  the same motion read by a scale whose grid is shifted by a random fraction of a step
+  (the smoothed measured position re-rounded: the rounding error keeps its structure, a
+  slow sawtooth at low speed, a constant at rest; ``POSITION_DRAWS`` draws from a fixed
+  seed), with everything else as measured; half the per-sample variance of the change
+  (two readings, two rounding errors), averaged over ``SMOOTH_WINDOWS`` windows, is the
+  floor's part from quantisation;
 - **current-measurement noise** s_i [A], times K_f: the sidecar's ``sensors.current_noise``
   when it states one; else measured as what the command does not explain, ``i - G(z) u``
   (the model's current loop: a PRBS or any other command cancels), its high-frequency part
@@ -54,6 +53,7 @@ from ..harness.sidecar import read_sidecar
 from ..physics import (DEFAULT_V_STICK, PlantParameters, force_residual as eq1_residual,
                        friction_velocity, gms_force, karnopp_friction, load_acceleration,
                        measured_motion)
+from ..signals import odd_window
 from .localise import regime_masks
 from .residual import DEFAULT_POLYORDER, RunResidual, run_force_gain
 
@@ -63,11 +63,12 @@ MAD_NORMAL = 1.4826
 BLOCK_WINDOWS = 10
 #: Share of the blocks, quietest command first, the current-noise estimate uses.
 QUIET_SHARE = 0.25
-#: A GMS element within this share of its level counts as slipping (as the candidates do).
-SLIP_SHARE = 0.98
-#: Draws of the rounding-size position error, its seed, and the averaging of the squared
-#: change [Savitzky-Golay windows].
+#: Draws of the shifted scale grid, their seed, and the averaging of the squared change
+#: [Savitzky-Golay windows].
 POSITION_DRAWS = 2
+#: Savitzky-Golay window [samples] of the position the shifted grid re-reads (short: a
+#: longer one bends the ramps of a move by more than a step).
+SMOOTH_POSITION = 7
 POSITION_SEED = 20140
 SMOOTH_WINDOWS = 5
 
@@ -227,34 +228,26 @@ def motor_force_noise(run: Run, P: PlantParameters, window: int,
         "data: the command's high-frequency part where it is quietest"
 
 
-def stuck_stiffness(q: RunResidual, P: PlantParameters) -> np.ndarray:
-    """Sum of k_i over the GMS elements stuck at each sample [N/m] (0 without pre-rolling)."""
-    if not P.prerolling or not len(P.friction.nu):
-        return np.zeros(len(q.x))
-    prm = P.friction
-    F0 = q.start.F0 if q.start is not None and len(q.start.F0) == len(prm.nu) else None
-    v = q.v_f if q.v_f.size else q.v
-    _, Fe = gms_force(q.x, v, q.Ts, prm, F0=F0, return_elements=True)
-    lim = np.outer(prm.level(v, q.x), np.asarray(prm.nu))
-    stuck = np.abs(Fe) < SLIP_SHARE * lim
-    return stuck.astype(float) @ np.asarray(prm.k, dtype=float)
-
-
 def position_noise_force(q: RunResidual, P: PlantParameters, quantum: float,
                          polyorder: int = DEFAULT_POLYORDER, draws: int = POSITION_DRAWS
                          ) -> np.ndarray:
-    """Per-sample std [N] of the residual's change when the measured position carries one
-    more rounding error (uniform over ``quantum``, white): the acceleration and the model's
-    friction re-computed, the motor force and the start state kept (module docstring)."""
+    """Per-sample std [N] of the residual from the position's rounding: the motion read by a
+    scale whose grid is shifted by a random fraction of ``quantum`` (the smoothed measured
+    position re-rounded), the acceleration and the model's friction re-computed, the motor
+    force and the start state kept; two readings differ by two rounding errors, so half the
+    variance of the change (module docstring)."""
     n = len(q.x)
     if quantum <= 0 or n < 3:
         return np.zeros(n)
     rng = np.random.default_rng(POSITION_SEED)
     w = len(q.K) + 2
+    ws = odd_window(SMOOTH_POSITION, n)
+    smooth = savgol_filter(q.x, ws, min(polyorder, ws - 1))
     load = 0.0
     var = np.zeros(n)
     for _ in range(draws):
-        x = q.x + quantum * (rng.random(n) - 0.5)
+        shift = quantum * float(rng.random())
+        x = np.round((smooth + shift) / quantum) * quantum - shift
         v, a, K = measured_motion(x, q.Ts, w, polyorder)
         if P.prerolling:
             F0 = q.start.F0 if q.start is not None else None
@@ -266,9 +259,17 @@ def position_noise_force(q: RunResidual, P: PlantParameters, quantum: float,
             load = c.m2 * (load_acceleration(a, q.Ts, c.f, c.zeta)
                            - load_acceleration(q.a, q.Ts, c.f, c.zeta))
         d = eq1_residual(q.F_app, F_f, a, P.m, K) - load - q.r
-        var += np.nan_to_num(d) ** 2 / draws
+        var += np.nan_to_num(d) ** 2 / (2.0 * draws)
     L = max(1, min(SMOOTH_WINDOWS * w, n))
-    return np.sqrt(np.convolve(var, np.ones(L) / L, mode="same"))
+    sigma = np.sqrt(np.convolve(var, np.ones(L) / L, mode="same"))
+    # a GMS element's force is k_i-Lipschitz in the position it is driven by: a rounding
+    # error (at most q / 2) moves the friction by at most sum k_i q / 2, the acceleration by
+    # m q / 2 ||c||; a larger change is the re-reading's own chance (which element sticks
+    # first at a reversal), not what one rounding does
+    k = float(np.sum(P.friction.k)) if P.prerolling else 0.0
+    c = savgol_coeffs(w, min(max(polyorder, 2), w - 1), deriv=2, delta=q.Ts)
+    cap = quantum / 2.0 * np.hypot(k, P.m * float(np.linalg.norm(c)))
+    return np.minimum(sigma, cap)
 
 
 def noise_floor(run: Run, q: RunResidual, P: PlantParameters, force_gain: float | None = None,
@@ -288,11 +289,10 @@ def noise_floor(run: Run, q: RunResidual, P: PlantParameters, force_gain: float 
     moving = np.abs(q.v) * w * q.Ts > quantum
     s_q = m * quantum / np.sqrt(12.0) * c_norm
     s_pos = position_noise_force(q, P, quantum, polyorder)
-    at_rest = quantum / np.sqrt(12.0) * stuck_stiffness(q, P) * ~moving
     return NoiseFloor(quantum_m=quantum, quantum_source=src, force_noise_N=s_f, jitter_s=jitter,
                       quantisation_N=float(s_q), force_N=float(s_f * K_norm), moving=moving,
                       jitter_force=m * np.abs(q.v) * jitter * c_norm,
-                      position_force=np.maximum(s_pos, at_rest),
+                      position_force=s_pos,
                       current_noise_A=s_i, noise_source=nsrc)
 
 

@@ -111,7 +111,7 @@ def viscous(ctx: Context) -> list[Variant]:
     m = ctx.model
     on = m.effects["viscous"]
     old = float(m.parameters["friction.sigma2"]) if on else 0.0
-    Phi = ctx.stack(lambda q: q.v, mask_stuck=True)
+    Phi = ctx.stack(lambda q: q.v_f, mask_stuck=True)
     return [Variant("viscous", "v", Phi, ["friction.sigma2"], refine=on,
                     to_model=lambda th: m.with_effect("viscous", True,
                                                       **{"friction.sigma2": old + th[0]}))]
@@ -124,7 +124,8 @@ def asymmetric_friction(ctx: Context) -> list[Variant]:
     ds = float(m.parameters["asymmetry.dsigma2"]) if on else 0.0
     # the level shift acts through the sliding elements only (stuck ones ignore it)
     frac = iter([_sliding_fraction(ctx, q) for q in ctx.res])
-    Phi = ctx.stack(lambda q: np.column_stack([-(q.v < 0).astype(float) * next(frac), q.v * (q.v < 0)]),
+    Phi = ctx.stack(lambda q: np.column_stack([-(q.v_f < 0).astype(float) * next(frac),
+                                                     q.v_f * (q.v_f < 0)]),
                     mask_stuck=True)
     return [Variant("asymmetric_friction", "indicator(v<0), v*(v<0)", Phi,
                     ["asymmetry.dF", "asymmetry.dsigma2"], refine=on,
@@ -147,8 +148,8 @@ def _sliding(ctx: Context, q) -> np.ndarray:
     if not ctx.plant.prerolling:
         return (~q.stuck).astype(float)
     prm = ctx.plant.friction
-    _, Fe = gms_force(q.x, q.v, q.Ts, prm, return_elements=True)
-    lim = np.outer(prm.level(q.v, q.x), np.asarray(prm.nu))
+    _, Fe = gms_force(q.x, q.v_f, q.Ts, prm, F0=_start(q, len(prm.nu)), return_elements=True)
+    lim = np.outer(prm.level(q.v_f, q.x), np.asarray(prm.nu))
     slipping = np.abs(Fe) >= 0.98 * lim
     return (slipping * np.asarray(prm.nu)).sum(axis=1) / max(sum(prm.nu), 1e-12)
 
@@ -158,7 +159,8 @@ def _sliding_level(ctx: Context, q) -> np.ndarray:
     the model's own profile) times the sliding share; memoised per context and run."""
     key = ("sliding_level", id(q))
     if key not in ctx.cache:
-        ctx.cache[key] = np.sign(q.v) * ctx.plant.friction.level(q.v) * _sliding_fraction(ctx, q)
+        ctx.cache[key] = np.sign(q.v_f) * ctx.plant.friction.level(q.v_f) \
+            * _sliding_fraction(ctx, q)
     return ctx.cache[key]
 
 
@@ -209,12 +211,12 @@ def stribeck(ctx: Context) -> list[Variant]:
         Vs0, d0, dS0 = float(p["friction.V_s"]), float(p["friction.delta"]), \
             float(p["friction.F_s"]) - F_c
         it = iter(frac)
-        base = ctx.stack(lambda q: next(it) * dS0 * stribeck_drop(q.v, Vs0, d0))[:, 0]
+        base = ctx.stack(lambda q: next(it) * dS0 * stribeck_drop(q.v_f, Vs0, d0))[:, 0]
     y = ctx.r + (base if base is not None else 0.0)
 
     def column(Vs: float, d: float) -> np.ndarray:
         it = iter(frac)
-        return ctx.stack(lambda q: next(it) * stribeck_drop(q.v, Vs, d))
+        return ctx.stack(lambda q: next(it) * stribeck_drop(q.v_f, Vs, d))
 
     # grid by in-sample explained energy (one column each), then a local refinement of the
     # best (log V_s, delta); the few best are scored on held-out blocks by the workflow
@@ -237,13 +239,24 @@ def stribeck(ctx: Context) -> list[Variant]:
     return out
 
 
+def _start(q, n: int) -> np.ndarray | None:
+    """The run's estimated GMS start forces (:mod:`feeddrive.physics.gms_start`) when the
+    residual's model has ``n`` elements, else None (virgin)."""
+    F0 = None if q.start is None else q.start.F0
+    return F0 if F0 is not None and len(F0) == n else None
+
+
 def _gms_unit_columns(ctx: Context, q, deltas) -> np.ndarray:
-    """Friction of one Maxwell-slip element (nu = 1, travel Delta) per Delta, no viscous."""
+    """Friction of one Maxwell-slip element (nu = 1, travel Delta) per Delta, no viscous;
+    each starts holding the friction the residual's model held at the first sample (the
+    run's estimated start, clipped to the element's level), virgin without one."""
     prm = ctx.plant.friction
+    held = float(np.sum(q.start.F0)) if q.start is not None else 0.0
     cols = []
     for D in deltas:
         pe = replace(prm, nu=(1.0,), k=(prm.F_s / D,), sigma2=0.0, dsigma2=0.0)
-        cols.append(gms_force(q.x, q.v, q.Ts, pe))
+        F0 = [float(np.clip(held, -(prm.F_s + prm.dF), prm.F_s))]
+        cols.append(gms_force(q.x, q.v_f, q.Ts, pe, F0=F0))
     return np.column_stack(cols)
 
 
@@ -253,7 +266,7 @@ def prerolling(ctx: Context) -> list[Variant]:
     prm = ctx.plant.friction
     deltas = PREROLL_DELTAS
     Phi = ctx.stack(lambda q: _gms_unit_columns(ctx, q, deltas))
-    base = ctx.stack(lambda q: q.F_f - prm.viscous(q.v))[:, 0]
+    base = ctx.stack(lambda q: q.F_f - prm.viscous(q.v_f))[:, 0]
     F_s = prm.F_s
 
     def to_model(th: np.ndarray) -> ModelFile:
@@ -279,13 +292,14 @@ def frictional_lag(ctx: Context) -> list[Variant]:
         return []          # slip-phase attraction only exists in the GMS
     on = m.effects["frictional_lag"]
     prm = ctx.plant.friction
-    base = ctx.stack(lambda q: q.F_f - prm.viscous(q.v))[:, 0]
+    base = ctx.stack(lambda q: q.F_f - prm.viscous(q.v_f))[:, 0]
     y = ctx.r + base
     C_now = float(m.parameters["friction.C"]) if on else np.inf
 
     def column(C: float) -> np.ndarray:
         pc = replace(prm, C=C)
-        return ctx.stack(lambda q: gms_force(q.x, q.v, q.Ts, pc) - pc.viscous(q.v))
+        return ctx.stack(lambda q: gms_force(q.x, q.v_f, q.Ts, pc, F0=_start(q, len(pc.nu)))
+                         - pc.viscous(q.v_f))
 
     cols = {C: column(C) for C in LAG_C if not (on and abs(np.log(C / C_now)) < 0.2)}
     if not cols:

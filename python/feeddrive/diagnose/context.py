@@ -2,6 +2,10 @@
 
 Candidate regressors are built per run (unfiltered force columns), filtered with the run's
 acceleration kernel K (as the residual's force side is) and stacked like the residual.
+The part of a column that the run's estimated GMS start state could take up
+(:mod:`feeddrive.physics.gms_start`: the start forces are re-estimated with any new model)
+is projected out: a run whose elements never slip cannot tell a constant force from the
+friction they hold, and must not count against (or for) a candidate because of it.
 """
 from __future__ import annotations
 
@@ -87,8 +91,26 @@ class Context:
                 c2 = c2 * (~q.stuck)[:, None]
             if filtered:
                 c2 = np.column_stack([q.filt(c2[:, j]) for j in range(c2.shape[1])])
-            out.append(np.nan_to_num(c2[q.valid]))
+            cv = np.nan_to_num(c2[q.valid])
+            Q = self._start_space(q)
+            out.append(cv - Q @ (Q.T @ cv) if Q is not None else cv)
         return np.concatenate(out, axis=0)
+
+    def _start_space(self, q: RunResidual) -> np.ndarray | None:
+        """Orthonormal basis (valid samples) of what the run's start state can absorb, or
+        None; memoised per run."""
+        key = ("start_space", id(q))
+        if key not in self.cache:
+            Q = None
+            if q.start is not None and q.start.basis is not None:
+                B = q.start.full_basis(len(q.r))[q.valid]
+                B = B[:, np.linalg.norm(B, axis=0) > 0]
+                if B.size:
+                    U, sv, _ = np.linalg.svd(B, full_matrices=False)
+                    keep = sv > 1e-9 * sv[0]
+                    Q = U[:, keep] if keep.any() else None
+            self.cache[key] = Q
+        return self.cache[key]
 
     def unstack(self, vec: np.ndarray) -> list[np.ndarray]:
         """A stacked vector back to per-run arrays (NaN on invalid samples)."""

@@ -16,7 +16,11 @@ Eq. 1 evaluated on the measured trajectory::
 - ``F_f`` is the model's friction along the measured motion: with ``prerolling`` on, the GMS
   of ``feeddrive.physics.friction_gms`` driven by the measured position (quantised, not smoothed:
   smoothing moves x by fractions of a micrometre near reversals, which the 1.8e6 N/m
-  pre-rolling stiffness turns into newtons) and the Savitzky-Golay velocity; with it off,
+  pre-rolling stiffness turns into newtons) and the 5 ms velocity of
+  :func:`feeddrive.physics.friction_velocity` (where v changes sign decides when elements
+  stick), started from the element forces that best explain the run's first samples
+  (:mod:`feeddrive.physics.gms_start`: a recording starts holding a load, mid-motion or
+  after a reversal, never from the virgin state); with it off,
   Eq. 12 as a memoryless function of v plus Karnopp stiction: where |v| < ``v_stick`` and the
   applied force is below the break-away level the stage is taken as stuck and friction
   balances the applied force (the model then predicts a = 0 there).
@@ -41,8 +45,10 @@ import numpy as np
 from ..data import Run
 from ..model_file import ModelFile
 from ..physics import (DEFAULT_V_STICK, PlantParameters, applied_force, compile,
-                       force_residual as eq1_residual, gms_force, held_current, karnopp_friction,
-                       load_acceleration, load_free_response, measured_motion, run_load)
+                       force_residual as eq1_residual, friction_velocity, gms_force,
+                       held_current, karnopp_friction, load_acceleration, load_free_response,
+                       measured_motion, run_load)
+from ..physics import GMSStart, started_friction
 from ..signals import apply_kernel, odd_window, run_label, sample_time
 
 #: Default Savitzky-Golay window [s] (41 samples at 0.5 ms) and polynomial order.
@@ -62,7 +68,7 @@ class RunResidual:
     K: np.ndarray                 #: smoothing kernel of the acceleration estimate
     time: np.ndarray
     x: np.ndarray                 #: measured position [m] (maps and friction use it as is)
-    v: np.ndarray                 #: velocity [m/s]
+    v: np.ndarray                 #: velocity [m/s] (the acceleration's smoother)
     a: np.ndarray                 #: acceleration [m/s^2] (NaN near the ends)
     i: np.ndarray | None          #: current used [A] (midpoint of the held samples) or None
     F_motor: np.ndarray           #: K_f(x) i or gain u [N]
@@ -72,6 +78,10 @@ class RunResidual:
     r: np.ndarray                 #: force residual [N] (NaN near the ends)
     valid: np.ndarray             #: bool, samples where r is defined
     force_source: str             #: where F_motor came from
+    start: GMSStart | None = None  #: estimated GMS state at the first sample (pre-rolling on)
+    #: the velocity the model's friction saw [m/s] (:func:`friction_velocity` with pre-rolling
+    #: on, else ``v``)
+    v_f: np.ndarray = field(default_factory=lambda: np.zeros(0))
     F_load: np.ndarray = field(default_factory=lambda: np.zeros(0))
     u: np.ndarray = field(default_factory=lambda: np.zeros(0))
     x_meas: np.ndarray = field(default_factory=lambda: np.zeros(0))
@@ -117,7 +127,8 @@ def motor_force(run: Run, P: PlantParameters, x: np.ndarray, force_gain: float |
 
 def model_friction(P: PlantParameters, x: np.ndarray, v: np.ndarray, F_app: np.ndarray, Ts: float,
                    v_stick: float = DEFAULT_V_STICK) -> tuple[np.ndarray, np.ndarray]:
-    """The model's friction along a motion and the static model's stuck mask."""
+    """The model's friction along a motion (the GMS from the virgin start) and the static
+    model's stuck mask."""
     if P.prerolling:
         return gms_force(x, v, Ts, P.friction), np.zeros(len(x), dtype=bool)
     return karnopp_friction(v, F_app, P.friction, v_stick, x)
@@ -160,10 +171,11 @@ def force_residual(run: Run, model: ModelFile, window: int | None = None,
     xs = x_meas
     v, a, K = measured_motion(x_meas, Ts, w, polyorder)
     P = compile(model)
+    v_f = friction_velocity(x_meas, Ts, w, polyorder) if P.prerolling else v
     F_motor, i, source = motor_force(run, P, xs, force_gain)
     F_load, _ = run_load(run)
     F_app = applied_force(F_motor, P.F_cg(xs), F_load, P.F_offset)
-    F_f, stuck = model_friction(P, xs, v, F_app, Ts, v_stick)
+    F_f, stuck = model_friction(P, xs, v_f, F_app, Ts, v_stick)
     r = eq1_residual(F_app, F_f, a, P.m, K)
     c = P.compliance
     if c.on:
@@ -171,11 +183,15 @@ def force_residual(run: Run, model: ModelFile, window: int | None = None,
             raise ValueError(f"model {model.name!r}: compliance.sensor_side = {c.sensor_side}: the "
                              "force residual needs the encoder on the slide (allowed 0)")
         r = r - c.m2 * load_acceleration(a, Ts, c.f, c.zeta)
+    start = None
+    if P.prerolling:
+        F_f, start, r = started_friction(xs, v_f, Ts, P.friction, r, K, F_f)
+    if c.on:
         r = r - load_start_response(r, a, Ts, c.f, c.zeta)
     valid = np.isfinite(r)
     return RunResidual(name=run.name or label, Ts=Ts, K=K, time=np.asarray(run.time, float),
                        x=xs, v=v, a=a, i=i, F_motor=F_motor, F_app=F_app, F_f=F_f, stuck=stuck,
-                       r=r, valid=valid, force_source=source, F_load=F_load,
+                       r=r, valid=valid, force_source=source, start=start, v_f=v_f, F_load=F_load,
                        u=np.asarray(run.u, float), x_meas=x_meas)
 
 

@@ -10,7 +10,9 @@ out of the fit too) and predicts the held-out block.  Statistics:
 - ``t``: mean / standard error over blocks of the bounded per-block change
   rho_b = (SSE_before - SSE_heldout) / (SSE_before + SSE_heldout), in [-1, 1] (blocks, not
   samples, are the independent units; bounded, so that neither an effect that lives in a
-  few regimes nor a block that holds almost no residual dominates the statistic).
+  few regimes nor a block that holds almost no residual dominates the statistic), over the
+  blocks where the candidate predicts something (:func:`informative`: a PRBS run added to
+  a set must not dilute the evidence of the runs that show the effect).
 
 A candidate is *significant* when improvement >= ``I_MIN`` and t >= ``T_MIN`` and the model
 it identifies passes the FMU's parameter rules (``feeddrive.physics.compile``, run by the
@@ -31,6 +33,9 @@ from .context import Context
 I_MIN = 0.05      #: minimum held-out share of the residual energy a named effect must remove
 T_MIN = 2.5       #: minimum block t statistic (10 blocks: one-sided p ~ 0.017)
 AMBIGUITY = 0.10  #: candidates within this share of the best's improvement are not separated
+#: A block whose prediction energy is below this share of the strongest block's is left out
+#: of the t statistic (:func:`informative`).
+INFO_SHARE = 0.01
 
 
 @dataclass
@@ -132,9 +137,10 @@ def score(ctx: Context, var: Variant) -> Score:
         sa[b] = float(e @ e)
     theta = _solve_gram(var, G, c, yy, n)
     r_fit = y - Phi @ theta
-    d = (sb - sa) / np.maximum(sb + sa, 1e-300)
-    sd = float(np.std(d, ddof=1)) if B > 1 else 0.0
-    t = float(np.mean(d) / (sd / np.sqrt(B))) if sd > 0 else (np.inf if np.mean(d) > 0 else 0.0)
+    d = ((sb - sa) / np.maximum(sb + sa, 1e-300))[informative(Phi @ theta, bounds)]
+    sd = float(np.std(d, ddof=1)) if d.size > 1 else 0.0
+    t = float(np.mean(d) / (sd / np.sqrt(d.size))) if sd > 0 else \
+        (np.inf if d.size > 1 and np.mean(d) > 0 else 0.0)
     tot = float(sb.sum())
     rr = float(r @ r)
     refused = admissible(var, theta)
@@ -143,6 +149,16 @@ def score(ctx: Context, var: Variant) -> Score:
                  improvement_in_sample=-np.inf if refused else
                  1.0 - float(r_fit @ r_fit) / rr if rr > 0 else 0.0,
                  theta=theta, r_fit=r_fit, r_heldout=r_ho, refused=refused)
+
+
+def informative(pred: np.ndarray, bounds: list[tuple[int, int]]) -> np.ndarray:
+    """Blocks where the candidate's all-data prediction carries at least ``INFO_SHARE`` of
+    the energy of its strongest block: a block where the candidate predicts nothing (a PRBS
+    hold for a direction-dependent level, a run whose start state takes up a constant
+    force) tells nothing about it and is left out of the t statistic."""
+    pb = np.array([float(pred[lo:hi] @ pred[lo:hi]) for lo, hi in bounds])
+    top = float(pb.max()) if pb.size else 0.0
+    return pb >= INFO_SHARE * top if top > 0 else np.ones(len(bounds), dtype=bool)
 
 
 def admissible(var: Variant, theta: np.ndarray) -> str | None:

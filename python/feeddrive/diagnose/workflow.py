@@ -182,6 +182,8 @@ class Diagnosis:
                 "verdict": self.verdict,
                 "noise_floor": floor_table(self.residual_start, self.floors)
                 if self.floors else {},
+                "initial_friction": {q.name: q.start.to_json(q.Ts) for q in self.residual_start
+                                     if q.start is not None},
                 "significance": self.gate.to_json() if self.gate else {},
                 "localisation_start": localisation_summary(self.residual_start, self.floors),
                 "steps": [s.to_json() for s in self.steps], "stop": self.stop,

@@ -28,8 +28,9 @@ from scipy.optimize import minimize
 
 from ..data import Run
 from ..physics import (DEFAULT_V_STICK, applied_force, compile, force_residual,
-                       gms_force, held_current, karnopp_friction, load_acceleration,
-                       load_free_response, measured_motion, run_load)
+                       friction_velocity, gms_force, held_current, karnopp_friction,
+                       load_acceleration, load_free_response, measured_motion, run_load,
+                       started_friction)
 from ..physics.compliance import F_RANGE
 from ..physics.params import HasFmuParameters
 from ..signals import odd_window, run_label, sample_time
@@ -129,8 +130,9 @@ def rigid_residual(run: Run, model: HasFmuParameters, window_s: float = 0.02,
                    polyorder: int = 3) -> tuple[np.ndarray, np.ndarray, float]:
     """(a_K, y, Ts) of one run: the filtered measured acceleration and the residual of
     ``model`` *without* its compliance, ``K (K_f(x) i - F_cg - F_load - offset - F_f) - m a_K``
-    (GMS friction along the measured motion with pre-rolling on, else Eq. 12 with Karnopp
-    stiction).  The run needs a measured current ``i``."""
+    (GMS friction along the measured motion with pre-rolling on, started from the element
+    forces that best explain the first samples, :func:`feeddrive.physics.started_friction`;
+    else Eq. 12 with Karnopp stiction).  The run needs a measured current ``i``."""
     label = run_label(run)
     if run.i is None:
         raise ValueError(f"{label}: identify_compliance needs a measured current column i")
@@ -142,9 +144,12 @@ def rigid_residual(run: Run, model: HasFmuParameters, window_s: float = 0.02,
     F_load, _ = run_load(run)
     F_app = applied_force(P.K_f(x) * held_current(run.i), P.F_cg(x), F_load, P.F_offset)
     if P.prerolling:
-        F_f = gms_force(x, v, Ts, P.friction)
-    else:
-        F_f, _ = karnopp_friction(v, F_app, P.friction, DEFAULT_V_STICK)
+        v_f = friction_velocity(x, Ts, w, polyorder)
+        F_f = gms_force(x, v_f, Ts, P.friction)
+        _, _, r = started_friction(x, v_f, Ts, P.friction, force_residual(F_app, F_f, a, P.m, K),
+                                   K, F_f)
+        return a, r, Ts
+    F_f, _ = karnopp_friction(v, F_app, P.friction, DEFAULT_V_STICK)
     return a, force_residual(F_app, F_f, a, P.m, K), Ts
 
 

@@ -5,6 +5,8 @@
 - :mod:`.position_maps` (position_maps.c): K_f(x), F_cg(x) (Eqs. 6-7);
 - :mod:`.friction_curves` (``friction_level`` of friction_gms.c): Stribeck curve, Eq. 12;
 - :mod:`.friction_gms` (friction_gms.c): the GMS along a motion (Eqs. 8-11);
+- :mod:`.gms_start`: the GMS element forces at a recording's first sample, estimated from
+  Eq. 1's residual over the samples before every element has slipped;
 - :mod:`.friction_static` (friction_static.c): Eq. 12 with Karnopp stiction;
 - :mod:`.friction_position` (friction_position.c): the level profile p(x) of
   ``position_friction``;
@@ -22,8 +24,10 @@ from .friction_position import FrictionProfile, profile_basis
 from .friction_gms import GMSFriction, GMSParameters, element_forces, element_rates, gms_force
 from .friction_static import DEFAULT_V_STICK, karnopp_friction
 from .params import ParameterError, PlantParameters, check_value, compile, parameter_values
-from .plant import (CURRENT_TIMINGS, applied_force, eq1_friction, eq1_terms, force_residual,
-                    held_current, measured_motion, run_load, run_load_mean)
+from .gms_start import GMSStart, initial_elements, memory_wiped, started_friction
+from .plant import (CURRENT_TIMINGS, FRICTION_VELOCITY_S, applied_force, eq1_friction, eq1_terms,
+                    force_residual, friction_velocity, held_current, measured_motion, run_load,
+                    run_load_mean)
 from .position_maps import MapSpec, PositionMap, eval_map
 
 __all__ = ["Compliance", "load_acceleration", "load_filter", "load_free_response", "CurrentLoop", "current_loop_dc_gain",
@@ -33,4 +37,6 @@ __all__ = ["Compliance", "load_acceleration", "load_filter", "load_free_response
            "DEFAULT_V_STICK", "karnopp_friction", "ParameterError", "PlantParameters",
            "check_value", "compile", "parameter_values", "CURRENT_TIMINGS", "applied_force",
            "eq1_friction", "eq1_terms", "force_residual", "held_current", "measured_motion",
+           "FRICTION_VELOCITY_S", "friction_velocity", "GMSStart", "initial_elements",
+           "memory_wiped", "started_friction",
            "run_load", "run_load_mean", "MapSpec", "PositionMap", "eval_map"]

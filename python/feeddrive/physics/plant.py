@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.signal import savgol_filter
+from scipy.signal import savgol_coeffs, savgol_filter
 
 from ..data import Run
 from ..signals import apply_kernel, matched_acceleration, odd_window, run_label, sample_time
@@ -21,6 +21,15 @@ from .position_maps import MapSpec, eval_map
 CURRENT_TIMINGS = ("held", "held_previous", "sampled")
 #: Savitzky-Golay polynomial order of the differentiators.
 DEFAULT_POLYORDER = 3
+#: Shortest Savitzky-Golay window [s] of the velocity the GMS friction is driven by (11
+#: samples at 0.5 ms): the GMS sticks its elements where v changes sign, and the
+#: acceleration's 20 ms smoother moves the sign change of a stop's small overshoot by
+#: milliseconds, which leaves the held force wrong by up to 1 N for the rest that follows.
+FRICTION_VELOCITY_S = 0.005
+#: Largest rms of that velocity from the position's rounding [m/s] (q / sqrt(12) through
+#: the differentiator; 5 ms gives 14 um/s at 100 nm, far below the Stribeck velocity): a
+#: coarser scale gets a longer window.
+FRICTION_VELOCITY_NOISE = 15e-6
 
 
 def held_current(i: ArrayLike, timing: str = "held") -> np.ndarray:
@@ -84,6 +93,30 @@ def measured_motion(x: ArrayLike, Ts: float, window: int, polyorder: int = DEFAU
     v = savgol_filter(x, w, p, deriv=1, delta=Ts)
     a, K = matched_acceleration(x, Ts, w, p)
     return v, a, K
+
+
+def friction_velocity(x: np.ndarray, Ts: float, window: int,
+                      polyorder: int = DEFAULT_POLYORDER) -> np.ndarray:
+    """The velocity the GMS friction is driven by [m/s]: Savitzky-Golay over the shortest
+    window of at least ``FRICTION_VELOCITY_S`` whose rounding noise, for the position step
+    of ``x`` (its smallest step between distinct values), stays below
+    ``FRICTION_VELOCITY_NOISE``; never longer than ``window`` samples."""
+    x = np.asarray(x, dtype=float)
+    u = np.unique(np.round(x, 12))
+    d = np.diff(u)
+    d = d[d > 1e-12]
+    q = float(d.min()) if d.size else 0.0
+    top = odd_window(window, len(x))
+    w = max(odd_window(int(round(FRICTION_VELOCITY_S / Ts)), len(x)),
+            odd_window(polyorder + 2, len(x)))
+    while w < top:
+        p = min(polyorder, w - 1)
+        c = savgol_coeffs(w, p, deriv=1, delta=Ts)
+        if q / np.sqrt(12.0) * float(np.linalg.norm(c)) <= FRICTION_VELOCITY_NOISE:
+            break
+        w += 2
+    w = min(w, top)
+    return savgol_filter(x, w, min(polyorder, w - 1), deriv=1, delta=Ts)
 
 
 def applied_force(F_motor: ArrayLike, F_cg: ArrayLike, F_load: ArrayLike = 0.0,

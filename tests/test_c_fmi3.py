@@ -1,4 +1,4 @@
-"""Issue 14 at the C level: the FMI 3.0 glue (fmu_src/fmi3_*.c) driven by the C host
+"""At the C level: the FMI 3.0 glue (fmu_src/fmi3_*.c) driven by the C host
 tests/c/fmi3_host.c (+ fmi3_host_robust.c) under AddressSanitizer + UBSan + LeakSanitizer, the FMU's FMI 3.0 sources
 (those of the FMI 3.0 .so, the FMI 2.0 glue with them) compiled into the program:
 

@@ -1,4 +1,4 @@
-"""Issue 10, C side, driven by the C programs tests/c/state_flip.c and tests/c/limits.c under
+"""Saved states and accepted limits, C side, driven by the C programs tests/c/state_flip.c and tests/c/limits.c under
 AddressSanitizer + UBSan (the FMU's sources compiled into the test program):
 
 * every single-bit flip of a serialised co-simulation and model-exchange state (raw, and with the

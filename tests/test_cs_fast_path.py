@@ -2,10 +2,10 @@
 against model exchange and against the adaptive DP45, that it is taken (fewer right-hand sides),
 that the stiffness guard falls back to the adaptive solver, that the exact stick update is exact,
 that a stick/slip switch inside a sample is located as the adaptive solver locates it, and the
-static-friction (Karnopp) case of issue 13 item 6.
+static-friction (Karnopp) case.
 
 Tolerances: 0.05 µm in position against ME at rtol 1e-10 on the paper's 6 s loop with an ideal
-scale (issue 13 item 4; the quantised loop is not continuous in the trajectory, see
+scale (the quantised loop is not continuous in the trajectory, see
 test_cs_agreement.py); the scheme takes one RK4(3) step per 0.5 ms sample under the DP45's own
 error test, so against the DP45 at the same tolerance it must agree to a tenth of that.
 """
@@ -117,7 +117,7 @@ def test_stick_slip_switch_inside_a_sample_is_located() -> None:
 
 
 def test_static_friction_reversal_error_at_default_tolerance() -> None:
-    """Issue 13 item 6: the Sec. 3 'static friction instead of GMS' run (Eq. 12 + Karnopp, 100 nm
+    """The Sec. 3 'static friction instead of GMS' run (Eq. 12 + Karnopp, 100 nm
     scale): its top-reversal error at the default tolerance within 0.05 um of rtol 1e-10, and the
     Karnopp-stuck stage does not move at all (v = 0 and x constant to the bit while stuck)."""
     ref = sinusoid(0.030, 6.0, 0.150, 6.0)

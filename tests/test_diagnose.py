@@ -101,7 +101,7 @@ def test_two_hidden_effects_are_found_in_turn(tmp_path):
 
 
 def test_sec3_sinusoid_static_friction_names_prerolling_and_reversal_error_shrinks(tmp_path):
-    # Done-when of issue 5: the Sec. 3 sinusoid (30 mm, 6 s, mid-stroke), one run, a
+    # the Sec. 3 sinusoid (30 mm, 6 s, mid-stroke), one run, a
     # static-friction model: prerolling is named and the closed-loop reversal error of the
     # re-simulated model shrinks
     run = simulate_run(PAPER, sinusoid_reference(12.0), current_noise=0.005, seed=51,

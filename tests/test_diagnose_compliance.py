@@ -1,4 +1,4 @@
-"""A structural resonance hidden in closed-loop runs (issue 11, items 4-5): a 2 kg load on a
+"""A structural resonance hidden in closed-loop runs: a 2 kg load on a
 40 Hz spring (zeta 0.05) on the slide, the encoder on the slide.
 
 Data: the FMU with ``compliance`` on, the harness's PID, the 6 s sinusoid and the

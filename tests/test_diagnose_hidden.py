@@ -1,4 +1,4 @@
-"""Discrepancy workflow on FMU runs with one hidden effect (issue 5, item 4).
+"""Discrepancy workflow on FMU runs with one hidden effect.
 
 Data: the FMU in closed loop (the harness's PID, feeddrive.harness pid_spec()) on a 30 mm / 6 s sinusoid
 around mid-stroke plus back-and-forth moves at 3, 10, 30 mm/s; position quantised, current

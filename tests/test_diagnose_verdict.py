@@ -1,4 +1,4 @@
-"""Noise floor, practical significance and the verdict (issue 11, items 1-3 and 5).
+"""Noise floor, practical significance and the verdict.
 
 Data: the FMU in closed loop (the harness's PID) with current noise and a quantised scale;
 the true model's residual is the measurement noise through the estimator, so the floor
@@ -207,7 +207,7 @@ def test_a_resonance_is_not_absorbed_into_mass_and_is_named_compliance():
     # 2 kg on a 40 Hz spring (zeta 0.05) put into the data by another construction than the
     # FMU's (the load's reaction added to the measured current, Tustin on the quantised
     # position): the catalogue's `compliance` is named as missing, with f within 5 % and
-    # zeta within a factor 2 (issue 11), the mass is left alone and the rest is noise
+    # zeta within a factor 2, the mass is left alone and the rest is noise
     runs = [with_resonance(r, 2.0, 40.0, 0.05) for r in make_runs(PAPER, seed=91)]
     diag = diagnose(runs, PAPER, max_steps=2, closed_loop=False)
     assert "mass" not in diag.named

@@ -1,4 +1,4 @@
-"""The plant (and the controller) as FMI 3.0 FMUs beside the FMI 2.0 ones (issue 14): one
+"""The plant (and the controller) as FMI 3.0 FMUs beside the FMI 2.0 ones: one
 variable list, the same trajectories, Configuration Mode for friction.N, early return / event
 mode at friction switches on the 6 s closed loop, FMU state serialisation, the exported
 functions.
@@ -34,7 +34,7 @@ from feeddrive.physics.friction_curves import stribeck_level
 from fmi3_loops import TS, reference_6s, two_fmus3
 
 CTRL3 = REPO / "build" / "DriveController3.fmu"
-TOL_VERSIONS = 1e-12         # m, FMI 3.0 against FMI 2.0 on the same input (issue 14)
+TOL_VERSIONS = 1e-12         # m, FMI 3.0 against FMI 2.0 on the same input
 TOL_X = 0.1e-6               # m, co-simulation against model exchange (test_cs_agreement's)
 T_OPEN = 0.3                 # s of open-loop drive, 7 slip-to-stick switches
 TYPES = {"Real": "Float64", "Integer": "Int32", "Boolean": "Boolean"}

@@ -1,4 +1,4 @@
-"""Model exchange event flags and log categories (issue 12, item 4).
+"""Model exchange event flags and log categories.
 
 * fmi2NewDiscreteStates reports valuesOfContinuousStatesChanged = true at a current-loop
   sample (the current i jumps: the right-hand side is discontinuous), so an importer that

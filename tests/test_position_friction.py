@@ -1,4 +1,4 @@
-"""Effect position_friction (issue 11, item 4): the friction level along the stroke, p(x).
+"""Effect position_friction: the friction level along the stroke, p(x).
 
 - p(x) itself: C1 with zero slope at the ends, constant outside, within the convex hull of
   its knot values, linear in them (fmu_src/friction_position.c, physics.friction_position);

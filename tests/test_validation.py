@@ -1,4 +1,4 @@
-"""Closed-loop validation (issue 3): the paper's Secs. 3 and 4 reproduced, the report, the CLI."""
+"""Closed-loop validation: the paper's Secs. 3 and 4 reproduced, the report, the CLI."""
 from __future__ import annotations
 
 import json

@@ -77,7 +77,7 @@ def python_rows(repeats: int = 5) -> tuple[list[tuple[str, str, str]], dict]:
 def two_fmu_rows(wall_python: float, res_python: dict, repeats: int = 5,
                  host: Path | None = None, plant_library: Path | None = None,
                  controller_library: Path | None = None) -> list[tuple[str, str, str]]:
-    """The same 6 s loop as controller FMU + plant FMU (issue 12), stepped from Python and,
+    """The same 6 s loop as controller FMU + plant FMU, stepped from Python and,
     with the ``two_fmus`` C host, from C."""
     ref = sinusoid(0.030, 6.0, 0.150, 6.0)
     values = controller_fmu_parameters(state_space_spec(), quantum=1e-7,
@@ -100,7 +100,7 @@ def two_fmu_rows(wall_python: float, res_python: dict, repeats: int = 5,
     return rows + [
         ("6 s closed loop, controller FMU + plant FMU stepped from C (best of %d)" % repeats,
          f"{w * 1e3:.1f} ms wall, {w / wall_python:.3f} x the Python-controller run",
-         "<= 1/3 (issue 12)"),
+         "<= 1/3"),
         ("  agreement with the Python-controller run, max abs(dx)", f"{dxc * 1e6:.3g} um", "<= 0.01 um")]
 
 
@@ -115,7 +115,7 @@ def c_rows(bench_cs: Path, cycles: Path | None, library: Path,
     rows = [
         ("6 s closed loop from C through fmi2DoStep, per-sample scheme (best of %d)" % repeats,
          f"{wall * 1e3:.1f} ms wall, {6.0 / wall:.0f}x real time", "<= 3 ms (>= 2000x)"),
-        ("  same, adaptive DP45 throughout (solver.fast = false; before issue 13 item 4)",
+        ("  same, adaptive DP45 throughout (solver.fast = false)",
          f"{wall_a * 1e3:.1f} ms wall, {6.0 / wall_a:.0f}x real time", ""),
         ("  steps / RHS evaluations / friction events (scheme; adaptive)",
          f"{f['solver_steps']} / {f['rhs_evaluations']} / {f['state_events']}; "
@@ -154,7 +154,7 @@ def c_rows(bench_cs: Path, cycles: Path | None, library: Path,
 def fast_path_rows() -> list[tuple[str, str, str]]:
     """Accuracy of the co-simulation's per-sample scheme on the 6 s, 30 mm loop with an ideal
     scale (quantiser off) against ME CVode rtol 1e-10, for GMS and for static friction; and the
-    static-friction stick case of issue 13 item 6 (the Sec. 3 run's top-reversal error at the
+    static-friction stick case (the Sec. 3 run's top-reversal error at the
     default tolerance against rtol 1e-10, 100 nm scale)."""
     ref = sinusoid(0.030, 6.0, 0.150, 6.0)
     spec, ideal = state_space_spec(), Sensors(quantum=0.0, current_noise=0.0)
@@ -220,7 +220,7 @@ def engine_rows(wall_python: float, res_python: dict, repeats: int = 5) -> list[
         try:
             w_lc = min(time_libcosim_osp(files["osp"].parent, s.stop_time) for _ in range(repeats))
             lc = (f"{w_lc * 1e3:.0f} ms wall, {w_lc / wall_python:.2f} x the Python-controller run",
-                  "<= 1/3 (issue 12)")
+                  "<= 1/3")
         except ImportError:
             lc = ("not measured (libcosimpy not installed: pip install 'python[test]')", "")
         runs = [run_container(files["container"], s.n, s.Ts) for _ in range(repeats)]
@@ -230,7 +230,7 @@ def engine_rows(wall_python: float, res_python: dict, repeats: int = 5) -> list[
              f"best of {repeats})", *lc),
             (f"same, fmpy container FMU under simulate_fmu (step Ts, best of {repeats})",
              f"{w_c * 1e3:.0f} ms wall, {w_c / wall_python:.2f} x the Python-controller run, "
-             f"max abs(dx) {dx * 1e6:.3g} um", "<= 1/3 (issue 12)")]
+             f"max abs(dx) {dx * 1e6:.3g} um", "<= 1/3")]
 
 
 def ecos_rows(wall_python: float, repeats: int = 3) -> list[tuple[str, str, str]]:
@@ -240,7 +240,7 @@ def ecos_rows(wall_python: float, repeats: int = 3) -> list[tuple[str, str, str]
     try:
         w = min(time_ecos(s) for _ in range(repeats))
         cell = (f"{w * 1e3:.0f} ms wall, {w / wall_python:.2f} x the Python-controller run, "
-                f"{w / (s.n * s.jacobi_substeps) * 1e6:.1f} us per macro step", "<= 1/3 (issue 12)")
+                f"{w / (s.n * s.jacobi_substeps) * 1e6:.1f} us per macro step", "<= 1/3")
     except ImportError as e:
         cell = (f"not measured ({e})", "")
     return [(f"same, Ecos (macro step Ts/{s.jacobi_substeps}, step_until, best of {repeats})", *cell)]

@@ -1,4 +1,4 @@
-/* Limits of accepted values and of the work per call (issue 10, items 2-4):
+/* Limits of accepted values and of the work per call:
  *   ranges    every parameter and input with a declared min/max, set at and just beyond both ends
  *             (one at a time, the rest at their defaults): beyond is refused with a message; at the
  *             end the set is accepted or refused with a message, and an accepted value runs 0.1 s

@@ -189,7 +189,7 @@ def truth_rows(res: IdentifiedFits, truth: ModelFile) -> list[TruthRow]:
     return rows
 
 
-#: p(x) within this share of the true profile's largest level change (issue 11).
+#: p(x) within this share of the true profile's largest level change.
 PROFILE_TOL = 0.1
 
 

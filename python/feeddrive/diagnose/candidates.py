@@ -477,8 +477,9 @@ def compliance(ctx: Context) -> list[Variant]:
     columns.  The residual's GMS start forces were estimated without the load: the search
     fits them again with it (their sensitivity as free columns), and every column is taken
     orthogonal to them (:meth:`Context.stack`), or the start would keep part of the load's
-    first oscillations and bias its damping.  At f -> inf the regressor is the mass's: the workflow ranks this family only
-    when held-out data show it beyond the mass (workflow.NESTED)."""
+    first oscillations and bias its damping.  At f -> inf the regressor is the mass's: the
+    workflow ranks this family only when held-out data show it beyond the mass
+    (workflow.NESTED)."""
     m = ctx.model
     on = m.effects["compliance"]
     P = ctx.plant.compliance

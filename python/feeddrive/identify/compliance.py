@@ -57,7 +57,8 @@ class ComplianceFit:
     m2: float                   #: load mass [kg]
     dm: float                   #: change of the (slide) mass fitted with it [kg] (0 if not fitted)
     explained: float            #: share of the residual energy the fit removes
-    rigid_explained: float      #: share a mass change alone removes (the f -> inf limit)
+    #: share a mass change alone removes (the f -> inf limit; with the ``nuisance`` columns)
+    rigid_explained: float
     n_used: int
 
 
@@ -121,12 +122,12 @@ def fit_compliance(a_runs: list[np.ndarray], y_runs: list[np.ndarray], Ts: list[
         raise ValueError(f"fit_compliance: {y.size} usable samples with acceleration; need >= 100 "
                          "and a motion that accelerates")
     yy = float(y @ y)
-    N = nuisance_columns(nuisance if nuisance is not None else [None] * len(masks), masks)
+    B = nuisance_columns(nuisance if nuisance is not None else [None] * len(masks), masks)
 
     def design(f: float, z: float) -> np.ndarray:
         c = _columns(a_runs, Ts, f, z, masks)
         cols = [c, a] if fit_mass else [c]
-        return np.column_stack(cols + [start_columns(a_runs, Ts, f, z, masks), N])
+        return np.column_stack(cols + [start_columns(a_runs, Ts, f, z, masks), B])
 
     def expl(f: float, z: float) -> float:
         return _explained(design(f, z), y, stride)[0]
@@ -145,7 +146,7 @@ def fit_compliance(a_runs: list[np.ndarray], y_runs: list[np.ndarray], Ts: list[
     if -opt.fun < expl(*grid):
         f, z = grid
     e, th = _explained(design(f, z), y, 1)
-    rigid, _ = _explained(np.column_stack([a, N]), y, 1)
+    rigid, _ = _explained(np.column_stack([a, B]), y, 1)
     return ComplianceFit(f=f, zeta=z, m2=float(th[0]), dm=float(th[1]) if fit_mass else 0.0,
                          explained=e / yy if yy > 0 else 0.0,
                          rigid_explained=rigid / yy if yy > 0 else 0.0, n_used=int(y.size))

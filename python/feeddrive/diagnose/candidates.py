@@ -474,8 +474,12 @@ def compliance(ctx: Context) -> list[Variant]:
     (f, zeta) by the grid + Nelder-Mead of :func:`feeddrive.identify.compliance.fit_compliance`;
     variants: m2 alone, and m2 with a change of the slide's mass; both carry the load's free
     responses from each run's first valid sample (its state there is unknown) as nuisance
-    columns.  At f -> inf the regressor is the mass's: the workflow ranks this family only
-    when held-out data show it beyond the mass (workflow.NESTED)."""
+    columns.  The residual's GMS start forces were estimated without the load: the search
+    fits them again with it (their sensitivity as free columns), and every column is taken
+    orthogonal to them (:meth:`Context.stack`), or the start would keep part of the load's
+    first oscillations and bias its damping.  At f -> inf the regressor is the mass's: the
+    workflow ranks this family only when held-out data show it beyond the mass
+    (workflow.NESTED)."""
     m = ctx.model
     on = m.effects["compliance"]
     P = ctx.plant.compliance
@@ -486,9 +490,11 @@ def compliance(ctx: Context) -> list[Variant]:
         base = ctx.stack(lambda q: P.m2 * load_acceleration(q.a, q.Ts, P.f, P.zeta),
                          filtered=False)[:, 0]
     y = ctx.r + (base if base is not None else 0.0)
+    starts = [q.start.full_basis(len(q.r)) if q.start is not None and q.start.basis is not None
+              else None for q in ctx.res]
     try:
         fit = fit_compliance([q.a for q in ctx.res], ctx.unstack(y), [q.Ts for q in ctx.res],
-                             stride=SEARCH_STRIDE)
+                             stride=SEARCH_STRIDE, nuisance=starts)
     except ValueError:
         return []          # no acceleration to see a load by
     f, z = fit.f, fit.zeta
@@ -513,15 +519,17 @@ def compliance(ctx: Context) -> list[Variant]:
 
 def _start_columns(ctx: Context, f: float, zeta: float) -> np.ndarray:
     """Free responses of the load from each run's first valid sample, per run (the load's
-    state there is not measured: ``feeddrive.physics.load_free_response``), stacked."""
-    out = np.zeros((len(ctx.r), 2 * len(ctx.res)))
-    k = 0
-    for j, q in enumerate(ctx.res):
-        n = int(q.valid.sum())
-        out[k:k + n, 2 * j:2 * j + 2] = np.nan_to_num(
-            load_free_response(q.a, q.Ts, f, zeta)[q.valid])
-        k += n
-    return out
+    state there is not measured: ``feeddrive.physics.load_free_response``; two columns per
+    run, zero in the other runs' rows), stacked orthogonal to the run's GMS start."""
+    index = {id(q): j for j, q in enumerate(ctx.res)}
+
+    def cols(q) -> np.ndarray:
+        out = np.zeros((len(q.r), 2 * len(ctx.res)))
+        j = index[id(q)]
+        out[:, 2 * j:2 * j + 2] = np.nan_to_num(load_free_response(q.a, q.Ts, f, zeta))
+        return out
+
+    return ctx.stack(cols, filtered=False)
 
 
 # --------------------------------------------------------------------------- current loop

@@ -18,7 +18,8 @@ compliance          Eq. 1 residual, H(s) of the load, grid + NM  compliance.f/ze
 ==================  ===========================================  ===========================
 """
 from .attraction import AttractionFit, fit_attraction, identify_attraction, simulate_lag
-from .compliance import ComplianceFit, fit_compliance, identify_compliance, rigid_residual
+from .compliance import (ComplianceFit, RigidResidual, fit_compliance, identify_compliance,
+                         rigid_parts, rigid_residual)
 from .current_loop import CurrentLoopFit, fit_current_loop, identify_current_loop
 from .dstft import DSTFT, dstft
 from .mass import MassFit, fit_mass, identify_mass
@@ -29,7 +30,8 @@ from .prerolling import (PrerollingFit, fit_knots, fit_weights, half_cycles, ide
 from .stribeck import StribeckFit, StribeckPoints, fit_stribeck, identify_stribeck, stribeck_points
 
 __all__ = [
-    "ComplianceFit", "fit_compliance", "identify_compliance", "rigid_residual",
+    "ComplianceFit", "RigidResidual", "fit_compliance", "identify_compliance", "rigid_parts",
+    "rigid_residual",
     "AttractionFit", "fit_attraction", "identify_attraction", "simulate_lag",
     "CurrentLoopFit", "fit_current_loop", "identify_current_loop",
     "DSTFT", "dstft",

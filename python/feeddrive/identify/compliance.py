@@ -10,8 +10,13 @@ estimator's kernel K (which commutes with H), the rigid model's residual
     y = m2 H(s) a_K  (+ dm a_K when the model's mass is off too),
 
 plus the load's free response from each run's first filtered sample (its state there, half a
-kernel into the run, is not measured: two nuisance coefficients per run), linear in (m2, dm)
-for fixed (f, zeta): a variable-projection fit, a grid over
+kernel into the run, is not measured: two nuisance coefficients per run), plus what a change
+of the run's estimated GMS start forces makes of the friction over its first samples (with
+pre-rolling on: :mod:`feeddrive.physics.gms_start` estimates them on the rigid residual,
+where the load's own response at the start is still in it, so they are free again here, one
+nuisance coefficient per element and run, their sensitivity ``GMSStart.basis``; fixed at the
+rigid estimate, the start forces take up part of the load's first oscillations and bias its
+damping), linear in (m2, dm) for fixed (f, zeta): a variable-projection fit, a grid over
 f in [20, 200] Hz (the FMU's range) and zeta in [0.01, 1] searched by the explained energy,
 the best point refined by Nelder-Mead in (log f, log zeta).  Excitation must reach f: the
 steps of a trapezoidal move's acceleration (point-to-point moves) or a PRBS do; a slow
@@ -21,7 +26,7 @@ be seen: its kernel attenuates f above about (polyorder + 1) / (3.2 window Ts).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.optimize import minimize
@@ -52,7 +57,8 @@ class ComplianceFit:
     m2: float                   #: load mass [kg]
     dm: float                   #: change of the (slide) mass fitted with it [kg] (0 if not fitted)
     explained: float            #: share of the residual energy the fit removes
-    rigid_explained: float      #: share a mass change alone removes (the f -> inf limit)
+    #: share a mass change alone removes (the f -> inf limit; with the ``nuisance`` columns)
+    rigid_explained: float
     n_used: int
 
 
@@ -74,6 +80,20 @@ def start_columns(a_runs: list[np.ndarray], Ts: list[float], f: float, zeta: flo
     return out
 
 
+def nuisance_columns(nuisance: list[np.ndarray | None], masks: list[np.ndarray]) -> np.ndarray:
+    """(N, k) per-run nuisance columns (each run's rows only, its usable samples) stacked
+    block-diagonally; a run with None adds no column."""
+    n = [int(m.sum()) for m in masks]
+    parts = [np.asarray(B, dtype=float).reshape(len(m), -1)[m] if B is not None
+             else np.zeros((int(m.sum()), 0)) for B, m in zip(nuisance, masks)]
+    out = np.zeros((sum(n), sum(p.shape[1] for p in parts)))
+    k = c = 0
+    for j, p in enumerate(parts):
+        out[k:k + n[j], c:c + p.shape[1]] = np.nan_to_num(p)
+        k, c = k + n[j], c + p.shape[1]
+    return out[:, np.any(out != 0.0, axis=0)]
+
+
 def _explained(A: np.ndarray, y: np.ndarray, stride: int) -> tuple[float, np.ndarray]:
     """Energy of y explained by the columns of A (normal equations) and the coefficients."""
     A, y = A[::stride], y[::stride]
@@ -84,9 +104,14 @@ def _explained(A: np.ndarray, y: np.ndarray, stride: int) -> tuple[float, np.nda
 
 
 def fit_compliance(a_runs: list[np.ndarray], y_runs: list[np.ndarray], Ts: list[float],
-                   fit_mass: bool = False, stride: int = SEARCH_STRIDE) -> ComplianceFit:
+                   fit_mass: bool = False, stride: int = SEARCH_STRIDE,
+                   nuisance: list[np.ndarray | None] | None = None) -> ComplianceFit:
     """f, zeta, m2 (and dm when ``fit_mass``) from per-run filtered accelerations ``a_runs``
     [m/s^2] and rigid-model residuals ``y_runs`` [N] (NaN samples are left out).
+
+    ``nuisance``: per run, (n, k) columns [N per unit] of other unknowns the residual holds
+    (the GMS start forces' ``GMSStart.full_basis``), fitted jointly with free coefficients,
+    or None.
 
     Raises ValueError when fewer than 100 samples are usable or nothing is excited.
     """
@@ -97,11 +122,12 @@ def fit_compliance(a_runs: list[np.ndarray], y_runs: list[np.ndarray], Ts: list[
         raise ValueError(f"fit_compliance: {y.size} usable samples with acceleration; need >= 100 "
                          "and a motion that accelerates")
     yy = float(y @ y)
+    B = nuisance_columns(nuisance if nuisance is not None else [None] * len(masks), masks)
 
     def design(f: float, z: float) -> np.ndarray:
         c = _columns(a_runs, Ts, f, z, masks)
         cols = [c, a] if fit_mass else [c]
-        return np.column_stack(cols + [start_columns(a_runs, Ts, f, z, masks)])
+        return np.column_stack(cols + [start_columns(a_runs, Ts, f, z, masks), B])
 
     def expl(f: float, z: float) -> float:
         return _explained(design(f, z), y, stride)[0]
@@ -120,19 +146,32 @@ def fit_compliance(a_runs: list[np.ndarray], y_runs: list[np.ndarray], Ts: list[
     if -opt.fun < expl(*grid):
         f, z = grid
     e, th = _explained(design(f, z), y, 1)
-    rigid, _ = _explained(a[:, None], y, 1)
+    rigid, _ = _explained(np.column_stack([a, B]), y, 1)
     return ComplianceFit(f=f, zeta=z, m2=float(th[0]), dm=float(th[1]) if fit_mass else 0.0,
                          explained=e / yy if yy > 0 else 0.0,
                          rigid_explained=rigid / yy if yy > 0 else 0.0, n_used=int(y.size))
 
 
-def rigid_residual(run: Run, model: HasFmuParameters, window_s: float = 0.02,
-                   polyorder: int = 3) -> tuple[np.ndarray, np.ndarray, float]:
-    """(a_K, y, Ts) of one run: the filtered measured acceleration and the residual of
-    ``model`` *without* its compliance, ``K (K_f(x) i - F_cg - F_load - offset - F_f) - m a_K``
-    (GMS friction along the measured motion with pre-rolling on, started from the element
-    forces that best explain the first samples, :func:`feeddrive.physics.started_friction`;
-    else Eq. 12 with Karnopp stiction).  The run needs a measured current ``i``."""
+@dataclass
+class RigidResidual:
+    """The rigid model's residual along one run and what it was computed with."""
+
+    a: np.ndarray               #: filtered measured acceleration [m/s^2] (NaN near the ends)
+    r: np.ndarray               #: residual of the model without its compliance [N]
+    Ts: float                   #: sample interval [s]
+    #: (n, N) the filtered friction's change per newton of each estimated GMS start force
+    #: (zeros once the start no longer acts), or None (pre-rolling off)
+    start_basis: np.ndarray | None = field(default=None)
+
+
+def rigid_parts(run: Run, model: HasFmuParameters, window_s: float = 0.02,
+                polyorder: int = 3) -> RigidResidual:
+    """The filtered measured acceleration and the residual of ``model`` *without* its
+    compliance, ``K (K_f(x) i - F_cg - F_load - offset - F_f) - m a_K`` (GMS friction along
+    the measured motion with pre-rolling on, started from the element forces that best
+    explain the first samples, :func:`feeddrive.physics.started_friction`, with their
+    sensitivity; else Eq. 12 with Karnopp stiction).  The run needs a measured current
+    ``i``."""
     label = run_label(run)
     if run.i is None:
         raise ValueError(f"{label}: identify_compliance needs a measured current column i")
@@ -146,20 +185,29 @@ def rigid_residual(run: Run, model: HasFmuParameters, window_s: float = 0.02,
     if P.prerolling:
         v_f = friction_velocity(x, Ts, w, polyorder)
         F_f = gms_force(x, v_f, Ts, P.friction)
-        _, _, r = started_friction(x, v_f, Ts, P.friction, force_residual(F_app, F_f, a, P.m, K),
-                                   K, F_f)
-        return a, r, Ts
+        _, start, r = started_friction(x, v_f, Ts, P.friction,
+                                       force_residual(F_app, F_f, a, P.m, K), K, F_f)
+        basis = start.full_basis(len(x)) if start.basis is not None else None
+        return RigidResidual(a, r, Ts, basis)
     F_f, _ = karnopp_friction(v, F_app, P.friction, DEFAULT_V_STICK)
-    return a, force_residual(F_app, F_f, a, P.m, K), Ts
+    return RigidResidual(a, force_residual(F_app, F_f, a, P.m, K), Ts)
+
+
+def rigid_residual(run: Run, model: HasFmuParameters, window_s: float = 0.02,
+                   polyorder: int = 3) -> tuple[np.ndarray, np.ndarray, float]:
+    """(a_K, y, Ts) of :func:`rigid_parts`."""
+    p = rigid_parts(run, model, window_s, polyorder)
+    return p.a, p.r, p.Ts
 
 
 def identify_compliance(runs: list[Run], model: HasFmuParameters, fit_mass: bool = False,
                         window_s: float = 0.02) -> ComplianceFit:
     """f, zeta, m2 (module docstring) from measured runs (encoder on the slide) and a model of
-    the rest of the drive (its own compliance, if any, is ignored): :func:`rigid_residual`
-    per run, then :func:`fit_compliance` over all of them."""
+    the rest of the drive (its own compliance, if any, is ignored): :func:`rigid_parts` per
+    run, then :func:`fit_compliance` over all of them, the GMS start forces refitted with
+    the load."""
     if not runs:
         raise ValueError("identify_compliance: no runs given")
-    parts = [rigid_residual(run, model, window_s) for run in runs]
-    return fit_compliance([p[0] for p in parts], [p[1] for p in parts], [p[2] for p in parts],
-                          fit_mass=fit_mass)
+    parts = [rigid_parts(run, model, window_s) for run in runs]
+    return fit_compliance([p.a for p in parts], [p.r for p in parts], [p.Ts for p in parts],
+                          fit_mass=fit_mass, nuisance=[p.start_basis for p in parts])

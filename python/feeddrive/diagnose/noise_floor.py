@@ -52,7 +52,7 @@ from ..data import Run
 from ..harness.sidecar import read_sidecar
 from ..physics import (DEFAULT_V_STICK, PlantParameters, force_residual as eq1_residual,
                        friction_velocity, gms_force, karnopp_friction, load_acceleration,
-                       measured_motion, restarted_force)
+                       measured_motion)
 from ..signals import odd_window
 from .localise import regime_masks
 from .residual import DEFAULT_POLYORDER, RunResidual, run_force_gain
@@ -234,8 +234,8 @@ def position_noise_force(q: RunResidual, P: PlantParameters, quantum: float,
     """Per-sample std [N] of the residual from the position's rounding: the motion read by a
     scale whose grid is shifted by a random fraction of ``quantum`` (the smoothed measured
     position re-rounded), the acceleration and the model's friction re-computed, the motor
-    force, the start state and the states at the stops kept; two readings differ by two
-    rounding errors, so half the variance of the change (module docstring)."""
+    force and the start state kept; two readings differ by two rounding errors, so half the
+    variance of the change (module docstring)."""
     n = len(q.x)
     if quantum <= 0 or n < 3:
         return np.zeros(n)
@@ -250,9 +250,8 @@ def position_noise_force(q: RunResidual, P: PlantParameters, quantum: float,
         x = np.round((smooth + shift) / quantum) * quantum - shift
         v, a, K = measured_motion(x, q.Ts, w, polyorder)
         if P.prerolling:
-            v_f = friction_velocity(x, q.Ts, w, polyorder)
-            F_f = (restarted_force(x, v_f, q.Ts, P.friction, q.start) if q.start is not None
-                   else gms_force(x, v_f, q.Ts, P.friction))
+            F0 = q.start.F0 if q.start is not None else None
+            F_f = gms_force(x, friction_velocity(x, q.Ts, w, polyorder), q.Ts, P.friction, F0=F0)
         else:
             F_f, _ = karnopp_friction(v, q.F_app, P.friction, DEFAULT_V_STICK, x)
         c = P.compliance

@@ -24,8 +24,7 @@ from .friction_position import FrictionProfile, profile_basis
 from .friction_gms import GMSFriction, GMSParameters, element_forces, element_rates, gms_force
 from .friction_static import DEFAULT_V_STICK, karnopp_friction
 from .params import ParameterError, PlantParameters, check_value, compile, parameter_values
-from .gms_start import (GMSStart, initial_elements, memory_wiped, restarted_force,
-                        started_friction, stops)
+from .gms_start import GMSStart, initial_elements, memory_wiped, started_friction
 from .plant import (CURRENT_TIMINGS, FRICTION_VELOCITY_S, applied_force, eq1_friction, eq1_terms,
                     force_residual, friction_velocity, held_current, measured_motion, run_load,
                     run_load_mean)
@@ -39,5 +38,5 @@ __all__ = ["Compliance", "load_acceleration", "load_filter", "load_free_response
            "check_value", "compile", "parameter_values", "CURRENT_TIMINGS", "applied_force",
            "eq1_friction", "eq1_terms", "force_residual", "held_current", "measured_motion",
            "FRICTION_VELOCITY_S", "friction_velocity", "GMSStart", "initial_elements",
-           "memory_wiped", "restarted_force", "started_friction", "stops",
+           "memory_wiped", "started_friction",
            "run_load", "run_load_mean", "MapSpec", "PositionMap", "eval_map"]

@@ -35,7 +35,6 @@ that acts after the memory is wiped is untouched by it.
 """
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -51,10 +50,6 @@ WIPE_TOL = 1e-4
 FRACTIONS = tuple(np.linspace(-1.0, 1.0, 9).tolist())
 #: Travels after a full slip the other way, as multiples of the longest element travel.
 TRAVELS = (0.0, 0.05, 0.1, 0.2, 0.35, 0.5, 0.75, 1.0, 1.5, 2.0)
-#: A stop: the friction velocity below this [m/s] ...
-STOP_SPEED = 3e-4
-#: ... for at least this long [s].  At a stop the elements' state is re-estimated.
-STOP_TIME = 0.05
 
 
 @dataclass(frozen=True)
@@ -68,9 +63,8 @@ class GMSStart:
     wiped : first sample from which the friction no longer depends on F0 (the run's length
         when some element never slips).
     n_fit : samples of the residual the estimate used.
-    basis : (L, M) the filtered friction's change per newton of each F0 over the first L
-        samples (after them it is 0), with N more columns for the element forces
-        re-estimated at each stop: what the start and the stops can absorb of any other force.
+    basis : (L, N) the filtered friction's change per newton of each F0 over the first L
+        samples (after them it is 0): what the start can absorb of any other force.
     """
 
     F0: np.ndarray
@@ -79,12 +73,11 @@ class GMSStart:
     wiped: int
     n_fit: int
     basis: np.ndarray | None = None
-    #: (sample, element forces [N]) of every stop after which the state was re-estimated
-    restarts: tuple[tuple[int, tuple[float, ...]], ...] = ()
 
     def full_basis(self, n: int) -> np.ndarray:
         """:attr:`basis` over a run of n samples (zeros where the start no longer acts)."""
-        out = np.zeros((n, len(self.F0) if self.basis is None else self.basis.shape[1]))
+        N = len(self.F0)
+        out = np.zeros((n, N))
         if self.basis is not None:
             L = min(n, len(self.basis))
             out[:L] = self.basis[:L]
@@ -95,9 +88,7 @@ class GMSStart:
         return {"element_forces_N": [float(f) for f in self.F0],
                 "friction_N": float(np.sum(self.F0)),
                 "bounds_N": [[float(lo), float(hi)] for lo, hi in zip(self.lower, self.upper)],
-                "memory_wiped_s": float(self.wiped * Ts), "samples_fitted": int(self.n_fit),
-                "stops": [{"t_s": float(k * Ts), "element_forces_N": [float(f) for f in F]}
-                          for k, F in self.restarts]}
+                "memory_wiped_s": float(self.wiped * Ts), "samples_fitted": int(self.n_fit)}
 
 
 
@@ -172,8 +163,7 @@ def _history_starts(prm: GMSParameters, lo: np.ndarray, hi: np.ndarray) -> list[
 
 
 def initial_elements(x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters,
-                     r_virgin: np.ndarray, K: np.ndarray,
-                     candidates: list[np.ndarray] | None = None) -> GMSStart:
+                     r_virgin: np.ndarray, K: np.ndarray) -> GMSStart:
     """The element forces at the first sample that best explain the residual's first samples.
 
     Parameters
@@ -184,8 +174,6 @@ def initial_elements(x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters
     r_virgin : Eq. 1's residual [N] with the friction from the virgin start (NaN where
         undefined); the residual from a start F0 is ``r_virgin - K * (F_f(F0) - F_f(0))``.
     K : the smoothing kernel the residual applies to forces.
-    candidates : further start states tried by the coarse search (e.g. the state the
-        history up to a stop leaves); the estimate is never worse than the best of them.
     """
     x = np.asarray(x, dtype=float)
     v = np.asarray(v, dtype=float)
@@ -224,8 +212,7 @@ def initial_elements(x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters
     def jac(F0: np.ndarray) -> np.ndarray:
         return -sensitivity(F0)[ok]
 
-    starts = _history_starts(prm, lo, hi) + [np.clip(np.asarray(c, dtype=float), lo, hi)
-                                             for c in (candidates or [])]
+    starts = _history_starts(prm, lo, hi)
     costs = [float(np.sum(fun(F) ** 2)) for F in starts]
     F_start = np.clip(starts[int(np.argmin(costs))], lo, hi)
     span = np.maximum(hi - lo, 1e-12)
@@ -236,33 +223,6 @@ def initial_elements(x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters
         F0 = F_start
     return GMSStart(F0, lo, hi, wiped, int(ok.sum()), basis=sensitivity(F0))
 
-
-
-def stops(v: np.ndarray, dt: float) -> list[int]:
-    """First samples of the stops of a motion: |v| below ``STOP_SPEED`` for at least
-    ``STOP_TIME`` (a run that starts at rest has its start estimated already: 0 excluded)."""
-    slow = np.concatenate(([False], np.abs(np.asarray(v, dtype=float)) < STOP_SPEED, [False]))
-    d = np.diff(slow.astype(int))
-    begin, end = np.flatnonzero(d == 1), np.flatnonzero(d == -1)
-    need = max(int(round(STOP_TIME / dt)), 1)
-    out = []
-    for b, e in zip(begin, end):
-        if e - b >= need:
-            out += ([int(b)] if b > 0 else []) + ([int(e) - 1] if e - 1 < len(v) - 1 else [])
-    return out
-
-
-def restarted_force(x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters,
-                    start: GMSStart) -> np.ndarray:
-    """The GMS friction along a motion [N] from the start state ``start.F0`` and, from each
-    of its stops, the element forces estimated there (``start.restarts``)."""
-    x = np.asarray(x, dtype=float)
-    v = np.asarray(v, dtype=float)
-    F = gms_force(x, v, dt, prm, F0=start.F0)
-    for s, F0 in start.restarts:
-        if s < len(x):
-            F[s:] = gms_force(x[s:], v[s:], dt, prm, F0=np.asarray(F0))
-    return F
 
 
 def started_friction(x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters,
@@ -276,39 +236,8 @@ def started_friction(x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters
     """
     if F_virgin is None:
         F_virgin = gms_force(x, v, dt, prm)
-    x = np.asarray(x, dtype=float)
-    v = np.asarray(v, dtype=float)
     start = initial_elements(x, v, dt, prm, r_virgin, K)
-    F, Fe = gms_force(x, v, dt, prm, F0=start.F0, return_elements=True)
-    r = r_virgin - apply_kernel(F - F_virgin, K)
-    n, N = len(x), len(prm.nu)
-    pieces = [(0, start.full_basis(n))] if start.basis is not None else []
-    restarts = []
-    for s in (stops(v, dt) if N else []):
-        # each stop is a new start: the state the history leaves there is off by what the
-        # velocity's sign changes place wrongly; the element forces are re-estimated within
-        # their bounds, the propagated state being one of the candidates
-        Fv = gms_force(x[s:], v[s:], dt, prm)
-        D = np.zeros(n)
-        D[s:] = F[s:] - Fv
-        r_s = r + apply_kernel(D, K)
-        st = initial_elements(x[s:], v[s:], dt, prm, r_s[s:], K, candidates=[Fe[s]])
-        if st.n_fit == 0:
-            continue
-        Fs, Fes = gms_force(x[s:], v[s:], dt, prm, F0=st.F0, return_elements=True)
-        D[:] = 0.0
-        D[s:] = Fs - Fv
-        r = r_s - apply_kernel(D, K)
-        F[s:], Fe[s:] = Fs, Fes
-        restarts.append((s, tuple(float(f) for f in st.F0)))
-        if st.basis is not None:
-            B = np.zeros((n, N))
-            B[s:] = st.full_basis(n - s)
-            pieces.append((s, B))
-    if pieces:
-        B = np.column_stack([b for _, b in pieces])
-        used = np.flatnonzero(np.any(B != 0.0, axis=1))
-        L = int(used[-1]) + 1 if used.size else 0
-        start = dataclasses.replace(start, basis=B[:L] if L else None,
-                                    restarts=tuple(restarts))
-    return F, start, r
+    if not np.any(start.F0 != 0.0):
+        return F_virgin, start, r_virgin
+    F = gms_force(x, v, dt, prm, F0=start.F0)
+    return F, start, r_virgin - apply_kernel(F - F_virgin, K)

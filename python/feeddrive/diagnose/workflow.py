@@ -41,7 +41,7 @@ from .localise import (displacement_since_reversal, excess_location, localise, s
                        spectral_peaks, where)
 from .noise_floor import NoiseFloor, floor_table, noise_floor
 from .residual import RunResidual, gap, residuals
-from .scoring import I_MIN, T_MIN, Score, score, separable
+from .scoring import AMBIGUITY, I_MIN, T_MIN, Score, score, separable
 from .significance import (NOISE_FACTOR, PRACTICAL_SHARE, Gate, excess, explained_force,
                            make_gate, nested_separable, passes)
 from .timeaxis import time_axis, trend_text
@@ -264,6 +264,15 @@ def rank(ctx: Context, gate: Gate, skip: set[str] = frozenset()) -> list[Score]:
                     and s.improvement >= top.improvement - PARSIMONY]
             if lean:
                 top = max(lean, key=lambda s: (-s.variant.n_params, s.improvement))
+            if not top.significant:
+                # variants held-out data cannot tell from the best (within AMBIGUITY of its
+                # improvement, no more parameters): one whose gain is consistent over the
+                # blocks shows the effect where the best's gain rests on a few blocks
+                near = [s for s in scores if s.significant
+                        and s.variant.n_params <= top.variant.n_params
+                        and s.improvement >= (1.0 - AMBIGUITY) * top.improvement]
+                if near:
+                    top = max(near, key=lambda s: s.improvement)
             best.append(top)
     by_id = {s.variant.effect: s for s in best}
     for eid, limit in NESTED.items():

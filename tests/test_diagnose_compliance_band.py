@@ -60,15 +60,22 @@ def _within(e: tuple[float, float, float]) -> bool:
     return abs(e[0]) < 0.05 and abs(e[1]) < 0.30 and abs(e[2]) < 0.20
 
 
-@pytest.mark.slow
-@pytest.mark.parametrize("case", CASES, ids=[_id(c) for c in CASES])
-def test_a_load_on_a_spring_is_named_compliance_across_the_band(case):
+def _named_compliance_first(case: tuple):
+    """The runs of ``case`` and their diagnosis, checked: ``compliance`` is the first step and
+    ``mass`` is never named."""
     f, zeta, ratio, controller, excitation = case
     runs = case_runs(loaded(f, zeta, ratio), controller, excitation)
     diag = diagnose(runs, PAPER, max_steps=2, closed_loop=False)
     steps = [(s.effect, s.decision) for s in diag.steps]
     assert steps and steps[0] == ("compliance", "missing_effect"), (steps, diag.stop)
     assert "mass" not in diag.named, steps
+    return runs, diag
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("case", CASES, ids=[_id(c) for c in CASES])
+def test_a_load_on_a_spring_is_named_compliance_across_the_band(case):
+    _, diag = _named_compliance_first(case)
     p = diag.model.parameters
     e = _errors(p["compliance.f"], p["compliance.zeta"], p["compliance.m2"], case)
     assert _within(e), e
@@ -82,12 +89,7 @@ def test_under_a_prbs_the_load_leads_and_no_mass_is_named(case):
     named first, from the diagnosis's final model within the tolerances, the verdict
     ``explained``; on held-out blocks it removes a significant share of what a mass change
     leaves (>= I_MIN, block t >= T_MIN)."""
-    f, zeta, ratio, controller, excitation = case
-    runs = case_runs(loaded(f, zeta, ratio), controller, excitation)
-    diag = diagnose(runs, PAPER, max_steps=2, closed_loop=False)
-    steps = [(s.effect, s.decision) for s in diag.steps]
-    assert steps and steps[0] == ("compliance", "missing_effect"), (steps, diag.stop)
-    assert "mass" not in diag.named, steps
+    runs, diag = _named_compliance_first(case)
     assert diag.gate.floor_N < 0.1, diag.gate.floor_N
     p = diag.model.parameters
     e = _errors(p["compliance.f"], p["compliance.zeta"], p["compliance.m2"], case)

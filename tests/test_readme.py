@@ -1,4 +1,5 @@
-"""The README documents what the FMU declares (variables table generated from the XML)."""
+"""The README and docs/ document what the FMU declares (variables table generated from the XML) and
+link only to files in the repository."""
 from __future__ import annotations
 
 import subprocess
@@ -9,7 +10,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def test_readme_variables_table_is_current():
-    p = subprocess.run([sys.executable, str(ROOT / "tools" / "vars_table.py"), "--check", str(ROOT / "README.md")],
+    p = subprocess.run([sys.executable, str(ROOT / "tools" / "vars_table.py"), "--check", str(ROOT / "docs" / "variables.md")],
                        capture_output=True, text=True)
     assert p.returncode == 0, p.stdout + p.stderr
 
@@ -17,3 +18,12 @@ def test_readme_variables_table_is_current():
 def test_readme_shows_the_two_commands():
     text = (ROOT / "README.md").read_text()
     assert "make run" in text and "make test" in text
+
+
+def test_user_docs_link_only_inside_the_repository():
+    import re
+    for f in [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]:
+        text = f.read_text()
+        assert "../shared" not in text, f
+        for target in re.findall(r"\]\(([^)#:]+)(?:#[^)]*)?\)", text):
+            assert (f.parent / target).exists(), (f, target)

@@ -230,12 +230,12 @@ def test_bench_study_rows_give_figures() -> None:
 
 
 def test_readme_example_study_runs(tmp_path: Path) -> None:
-    text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    text = (Path(__file__).resolve().parents[1] / "docs" / "studies.md").read_text()
     section = text.split("## Parameter studies", 1)[1]
     docs = [json.loads(b.split("```", 1)[0]) for b in section.split("```json")[1:]]
     doc = next(d for d in docs if d["name"] == "friction and mass, one at a time")
     doc["experiment"]["reference"]["duration"] = 0.6      # shorter here: one top reversal
-    res = run_study(parse_study(doc, "README.md", tmp_path), tmp_path / "o", parallel=False)
+    res = run_study(parse_study(doc, "docs/studies.md", tmp_path), tmp_path / "o", parallel=False)
     assert res.failed == 0 and len(res.rows) == 1 + 2 * len(doc["parameters"])
     top = [s for s in res.sensitivities if s.metric == "reversal_error_m"]
     # more Coulomb friction, more error at the reversal; a heavier stage lags more

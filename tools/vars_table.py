@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
-"""Print the Markdown tables of the FMU's variables (for the README): the FMI 2.0 one from
+"""Print the Markdown tables of the FMU's variables (for docs/variables.md): the FMI 2.0 one from
 modelDescription.xml, and the FMI 3.0 variables that differ from it (arrays of dimension
 friction.N, the structural parameter, time, eventIndicators), from the FMI 3.0 description
 fmu_src/gen_fmi3.py derives from the same file.
 
-Usage: vars_table.py [modelDescription.xml]   — or --check README.md to verify both are current,
-       --update README.md to rewrite them.
+Usage: vars_table.py [modelDescription.xml]   — or --check docs/variables.md to verify both are current,
+       --update docs/variables.md to rewrite them.
 """
 from __future__ import annotations
 
@@ -74,7 +74,7 @@ def main() -> int:
     if len(sys.argv) == 3 and sys.argv[1] == "--check":
         text = Path(sys.argv[2]).read_text()
         if not all(_current(text, k, b) for k, b in bodies.items()):
-            print(f"{sys.argv[2]}: the variables table is not current; run tools/vars_table.py --update README.md")
+            print(f"{sys.argv[2]}: the variables table is not current; run tools/vars_table.py --update docs/variables.md")
             return 1
         return 0
     if len(sys.argv) == 3 and sys.argv[1] == "--update":

@@ -1,7 +1,7 @@
 """Files of a diagnosis: diagnosis.json, model.json (the confirmed effects), model_all_fits.json
 (every fit) and one model file per step.
 
-Schema of diagnosis.json: see the README, section "Discrepancy diagnosis".  The HTML report
+Schema of diagnosis.json: see docs/diagnosis.md.  The HTML report
 with the plots is made by :func:`feeddrive.report.diagnosis.write_diagnosis`.
 """
 from __future__ import annotations
@@ -33,7 +33,7 @@ def _clean(obj: Any) -> Any:
 
 
 def diagnosis_json(diag: Diagnosis) -> dict:
-    """The JSON document of a diagnosis (README, "Discrepancy diagnosis")."""
+    """The JSON document of a diagnosis (docs/diagnosis.md)."""
     return _clean(diag.to_json())
 
 

@@ -326,6 +326,22 @@ static void call_step(slot_t *s) {
     if (status == 0) { s->time = t + h; n_steps_ok++; }
 }
 
+/* one life-cycle call without arguments beyond the instance, on the slot's FMI version */
+#ifdef CTRL_FMI3
+#define LIFE(fn) fmi3##fn, api.fn
+static int life_call(const slot_t *s, const char *name, fmi3Status (*f3)(fmi3Instance),
+                     fmi2Status (*f2)(fmi2Component)) {
+    cur_fn = name;
+    return s->v3 ? (int)f3(s->c) : (int)f2(s->c);
+}
+#else
+#define LIFE(fn) api.fn
+static int life_call(const slot_t *s, const char *name, fmi2Status (*f2)(fmi2Component)) {
+    cur_fn = name;
+    return (int)f2(s->c);
+}
+#endif
+
 /* the next call of the life cycle with valid arguments: runs get deep */
 static void call_progress(slot_t *s) {
     int status;
@@ -345,33 +361,18 @@ static void call_progress(slot_t *s) {
         if (status == 0) { s->st = S_INIT; s->time = 0.0; }
         return;
     case S_INIT:
-        cur_fn = "ExitInitializationMode";
-#ifdef CTRL_FMI3
-        if (s->v3) status = fmi3ExitInitializationMode(s->c);
-        else
-#endif
-            status = api.ExitInitializationMode(s->c);
+        status = life_call(s, "ExitInitializationMode", LIFE(ExitInitializationMode));
         judge(s, status, 0);
         if (status == 0) s->st = S_STEP;
         return;
     case S_STEP:
         if (chance(0.9)) { call_step(s); return; }
-        cur_fn = "Terminate";
-#ifdef CTRL_FMI3
-        if (s->v3) status = fmi3Terminate(s->c);
-        else
-#endif
-            status = api.Terminate(s->c);
+        status = life_call(s, "Terminate", LIFE(Terminate));
         judge(s, status, 0);
         if (status == 0) s->st = S_TERM;
         return;
     default:
-        cur_fn = "Reset";
-#ifdef CTRL_FMI3
-        if (s->v3) status = fmi3Reset(s->c);
-        else
-#endif
-            status = api.Reset(s->c);
+        status = life_call(s, "Reset", LIFE(Reset));
         judge(s, status, 0);
         if (status == 0) { s->st = S_INST; s->time = 0.0; s->Ts = 5e-4; }
     }

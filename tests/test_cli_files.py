@@ -17,7 +17,7 @@ import pytest
 
 from diagnosis_runs import simulate_run, sinusoid_reference
 from feeddrive import cli
-from feeddrive import data as data_mod
+from feeddrive import data_csv
 from feeddrive.data import DataError, load_run, write_run
 from feeddrive.harness.controller_fmu import CONTROLLER_FMU_ENV, controller_fmu_path
 from feeddrive.model_description import FMU_ENV
@@ -471,7 +471,7 @@ def test_line_ends_across_read_blocks(tmp_path, monkeypatch, ending):
     p.write_bytes(text.encode())
     want = load_run(p)
     for size in (7, 8, 13, 64):
-        monkeypatch.setattr(data_mod, "_CHUNK_CHARS", size)
+        monkeypatch.setattr(data_csv, "_CHUNK_CHARS", size)
         got = load_run(p)
         assert np.array_equal(got.time, want.time) and np.array_equal(got.u, want.u)
     assert want.n == 300

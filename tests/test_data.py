@@ -240,9 +240,9 @@ def test_emps_loads_fast_without_current():
 def test_broken_files_same_message_across_chunk_boundaries(tmp_path, monkeypatch, chunk):
     # the loader reads in chunks (numpy's parser, else the csv module): tiny chunks put
     # every line on a boundary; the verdicts and lines must not change
-    import feeddrive.data as data
-    monkeypatch.setattr(data, "_CHUNK_CHARS", 8 * chunk)
-    monkeypatch.setattr(data, "_CHUNK_ROWS", chunk)
+    import feeddrive.data_csv as data_csv
+    monkeypatch.setattr(data_csv, "_CHUNK_CHARS", 8 * chunk)
+    monkeypatch.setattr(data_csv, "_CHUNK_ROWS", chunk)
     for name, text, line, column, word in BROKEN:
         path = _write(tmp_path, text, f"{name}.csv")
         with pytest.raises(DataError) as err:

@@ -288,7 +288,7 @@ def _cmd_sweep(a: argparse.Namespace) -> int:
 
 
 def _diagnose_arguments(p: argparse.ArgumentParser) -> None:
-    _path(p, RUN, "runs", nargs="+", type=Path, help="measured runs (DATA.md CSV files)")
+    _path(p, RUN, "runs", nargs="+", type=Path, help="measured runs (CSV recordings, docs/data-format.md)")
     _path(p, FILE, "--model", required=True, type=Path, help="starting model file (JSON)")
     _path(p, OUT_DIR, "--out", required=True, type=Path, help="output directory")
     p.add_argument("--max-steps", type=_STEPS, default=4, help="at most this many effects (>= 1)")

@@ -81,7 +81,7 @@ def check_units(run: Run, stroke: tuple[float, float] = STROKE) -> None:
                            ("mm", "um", "nm"))
         raise DataError(path, k + 2, "x", f"position {x[k]:g} m is far outside the model's stroke "
                         f"{lo:g} .. {hi:g} m (allowed {x_lo:g} .. {x_hi:g} m): positions in {unit}? "
-                        "DATA.md wants metres")
+                        "the recording format (docs/data-format.md) wants metres")
     n = _window(run)
     dt = run.time[n:] - run.time[:-n]
     v = (x[n:] - x[:-n]) / dt
@@ -90,7 +90,7 @@ def check_units(run: Run, stroke: tuple[float, float] = STROKE) -> None:
         unit = _unit_guess(v[k], V_MAX, ("mm", "um", "nm"))
         raise DataError(path, k + 2, "x", f"speed {abs(v[k]):.4g} m/s between lines {k + 2} and "
                         f"{k + n + 2} is beyond {V_MAX:g} m/s (no feed drive moves that fast): "
-                        f"positions in {unit}? DATA.md wants metres")
+                        f"positions in {unit}? the recording format (docs/data-format.md) wants metres")
     if run.n > 2 * n:
         t = np.asarray(run.time, dtype=float)
         h1, h2 = t[n:-n] - t[:-2 * n], t[2 * n:] - t[n:-n]
@@ -100,7 +100,7 @@ def check_units(run: Run, stroke: tuple[float, float] = STROKE) -> None:
             unit = _unit_guess(a[k], A_MAX, ("mm", "um", "nm"))
             raise DataError(path, k + n + 2, "x", f"acceleration {abs(a[k]):.4g} m/s^2 around line "
                             f"{k + n + 2} is beyond {A_MAX:g} m/s^2 (no feed drive accelerates "
-                            f"that hard): positions in {unit}? DATA.md wants metres")
+                            f"that hard): positions in {unit}? the recording format (docs/data-format.md) wants metres")
     for name, limit, units, si in (("i", I_MAX, ("mA", "uA"), "amperes"),
                                    ("u", U_MAX, ("mV", "uV"), "volts")):
         arr = getattr(run, name)
@@ -112,4 +112,4 @@ def check_units(run: Run, stroke: tuple[float, float] = STROKE) -> None:
             what = "current" if name == "i" else "amplifier reference"
             raise DataError(path, k + 2, name, f"{what} {arr[k]:g} is beyond +-{limit:g} "
                             f"{'A' if name == 'i' else 'V'} (no feed-drive amplifier gives that): "
-                            f"{name} in {unit}? DATA.md wants {si}")
+                            f"{name} in {unit}? the recording format (docs/data-format.md) wants {si}")

@@ -64,7 +64,7 @@ def _main_job(out_dir: Path, final_dir: Path, print_tables: bool, runs_dir: Path
     page.heading("Sec. 3: simulation against measurement (30 mm, 6 s sinusoid)")
     page.text("The 'measurement' is the full model with sensor effects (100 nm position quantisation, "
               "5 mA rms current noise acting on the stage, seed 3), written as sec3_measured.csv "
-              "(DATA.md format, sidecar JSON with the controller).")
+              "(the recording format of docs/data-format.md, sidecar JSON with the controller).")
     page.table(r3.rows, "top-reversal peak and rms of x_sim - x_meas [um]")
     page.figure(figs.fig14(r3), "fig14_top_reversal", "Analogue of Fig. 14: top reversal, measured vs simulated")
     page.figure(figs.sim_minus_measured(r3), "sec3_error", "x_sim - x_meas over the run")

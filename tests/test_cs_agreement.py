@@ -2,7 +2,7 @@
 paper's Sec. 3 closed-loop sinusoid (30 mm amplitude, 6 s period, centre 150 mm), and the
 co-simulation's independence of the communication step.
 
-Tolerances: 0.1 µm in position and 0.05 N in friction force (the issue's figures; 0.1 µm is a
+Tolerances: 0.1 µm in position and 0.05 N in friction force (0.1 µm is a
 tenth of the 1 µm reversal-error differences the paper's ablations resolve, 0.05 N is 0.2 % of
 F_s).
 

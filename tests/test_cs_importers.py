@@ -7,7 +7,7 @@ the same input (CS; ME with CVode at 1e-9).
 Tolerances:
 * FMI4j CS against fmpy CS: the same binary doing the same fmi2DoStep calls; only the inputs
   differ, by the last bit of sin() (Java vs numpy): 1e-12 m, 1e-8 N.
-* Any ME run against any other run: the issue's 0.1 µm in position and 0.05 N in friction force
+* Any ME run against any other run: 0.1 µm in position and 0.05 N in friction force
   (measured: FMI4j ME vs fmpy CS 0.009 µm / 0.002 N, vs fmpy ME 0.04 µm / 0.004 N — CVode's
   1e-9 tolerance is the larger error).
 

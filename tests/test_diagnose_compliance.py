@@ -4,12 +4,12 @@
 Data: the FMU with ``compliance`` on, the harness's PID, the 6 s sinusoid and the
 back-and-forth moves at 3, 10, 30 mm/s of tests/diagnosis_runs.py (their 2 m/s^2
 acceleration steps ring the load; the sinusoid does not), 100 nm scale, 5 mA current noise.
-The diagnosing model is the paper's (no load).  Before this effect existed the load was
+The diagnosing model is the paper's (no load).  Without the compliance candidate the load is
 absorbed as mass (18.3 kg).  Asserted:
 
 - the first step names ``compliance`` as a missing effect, alone (the mass candidate is a
   rigid load and is separated from it on held-out blocks), with f within 5 % and zeta within
-  a factor 2 (the issue's figures) and m2 within 10 % (2 kg of a 16 kg drive: the rigid
+  a factor 2 and m2 within 10 % (2 kg of a 16 kg drive: the rigid
   part alone fixes it to a few %); ``mass`` is named at no step and m stays 16.1 kg;
 - the force gap shrinks by >= 70 % and the verdict is ``explained``;
 - the identification alone (feeddrive.identify.compliance) on the back-and-forth run;

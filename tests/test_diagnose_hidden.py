@@ -204,7 +204,7 @@ def test_missing_aperiodic_ripple_is_named():
 
 
 #: +30 % friction over 40 mm of stroke (full width at half height) at x = 0.155 m
-#: (effect position_friction, 10 mm knots): the issue's friction patch
+#: (effect position_friction, 10 mm knots): the friction patch
 PATCH_PROFILE = FrictionProfile(0.11, 0.19, (0.0, 0.0, 0.0, 0.3, 0.3, 0.3, 0.3, 0.0, 0.0))
 
 
@@ -228,7 +228,7 @@ def _patch_runs(controller: str) -> list:
 @pytest.mark.slow
 @pytest.mark.parametrize("controller", ["pid", "state_space"])
 def test_friction_patch_is_named_position_friction(controller):
-    # the case that used to end as an unexplained residual (2.6 N, ~20 x the floor)
+    # without the position_friction candidate this ends as an unexplained residual (2.6 N, ~20 x the floor)
     runs = _patch_runs(controller)
     diag = diagnose(runs, PAPER, max_steps=1, closed_loop=False)
     s = check_first(diag, "position_friction", shrink=0.85)

@@ -116,7 +116,7 @@ def test_friction_level_slightly_off_is_not_named():
     # tests can see it on long runs; it is below 0.5 % of F_c, so nothing is named
     diag = diagnose(list(_three_excitations("nu0997")), PAPER, closed_loop=False)
     _nothing_named(diag)
-    # the held-out test alone would name something here (the failure): the gate did it
+    # the held-out test alone would name something here (a false naming): the gate prevents it
     assert any(row["significant"] for row in diag.stop["ranking"]), diag.stop["ranking"]
 
 

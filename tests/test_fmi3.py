@@ -3,7 +3,7 @@ variable list, the same trajectories, Configuration Mode for friction.N, early r
 mode at friction switches on the 6 s closed loop, FMU state serialisation, the exported
 functions.
 
-Agreement between the versions is asserted to 1e-12 m (the issue's figure): co-simulation runs
+Agreement between the versions is asserted to 1e-12 m: co-simulation runs
 the same fmi2DoStep step (fmu_cs_do_step) and model exchange the same right-hand side, so
 the only difference left is the integrator's: fmpy's CVode sees 2 + N states in FMI 3.0 and
 12 in FMI 2.0 (the unused element slots), and its error norm (a root-mean-square over the

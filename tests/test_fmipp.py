@@ -15,7 +15,7 @@ tools/patch_fmipp.py), co-simulation and model exchange, on the importer scenari
   t_k+1, so the current is the end-of-step value.
 
 The runs are made by tests/fmipp_run.py in their own process, ME first.  fmipp's loader aborts
-with the issue's "No such node (Real.<xmlattr>.derivative)" (the XML comments were not its
+with "No such node (Real.<xmlattr>.derivative)" (the XML comments were not its
 only cause): always for an ME instance after a CS one of the same model in one process (it
 keeps the first parse), and in ~8 % of fresh loads, from a read past the end of its own
 derivative-index array (:data:`ABORT`); the fixture then tries again in a fresh process.  Skipped when ``make

@@ -1,5 +1,5 @@
 """Identification round trips on the FMU: runs generated at known parameters, identified,
-compared (tolerances of the identification issue, see ``feeddrive.identify.truth_table``).
+compared (tolerances of ``feeddrive.identify.truth_table``).
 
 The truth is the paper's model with every identified group moved off the paper's values
 (so a step that silently kept a default would fail).  The runs are virtual measurements:

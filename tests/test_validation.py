@@ -24,7 +24,7 @@ def _sec4(rows):
 
 
 def test_sec4_no_feedforward_reversal_error_is_of_the_papers_order(job):
-    # paper: 27 um; the band for a reproduction: 15..45 um
+    # paper: 27 um; the band accepted for a reproduction: 15..45 um
     r = _sec4(job[1])["no feedforward"]
     assert 15.0 <= r["reversal_peak_um"] <= 45.0
 

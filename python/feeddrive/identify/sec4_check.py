@@ -2,7 +2,7 @@
 controller and feedforward designed on the identified model, simulated once with the
 identified model as plant (the prediction) and once with the true model (the machine).
 
-The issue's criterion: the tracking-error peak at every reversal of the reference agrees
+The criterion: the tracking-error peak at every reversal of the reference agrees
 within :data:`REVERSAL_TOL` (2 um) in each of the three cases (no feedforward, static
 friction feedforward, GMS feedforward).
 """

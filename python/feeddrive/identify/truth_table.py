@@ -1,6 +1,6 @@
 """True versus identified parameters: the round-trip table of an identification.
 
-Each row compares one quantity with the tolerance the identification issue sets:
+Each row compares one quantity with the tolerance an identification must meet:
 G(z) coefficients 2 %; K_f(x) and F_cg(x) rms error over the stroke below 2 % of the true
 curve's range; F_s, F_c 3 %; V_s, delta 15 %; sigma2 10 %; m 1 %; C within
 :func:`c_factor`; the pre-rolling force along the periodic runs (identified versus true
@@ -50,7 +50,7 @@ class IdentifiedFits(Protocol):
     prerolling: Any
 
 
-#: Relative tolerances of the issue (fraction).
+#: Relative tolerances of the round trip (fraction).
 REL_TOL: dict[str, float] = {
     "current": 0.02, "friction.F_s": 0.03, "friction.F_c": 0.03, "friction.V_s": 0.15,
     "friction.delta": 0.15, "friction.sigma2": 0.10, "m": 0.01,

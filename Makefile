@@ -8,6 +8,7 @@
 #   make test         set-up, FMU, the importers, every test
 #   make importers    the importers the tests run besides fmpy, from registries only (below)
 #   make bench        benchmark table (build/bench.md)
+#   make docs         the documentation site (MkDocs, mkdocs.yml) into build/docs/, warnings as errors
 #   make wheel        build/feeddrive-*.whl carrying the FMU
 MODEL      := LinearMotorFeedDrive
 PYTHON     ?= python3
@@ -73,7 +74,7 @@ FMIPP_SRC       := $(BUILD)/importers/fmipp-src
 FMIPP_STAMP     := $(VENV)/.fmipp-installed
 FMIPP_APT       := swig libboost-filesystem-dev libboost-system-dev
 
-.PHONY: all fmu run test bench wheel clean venv fuzz-tools importers
+.PHONY: all fmu run test bench wheel clean venv fuzz-tools importers docs
 all: fmu
 fmu: $(FMU) $(PKG_FMU) $(CTRL_FMU) $(PKG_CTRL_FMU) $(FMU3) $(PKG_FMU3) $(CTRL3_FMU) $(PKG_CTRL3_FMU)
 venv: $(STAMP)
@@ -81,7 +82,7 @@ venv: $(STAMP)
 $(STAMP): python/pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install -q --upgrade pip
-	$(PY) -m pip install -q -e 'python[test]'
+	$(PY) -m pip install -q -e 'python[test,docs]'
 	touch $@
 
 $(BUILD)/fmi_include: $(STAMP)
@@ -231,6 +232,13 @@ bench: fmu
 	$(PY) -m feeddrive.bench --out $(BUILD)/bench.md --bench-cs $(TESTS_C)/bench_cs \
 	    --cycles $(TESTS_C)/cycles --library $(SO) --two-fmus $(TESTS_C)/two_fmus \
 	    --controller-library $(CTRL_SO)
+
+# the site: docs/*.md, the API pages from the docstrings (mkdocstrings), CHANGELOG.md and LICENSE
+# included; --strict turns every warning (a broken link or anchor, an unreadable docstring) into
+# an error. tests/test_docs.py builds it too and runs its code examples.
+docs: $(STAMP)
+	NO_MKDOCS_2_WARNING=1 $(PY) -m mkdocs build --strict --site-dir $(BUILD)/docs
+	@echo "the site: $(BUILD)/docs/index.html"
 
 wheel: $(PKG_FMU) $(PKG_CTRL_FMU) $(PKG_FMU3) $(PKG_CTRL3_FMU)
 	rm -rf $(BUILD)/feeddrive-*.whl python/build

@@ -95,9 +95,12 @@ def campaign(params: Mapping[str, Any], sensors: Sensors, quick: bool = False,
     params : FMU parameters; sensors : noise model and campaign seed; quick : short runs.
     repeats : runs of every job, with independent noise (1 .. :data:`MAX_REPEATS`).
 
-    Returns runs by group (:data:`GROUPS`); each run's ``meta['name']`` is its file stem
-    (suffixed ``_r1`` ... when ``repeats > 1``, and ``meta['repeat']`` the repeat's number).
-    A progress bar over the runs is shown unless ``quick``.
+    Returns
+    -------
+    dict
+        Runs by group (:data:`GROUPS`); each run's ``meta['name']`` is its file stem,
+        suffixed ``_r1`` ... when ``repeats > 1``, and ``meta['repeat']`` the repeat's number.
+        A progress bar over the runs is shown unless ``quick``.
     """
     _check_repeats(repeats)
     out: dict[str, list[Run]] = {g: [] for g in GROUPS}
@@ -140,7 +143,10 @@ def write_campaign(out_dir: Path, model: Path | ModelFile | Mapping[str, Any] | 
     seed : campaign seed (sensor noise); quick : short runs (tests).
     repeats : runs of every experiment with independent noise (for ``identify --bootstrap``).
 
-    Returns the CSV paths written, in campaign order.
+    Returns
+    -------
+    list of Path
+        The CSV paths written, in campaign order.
     """
     params = _parameters(model)
     _check_repeats(repeats)

@@ -262,8 +262,11 @@ def simulate_closed_loop(plant: Plant, controller: Controller, n: int, x0: float
     quantum : linear-scale resolution [m] (100 nm default; 0 for none).
     F_ext : external force per sample (or constant) [N].
 
-    Returns time, u, x_meas and the recorded FMU variables at t_k, k = 0..n, and the wall
-    time and event counts in entries ``wall``, ``state_events``, ``stats.*``.
+    Returns
+    -------
+    dict
+        time, u, x_meas and the recorded FMU variables at t_k, k = 0..n, and the wall
+        time and event counts in entries ``wall``, ``state_events``, ``stats.*``.
     """
     F_ext = np.broadcast_to(np.asarray(F_ext, dtype=float), (n + 1,))
     wall0 = _time.perf_counter()

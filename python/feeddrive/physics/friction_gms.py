@@ -246,7 +246,7 @@ def _run_element(F: float, stuck: bool, k: float, nu: float, dxs: list[float],
 def gms_force(x: ArrayLike, v: ArrayLike, dt: float, params: GMSParameters | Mapping[str, float],
               F0: ArrayLike | None = None, return_elements: bool = False
               ) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
-    """GMS friction force F_f[k] [N] along a motion sampled every ``dt``.
+    """GMS friction force F_f[k] in N along a motion sampled every ``dt``.
 
     Parameters
     ----------

@@ -1,4 +1,4 @@
-/* Generalized Maxwell-Slip friction (Eqs. 8-11), MODEL.md's statement:
+/* Generalized Maxwell-Slip friction (Eqs. 8-11), as docs/model.md states it:
  *   stuck:   dF_i/dt = k_i v            until sgn(F_i) = sgn(v) and |F_i| >= nu_i S(|v|)
  *   slipping dF_i/dt = (C/S)(nu_i s(v) - F_i)   until v crosses zero (then every slipping element sticks)
  * Switching is hybrid: discrete stuck/slip flags changed only in event updates.

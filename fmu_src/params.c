@@ -220,7 +220,7 @@ static bool compile_friction_levels(const double *val, plant_params_t *p, char *
     if (val[VR_friction_F_c] > val[VR_friction_F_s])
         FAIL("friction.F_c = %.17g exceeds friction.F_s = %.17g: allowed friction.F_c in [0, friction.F_s] N",
              val[VR_friction_F_c], val[VR_friction_F_s]);
-    /* without the Stribeck drop the level is the Coulomb one everywhere (EFFECTS.md: F_s = F_c) */
+    /* without the Stribeck drop the level is the Coulomb one everywhere (the effect catalogue: F_s = F_c) */
     p->Fs[0] = e_str ? val[VR_friction_F_s] : val[VR_friction_F_c];
     p->Fc[0] = val[VR_friction_F_c];
     p->sigma2[0] = e_visc ? val[VR_friction_sigma2] : 0.0;

@@ -1,4 +1,4 @@
-/* The plant of MODEL.md (paper Eqs. 1-12): data and pure functions of state and parameters.
+/* The plant of docs/model.md (paper Eqs. 1-12): data and pure functions of state and parameters.
  * Knows nothing of FMI and nothing of any solver. All quantities SI. */
 #ifndef PLANT_H
 #define PLANT_H

@@ -1,5 +1,7 @@
 """The product speaks of itself: no sentence of the code, comments, docs or examples refers to
-the history of the work that made it (a tracker's issue or item, a planning card)."""
+the history of the work that made it (a tracker's issue or item, a planning card), and what a
+user reads (the package, the FMU sources, docs, examples, tools) names no file outside the
+repository."""
 from __future__ import annotations
 
 import re
@@ -45,3 +47,21 @@ def test_the_pattern_finds_what_it_is_for():
         assert PHRASES.search(s), s
     for s in ["an issue of precision", "each item of the list", "the issue of scale"]:
         assert not PHRASES.search(s), s
+
+
+#: notes that live outside the repository (the project's working notes beside the checkout)
+OUTSIDE = re.compile(r"\b(?:MODEL|DATA|EFFECTS|ARCHITECTURE)\.md\b|\.\./shared\b")
+USER_READ = ("python/", "fmu_src/", "docs/", "examples/", "tools/", "README.md", "CHANGELOG.md",
+             "modelDescription.xml", "mkdocs.yml")
+
+
+def test_what_a_user_reads_names_no_file_outside_the_repository():
+    hits = []
+    for f in _product_files():
+        rel = f.relative_to(ROOT).as_posix()
+        if not rel.startswith(USER_READ):
+            continue
+        for n, line in enumerate(f.read_text(encoding="utf-8", errors="replace").splitlines(), 1):
+            if OUTSIDE.search(line):
+                hits.append(f"{rel}:{n}: {line.strip()[:100]}")
+    assert not hits, "\n".join(hits)

@@ -189,7 +189,7 @@ _MEASURE = ("import resource, subprocess, sys; out = subprocess.run([sys.executa
 
 
 def load_rows(rows: int = 2_500_000) -> list[tuple[str, str, str]]:
-    """Loading a ~200 MB DATA.md run (``rows`` rows of the six columns, written by
+    """Loading a ~200 MB recording (``rows`` rows of the six columns, written by
     :func:`feeddrive.data.write_run` into a temporary folder): MB/s and the peak resident
     memory of the process that loads it (``ru_maxrss`` of RUSAGE_CHILDREN)."""
     rng = np.random.default_rng(0)

@@ -1,11 +1,11 @@
-"""Measured-data runs: the loader and writer of ``shared/DATA.md``.
+"""Measured-data runs: the loader and writer of the recording format (``docs/data-format.md``).
 
 A run is one CSV file with a header row (columns ``time, u, i, x, x_ref, F_load`` in SI,
 ``time``, ``u``, ``x`` required; any other column is kept as it is) plus an optional JSON
 sidecar with the same stem (``run.csv`` + ``run.json``) that says how the experiment was run
 (the runs our commands write use one schema for it: :mod:`feeddrive.harness.sidecar`).
 
-The loader is strict: every rule of DATA.md that a file breaks raises :class:`DataError`
+The loader is strict: every rule of the recording format that a file breaks raises :class:`DataError`
 naming the file, the 1-based line (the header is line 1) and the column.  Rows are never
 dropped or reordered.  A run and its sidecar must be regular files (a FIFO or a device is
 refused before it is read); the header row must end within :data:`MAX_HEADER_BYTES`; a number
@@ -72,7 +72,7 @@ class Run:
         self.extra = {str(k): np.asarray(v) for k, v in self.extra.items()}
         for k, v in self.extra.items():
             if k in KNOWN_COLUMNS:
-                raise ValueError(f"Run: extra column {k!r} clashes with a DATA.md column")
+                raise ValueError(f"Run: extra column {k!r} clashes with a column of the recording format")
             if v.ndim != 1:
                 raise ValueError(f"Run: extra column {k!r} must be 1-D, got shape {v.shape}")
         n = len(self.time)
@@ -83,7 +83,7 @@ class Run:
             self.path = Path(self.path)
 
     def columns(self) -> dict[str, np.ndarray]:
-        """Every present column, DATA.md columns first (in DATA.md order), then ``extra``."""
+        """Every present column, the format's columns first (in the format's order), then ``extra``."""
         cols = {c: getattr(self, c) for c in KNOWN_COLUMNS if getattr(self, c) is not None}
         cols.update(self.extra)
         return cols
@@ -148,7 +148,7 @@ def _load_sidecar(csv_path: Path) -> dict:
 
 
 def load_run(path: str | Path) -> Run:
-    """Read one DATA.md run (CSV plus its optional JSON sidecar).
+    """Read one recording (CSV plus its optional JSON sidecar).
 
     Parameters
     ----------
@@ -164,7 +164,7 @@ def load_run(path: str | Path) -> Run:
     Raises
     ------
     DataError
-        For every broken rule of DATA.md (missing required column, duplicate column name,
+        For every broken rule of the recording format (missing required column, duplicate column name,
         row with the wrong number of fields, non-numeric or non-finite value in a known
         column, time not strictly increasing, fewer than 2 rows, invalid sidecar JSON),
         naming the file, line and column.
@@ -209,12 +209,12 @@ def check_sampling(run: Run) -> float:
 
 #: fewest rows a command works with (a few Savitzky-Golay windows of the acceleration)
 MIN_ROWS = 64
-#: largest magnitude of a value in a DATA.md column: its square stays finite
+#: largest magnitude of a value in a column of the recording format: its square stays finite
 MAX_ABS = 1e100
 
 
 def check_plausible(run: Run) -> float:
-    """:func:`check_sampling` plus: at least :data:`MIN_ROWS` rows, every value of a DATA.md
+    """:func:`check_sampling` plus: at least :data:`MIN_ROWS` rows, every value of a recording-format
     column within +-:data:`MAX_ABS`, and ``x`` or ``u`` not constant (a run that carries
     nothing).  Returns the median sample step [s]; raises :class:`DataError` naming the
     file, the line and the column."""
@@ -262,9 +262,9 @@ def _cell(v: Any) -> str:
 
 
 def write_run(run: Run, path: str | Path) -> None:
-    """Write ``run`` as a DATA.md CSV, plus ``<stem>.json`` when ``run.meta`` is not empty.
+    """Write ``run`` as a recording CSV, plus ``<stem>.json`` when ``run.meta`` is not empty.
 
-    DATA.md columns come first in DATA.md order, then ``run.extra`` in its order.  Floats are
+    The format's columns come first in the format's order, then ``run.extra`` in its order.  Floats are
     written with ``repr`` so that :func:`load_run` gives back the same float64 bits.  A run
     the loader would reject (non-finite values, time not strictly increasing, < 2 rows)
     raises :class:`DataError` (line numbers are those the file would have) and nothing is

@@ -1,4 +1,4 @@
-"""The CSV text of a DATA.md run: bounded reading, strict number syntax, header and value checks.
+"""The CSV text of a recording: bounded reading, strict number syntax, header and value checks.
 
 :func:`read_columns` reads a run CSV into float64 columns (and the other columns as float or
 str) with memory bounded in chunks: a fast path through numpy's C parser for plain numeric
@@ -21,14 +21,14 @@ import numpy as np
 
 from .inputs import InputFileError, open_input
 
-#: Every column DATA.md defines, in the order the writer puts them.
+#: Every column the recording format defines, in the order the writer puts them.
 KNOWN_COLUMNS: tuple[str, ...] = ("time", "u", "i", "x", "x_ref", "F_load")
 #: Columns a run must have.
 REQUIRED_COLUMNS: tuple[str, ...] = ("time", "u", "x")
 
 
 class DataError(ValueError):
-    """A run file (or its JSON sidecar) that breaks DATA.md.
+    """A run file (or its JSON sidecar) that breaks the recording format.
 
     Attributes ``path``, ``line`` (1-based, header = 1; ``None`` when no line applies) and
     ``column`` (``None`` for a sidecar) locate the problem; the message says all three.
@@ -89,7 +89,7 @@ def _open(path: Path):
 
 
 #: the header row must end within this many bytes (a few KiB of column names; a file without
-#: a line end there is no DATA.md CSV, and is not read further for the message)
+#: a line end there is no recording CSV, and is not read further for the message)
 MAX_HEADER_BYTES = 1 << 16
 
 #: a number: plain ASCII decimal with an optional exponent, or the words nan/inf (refused
@@ -114,7 +114,7 @@ def _check_header_bytes(path: Path) -> None:
     end = min((k for k in (head.find(b"\n"), head.find(b"\r")) if k >= 0), default=-1)
     if end < 0 and len(head) == MAX_HEADER_BYTES:
         raise DataError(path, 1, None, f"no line end in the first {MAX_HEADER_BYTES} bytes: the "
-                        "header row of a DATA.md CSV is one short line of column names (starts "
+                        "header row of a recording CSV is one short line of column names (starts "
                         f"{_short(head[:40].decode('utf-8', 'replace'), 40)!r})")
     if b"\0" in (head if end < 0 else head[:end]):
         raise DataError(path, 1, None, "NUL byte in the header row: not a text CSV")
@@ -147,7 +147,7 @@ MAX_LINE_CHARS = 1 << 22
 
 def _too_long(path: Path, line: int) -> DataError:
     return DataError(path, line, None, f"line longer than {MAX_LINE_CHARS} characters: not a "
-                     "DATA.md row (not read further)")
+                     "recording row (not read further)")
 
 
 def _line_chunks(f, path: Path) -> Iterator[list[str]]:
@@ -344,7 +344,7 @@ def _check_values(path: Path, cols: dict[str, np.ndarray], lines: list[int] | No
 
 def read_columns(path: Path) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray],
                                       list[int] | None]:
-    """The run CSV at ``path`` as (DATA.md columns, other columns, each row's line or None
+    """The run CSV at ``path`` as (the format's columns, other columns, each row's line or None
     when row k is line k + 2); the values are not checked yet (:func:`_check_values`).
 
     Raises :class:`DataError` for a broken rule of the CSV text (header, fields, numbers,

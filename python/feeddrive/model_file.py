@@ -1,4 +1,4 @@
-"""JSON model files: which effects of EFFECTS.md are on, and every FMU parameter in SI.
+"""JSON model files: which effects of the catalogue (docs/effects.md) are on, and every FMU parameter in SI.
 
 Format::
 
@@ -8,7 +8,7 @@ Format::
 
 Rules (checked by :func:`load_model`, every error names the file and the key):
 
-- ``effects`` must list every id of EFFECTS.md (``feeddrive.paper.EFFECT_IDS``) as a JSON
+- ``effects`` must list every id of the effect catalogue (``feeddrive.paper.EFFECT_IDS``) as a JSON
   boolean, and nothing else; ``mass`` must be true (the mass is always in the model).
 - ``parameters`` keys are FMU parameter names (those of ``paper_parameters()``); an unknown
   name is an error.  **Parameters left out are filled from the paper's defaults**
@@ -83,7 +83,7 @@ def _check_effects(raw: Any, src: str) -> dict[str, bool]:
     if missing:
         raise ModelFileError(src, f"effects[{missing[0]!r}]",
                              f"missing effect id(s) {', '.join(missing)}: every id of "
-                             "EFFECTS.md must be listed")
+                             "the effect catalogue must be listed")
     if raw["mass"] is not True:
         raise ModelFileError(src, "effects['mass']", "must be true (the mass is always on)")
     return {e: raw[e] for e in EFFECT_IDS}
@@ -175,7 +175,7 @@ def _check_physics(effects: dict[str, bool], parameters: dict[str, Value], src: 
 
 @dataclass
 class ModelFile:
-    """A model: effect switches (every EFFECTS.md id) and every FMU parameter in SI.
+    """A model: effect switches (every catalogue id) and every FMU parameter in SI.
 
     Construction validates like :func:`load_model`: ``parameters`` left out are filled from
     the paper's defaults (their names added to ``defaulted``) and ``effects.<id>`` keys in
@@ -239,7 +239,7 @@ def paper_model() -> ModelFile:
     effects = {e: (True if e == "mass" else PAPER_EFFECTS[e]) for e in EFFECT_IDS}
     return ModelFile(name="paper", effects=effects, parameters=paper_parameters(),
                      description="Villegas et al. 2014, Tables 1-3 and Eq. 2, in SI "
-                                 "(nu_5 from Eq. 18, C = 1.08e4 N/s, see MODEL.md)")
+                                 "(nu_5 from Eq. 18, C = 1.08e4 N/s, see docs/model.md)")
 
 
 def _no_duplicates(src: str):

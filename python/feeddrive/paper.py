@@ -23,13 +23,13 @@ TABLE2 = {"F_s": 26.1, "F_c": 21.6, "V_s": 3.1, "delta": 0.6, "sigma2": 0.054}
 TABLE3 = {"nu": [0.17, 0.13, 0.30, 0.017, 0.38],
           "k": [1152.07, 377.23, 215.33, 9.39, 87.66]}
 MASS = 16.1                 #: kg
-#: Attraction parameter: printed "10.8 M/s"; MODEL.md fixes the default at 1.08e4 N/s.
+#: Attraction parameter: printed "10.8 M/s"; the default is 1.08e4 N/s (docs/model.md says why).
 C_DEFAULT = 1.08e4
 C_LITERAL = 10.8
 TS = 5e-4                   #: s, current-loop and controller sample time
 #: Eq. 2 as a difference equation i[k] = sum a_j i[k-j] + sum b_j u[k-j].
 CURRENT_A = [1.404, -0.4938]
-CURRENT_B = [0.0, 0.0, 0.057909, 0.057909 * 0.7461]   # b3 = b2 * 0.7461 exactly (MODEL.md)
+CURRENT_B = [0.0, 0.0, 0.057909, 0.057909 * 0.7461]   # b3 = b2 * 0.7461 exactly
 STROKE = (0.0, 0.300)       #: m
 N_HARMONICS = 8             #: Fourier slots per map in the FMU
 N_ELEMENTS_MAX = 10         #: GMS element slots in the FMU
@@ -40,7 +40,7 @@ EFFECT_IDS = ["current_dynamics", "cogging_periodic", "cogging_aperiodic",
               "asymmetric_friction", "position_friction", "compliance"]
 #: Effects that exist as FMU switches (``mass`` is always on: its value is fitted).
 SWITCHABLE_EFFECTS = [e for e in EFFECT_IDS if e != "mass"]
-#: Effects beyond the paper (EFFECTS.md's "common effects of real drives" and the project's
+#: Effects beyond the paper (the catalogue's "common effects of real drives" and the project's
 #: own ``position_friction`` and ``compliance``): off in its model.
 BEYOND_PAPER = ("offset_force", "asymmetric_friction", "position_friction", "compliance")
 PAPER_EFFECTS = {e: e not in BEYOND_PAPER for e in SWITCHABLE_EFFECTS}
@@ -52,7 +52,7 @@ COMPLIANCE_DEFAULTS = {"compliance.m2": 2.0, "compliance.f": 40.0, "compliance.z
 
 
 def nu_defaults() -> list[float]:
-    """Table 3's nu with nu_N = 1 - sum(nu_i, i < N) (Eq. 18), as MODEL.md fixes."""
+    """Table 3's nu with nu_N = 1 - sum(nu_i, i < N) (Eq. 18), as docs/model.md fixes."""
     nu = list(TABLE3["nu"][:-1])
     return nu + [round(1.0 - sum(nu), 12)]
 

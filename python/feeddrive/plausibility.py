@@ -1,7 +1,7 @@
 """Physical plausibility of a measured run: positions, speeds, accelerations and currents a
 feed drive can have, so that a run in the wrong units is refused before any work.
 
-A DATA.md run is in SI.  The commonest mistakes are positions in mm (or encoder counts, or
+A recording is in SI.  The commonest mistakes are positions in mm (or encoder counts, or
 um) and currents in mA; the loader cannot see them (every value is a finite number), and
 the tools then answer with nonsense (a 5 kN residual, a matrix that is not positive
 definite).  Each rule below is a bound no feed drive reaches, far from any real recording,

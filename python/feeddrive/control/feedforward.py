@@ -14,7 +14,7 @@ Friction models:
 
 - ``"static"``: Eq. 12 as a memoryless function of v with the sign regularised,
   F = S(|v|) tanh(v / v_eps) + sigma2 v, v_eps = 0.3 mm/s (about V_s/10) by default: the
-  plain sgn(v_ref) jumps by 2 F_s at a reversal and excites the loop (MODEL.md).  |F| is
+  plain sgn(v_ref) jumps by 2 F_s at a reversal and excites the loop.  |F| is
   within 0.5 % of the steady curve for |v| >= 3 v_eps, F(0) = 0,
   dF/dv(0) = S(0)/v_eps + sigma2.
 - ``"gms"``: the GMS model (:mod:`feeddrive.physics.friction_gms`) driven by (x_ref, v_ref).
@@ -23,7 +23,7 @@ Python simulation of the default state-space loop on the design model with the p
 friction as plant (5 mm / 6 s sine, 100 nm resolution), peak error at the reversal: ~23 um
 without feedforward; "static" ~20 um (two peaks of opposite sign, -20/+19 um; v_eps =
 0.1 mm/s gives ~37 um, 1 mm/s ~16 um); "gms" on the plant's own parameters ~1.4 um with
-current_loop="dc", ~0.07 um with "inverse" (unrealistically good, MODEL.md); "gms" on
+current_loop="dc", ~0.07 um with "inverse" (unrealistically good: the plant is the model); "gms" on
 parameters off by 5-20 % ~3.5 um.
 
 Every term uses the *nominal* parameters passed in (FMU names, SI; ``effects.<id>``

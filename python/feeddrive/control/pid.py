@@ -14,7 +14,7 @@ the force-equivalent PID the diagnosis's hidden-effect tests are tuned on.
 
 Gains: Kp [N/m], Kv [N s/m], Ki [N/(m s)]; ``force_per_volt`` [N/V] is K_f0 G(1) of the
 drive (78.7 N/V for the paper's, :meth:`PID.from_force_gains` takes it from a design model).
-The plain PID cannot take MODEL.md's state-feedback gains (6e5/6.7e3/2e7 assume an
+The plain PID cannot take the state-feedback design's gains (6e5/6.7e3/2e7 assume an
 observer): with the current loop's 1.5-sample lag it oscillates, so :data:`DEFAULT_GAINS`
 has a ~20 Hz crossover (Kv/m = 186 rad/s).
 """

@@ -20,7 +20,7 @@ error of the paper's order, ~23 um in a Python simulation of the design model wi
 friction of Table 2/3): mechanical (x, v, q) pair at 20 Hz with damping 0.8 and a real pole
 at 15 Hz; the current-loop poles and the delay pole stay where they are (0.702 +- 0.0316j,
 0).  With Eq. 2 this gives force-equivalent gains Kp ~ 6.1e5 N/m, Kv ~ 6.5e3 N s/m,
-Ki ~ 2.2e7 N/(m s) (MODEL.md's example: 6e5, 6.7e3, 2e7).  Observer: mechanical pair at
+Ki ~ 2.2e7 N/(m s) (a design of the paper's order: 6e5, 6.7e3, 2e7).  Observer: mechanical pair at
 200 Hz with damping 0.7, current-loop states at z = 0.2 and 0.1.
 """
 from __future__ import annotations

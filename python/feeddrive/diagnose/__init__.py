@@ -1,4 +1,4 @@
-"""Discrepancy diagnosis: which effects of EFFECTS.md a model lacks against measured runs.
+"""Discrepancy diagnosis: which effects of the catalogue (docs/effects.md) a model lacks against measured runs.
 
 ``diagnose(runs, model)`` runs the loop (see :mod:`.workflow`) and returns a ``Diagnosis``;
 ``feeddrive.report.diagnosis.write_diagnosis(diag, out_dir)`` writes its files and report;

@@ -1,4 +1,4 @@
-"""One regressor design (scorer) and identifier per effect of EFFECTS.md.
+"""One regressor design (scorer) and identifier per effect of the catalogue (docs/effects.md).
 
 Each candidate says how the force residual r would change if the effect were added to the
 model (or its value corrected): ``r_new = r - (Phi theta - base)``, with ``Phi`` the
@@ -550,7 +550,7 @@ def current_dynamics(ctx: Context) -> list[Variant]:
                     ["scale"], to_model=lambda th: m.with_effect("current_dynamics", True))]
 
 
-#: Every candidate family, by EFFECTS.md id.
+#: Every candidate family, by catalogue id.
 CANDIDATES: dict[str, Callable[[Context], list[Variant]]] = {
     "offset_force": offset_force, "mass": mass, "viscous": viscous,
     "asymmetric_friction": asymmetric_friction, "stribeck": stribeck,

@@ -9,7 +9,7 @@ Eq. 1 evaluated on the measured trajectory::
   (``signals.matched_acceleration``): the force side is filtered with the same K
   so both sides see the same averaging.  r is NaN within half a window of the run's ends.
 - ``F_motor = K_f(x) i`` with the measured current (taken as held over each sample interval,
-  so the acceleration at t_k sees (i[k-1] + i[k]) / 2).  Without a measured current (DATA.md):
+  so the acceleration at t_k sees (i[k-1] + i[k]) / 2).  Without a measured current (the recording format):
   ``F_motor = force_gain * u`` when a gain [N/V] is given (CLI ``--force-gain`` or the
   sidecar's ``force_gain``), else ``K_f(x) G(z) u`` with the model's current loop (static
   gain G(1) when ``current_dynamics`` is off).  Which one was used is recorded.
@@ -155,7 +155,7 @@ def force_residual(run: Run, model: ModelFile, window: int | None = None,
 
     Parameters
     ----------
-    run : a DATA.md run (``i`` optional).
+    run : a recording (``i`` optional).
     model : any model file.
     window, polyorder : Savitzky-Golay differentiator [samples]; None: ``DEFAULT_WINDOW_S``
         (20 ms) in samples of the run.

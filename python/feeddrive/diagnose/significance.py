@@ -15,7 +15,7 @@ held-out blocks, ``F_expl = sqrt((SSE_before - SSE_heldout) / n)`` [N rms]:
   ``friction.F_c`` (the rms motor force over the runs when the model has no Coulomb level).
   Reason: guideway friction drifts by several % with temperature, lubrication and wear
   within a working day, so a correction far below that (0.5 % of 21.6 N = 0.11 N) is not
-  reproducible from one run to the next; the smallest catalogue effect at its MODEL.md
+  reproducible from one run to the next; the smallest catalogue effect at its default
   value (frictional lag, C = 1.08e4 N/s) explains about 1 % of F_c on a 6 s sinusoid, twice
   the threshold.
 

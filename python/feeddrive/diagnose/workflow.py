@@ -1,7 +1,7 @@
 """The discrepancy loop: residual -> localise -> score candidates -> add the best -> repeat.
 
 Each step computes the force residual of the current model along every run, scores every
-candidate of EFFECTS.md on held-out blocks (:mod:`scoring`), names the best significant one
+candidate of the effect catalogue on held-out blocks (:mod:`scoring`), names the best significant one
 (or an ambiguous group, of which the most parsimonious is added), identifies its parameters
 on all data, re-computes the residual with the new model (the full model, not the linear
 prediction) and records the gap before and after, overall and where the candidate acted.
@@ -483,7 +483,7 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
 
     Parameters
     ----------
-    runs : measured runs (DATA.md); several runs are pooled, blocks are cut per run.
+    runs : measured runs (recordings); several runs are pooled, blocks are cut per run.
     model : the starting model file.
     max_steps : at most this many effects are added.
     force_gain : N/V for runs without current (else the sidecar's, else the model's loop).

@@ -37,7 +37,7 @@ def closed_loop_measurement(params: Mapping[str, Any], sensors: Sensors, ref: Re
                             meta: Mapping[str, Any], spec: Mapping[str, Any] | None = None,
                             F_load: float = 0.0, u_ff: np.ndarray | None = None,
                             hold: float = HOLD) -> Run:
-    """One virtual closed-loop measurement as a DATA.md run.
+    """One virtual closed-loop measurement as a recording.
 
     The drive first holds ``ref.x[0]`` (with the load hung) for ``hold`` seconds, which is
     simulated but not recorded, as on a real machine where the recording starts on a settled

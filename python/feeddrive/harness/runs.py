@@ -1,4 +1,4 @@
-"""Closed-loop runs from a controller spec, and the run maker: a Result -> a DATA.md Run.
+"""Closed-loop runs from a controller spec, and the run maker: a Result -> a recording (Run).
 
 :func:`run_closed_loop` simulates the FMU under the controller a spec describes;
 :func:`to_run` applies the sensor model to a result (what a measurement records);
@@ -44,7 +44,7 @@ def run_closed_loop(plant_params: Mapping[str, Any], spec: Mapping[str, Any], re
 
 def to_run(res: Mapping[str, np.ndarray], sensors: Sensors, x_ref: np.ndarray | None = None,
            F_load: float | np.ndarray = 0.0, meta: Mapping[str, Any] | None = None) -> Run:
-    """A DATA.md run from simulated signals: x quantised, the current noise added to i."""
+    """A recording from simulated signals: x quantised, the current noise added to i."""
     n = len(res["time"])
     return Run(time=np.asarray(res["time"], float), u=np.asarray(res["u"], float),
                x=sensors.quantise(res["x_measured"] if "x_measured" in res else res["x"]),

@@ -1,6 +1,6 @@
 """The one sidecar schema of the runs our commands write (``run.json`` beside ``run.csv``).
 
-DATA.md lets a sidecar say how an experiment was run; ours always says it the same way::
+The recording format lets a sidecar say how an experiment was run; ours always says it the same way::
 
     {
       "schema": "feeddrive.run/1",

@@ -24,7 +24,7 @@ def signal(run: Run, name: str) -> np.ndarray:
 def current(run: Run, dc_gain: float | None = None) -> np.ndarray:
     """Measured current ``run.i``; without it, i = dc_gain * u when dc_gain is given.
 
-    DATA.md: a run without an ``i`` column (amplifier taken as ideal) is processed with the
+    The recording format: a run without an ``i`` column (amplifier taken as ideal) is processed with the
     current loop's static gain G(1) [A/V] on ``u``; this is announced with a warning.
     """
     if getattr(run, "i", None) is not None:

@@ -235,7 +235,7 @@ def identify_attraction(run: Run, params: Mapping[str, float], dc_gain: float | 
                         **kw) -> AttractionFit:
     """:func:`fit_attraction` on a run (time, x, i; F_load when present).
 
-    ``dc_gain``: for a run without a current column, i = dc_gain * u (DATA.md).
+    ``dc_gain``: for a run without a current column, i = dc_gain * u (the recording format).
     """
     F = run.F_load if run.F_load is not None else 0.0
     try:

@@ -106,7 +106,7 @@ def identify_mass(run: Run, force_constant: MapSpec, cogging: MapSpec,
                   dc_gain: float | None = None, **kw) -> MassFit:
     """:func:`fit_mass` on a run with columns time, x, i (F_load used when present).
 
-    ``dc_gain``: for a run without a current column, i = dc_gain * u (DATA.md).
+    ``dc_gain``: for a run without a current column, i = dc_gain * u (the recording format).
     """
     label = run_label(run)
     F = run.F_load if run.F_load is not None else 0.0

@@ -1,7 +1,7 @@
 """The friction-level profile p(x) of ``position_friction`` from sliding runs.
 
 On constant-speed runs (or slow sinusoids) away from reversals the friction is the sliding
-level times the profile, ``F_f = p(x) sgn(v) S(|v|) + sigma2(v) v`` (MODEL.md Eq. 12 with
+level times the profile, ``F_f = p(x) sgn(v) S(|v|) + sigma2(v) v`` (Eq. 12 with
 :mod:`feeddrive.physics.friction_position`), and Eq. 1 gives F_f on the data:
 ``K (K_f(x) i - F_cg(x) - F_e) - m a`` (:func:`feeddrive.physics.eq1_terms`, K the
 acceleration estimator's kernel).  With the levels known (Stribeck step) and

@@ -127,7 +127,7 @@ def map_samples(runs: Sequence[Run], grid_step: float = GRID_STEP, kf_method: st
     window, rel_tol : constant-speed detection (see ``identify._signals.steady_segment``).
     trim : extra length dropped at both ends of each constant-speed segment [m].
     load_tol : loads closer than this [N] are the same load.
-    dc_gain : for runs without a current column, i = dc_gain * u (DATA.md).
+    dc_gain : for runs without a current column, i = dc_gain * u (the recording format).
     """
     grid, loads, mean, speeds, src = _group_runs(runs, grid_step, resample, window, rel_tol,
                                                  trim, load_tol, dc_gain)

@@ -304,7 +304,7 @@ def identify_prerolling(large: Run, small: Run, params: Mapping[str, float], N: 
         the slope is below this fraction of the initial (all elements stuck) slope; the
         large-amplitude curve gets N + 1 knots so that the sliding tail (Stribeck, viscous)
         has one of its own.
-    dc_gain : for runs without a current column, i = dc_gain * u (DATA.md).
+    dc_gain : for runs without a current column, i = dc_gain * u (the recording format).
     """
     if not 2 <= N <= N_ELEMENTS_MAX:
         raise ValueError(f"pre-rolling: N must be in 2..{N_ELEMENTS_MAX}, got {N}")

@@ -98,7 +98,7 @@ def stribeck_points(runs: Sequence[Run], force_constant: MapSpec, cogging: MapSp
     Loads must be equal within a pair (they cancel in Eq. 13); they enter the asymmetry.
     ``resample='bin'`` (default) averages every sample of a 0.1 mm cell, so that the
     position mean uses all data; 'interp' is the paper's interpolation of Sec. 2.3.
-    ``dc_gain``: for runs without a current column, i = dc_gain * u (DATA.md).
+    ``dc_gain``: for runs without a current column, i = dc_gain * u (the recording format).
     """
     pairs = _pair_runs(runs, window, rel_tol, speed_tol, dc_gain)
     if len(pairs) < 1:

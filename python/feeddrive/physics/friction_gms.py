@@ -1,4 +1,4 @@
-"""Generalized Maxwell-Slip friction (MODEL.md Eqs. 8-12) driven by a given motion.
+"""Generalized Maxwell-Slip friction (Eqs. 8-12, docs/model.md) driven by a given motion.
 
 C twin: fmu_src/friction_gms.c (the FMU integrates the same hybrid model with events).
 
@@ -72,7 +72,7 @@ class GMSParameters:
 
         The elements are those fmu_src/params.c makes active: i <= friction.N with nu_i > 0.
         With ``apply_effects`` the ``effects.<id>`` switches act once, here: ``stribeck`` off
-        sets F_s = F_c (the Coulomb level of EFFECTS.md), ``viscous`` off sets sigma2 =
+        sets F_s = F_c (the Coulomb level, as the effect catalogue says), ``viscous`` off sets sigma2 =
         dsigma2 = 0, ``frictional_lag`` off sets C = inf, ``asymmetric_friction`` off sets
         dF = dsigma2 = 0, ``position_friction`` on adds the profile p(x) of ``friction_profile.*``.
         """

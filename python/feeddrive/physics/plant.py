@@ -71,7 +71,7 @@ def run_load(run: Run) -> tuple[np.ndarray, str]:
     """The external load F_e [N] per sample of a run and where it came from.
 
     Column ``F_load`` if present, else meta keys 'F_load', 'load' or 'P' (a constant), else 0
-    (DATA.md: an absent F_load column means no load).
+    (the recording format: an absent F_load column means no load).
     """
     F, src = _load(run)
     return (F if isinstance(F, np.ndarray) else np.full(len(run.time), F)), src

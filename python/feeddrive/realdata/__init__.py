@@ -1,4 +1,4 @@
-"""Analyses of measured data from other machines (read-only copies under ``../shared/realdata``).
+"""Analyses of measured data from other machines (read-only, in ``DIR/realdata`` of ``--shared DIR``).
 
 - :mod:`feeddrive.realdata.odrive` -- a rotary BLDC motor's measured cogging maps and slow runs
   (ODrive, G. Chen): position spectrum, short-time position spectrum (the paper's DSTFT),

@@ -1,6 +1,6 @@
 """Position-spectrum analysis of the measured ODrive cogging maps and slow runs (rotary BLDC).
 
-Data (``../shared/realdata/odrive-cogging``): holding-current maps Iq(x) [A] over one revolution
+Data (``DIR/realdata/odrive-cogging``, ``--shared DIR``): holding-current maps Iq(x) [A] over one revolution
 (8192 encoder counts) and slow runs (time [s], position [counts], Iq [A]).  As in Sec. 2.3 of
 the paper: full-revolution line spectrum; a rectangular-window DSTFT along the revolution
 (``scipy.signal.ShortTimeFFT``) whose tracks are compared with the same transform of the

@@ -3,7 +3,7 @@
 Format (schema ``feeddrive.study/1``, ``kind`` ``bootstrap``)::
 
     {"schema": "feeddrive.study/1", "kind": "bootstrap", "name": "campaign intervals",
-     "runs": "campaign/",          # folder of DATA.md runs with repeats (relative to this file)
+     "runs": "campaign/",          # folder of recordings with repeats (relative to this file)
      "replicates": 200,            # >= 2
      "level": 0.95,                # optional, in (0, 1)
      "seed": 0,                    # optional, >= 0

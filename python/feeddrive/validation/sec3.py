@@ -1,7 +1,7 @@
 """Paper Sec. 3 (Fig. 14): a measured position-controlled sinusoid (30 mm, 6 s) against
 simulations of the full model, the model without aperiodic cogging and the model with static
 friction instead of GMS.  The "measurement" is the full model with sensor effects (100 nm
-quantisation, real current noise, fixed seed), written as a DATA.md run."""
+quantisation, real current noise, fixed seed), written as a recording."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field

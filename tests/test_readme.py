@@ -27,3 +27,11 @@ def test_user_docs_link_only_inside_the_repository():
         assert "../shared" not in text, f
         for target in re.findall(r"\]\(([^)#:]+)(?:#[^)]*)?\)", text):
             assert (f.parent / target).exists(), (f, target)
+
+
+def test_readme_is_short_with_a_picture_the_project_made():
+    import re
+    text = (ROOT / "README.md").read_text()
+    assert len(text.splitlines()) <= 200
+    pictures = re.findall(r"!\[[^\]]*\]\(([^)]+\.png)\)", text)
+    assert pictures and all((ROOT / p).stat().st_size < 100_000 for p in pictures), pictures

@@ -60,7 +60,9 @@ CTRL3_SRC_C := $(CTRL_SRC_C) fmu_src/controller/ctrl_fmi3.c fmu_src/fmi3_stubs.c
 # less -fPIC and the POSIX feature macros (the product code is plain C99), MinGW's C99 printf
 # family (%zu, %lld); tools/win_dll.py compiles, exports only the FMI functions and checks that the
 # DLL imports only KERNEL32 and the C runtime. $(WIN_TOOLCHAIN) says "ok" or why not (rewritten
-# only when that changes); each DLL's .made stamp stands for the DLL, or for its absence.
+# only when that changes; an installation that failed is tried again after `make clean`, a
+# mingw-w64 installed by hand is found at once); each DLL's .made stamp stands for the DLL, or for
+# its absence.
 MINGW_CC   ?= x86_64-w64-mingw32-gcc
 WIN_CFLAGS := -std=c99 -O3 -fno-math-errno -Wall -Wextra -Werror -D__USE_MINGW_ANSI_STDIO=1
 WIN_TOOLCHAIN := $(BUILD)/win64/toolchain

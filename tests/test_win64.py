@@ -3,8 +3,8 @@ FMI 3.0 ``x86_64-windows``) run under Wine and compute what the Linux binaries c
 
 One C host (tests/c/win_host.c) is built for Linux and, with mingw-w64, for Windows; each loads
 the binaries of its platform taken out of the FMUs and runs: the plant and the controller in
-closed loop for 1 s of co-simulation (FMI 2.0, FMI 2.0 started at t = 1.2e6 s where the sample
-indices pass 2^31, FMI 3.0) and the plant's model-exchange derivatives at three set states (FMI 2.0
+closed loop for 1 s of co-simulation (FMI 2.0; FMI 2.0 from t = 1.2e6 s with a reference 2e10
+samples long, whose sample counts pass 2^31 where a C long has 32 bits; FMI 3.0) and the plant's model-exchange derivatives at three set states (FMI 2.0
 and 3.0). Both builds do the same IEEE double arithmetic from the same sources, so the positions
 agree within 1e-12 m (a thousandth of the encoder's 1 nm scale; the arithmetic leaves only
 last-bit differences of the C libraries' functions) and the derivatives within 1e-12 relative.

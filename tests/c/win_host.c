@@ -92,6 +92,7 @@ typedef struct {
 } api2_t;
 
 static int load2(lib_t lib, api2_t *a) {
+    memset(a, 0, sizeof *a);   /* the model-exchange entries stay NULL for the controller */
     SYM(lib, a->Instantiate, "fmi2Instantiate");
     SYM(lib, a->FreeInstance, "fmi2FreeInstance");
     SYM(lib, a->SetupExperiment, "fmi2SetupExperiment");
@@ -101,8 +102,6 @@ static int load2(lib_t lib, api2_t *a) {
     SYM(lib, a->SetInteger, "fmi2SetInteger");
     SYM(lib, a->GetReal, "fmi2GetReal");
     SYM(lib, a->DoStep, "fmi2DoStep");
-    /* the controller has no model exchange: these stay NULL there */
-    a->NewDiscreteStates = (fmi2NewDiscreteStatesTYPE *)0;
     return 0;
 }
 static int load2_me(lib_t lib, api2_t *a) {
@@ -222,6 +221,7 @@ typedef struct {
 } api3_t;
 
 static int load3(lib_t lib, api3_t *a, int me) {
+    memset(a, 0, sizeof *a);
     SYM(lib, a->InstantiateCS, "fmi3InstantiateCoSimulation");
     SYM(lib, a->FreeInstance, "fmi3FreeInstance");
     SYM(lib, a->EnterInit, "fmi3EnterInitializationMode");

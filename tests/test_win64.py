@@ -5,7 +5,7 @@ One C host (tests/c/win_host.c) is built for Linux and, with mingw-w64, for Wind
 the binaries of its platform taken out of the FMUs and runs: the plant and the controller in
 closed loop for 1 s of co-simulation (FMI 2.0; FMI 2.0 from t = 1.2e6 s with a reference 2e10
 samples long, whose sample counts pass 2^31 where a C long has 32 bits; FMI 3.0) and the plant's model-exchange derivatives at three set states (FMI 2.0
-and 3.0). Both builds do the same IEEE double arithmetic from the same sources, so the positions
+and 3.0), and the messages of calls the plant refuses (the same text). Both builds do the same IEEE double arithmetic from the same sources, so the positions
 agree within 1e-12 m (a thousandth of the encoder's 1 nm scale; the arithmetic leaves only
 last-bit differences of the C libraries' functions) and the derivatives within 1e-12 relative.
 Skipped, with the reason, where mingw-w64 or Wine is not installed (``make test`` installs both
@@ -62,13 +62,16 @@ def extract(fmu: Path, platform: str, dest: Path) -> Path:
     return out
 
 
-def parse(text: str) -> dict[str, list[list[float]]]:
-    """The host's lines by tag: cs* k t x v u, me* s j x_j dx_j."""
-    rows: dict[str, list[list[float]]] = {}
+def parse(text: str) -> dict[str, list]:
+    """The host's lines by tag: cs* k t x v u and me* s j x_j dx_j as numbers, msg2 status message
+    as text."""
+    rows: dict[str, list] = {}
     for line in text.splitlines():
-        parts = line.split()
-        if parts and parts[0] != "done":
-            rows.setdefault(parts[0], []).append([float(p) for p in parts[1:]])
+        parts = line.rstrip("\r").split(" ", 1)
+        if parts[0] == "msg2":
+            rows.setdefault("msg2", []).append(parts[1])
+        elif parts[0] and parts[0] != "done":
+            rows.setdefault(parts[0], []).append([float(p) for p in parts[1].split()])
     return rows
 
 
@@ -159,3 +162,13 @@ def test_derivatives_under_wine_equal_linux(runs: dict, tag: str) -> None:
         assert abs(a[3] - b[3]) <= DX_RTOL * max(1.0, abs(a[3])), (tag, a, b)
     # der(x) = v at each set state (0, +0.05, -0.05 m/s): the call evaluated the state it was given
     assert [r[3] for r in win if r[1] == 0] == [r[2] for r in win if r[1] == 1]
+
+
+def test_refusals_under_wine_say_what_linux_says(runs: dict) -> None:
+    """Out-of-range values and a NULL category list: the same status and the same message, its
+    numbers formatted as on Linux (C99 printf: 1e+30, inf, subnormals, %zu)."""
+    lin, win = runs["linux"]["msg2"], runs["windows"]["msg2"]
+    assert win == lin
+    assert len(win) == 4 and all(m.startswith("3 ") for m in win)          # fmi2Error
+    assert "m = 1e+30 is out of range: allowed [0.001, 10000] kg" in win[1]
+    assert win[3].endswith("nCategories = 2")

@@ -8,9 +8,12 @@
  *   cs3  plant FMI 3.0 + controller FMI 3.0, the same loop through fmi3DoStep
  *   me2  plant FMI 2.0 model exchange: fmi2GetDerivatives at three set states
  *   me3  plant FMI 3.0 model exchange: fmi3GetContinuousStateDerivatives at the same states
+ *   msg2 plant FMI 2.0: the status and message of calls it refuses (values out of range, a NULL
+ *        category list), whose text the FMU formats with %g, %.17g and %zu
  * Usage: win_host PLANT2 CTRL2 PLANT3 CTRL3 (the four libraries). Output lines:
  *   cs2|cs2late|cs3 k t x v u   every 10 ms of the run
  *   me2|me3 s j x_j dx_j   state s (0..2), element j
+ *   msg2 status message    one refused call
  *   done                   all four parts ran (exit status 0); a failure prints "error: ..." and
  *                          exits 1. Numbers are printed with 17 significant digits (exact). */
 #include <stdarg.h>
@@ -89,6 +92,7 @@ typedef struct {
     fmi2GetContinuousStatesTYPE *GetStates;
     fmi2SetContinuousStatesTYPE *SetStates;
     fmi2GetDerivativesTYPE *GetDerivatives;
+    fmi2SetDebugLoggingTYPE *SetDebugLogging;
 } api2_t;
 
 static int load2(lib_t lib, api2_t *a) {
@@ -102,6 +106,7 @@ static int load2(lib_t lib, api2_t *a) {
     SYM(lib, a->SetInteger, "fmi2SetInteger");
     SYM(lib, a->GetReal, "fmi2GetReal");
     SYM(lib, a->DoStep, "fmi2DoStep");
+    SYM(lib, a->SetDebugLogging, "fmi2SetDebugLogging");
     return 0;
 }
 static int load2_me(lib_t lib, api2_t *a) {
@@ -197,6 +202,29 @@ static int run_me2(lib_t plant) {
             return fail("fmi2GetDerivatives", last_msg);
         for (j = 0; j < MODEL_NX; j++) printf("me2 %d %zu %.17g %.17g\n", s, j, x[j], dx[j]);
     }
+    p.FreeInstance(pc);
+    return 0;
+}
+
+/* calls the plant refuses, each with its status and the message it logged */
+static int run_msg2(lib_t plant) {
+    static const double bad_m[] = {-5.0, 1e30, 2.5e-320};   /* m: allowed [0.001, 10000] kg */
+    api2_t p;
+    fmi2Component pc;
+    const fmi2ValueReference vm = VR_m;
+    size_t j;
+    if (load2(plant, &p)) return -1;
+    pc = p.Instantiate("plant_msg", fmi2CoSimulation, MODEL_GUID, "", &CB2, fmi2False, fmi2False);
+    if (!pc) return fail("fmi2Instantiate", last_msg);
+    for (j = 0; j < sizeof bad_m / sizeof bad_m[0]; j++) {
+        fmi2Status st;
+        last_msg[0] = 0;
+        st = p.SetReal(pc, &vm, 1, &bad_m[j]);
+        printf("msg2 %d %s\n", (int)st, last_msg);
+    }
+    last_msg[0] = 0;
+    printf("msg2 %d ", (int)p.SetDebugLogging(pc, fmi2True, 2, NULL));
+    printf("%s\n", last_msg);
     p.FreeInstance(pc);
     return 0;
 }
@@ -329,7 +357,7 @@ int main(int argc, char **argv) {
         if (!lib[j]) { fail("cannot load", argv[j + 1]); return 1; }
     }
     rc = run_cs2(lib[0], lib[1], 0.0, 2.0 * T_END, "cs2") || run_cs2(lib[0], lib[1], T_LATE, LONG_REF, "cs2late") ||
-         run_me2(lib[0]) || run_cs3(lib[2], lib[3]) || run_me3(lib[2]);
+         run_me2(lib[0]) || run_msg2(lib[0]) || run_cs3(lib[2], lib[3]) || run_me3(lib[2]);
     for (j = 0; j < 4; j++) lib_close(lib[j]);
     if (rc) return 1;
     printf("done\n");

@@ -10,6 +10,9 @@
 #   make bench        benchmark table (build/bench.md)
 #   make docs         the documentation site (MkDocs, mkdocs.yml) into build/docs/, warnings as errors
 #   make wheel        build/feeddrive-*.whl carrying the FMU
+# Every FMU carries its Linux binary and, where mingw-w64 is installed (or installable: root and
+# apt-get), its Windows x86-64 DLL cross-built from the same sources (win64 / x86_64-windows);
+# without mingw-w64 the FMUs carry the Linux binary only and make says why in one line.
 MODEL      := LinearMotorFeedDrive
 PYTHON     ?= python3
 VENV       := .venv
@@ -54,6 +57,26 @@ PKG_CTRL3_FMU := python/feeddrive/$(CTRL3).fmu
 CTRL3_SO   := $(BUILD)/controller3/binaries/x86_64-linux/$(CTRL3).so
 CTRL3_SRC_C := $(CTRL_SRC_C) fmu_src/controller/ctrl_fmi3.c fmu_src/fmi3_stubs.c
 
+# the Windows x86-64 DLLs: mingw-w64 (Debian gcc-mingw-w64-x86-64), the flags of the Linux build
+# less -fPIC and the POSIX feature macros (the product code is plain C99), MinGW's C99 printf
+# family (%zu, %lld); tools/win_dll.py compiles, exports only the FMI functions and checks that the
+# DLL imports only KERNEL32 and the C runtime. $(WIN_TOOLCHAIN) says "ok" or why not (rewritten
+# only when that changes; an installation that failed is tried again after `make clean`, a
+# mingw-w64 installed by hand is found at once); each DLL's .made stamp stands for the DLL, or for
+# its absence.
+MINGW_CC   ?= x86_64-w64-mingw32-gcc
+WIN_CFLAGS := -std=c99 -O3 -fno-math-errno -Wall -Wextra -Werror -D__USE_MINGW_ANSI_STDIO=1
+WIN_TOOLCHAIN := $(BUILD)/win64/toolchain
+WIN_DLL    = $(PY) tools/win_dll.py --cc $(MINGW_CC)
+DLL        := $(BUILD)/win64/plant/$(MODEL).dll
+DLL3       := $(BUILD)/win64/plant3/$(MODEL3).dll
+CTRL_DLL   := $(BUILD)/win64/controller/$(CTRL).dll
+CTRL3_DLL  := $(BUILD)/win64/controller3/$(CTRL3).dll
+# --binary PLATFORM FILE for the FMU packager when the DLL was built
+win_binary = $$([ -f $(2) ] && echo --binary $(1) $(2))
+# the wine64 program the tests run the win64 binaries with (Debian wine64; make test installs it)
+WINE_APT   := wine64
+
 # the importers besides fmpy (the Python ones, libcosimpy and ecospy, are in python[test]):
 # * fmi-sim (Rust, crates.io): `cargo install --locked` into IMPORTERS_CACHE, outside the clone
 #   and keyed by version, so another clone (or a CI job that keeps ~/.cache) links the binary
@@ -74,7 +97,7 @@ FMIPP_SRC       := $(BUILD)/importers/fmipp-src
 FMIPP_STAMP     := $(VENV)/.fmipp-installed
 FMIPP_APT       := swig libboost-filesystem-dev libboost-system-dev
 
-.PHONY: all fmu run test bench wheel clean venv fuzz-tools importers docs
+.PHONY: all fmu run test bench wheel clean venv fuzz-tools importers docs wine-tools FORCE
 all: fmu
 fmu: $(FMU) $(PKG_FMU) $(CTRL_FMU) $(PKG_CTRL_FMU) $(FMU3) $(PKG_FMU3) $(CTRL3_FMU) $(PKG_CTRL3_FMU)
 venv: $(STAMP)
@@ -99,9 +122,26 @@ $(SO): $(SRC_C) $(SRC_H) $(GEN)/model_vars.h $(GEN)/model_vars.c $(BUILD)/fmi_in
 	@! (ldd $@ | grep -v -E 'linux-vdso|libc\.so|libm\.so|ld-linux|not a dynamic' | grep -q .) || \
 	    (echo "error: $@ links more than libc/libm:"; ldd $@; exit 1)
 
-$(FMU): $(SO) modelDescription.xml
-	$(PY) tools/package_fmu.py --xml modelDescription.xml --so $(SO) \
+$(FMU): $(SO) $(DLL).made modelDescription.xml
+	$(PY) tools/package_fmu.py --xml modelDescription.xml --so $(SO) $(call win_binary,win64,$(DLL)) \
 	    --sources fmu_src $(GEN) --out $@
+
+$(WIN_TOOLCHAIN): FORCE
+	@mkdir -p $(dir $@)
+	@if ! command -v $(MINGW_CC) >/dev/null 2>&1 && ! grep -qs '^none' $@ && [ "$$(id -u)" = 0 ] && \
+	    command -v apt-get >/dev/null 2>&1; then echo "installing mingw-w64 (Debian gcc-mingw-w64-x86-64) for the win64 binaries"; \
+	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
+	    gcc-mingw-w64-x86-64 >/dev/null; fi; \
+	if command -v $(MINGW_CC) >/dev/null 2>&1; then echo "ok $(MINGW_CC)" > $@.new; else \
+	    echo "none: $(MINGW_CC) (Debian gcc-mingw-w64-x86-64) is not installed and cannot be installed here: the FMUs carry Linux binaries only" > $@.new; \
+	    cut -c7- $@.new; fi; \
+	if cmp -s $@.new $@; then rm -f $@.new; else mv $@.new $@; fi
+
+$(DLL).made: $(SRC_C) $(SRC_H) $(GEN)/model_vars.h $(GEN)/model_vars.c $(BUILD)/fmi_include $(WIN_TOOLCHAIN) tools/win_dll.py
+	@rm -f $(DLL); mkdir -p $(dir $@)
+	@! grep -q '^ok' $(WIN_TOOLCHAIN) || $(WIN_DLL) --out $(DLL) --exports fmi2 -- $(WIN_CFLAGS) -I fmu_src -I $(GEN) \
+	    -I "$$(cat $(BUILD)/fmi_include)" $(SRC_C) $(GEN)/model_vars.c
+	@touch $@
 
 $(PKG_FMU): $(FMU)
 	cp $< $@
@@ -119,8 +159,15 @@ $(SO3): $(SRC3_C) $(SRC_H) fmu_src/fmi3.map $(GEN)/model_vars.h $(GEN)/model_var
 	@! (ldd $@ | grep -v -E 'linux-vdso|libc\.so|libm\.so|ld-linux|not a dynamic' | grep -q .) || \
 	    (echo "error: $@ links more than libc/libm:"; ldd $@; exit 1)
 
-$(FMU3): $(SO3) $(GEN3)/modelDescription.xml $(GEN3)/buildDescription.xml
-	$(PY) tools/package_fmu.py --xml $(GEN3)/modelDescription.xml --so $(SO3) \
+$(DLL3).made: $(SRC3_C) $(SRC_H) $(GEN)/model_vars.h $(GEN)/model_vars.c $(GEN3)/model_vars3.h $(GEN3)/model_vars3.c \
+    $(BUILD)/fmi_include $(WIN_TOOLCHAIN) tools/win_dll.py
+	@rm -f $(DLL3); mkdir -p $(dir $@)
+	@! grep -q '^ok' $(WIN_TOOLCHAIN) || $(WIN_DLL) --out $(DLL3) --exports fmi3 -- $(WIN_CFLAGS) -I fmu_src -I $(GEN) \
+	    -I $(GEN3) -I "$$(cat $(BUILD)/fmi_include)" $(SRC3_C) $(GEN)/model_vars.c $(GEN3)/model_vars3.c
+	@touch $@
+
+$(FMU3): $(SO3) $(DLL3).made $(GEN3)/modelDescription.xml $(GEN3)/buildDescription.xml
+	$(PY) tools/package_fmu.py --xml $(GEN3)/modelDescription.xml --so $(SO3) $(call win_binary,x86_64-windows,$(DLL3)) \
 	    --sources fmu_src $(GEN) $(GEN3) $(GEN3)/buildDescription.xml --platform x86_64-linux --out $@
 
 $(PKG_FMU3): $(FMU3)
@@ -140,8 +187,16 @@ $(CTRL_SO): $(CTRL_SRC_C) $(CTRL_SRC_H) $(GEN)/model_vars.h $(GEN)/model_vars.c 
 	@! (ldd $@ | grep -v -E 'linux-vdso|libc\.so|libm\.so|ld-linux|not a dynamic' | grep -q .) || \
 	    (echo "error: $@ links more than libc/libm:"; ldd $@; exit 1)
 
-$(CTRL_FMU): $(CTRL_SO) $(CTRL_GEN)/modelDescription.xml
-	$(PY) tools/package_fmu.py --xml $(CTRL_GEN)/modelDescription.xml --so $(CTRL_SO) \
+$(CTRL_DLL).made: $(CTRL_SRC_C) $(CTRL_SRC_H) $(GEN)/model_vars.h $(GEN)/model_vars.c $(CTRL_GEN)/ctrl_vars.h \
+    $(CTRL_GEN)/ctrl_vars.c $(BUILD)/fmi_include $(WIN_TOOLCHAIN) tools/win_dll.py
+	@rm -f $(CTRL_DLL); mkdir -p $(dir $@)
+	@! grep -q '^ok' $(WIN_TOOLCHAIN) || $(WIN_DLL) --out $(CTRL_DLL) --exports fmi2 -- $(WIN_CFLAGS) -ffp-contract=off \
+	    -I fmu_src/controller -I fmu_src -I $(CTRL_GEN) -I $(GEN) -I "$$(cat $(BUILD)/fmi_include)" \
+	    $(CTRL_SRC_C) $(GEN)/model_vars.c $(CTRL_GEN)/ctrl_vars.c
+	@touch $@
+
+$(CTRL_FMU): $(CTRL_SO) $(CTRL_DLL).made $(CTRL_GEN)/modelDescription.xml
+	$(PY) tools/package_fmu.py --xml $(CTRL_GEN)/modelDescription.xml --so $(CTRL_SO) $(call win_binary,win64,$(CTRL_DLL)) \
 	    --sources fmu_src/controller $(CTRL_GEN) $(CTRL_SHARED) $(CTRL_SHARED_H) \
 	    $(GEN)/model_vars.h $(GEN)/model_vars.c --out $@
 
@@ -160,8 +215,16 @@ $(CTRL3_SO): $(CTRL3_SRC_C) $(CTRL_SRC_H) fmu_src/fmi3_log.h fmu_src/fmi3.map $(
 	@! (ldd $@ | grep -v -E 'linux-vdso|libc\.so|libm\.so|ld-linux|not a dynamic' | grep -q .) || \
 	    (echo "error: $@ links more than libc/libm:"; ldd $@; exit 1)
 
-$(CTRL3_FMU): $(CTRL3_SO) $(CTRL3_GEN)/modelDescription.xml $(CTRL3_GEN)/buildDescription.xml
-	$(PY) tools/package_fmu.py --xml $(CTRL3_GEN)/modelDescription.xml --so $(CTRL3_SO) \
+$(CTRL3_DLL).made: $(CTRL3_SRC_C) $(CTRL_SRC_H) fmu_src/fmi3_log.h $(GEN)/model_vars.h $(GEN)/model_vars.c \
+    $(CTRL_GEN)/ctrl_vars.h $(CTRL_GEN)/ctrl_vars.c $(BUILD)/fmi_include $(WIN_TOOLCHAIN) tools/win_dll.py
+	@rm -f $(CTRL3_DLL); mkdir -p $(dir $@)
+	@! grep -q '^ok' $(WIN_TOOLCHAIN) || $(WIN_DLL) --out $(CTRL3_DLL) --exports fmi3 -- $(WIN_CFLAGS) -ffp-contract=off \
+	    -I fmu_src/controller -I fmu_src -I $(CTRL_GEN) -I $(GEN) -I "$$(cat $(BUILD)/fmi_include)" \
+	    $(CTRL3_SRC_C) $(GEN)/model_vars.c $(CTRL_GEN)/ctrl_vars.c
+	@touch $@
+
+$(CTRL3_FMU): $(CTRL3_SO) $(CTRL3_DLL).made $(CTRL3_GEN)/modelDescription.xml $(CTRL3_GEN)/buildDescription.xml
+	$(PY) tools/package_fmu.py --xml $(CTRL3_GEN)/modelDescription.xml --so $(CTRL3_SO) $(call win_binary,x86_64-windows,$(CTRL3_DLL)) \
 	    --sources fmu_src/controller $(CTRL_GEN) $(CTRL_SHARED) $(CTRL_SHARED_H) fmu_src/fmi3_stubs.c \
 	    fmu_src/fmi3_log.h $(GEN)/model_vars.h $(GEN)/model_vars.c $(CTRL3_GEN)/buildDescription.xml \
 	    --platform x86_64-linux --out $@
@@ -181,6 +244,14 @@ fuzz-tools:
 	    echo "note: clang is not installed and cannot be installed here: the libFuzzer run is skipped"
 
 importers: $(FMI_SIM) $(FMI4J_CP) $(FMIPP_STAMP)
+
+# Wine runs the FMUs' win64 binaries in the tests (tests/test_win64.py): Debian's wine64, installed
+# here when missing and apt-get is usable (root); otherwise that test is skipped and says why
+wine-tools:
+	@command -v wine64 >/dev/null 2>&1 || command -v wine >/dev/null 2>&1 || [ -x /usr/lib/wine/wine64 ] || \
+	    { [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1 && apt-get update -qq && \
+	    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $(WINE_APT) >/dev/null; } || \
+	    echo "note: Wine (Debian $(WINE_APT)) is not installed and cannot be installed here: the win64 run is skipped"
 
 $(FMI_SIM): | fuzz-tools
 	@mkdir -p $(dir $@); rm -f $@.skip
@@ -223,7 +294,7 @@ $(FMIPP_STAMP): $(STAMP) tools/patch_fmipp.py
 # the suite on TEST_WORKERS processes (pytest-xdist; default one per core), the tests of one
 # file in one process (their module fixtures and C-host builds stay together); TEST_WORKERS=0: one
 TEST_WORKERS ?= $(shell nproc 2>/dev/null || echo 2)
-test: fmu fuzz-tools importers
+test: fmu fuzz-tools importers wine-tools
 	$(PY) -m pytest -q -n $(TEST_WORKERS) --dist loadfile tests
 
 # the C benchmark hosts are test code (tests/c); built here and handed to the benchmark

@@ -39,7 +39,7 @@ int fast_indicators_positive(const plant_params_t *p, const plant_disc_t *d, con
 }
 
 int fast_step(const plant_params_t *p, const plant_disc_t *d, const plant_in_t *in, double h,
-              const fast_tol_t *tol, int fresh, double *y, long *n_rhs, fast_carry_t *carry,
+              const fast_tol_t *tol, int fresh, double *y, long long *n_rhs, fast_carry_t *carry,
               plant_memo_t *memo) {
     if (!(h > 0.0 && h <= p->Ts * (1.0 + 1e-9))) return 0;
     if (!fresh && !fast_indicators_positive(p, d, y, in)) return 0;

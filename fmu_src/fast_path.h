@@ -58,7 +58,7 @@ bool fast_carry_unpack(const double *w, fast_carry_t *cr, char *msg, size_t msgl
  * right-hand-side evaluations; carry (may be NULL) is used and renewed; memo (may be NULL)
  * receives the maps at the end point. */
 int fixed_step(const plant_params_t *p, const plant_disc_t *d, const plant_in_t *in, double h,
-               const fast_tol_t *tol, double *y, long *n_rhs, fast_carry_t *carry, plant_memo_t *memo);
+               const fast_tol_t *tol, double *y, long long *n_rhs, fast_carry_t *carry, plant_memo_t *memo);
 
 /* fast_path.c ---------------------------------------------------------------------------- */
 /* Largest rate * Ts of the plant the scheme takes on (the stiffness guard): the classical RK4's
@@ -82,7 +82,7 @@ int fast_indicators_positive(const plant_params_t *p, const plant_disc_t *d, con
  * been made (otherwise the indicators are checked to be positive first). Returns 1 (y advanced
  * to the interval's end, *n_rhs counted), 0 (y untouched: the adaptive solver takes it). */
 int fast_step(const plant_params_t *p, const plant_disc_t *d, const plant_in_t *in, double h,
-              const fast_tol_t *tol, int fresh, double *y, long *n_rhs, fast_carry_t *carry,
+              const fast_tol_t *tol, int fresh, double *y, long long *n_rhs, fast_carry_t *carry,
               plant_memo_t *memo);
 
 #endif

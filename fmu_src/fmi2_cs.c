@@ -65,7 +65,7 @@ static int step_args_ok(instance_t *c, double t, double h, double eps) {
 }
 
 /* the work one step of length h may take (fmi2_instance.h) */
-typedef struct { double steps, events, start_attempts; long n_events; } budget_t;
+typedef struct { double steps, events, start_attempts; long long n_events; } budget_t;
 
 static void budget_start(const model_t *m, double h, budget_t *b) {
     double extra_steps = BUDGET_STEPS_RATE * h, extra_events = BUDGET_EVENTS_RATE * h;
@@ -76,10 +76,10 @@ static void budget_start(const model_t *m, double h, budget_t *b) {
     b->n_events = 0;
 }
 
-/* step attempts left in this call (at least 1, at most what a long fits) */
-static long budget_left(const model_t *m, const budget_t *b) {
+/* step attempts left in this call (at least 1, at most what a long long fits) */
+static long long budget_left(const model_t *m, const budget_t *b) {
     double left = b->steps - ((double)(m->solver.n_steps + m->solver.n_rejected) - b->start_attempts);
-    return left < 1.0 ? 1 : (left > 1e15 ? (long)1e15 : (long)left);
+    return left < 1.0 ? 1 : (left > 1e15 ? (long long)1e15 : (long long)left);
 }
 
 /* the integrator failed or a budget ran out: the message, state Error */

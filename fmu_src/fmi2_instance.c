@@ -10,7 +10,7 @@
 
 static void log_early(const fmi2CallbackFunctions *cb, const char *name, const char *fmt, ...)
 #if defined(__GNUC__)
-    __attribute__((format(printf, 3, 4)))
+    __attribute__((format(FMU_PRINTF_FORMAT, 3, 4)))
 #endif
     ;
 static void log_early(const fmi2CallbackFunctions *cb, const char *name, const char *fmt, ...) {
@@ -137,7 +137,7 @@ int fmu_event_update(instance_t *c, const char *fn, double tau, double slack, fm
         n += plant_event_update(&m->p, &m->d, m->y, &m->in, due != 0, &changed);
         samples += due;
         if (due)
-            fmu_log(c, fmi2OK, LOG_DEBUG, "t = %.9g s: current-loop sample %ld, i = %.9g A", m->time,
+            fmu_log(c, fmi2OK, LOG_DEBUG, "t = %.9g s: current-loop sample %lld, i = %.9g A", m->time,
                     m->d.k, m->d.i);
     } while (fmu_sample_due(m, tau, slack) && samples <= BUDGET_OVERDUE_SAMPLES);
     if (samples > 1)
@@ -238,7 +238,7 @@ void fmi2FreeInstance(fmi2Component comp) {
 fmi2Status fmi2SetDebugLogging(fmi2Component comp, fmi2Boolean loggingOn, size_t nCategories,
                                const fmi2String categories[]) {
     instance_t *c = FMU_ENTER(comp, fmi2SetDebugLogging);
-    long bad;
+    long long bad;
     if (!c) return fmi2Error;
     c->logging_on = loggingOn != 0;
     if (nCategories == 0) { c->log_mask = LOG_ALL; return fmi2OK; }

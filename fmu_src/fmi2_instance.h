@@ -68,7 +68,7 @@ void fmu_states_free_all(instance_t *c);
 
 void fmu_log(instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...)
 #if defined(__GNUC__)
-    __attribute__((format(printf, 4, 5)))
+    __attribute__((format(FMU_PRINTF_FORMAT, 4, 5)))
 #endif
     ;
 /* entry of every FMI call (through FMU_ENTER): the instance when comp is one, the call belongs to

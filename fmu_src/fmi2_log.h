@@ -20,6 +20,15 @@
 #define LOG_DEBUG 8u
 #define LOG_ALL (LOG_EVENTS | LOG_WARNING | LOG_ERROR)   /* logDebug only when named */
 
+/* the printf archetype the logging functions' formats are checked against: on Windows (MinGW)
+ * the C99 one of MinGW's own printf family (built with __USE_MINGW_ANSI_STDIO, so %zu and %lld
+ * mean what they mean on Linux), elsewhere the C library's */
+#if defined(__MINGW32__)
+#define FMU_PRINTF_FORMAT __MINGW_PRINTF_FORMAT
+#else
+#define FMU_PRINTF_FORMAT printf
+#endif
+
 static inline void fmi2_log_emit(const fmi2CallbackFunctions *cb, const char *name, fmi2Status st,
                                  const char *cat, const char *text) {
     char esc[2048];
@@ -46,7 +55,7 @@ static inline void fmi2_log_v(const fmi2CallbackFunctions *cb, const char *name,
 
 /* the mask of fmi2SetDebugLogging's categories (none: all); -1 when every name is known,
  * else the index of the first unknown one */
-static inline long fmi2_log_mask(size_t n, const fmi2String categories[], unsigned *mask) {
+static inline long long fmi2_log_mask(size_t n, const fmi2String categories[], unsigned *mask) {
     size_t k;
     if (n == 0) { *mask = LOG_ALL; return -1; }
     *mask = LOG_WARNING | LOG_ERROR;
@@ -55,7 +64,7 @@ static inline long fmi2_log_mask(size_t n, const fmi2String categories[], unsign
         else if (categories[k] && strcmp(categories[k], "logDebug") == 0) *mask |= LOG_DEBUG;
         else if (!categories[k] || (strcmp(categories[k], "logStatusWarning") != 0 &&
                                     strcmp(categories[k], "logStatusError") != 0))
-            return (long)k;
+            return (long long)k;
     }
     return -1;
 }

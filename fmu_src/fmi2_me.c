@@ -26,7 +26,7 @@ fmi2Status fmi2EnterEventMode(fmi2Component comp) {
 fmi2Status fmi2NewDiscreteStates(fmi2Component comp, fmi2EventInfo *info) {
     instance_t *c = FMU_ENTER(comp, fmi2NewDiscreteStates);
     fmi2Boolean changed = fmi2False;
-    long k_before;
+    long long k_before;
     int switches;
     if (!c) return fmi2Error;
     if (!info) { fmu_log(c, fmi2Error, LOG_ERROR, "fmi2NewDiscreteStates: eventInfo is NULL"); return fmi2Error; }

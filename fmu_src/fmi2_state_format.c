@@ -249,13 +249,13 @@ static int read_rest(instance_t *c, const char *fn, rd_t *r, model_t *m) {
     if (!m->params_ok) return 1;
     if (!params_compile(m->val, &m->p, msg, sizeof msg)) BAD("%s: %s", fn, msg);
     if (m->d.k > 0 && (double)m->d.k > (m->time - m->t0) / m->p.Ts + 2.0)
-        BAD("%s: current-loop sample %ld lies after the state's time %.17g s (startTime %.17g s, Ts %g s)", fn,
+        BAD("%s: current-loop sample %lld lies after the state's time %.17g s (startTime %.17g s, Ts %g s)", fn,
             m->d.k, m->time, m->t0, m->p.Ts);
     fmu_solver_setup(m);
     m->solver.h = s[0] < m->solver.h_max ? s[0] : m->solver.h_max;
     m->solver.log2_facold = s[1];
-    m->solver.n_steps = (long)s[2]; m->solver.n_rejected = (long)s[3]; m->solver.n_rhs = (long)s[4];
-    m->solver.n_ind = (long)s[5]; m->solver.n_roots = (long)s[6];
+    m->solver.n_steps = (long long)s[2]; m->solver.n_rejected = (long long)s[3]; m->solver.n_rhs = (long long)s[4];
+    m->solver.n_ind = (long long)s[5]; m->solver.n_roots = (long long)s[6];
     m->carry = carry;   /* after fmu_solver_setup, which clears it */
     return 1;
 }

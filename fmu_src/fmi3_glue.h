@@ -18,7 +18,7 @@ typedef struct {
     /* the co-simulation step in progress: switches after its start are counted, the first one
      * (time > step_t0) snapshotted for an early return */
     int armed, taken;
-    long n_switches;
+    long long n_switches;
     double step_t0;
     model_t snap;
 } fmi3_ext_t;

@@ -181,7 +181,7 @@ fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean *discrete
                                     fmi3Float64 *nextEventTime) {
     instance_t *c = FMU_ENTER(instance, fmi3UpdateDiscreteStates);
     fmi2Boolean changed = fmi2False;
-    long k_before;
+    long long k_before;
     int switches;
     if (!c) return fmi3Error;
     if (!discreteStatesNeedUpdate || !terminateSimulation || !nominalsOfContinuousStatesChanged ||

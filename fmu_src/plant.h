@@ -69,7 +69,7 @@ typedef struct {
     double i;                         /* held current [A] */
     double ih[PLANT_NA_MAX];          /* i[k-1], i[k-2], ... */
     double uh[PLANT_NB_MAX];          /* u[k-1], u[k-2], ... (uh[0] = u[k-1]) */
-    long k;                           /* index of the last processed sample */
+    long long k;                           /* index of the last processed sample */
     /* GMS */
     bool stuck[PLANT_NE_MAX];
     int dir;                          /* direction of the slipping elements (+1/-1), 0: none slips */
@@ -77,7 +77,7 @@ typedef struct {
     bool st_stuck;
     int st_dir;
     /* statistics */
-    long n_stick, n_slip, n_time_events, n_state_events;
+    long long n_stick, n_slip, n_time_events, n_state_events;
 } plant_disc_t;
 
 /* Inputs. */

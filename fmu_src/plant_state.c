@@ -45,7 +45,7 @@ static bool count_ok(double v, const char *what, char *msg, size_t msglen) {
 
 bool plant_disc_unpack(const double *w, plant_disc_t *d, char *msg, size_t msglen) {
     static const char *const COUNTS[] = {"n_stick", "n_slip", "n_time_events", "n_state_events"};
-    long *cnt[4];
+    long long *cnt[4];
     int j, n = 0;
     cnt[0] = &d->n_stick; cnt[1] = &d->n_slip; cnt[2] = &d->n_time_events; cnt[3] = &d->n_state_events;
     if (!finite_ok(w[n], "i", 0, msg, msglen)) return false;
@@ -59,7 +59,7 @@ bool plant_disc_unpack(const double *w, plant_disc_t *d, char *msg, size_t msgle
         d->uh[j] = w[n];
     }
     if (!count_ok(w[n], "k", msg, msglen)) return false;
-    d->k = (long)w[n++];
+    d->k = (long long)w[n++];
     for (j = 0; j < PLANT_NE_MAX; j++, n++) {
         if (!one_of(w[n], 0.0, "stuck", j, msg, msglen)) return false;
         d->stuck[j] = w[n] != 0.0;
@@ -72,7 +72,7 @@ bool plant_disc_unpack(const double *w, plant_disc_t *d, char *msg, size_t msgle
     d->st_dir = (int)w[n++];
     for (j = 0; j < 4; j++, n++) {
         if (!count_ok(w[n], COUNTS[j], msg, msglen)) return false;
-        *cnt[j] = (long)w[n];
+        *cnt[j] = (long long)w[n];
     }
     return true;
 }

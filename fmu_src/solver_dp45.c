@@ -525,7 +525,7 @@ int dp45_advance(dp45_t *s, void *ctx, dp45_rhs_fn f, dp45_ind_fn g, double *t, 
 {
     const int ng = (g != NULL) ? s->ng : 0;
     double tc = *t;
-    long attempts = 0;
+    long long attempts = 0;
     int j;
 
     if (!advance_args_ok(s, f, ng, roots, tc, t_end)) return DP45_ERROR;

@@ -52,16 +52,16 @@ typedef struct {
     double h_max;           /* largest step (up to rounding); +inf when unlimited */
     double h_min;           /* a rejected step shrinking below this (or below 16 ulp(t)) is an error */
     double root_tol;        /* events are located to root_tol * max(1, |t|) seconds */
-    long max_steps;         /* step attempts allowed per dp45_advance call */
+    long long max_steps;         /* step attempts allowed per dp45_advance call */
     int bounded;            /* 1: y_lo/y_hi hold bounds of the states (dp45_init: 0) */
     double y_lo[DP45_MAX_N], y_hi[DP45_MAX_N]; /* an accepted step ending outside returns DP45_BOUND */
 
     /* ---- statistics (cumulative since dp45_init) ---- */
-    long n_steps;           /* accepted steps */
-    long n_rejected;        /* rejected steps (error test or non-finite values) */
-    long n_rhs;             /* right-hand-side evaluations */
-    long n_ind;             /* indicator-function evaluations */
-    long n_roots;           /* DP45_ROOT returns */
+    long long n_steps;           /* accepted steps */
+    long long n_rejected;        /* rejected steps (error test or non-finite values) */
+    long long n_rhs;             /* right-hand-side evaluations */
+    long long n_ind;             /* indicator-function evaluations */
+    long long n_roots;           /* DP45_ROOT returns */
 
     /* ---- last accepted step, for dp45_dense ---- */
     double t_old, t_new;    /* step interval */

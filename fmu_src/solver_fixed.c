@@ -308,7 +308,7 @@ static void carry_save(fast_carry_t *cr, const rctx_t *c, const plant_disc_t *d,
 }
 
 int fixed_step(const plant_params_t *p, const plant_disc_t *d, const plant_in_t *in, double h,
-               const fast_tol_t *tol, double *y, long *n_rhs, fast_carry_t *carry, plant_memo_t *memo) {
+               const fast_tol_t *tol, double *y, long long *n_rhs, fast_carry_t *carry, plant_memo_t *memo) {
     rctx_t c;
     double q[NQ], k1[NQ], k5[NQ], qn[NQ], e[NQ], y1[PLANT_NX], Kf, Fcg;
     int j;

@@ -14,7 +14,7 @@
 #define CTRL_NZ_MAX 16       /* ZPETC coefficients (order + 1) */
 #define CTRL_PREVIEW_MAX 64  /* ZPETC preview [samples] */
 #define CTRL_RB (CTRL_PREVIEW_MAX + 1)
-/* the most samples a reference may last: an exact double and a long (sample indices) */
+/* the most samples a reference may last: an exact double and a long long (sample indices) */
 #define REF_MAX_SAMPLES 1e15
 
 enum { CTRL_STATE_SPACE = 1, CTRL_PID = 2, CTRL_PID_LEAD = 3 };
@@ -39,10 +39,10 @@ typedef struct {
     double zb[CTRL_NZ_MAX], za[CTRL_NZ_MAX], zi[CTRL_NZ_MAX];
     /* reference generator */
     double amp, w, centre, phase;     /* sinusoid */
-    long n_sin;
+    long long n_sin;
     double x_start, sgn, speed, accel, dwell, t_acc, t_cruise;   /* point to point */
     double p2p_samples;               /* ceil(duration of the move / Ts), checked before n_p2p */
-    long n_p2p;
+    long long n_p2p;
     /* feedforward */
     bool ff, ff_inertia, ff_cogging, ff_ripple, ff_offset;
     int ff_friction;
@@ -51,11 +51,11 @@ typedef struct {
 } ctrl_params_t;
 
 /* The reference stream: sample j of the internal generator (sequential j). */
-typedef struct { long j; double cs; } ref_gen_t;
+typedef struct { long long j; double cs; } ref_gen_t;
 
 /* Everything that changes from sample to sample. */
 typedef struct {
-    long k;                           /* index of the next sample */
+    long long k;                           /* index of the next sample */
     double s[CTRL_NS_MAX];
     bool fresh;
     double q, D, e_prev, F_prev, L_prev;
@@ -73,7 +73,7 @@ typedef struct { double x_ref, v_ref, a_ref, x_meas; } ctrl_in_t;
 /* ctrl_reference.c: sample j of the internal reference (x, v, a) */
 /* derived constants; n_sin only for a sinusoid (duration checked first), n_p2p left to ctrl_compile */
 void ref_prepare(ctrl_params_t *p, double duration, double x_end);
-void ref_sample(const ctrl_params_t *p, ref_gen_t *g, long j, double *x, double *v, double *a);
+void ref_sample(const ctrl_params_t *p, ref_gen_t *g, long long j, double *x, double *v, double *a);
 
 /* ctrl_feedforward.c: u_ff [V] at the reference (x, v, a); advances the GMS along the reference */
 double feedforward_sample(const ctrl_params_t *p, gms_track_t *g, double x, double v, double a);

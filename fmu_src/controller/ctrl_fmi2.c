@@ -40,7 +40,7 @@ typedef struct {
 
 static void ctrl_log(ctrl_instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...)
 #if defined(__GNUC__)
-    __attribute__((format(printf, 4, 5)))
+    __attribute__((format(FMU_PRINTF_FORMAT, 4, 5)))
 #endif
     ;
 static void ctrl_log(ctrl_instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...) {
@@ -79,7 +79,7 @@ static void store_outputs(ctrl_instance_t *c, const ctrl_state_t *s) {
     c->val[CVR_r_x] = s->r_x;
 }
 
-static double sample_time(const ctrl_instance_t *c, long k) { return c->t0 + (double)k * c->p.Ts; }
+static double sample_time(const ctrl_instance_t *c, long long k) { return c->t0 + (double)k * c->p.Ts; }
 /* how far a communication time may miss a sample instant and still be it: 1e-9 of the time
  * elapsed (at least of 1 s), at most Ts/64, as the plant FMU's.  Masters that add h to a double
  * (Ecos: t += h) drift by ~n ulp: 5e-13 s after 25 750 steps of 50 us, more than a fixed
@@ -102,7 +102,7 @@ static int evaluate(ctrl_instance_t *c, const char *fn) {
     inputs(c, &in);
     c->pending = c->s;
     if (!ctrl_sample(&c->p, &c->pending, &in, why, sizeof why)) {
-        ctrl_log(c, fmi2Error, LOG_ERROR, "%s: sample %ld at t = %.17g s: %s (x_meas = %g m, x_ref = %g m): the "
+        ctrl_log(c, fmi2Error, LOG_ERROR, "%s: sample %lld at t = %.17g s: %s (x_meas = %g m, x_ref = %g m): the "
                  "controller or its pre-filter diverged (unstable ss.Ac / zpetc.a) or its inputs are out of scale",
                  fn, c->s.k, sample_time(c, c->s.k), why, in.x_meas, in.x_ref);
         c->fsm = ST_ERROR;
@@ -190,7 +190,7 @@ void fmi2FreeInstance(fmi2Component comp) {
 fmi2Status fmi2SetDebugLogging(fmi2Component comp, fmi2Boolean loggingOn, size_t nCategories,
                                const fmi2String categories[]) {
     ctrl_instance_t *c = FMU_ENTER(comp, fmi2SetDebugLogging);
-    long bad;
+    long long bad;
     if (!c) return fmi2Error;
     c->logging_on = loggingOn != 0;
     if (nCategories > 0 && !categories) {

@@ -28,7 +28,7 @@ static double zpetc_filter(const ctrl_params_t *p, double *z, double x) {
 }
 
 /* reference sample j (input or generator) into the ring buffer and, with ZPETC, the filter */
-static double push_reference(const ctrl_params_t *p, ctrl_state_t *s, long j, double x, double v,
+static double push_reference(const ctrl_params_t *p, ctrl_state_t *s, long long j, double x, double v,
                              double a) {
     int slot = (int)(j % CTRL_RB);
     if (p->source != REF_INPUT) ref_sample(p, &s->gen, j, &x, &v, &a);
@@ -126,7 +126,7 @@ static bool sample_finite(const ctrl_params_t *p, const ctrl_state_t *s, double 
 }
 
 bool ctrl_sample(const ctrl_params_t *p, ctrl_state_t *s, const ctrl_in_t *in, char *why, size_t whylen) {
-    long k = s->k, j;
+    long long k = s->k, j;
     int slot = (int)(k % CTRL_RB);
     double y = in->x_meas, r, uff = 0.0;
     if (p->quantum > 0.0) y = nearbyint(y / p->quantum) * p->quantum;

@@ -151,7 +151,7 @@ static bool compile_reference(const double *val, ctrl_params_t *p, char *msg, si
              "%.17g s: the move lasts %g s, %g samples of Ts = %g s: allowed at most %g samples", p->x_start,
              x_end, val[CVR_ref_speed], p->accel, p->dwell, p->p2p_samples * p->Ts, p->p2p_samples, p->Ts,
              REF_MAX_SAMPLES);
-    if (p->source == REF_POINT_TO_POINT) p->n_p2p = (long)p->p2p_samples;
+    if (p->source == REF_POINT_TO_POINT) p->n_p2p = (long long)p->p2p_samples;
     return true;
 }
 

@@ -9,9 +9,9 @@
 
 void ref_prepare(ctrl_params_t *p, double duration, double x_end) {
     double d = x_end - p->x_start, L, T;
-    /* the sample counts as doubles first: ctrl_compile converts them to long only when they are
-     * at most REF_MAX_SAMPLES (a larger double to long is undefined) */
-    p->n_sin = p->source == REF_SINUSOID ? (long)nearbyint(duration / p->Ts) : 0;
+    /* the sample counts as doubles first: ctrl_compile converts them to long long only when they are
+     * at most REF_MAX_SAMPLES (a larger double to long long is undefined) */
+    p->n_sin = p->source == REF_SINUSOID ? (long long)nearbyint(duration / p->Ts) : 0;
     if (p->source == REF_POINT_TO_POINT) {
         p->sgn = (double)((d > 0.0) - (d < 0.0));
         L = fabs(d);
@@ -27,7 +27,7 @@ void ref_prepare(ctrl_params_t *p, double duration, double x_end) {
 }
 
 /* velocity magnitude of the trapezoid at sample j (0 outside 0..n) */
-static double p2p_speed(const ctrl_params_t *p, long j) {
+static double p2p_speed(const ctrl_params_t *p, long long j) {
     double t, v;
     if (j < 0 || j > p->n_p2p) return 0.0;
     t = (double)j * p->Ts - p->dwell;
@@ -36,15 +36,15 @@ static double p2p_speed(const ctrl_params_t *p, long j) {
     return fmin(fmax(v, 0.0), p->speed);
 }
 
-static double p2p_accel(const ctrl_params_t *p, long j) {
+static double p2p_accel(const ctrl_params_t *p, long long j) {
     if (j == 0) return (p2p_speed(p, 1) - p2p_speed(p, 0)) / p->Ts;
     if (j == p->n_p2p) return (p2p_speed(p, j) - p2p_speed(p, j - 1)) / p->Ts;
     return (p2p_speed(p, j + 1) - p2p_speed(p, j - 1)) / (2. * p->Ts);
 }
 
-void ref_sample(const ctrl_params_t *p, ref_gen_t *g, long j, double *x, double *v, double *a) {
+void ref_sample(const ctrl_params_t *p, ref_gen_t *g, long long j, double *x, double *v, double *a) {
     if (p->source == REF_SINUSOID) {
-        long jj = j < p->n_sin ? j : p->n_sin;
+        long long jj = j < p->n_sin ? j : p->n_sin;
         double th = p->w * ((double)jj * p->Ts) + p->phase;
         *x = p->centre - p->amp * cos(th);
         *v = j > p->n_sin ? 0.0 : p->amp * p->w * sin(th);

@@ -161,19 +161,42 @@ def test_reset_returns_to_the_exported_start_values(exported, machine_file) -> N
         assert p.get(["m", "offset.F"]) == {"m": 23.75, "offset.F": -2.125}
 
 
-def test_bad_start_value_file_fails_instantiation_naming_the_line(exported, tmp_path) -> None:
+@pytest.mark.parametrize("old,line,message", [
+    (b"m 23.75", b"m -1.5", "start_values.txt line 2: m = -1.5: allowed"),
+    (b"m 23.75", b"m 1,5", "start_values.txt line 2: m = 1,5: allowed a finite number"),
+    (b"m 23.75", b"mass 20", "start_values.txt line 2: mass is not a variable of this FMU"),
+    (b"m 23.75", b"x 0.1", "start_values.txt line 2: x is not a parameter"),
+    (b"m 23.75", b"m 23.75 7", "start_values.txt line 2: expected \"name value\""),
+    (b"friction.F_c 24.0", b"friction.F_c 40.0", "friction.F_c = 40 exceeds friction.F_s = 31.5"),
+])
+def test_bad_start_value_file_fails_instantiation_naming_the_line(exported, tmp_path, old, line,
+                                                                  message):
     bad = tmp_path / "bad.fmu"
     with zipfile.ZipFile(exported[2]) as a, zipfile.ZipFile(bad, "w") as b:
         for item in a.infolist():
             data = a.read(item)
             if item.filename == f"resources/{START_VALUES}":
-                data = data.replace(b"\nm 23.75\n", b"\nm -1.5\n")
+                assert b"\n" + old + b"\n" in data
+                data = data.replace(b"\n" + old + b"\n", b"\n" + line + b"\n")
             b.writestr(item, data)
     p = Plant(interface="cs", path=bad, log=True)
     with pytest.raises(Exception):
         p.start()
-    text = "\n".join(p.messages)
-    assert "start_values.txt line 2: m = -1.5: allowed" in text
+    assert message in "\n".join(p.messages)
+
+
+def test_start_value_file_comments_and_crlf_are_read(exported, tmp_path):
+    edited = tmp_path / "edited.fmu"
+    with zipfile.ZipFile(exported[2]) as a, zipfile.ZipFile(edited, "w") as b:
+        for item in a.infolist():
+            data = a.read(item)
+            if item.filename == f"resources/{START_VALUES}":
+                data = data.replace(b"\nm 23.75\n", b"\n# the slide with its fixture\nm 31.5  # kg\n")
+                data = data.replace(b"\n", b"\r\n")
+            b.writestr(item, data)
+    with Plant(interface="cs", path=edited) as p:
+        p.start()
+        assert p.get(["m", "offset.F"]) == {"m": 31.5, "offset.F": -2.125}
 
 
 def test_cli_writes_refuses_existing_and_bad_model(machine_file, tmp_path, capsys) -> None:

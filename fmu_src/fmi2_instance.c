@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "fmi2_instance.h"
+#include "start_values.h"
 
 static void log_early(const fmi2CallbackFunctions *cb, const char *name, const char *fmt, ...)
 #if defined(__GNUC__)
@@ -192,7 +193,6 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
                               fmi2Boolean visible, fmi2Boolean loggingOn) {
     instance_t *c;
     size_t len;
-    (void)fmuResourceLocation;
     (void)visible;
     if (!functions || !functions->allocateMemory || !functions->freeMemory) return NULL;
     if (!instanceName || !*instanceName) {
@@ -221,6 +221,11 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     c->logging_on = loggingOn != 0;
     c->log_mask = LOG_ALL;
     fmu_model_defaults(&c->m);
+    if (!fmu_start_values_load(c, fmuResourceLocation, 1)) {
+        functions->freeMemory(c->name);
+        functions->freeMemory(c);
+        return NULL;
+    }
     return c;
 }
 
@@ -354,7 +359,7 @@ fmi2Status fmi2Terminate(fmi2Component comp) {
 fmi2Status fmi2Reset(fmi2Component comp) {
     instance_t *c = FMU_ENTER(comp, fmi2Reset);
     if (!c) return fmi2Error;
-    fmu_model_defaults(&c->m);
+    fmu_instance_defaults(c);
     return fmi2OK;
 }
 

@@ -61,6 +61,9 @@ typedef struct {
     /* the FMU states this instance's Get/DeserializeFMUState allocated and no FreeFMUState has
      * freed yet (fmi2_state.c): fmi2FreeInstance frees them ("frees all the allocated memory") */
     void *states;
+    /* every variable's start value: the compiled-in ones and those of the resource file
+     * (start_values.h); fmi2Reset goes back to them */
+    double start_val[MODEL_NVR];
 } instance_t;
 
 /* free the FMU states still held by c (fmi2FreeInstance) */

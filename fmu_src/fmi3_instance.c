@@ -6,10 +6,12 @@
 #include <string.h>
 
 #include "fmi3_glue.h"
+#include "start_values.h"
 
 const char *fmi3GetVersion(void) { return fmi3Version; }
 
-static instance_t *instantiate(fmi3String name, fmi2Type type, fmi3String token, fmi3Boolean logging_on,
+static instance_t *instantiate(fmi3String name, fmi2Type type, fmi3String token, fmi3String resource_path,
+                               fmi3Boolean logging_on,
                                fmi3InstanceEnvironment env, fmi3LogMessageCallback log_message,
                                int event_mode_used, int early_return_allowed) {
     fmi3_ext_t *e = (fmi3_ext_t *)calloc(1, sizeof(fmi3_ext_t));
@@ -26,6 +28,11 @@ static instance_t *instantiate(fmi3String name, fmi2Type type, fmi3String token,
     c->fmi3 = 1;
     c->event_mode_used = event_mode_used;
     c->ext = e;
+    if (!fmu_start_values_load(c, resource_path, 0)) {
+        fmi2FreeInstance(c);
+        free(e);
+        return NULL;
+    }
     return c;
 }
 
@@ -33,8 +40,8 @@ fmi3Instance fmi3InstantiateModelExchange(fmi3String instanceName, fmi3String in
                                           fmi3String resourcePath, fmi3Boolean visible, fmi3Boolean loggingOn,
                                           fmi3InstanceEnvironment instanceEnvironment,
                                           fmi3LogMessageCallback logMessage) {
-    (void)resourcePath; (void)visible;
-    return instantiate(instanceName, fmi2ModelExchange, instantiationToken, loggingOn, instanceEnvironment,
+    (void)visible;
+    return instantiate(instanceName, fmi2ModelExchange, instantiationToken, resourcePath, loggingOn, instanceEnvironment,
                        logMessage, 0, 0);
 }
 
@@ -49,9 +56,9 @@ fmi3Instance fmi3InstantiateCoSimulation(fmi3String instanceName, fmi3String ins
                                          fmi3LogMessageCallback logMessage,
                                          fmi3IntermediateUpdateCallback intermediateUpdate) {
     instance_t *c;
-    (void)resourcePath; (void)visible; (void)requiredIntermediateVariables;
+    (void)visible; (void)requiredIntermediateVariables;
     (void)intermediateUpdate;   /* providesIntermediateUpdate is false: never called */
-    c = instantiate(instanceName, fmi2CoSimulation, instantiationToken, loggingOn, instanceEnvironment, logMessage,
+    c = instantiate(instanceName, fmi2CoSimulation, instantiationToken, resourcePath, loggingOn, instanceEnvironment, logMessage,
                     eventModeUsed != 0, earlyReturnAllowed != 0);
     if (!c) return NULL;
     if (nRequiredIntermediateVariables > 0) {
@@ -169,7 +176,7 @@ fmi3Status fmi3Terminate(fmi3Instance instance) {
 fmi3Status fmi3Reset(fmi3Instance instance) {
     instance_t *c = FMU_ENTER(instance, fmi3Reset);
     if (!c) return fmi3Error;
-    fmu_model_defaults(&c->m);
+    fmu_instance_defaults(c);
     return fmi3OK;
 }
 

@@ -83,6 +83,7 @@ def test_bad_file_refused_by_every_command(tmp_path, capsys, good, group, name):
         commands["identify"] += ["--truth", str(model)]
         del commands["report"]                          # reads no model file
         commands["experiments"] = ["experiments", "--out", str(out / "e"), "--model", str(model)]
+        commands["fmu"] = ["fmu", str(model), "--out", str(out / "m.fmu")]
     before = _digest(d)
     capsys.readouterr()
     for cmd, argv in commands.items():

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from feeddrive import cli
-from feeddrive.data import load_runs, write_run
+from feeddrive.data import RECORDING_DECIMALS, load_runs, write_run
 from feeddrive.experiments.constant_speed import (PAPER_LOADS, constant_speed_runs,
                                                   stribeck_runs)
 from feeddrive.experiments.force_open_loop import force_open_loop_runs
@@ -91,7 +91,7 @@ def runs_dir(tmp_path_factory, truth, fmu_path):
         for r in fn(params, Sensors(seed=run_seed(SEED, label))):
             assert r.meta["name"] not in names
             names.add(r.meta["name"])
-            write_run(r, out / f"{r.meta['name']}.csv")
+            write_run(r, out / f"{r.meta['name']}.csv", RECORDING_DECIMALS)   # as recorded
     return out
 
 

@@ -21,7 +21,7 @@ LAYERS: dict[str, int] = {
     "paper": 0, "data": 0, "data_csv": 0, "signals": 0, "model_description": 0, "outputs": 0, "inputs": 0,
     "physics": 1, "plausibility": 1,
     "model_file": 2,
-    "fmu": 3, "fmu3": 3,
+    "fmu": 3, "fmu3": 3, "export_fmu": 3,
     "control": 4,
     "harness": 5,
     "experiments": 6,

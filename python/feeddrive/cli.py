@@ -19,6 +19,7 @@ from .data import load_run, load_runs, sidecar_path
 from .diagnose.emps import emps_baseline_model
 from .diagnose.workflow import diagnose
 from .experiments.campaign import MAX_REPEATS, write_campaign
+from .export_fmu import fmu_command
 from .fmu import FMUError, fmu_path
 from .harness.controller_fmu import (CONTROLLER_FMU_ENV, DEFAULT_CONTROLLER_FMU,
                                      controller_fmu_path)
@@ -209,6 +210,11 @@ def _cmd_experiments(a: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_fmu(a: argparse.Namespace) -> int:
+    print(fmu_command(a.model, a.out, a.fmi, a.force))
+    return 0
+
+
 def _cmd_identify(a: argparse.Namespace) -> int:
     if a.position_friction and a.bootstrap is not None:
         raise ValueError("--position-friction is not available with --bootstrap "
@@ -364,6 +370,13 @@ def build_parser() -> argparse.ArgumentParser:
                    help="runs of every experiment with independent noise (for identify --bootstrap)")
     _force_argument(p)
     p.set_defaults(func=_cmd_experiments)
+    p = sub.add_parser("fmu", help="write a model file as its own plant FMU (start values) and "
+                                   "an SSP parameter set (.ssv) beside it")
+    _path(p, FILE, "model", type=Path, help="model file (JSON)")
+    _path(p, OUT_FILE, "--out", required=True, type=Path, help="the FMU to write (NAME.fmu; NAME.ssv beside it)")
+    p.add_argument("--fmi", type=int, choices=(2, 3), default=2, help="FMI version (default 2)")
+    p.add_argument("--force", action="store_true", help="replace an existing --out and its .ssv")
+    p.set_defaults(func=_cmd_fmu)
     p = sub.add_parser("identify", help="identify a model file from a folder of runs")
     _path(p, RUNS, "runs")
     _path(p, OUT_FILE, "--out", required=True)

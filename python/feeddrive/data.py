@@ -21,6 +21,7 @@ import csv
 import io
 import json
 import os
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -32,7 +33,8 @@ from .data_csv import (KNOWN_COLUMNS, MAX_HEADER_BYTES, MAX_LINE_CHARS, REQUIRED
 from .inputs import InputFileError, read_text
 
 __all__ = ["KNOWN_COLUMNS", "MAX_ABS", "MAX_HEADER_BYTES", "MAX_LINE_CHARS", "MIN_ROWS",
-           "REQUIRED_COLUMNS", "SAMPLE_JITTER", "SAMPLE_STEP_RANGE", "DataError", "Run",
+           "RECORDING_DECIMALS", "REQUIRED_COLUMNS", "SAMPLE_JITTER", "SAMPLE_STEP_RANGE",
+           "DataError", "Run", "fixed_text", "time_text",
            "check_plausible", "check_sampling", "load_run", "load_runs", "sidecar_path",
            "write_run"]
 
@@ -261,12 +263,47 @@ def _cell(v: Any) -> str:
     return repr(float(v)) if isinstance(v, (float, np.floating)) else str(v)
 
 
-def write_run(run: Run, path: str | Path) -> None:
+#: Decimal places a recording carries per column of the recording format (:func:`write_run` ``decimals``):
+#: positions to 1e-10 m (below any linear scale's resolution), voltage and current to 1e-7
+#: (below any DAQ's), the load to 1e-7 N; ``time`` goes to its sample grid (:func:`time_text`).
+RECORDING_DECIMALS: dict[str, int] = {"x": 10, "x_ref": 10, "u": 7, "i": 7, "F_load": 7}
+#: the most decimal places :func:`time_text` gives a sampled time
+MAX_TIME_DECIMALS = 12
+
+
+def fixed_text(values: np.ndarray, decimals: int) -> list[str]:
+    """``values`` rounded to ``decimals`` places, as the shortest fixed-point text (no trailing
+    zeros, no exponent, no "-0")."""
+    rounded = np.round(np.asarray(values, dtype=float), decimals) + 0.0     # -0.0 -> 0.0
+    if decimals <= 0:
+        return [f"{v:.0f}" for v in rounded.tolist()]
+    return [f"{v:.{decimals}f}".rstrip("0").rstrip(".") for v in rounded.tolist()]
+
+
+def time_text(time: np.ndarray) -> list[str]:
+    """Sample times as text on their grid: with ``Ts`` the median step written in the fewest
+    decimal places (up to :data:`MAX_TIME_DECIMALS`) that change it by at most 1e-9 Ts, every
+    time in those places when that moves none by more than 1e-6 Ts (``k * 0.0005`` is written
+    ``0.0005 k`` exactly); times on no such grid keep every digit (``repr``)."""
+    t = np.asarray(time, dtype=float)
+    if len(t) >= 2:
+        ts = float(np.median(np.diff(t)))
+        if ts > 0:
+            d = next((d for d in range(MAX_TIME_DECIMALS + 1)
+                      if abs(round(ts, d) - ts) <= 1e-9 * ts), None)
+            if d is not None and np.max(np.abs(np.round(t, d) - t)) <= 1e-6 * ts:
+                return fixed_text(t, d)
+    return list(map(repr, t.tolist()))
+
+
+def write_run(run: Run, path: str | Path, decimals: Mapping[str, int] | None = None) -> None:
     """Write ``run`` as a recording CSV, plus ``<stem>.json`` when ``run.meta`` is not empty.
 
     The format's columns come first in the format's order, then ``run.extra`` in its order.  Floats are
-    written with ``repr`` so that :func:`load_run` gives back the same float64 bits.  A run
-    the loader would reject (non-finite values, time not strictly increasing, < 2 rows)
+    written with ``repr`` so that :func:`load_run` gives back the same float64 bits, except the
+    columns named in ``decimals`` (a recording: :data:`RECORDING_DECIMALS`), each rounded to
+    its number of decimal places, and then ``time`` on its sample grid (:func:`time_text`).
+    A run the loader would reject (non-finite values, time not strictly increasing, < 2 rows)
     raises :class:`DataError` (line numbers are those the file would have) and nothing is
     written.  When ``run.meta`` is empty an existing sidecar at the destination is removed,
     so that the written pair describes ``run`` and nothing else.
@@ -287,8 +324,17 @@ def write_run(run: Run, path: str | Path) -> None:
             raise DataError(jpath, None, None, f"run.meta is not valid JSON: {e}") from None
     names = list(cols)
     # each column to text once (repr of a Python float round-trips float64 exactly)
-    text_cols = [list(map(repr, cols[c].tolist())) if np.asarray(cols[c]).dtype.kind == "f"
-                 else [_cell(v) for v in cols[c].tolist()] for c in names]
+    decimals = dict(decimals or {})
+
+    def text(c: str) -> list[str]:
+        if np.asarray(cols[c]).dtype.kind != "f":
+            return [_cell(v) for v in cols[c].tolist()]
+        if c == "time" and decimals:
+            return time_text(cols[c])
+        if c in decimals:
+            return fixed_text(cols[c], decimals[c])
+        return list(map(repr, cols[c].tolist()))
+    text_cols = [text(c) for c in names]
     buf = io.StringIO(newline="")
     writer = csv.writer(buf, lineterminator="\n")
     writer.writerow(names)

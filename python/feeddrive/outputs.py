@@ -30,7 +30,7 @@ import secrets
 import shutil
 import stat
 import tempfile
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
@@ -168,10 +168,12 @@ def _temporary_beside(target: Path) -> tuple[int, Path]:
             continue
 
 
-def write_text(target: str | Path, text: str,
+def write_with(target: str | Path, write: Callable[[Path], None],
                inputs: Reads | Iterable[str | Path | None] = ()) -> Path:
-    """Write ``text`` to ``target`` atomically (temporary file beside it, then rename); a
-    file replaced keeps its permission bits, a new one gets those of ``open`` (the umask's)."""
+    """Write ``target`` atomically through ``write(tmp)``, which fills the temporary file
+    ``tmp`` beside it (then renamed over ``target``: a reader sees the old or the new file);
+    a file replaced keeps its permission bits, a new one gets those of ``open`` (0666 less the
+    umask).  On an exception the temporary file is removed and ``target`` is untouched."""
     target = check_file(target, inputs)
     fd, tmp = _temporary_beside(target)
     try:
@@ -179,13 +181,22 @@ def write_text(target: str | Path, text: str,
             os.chmod(fd, stat.S_IMODE(os.stat(target).st_mode))
         except FileNotFoundError:
             pass
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as f:
-            f.write(text)
+        os.close(fd)
+        write(tmp)
         os.replace(tmp, target)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
     return target
+
+
+def write_text(target: str | Path, text: str,
+               inputs: Reads | Iterable[str | Path | None] = ()) -> Path:
+    """Write ``text`` to ``target`` atomically (:func:`write_with`)."""
+    def write(tmp: Path) -> None:
+        with open(tmp, "w", encoding="utf-8", newline="") as f:
+            f.write(text)
+    return write_with(target, write, inputs)
 
 
 def is_ours(folder: str | Path) -> bool:

@@ -27,7 +27,7 @@ from typing import Any
 
 from tqdm import tqdm
 
-from ..data import Run, write_run
+from ..data import RECORDING_DECIMALS, Run, write_run
 from ..harness.sensors import Sensors
 from ..model_file import ModelFile, load_model, paper_model
 from ..outputs import output_dir
@@ -160,6 +160,6 @@ def write_campaign(out_dir: Path, model: Path | ModelFile | Mapping[str, Any] | 
                 name = f"{run.meta['name']}.csv"
                 if name in names:
                     raise ValueError(f"write_campaign: two runs named {name}")
-                write_run(run, stage / name)
+                write_run(run, stage / name, RECORDING_DECIMALS)
                 names.append(name)
     return [out_dir / n for n in names]

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..data import Run, write_run
+from ..data import RECORDING_DECIMALS, Run, write_run
 from ..harness.controllers import state_space_spec
 from ..harness.references import sinusoid
 from ..harness.runs import closed_loop_run, run_closed_loop
@@ -47,7 +47,7 @@ def reproduce(out_dir: Path | None = None, seed: int = 3, window: float = 0.3) -
     run, _ = closed_loop_run(truth, spec, ref, Sensors(seed=seed), experiment="sec3_sinusoid",
                              amplitude=AMPLITUDE, period=PERIOD, centre=CENTRE)
     if out_dir is not None:
-        write_run(run, Path(out_dir) / "sec3_measured.csv")
+        write_run(run, Path(out_dir) / "sec3_measured.csv", RECORDING_DECIMALS)
     top = int(np.argmax(ref.x))
     w = int(round(window / ref.Ts))
     res = Sec3Result(measured=run, simulated={}, top_reversal=top)

@@ -198,12 +198,16 @@ class ControllerType:
     name: str
     build: Callable[[Mapping[str, Any], Reference, np.ndarray | None], Controller]
     default_spec: Callable[[], dict[str, Any]]
+    #: the keys a spec of this type may have besides ``type``
+    keys: frozenset[str] = frozenset()
 
 
 CONTROLLERS: dict[str, ControllerType] = {
-    "state_space": ControllerType("state_space", _state_space, state_space_spec),
-    "pid": ControllerType("pid", _pid, pid_spec),
-    "pid_lead": ControllerType("pid_lead", _pid_lead, pid_lead_spec),
+    "state_space": ControllerType("state_space", _state_space, state_space_spec,
+                                  frozenset(_SS_KEYS)),
+    "pid": ControllerType("pid", _pid, pid_spec, frozenset(_PID_KEYS)),
+    "pid_lead": ControllerType("pid_lead", _pid_lead, pid_lead_spec,
+                               frozenset(_PID_KEYS | {"lead_zero_hz", "lead_pole_hz"})),
 }
 
 

@@ -143,6 +143,14 @@ def test_validate_shows_what_it_can_with_a_foreign_controller(tmp_path, good, ca
     assert "ignored controller" in out and "'Kv' missing" in out and "law, Kd" in out, out
     assert "position gap not computed" in out and "position gap x_sim" not in out, out
     assert re.search(r"force residual .*: rms \d", out), out
+    # diagnose uses the run and keeps the line in what it writes
+    _put(tmp_path / "model.json", json.dumps(good[2]))
+    assert main(["diagnose", str(tmp_path / "run.csv"), "--model", str(tmp_path / "model.json"),
+                 "--out", str(tmp_path / "d"), "--max-steps", "1"]) == 0
+    notes = json.loads((tmp_path / "d" / "diagnosis.json").read_text())["notes"]
+    assert any("run.json: ignored controller" in n and "'Kv' missing" in n for n in notes), notes
+    assert any("closed-loop gap not computed" in n for n in notes), notes
+    capsys.readouterr()
     # the same controller described with one descriptive key: replayed, the key named
     _put(tmp_path / "run.json", json.dumps(dict(good_side, controller=dict(
         good_side["controller"], law="PID"))))

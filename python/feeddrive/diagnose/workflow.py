@@ -509,7 +509,8 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
     cl = closed_loop_gap(runs, current) if closed_loop else None
     if closed_loop and cl is None:
         notes.append("closed-loop gap not computed: no run has x_ref and a sidecar 'controller' "
-                     f"of a known type ({', '.join(map(repr, CONTROLLERS))})")
+                     f"the registry builds (types {', '.join(map(repr, CONTROLLERS))}; the "
+                     "sidecar lines above say what was not understood)")
     stop = {"reason": f"max_steps = {max_steps} reached"}
     for _ in range(max_steps):
         ctx = Context(res, current, n_blocks=n_blocks)

@@ -14,7 +14,8 @@ system itself, whatever ``L``.  While clamped, the state obeys
 applied, and ``A - L C`` (which :func:`back_calculation_gain` makes Schur stable, all
 eigenvalues at one chosen ``pole``) sets how fast it forgets the part the clamp cut off.
 This is the observer form of back-calculation (Astrom & Hagglund, *Advanced PID Control*,
-2006, Sec. 3.5): for a PID it is the classic back-calculation of the integrator, and, unlike
+2006, on windup): for a PID realised with its integral as a state and L on that state alone it
+is the classic back-calculation of the integrator (L = Ts/T_t), and, unlike
 freezing the state update while clamped, it works for any structure -- a frozen state would
 also stop the derivative filter, a lead or a velocity filter, whose states must follow the
 measurement to be right when the clamp releases.

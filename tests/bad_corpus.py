@@ -84,7 +84,7 @@ def csv_cases(good: str) -> list[tuple[str, str | bytes]]:
 
 
 def sidecar_cases(good: dict[str, Any]) -> list[tuple[str, str | bytes]]:
-    """Bad sidecars (the CSV beside them is good)."""
+    """Bad sidecars (the CSV beside them is good): not JSON, or contradicting the CSV."""
     def with_(**kw: Any) -> str:
         d = dict(good)
         d.update(kw)
@@ -97,21 +97,44 @@ def sidecar_cases(good: dict[str, Any]) -> list[tuple[str, str | bytes]]:
         ("json_deep", "[" * 100_000 + "]" * 100_000),
         ("json_deep_object", '{"a": ' * 50_000 + "1" + "}" * 50_000),
         ("not_utf8", b'{"name": "\xff"}'),
-        ("controller_string", with_(controller="pid")),
-        ("controller_no_type", with_(controller={"Kp": 1.0})),
-        ("controller_unknown", with_(controller=dict(ctrl, type="fuzzy"))),
-        ("controller_kp_missing", with_(controller={k: v for k, v in ctrl.items() if k != "Kp"})),
-        ("controller_kp_text", with_(controller=dict(ctrl, Kp="stiff"))),
-        ("controller_kp_negative", with_(controller=dict(ctrl, Kp=-1.0))),
-        ("Ts_text", with_(Ts="fast")),
         ("Ts_negative", with_(Ts=-5e-4)),
-        ("sensors_string", with_(sensors="ideal")),
-        ("sensors_quantum_negative", with_(sensors=dict(good["sensors"], quantum=-1e-7))),
-        ("F_load_text", with_(F_load="heavy")),
-        ("schema_other", with_(schema="other/9")),
-        ("kind_unknown", with_(kind="banana")),
+        ("Ts_other", with_(Ts=1e-3)),
+        ("controller_Ts_other", with_(controller=dict(ctrl, Ts=2e-3))),
+        ("F_load_other", with_(F_load=54.9)),
         ("nan_literal", json.dumps(good)[:-1] + ', "force_gain": NaN}'),
-        ("force_gain_zero", with_(force_gain=0)),
+    ]
+
+
+def foreign_sidecar_cases(good: dict[str, Any]) -> list[tuple[str, dict[str, Any], str]]:
+    """Sidecars that say something the tools do not use, with the key each note must name
+    (the run stays usable: DATA.md, a sidecar is information, not a gate)."""
+    def with_(**kw: Any) -> dict[str, Any]:
+        d = dict(good)
+        d.update(kw)
+        return d
+
+    ctrl = dict(good["controller"])
+    no_schema = {k: v for k, v in good.items() if k != "schema"}
+    return [
+        ("controller_string", with_(controller="pid"), "controller"),
+        ("controller_no_type", with_(controller={"Kp": 1.0}), "controller"),
+        ("controller_unknown", with_(controller=dict(ctrl, type="fuzzy")), "'fuzzy'"),
+        ("controller_kp_missing", with_(controller={k: v for k, v in ctrl.items() if k != "Kp"}),
+         "'Kp' missing"),
+        ("controller_kp_text", with_(controller=dict(ctrl, Kp="stiff")), "Kp"),
+        ("controller_kp_negative", with_(controller=dict(ctrl, Kp=-1.0)), "gains must be >= 0"),
+        ("controller_law", with_(controller=dict(ctrl, law="PID, textbook")), "controller.law"),
+        ("Ts_text", with_(Ts="fast"), "Ts"),
+        ("sensors_string", with_(sensors="ideal"), "sensors"),
+        ("sensors_quantum_negative", with_(sensors=dict(good["sensors"], quantum=-1e-7)),
+         "sensors.quantum"),
+        ("sensors_unknown", with_(sensors=dict(good["sensors"], encoder="LIP 581")),
+         "sensors.encoder"),
+        ("F_load_text", with_(F_load="heavy"), "F_load"),
+        ("schema_other", with_(schema="other/9"), "'other/9'"),
+        ("no_schema_own_keys", dict(no_schema, operator="A. N. Other"), "operator"),
+        ("kind_unknown", with_(kind="banana"), None),
+        ("force_gain_zero", with_(force_gain=0), "force_gain"),
     ]
 
 

@@ -6,19 +6,21 @@ from __future__ import annotations
 
 import hashlib
 import json
+import re
 from pathlib import Path
 
 import pytest
 
-from bad_corpus import csv_cases, model_cases, sidecar_cases
+from bad_corpus import csv_cases, foreign_sidecar_cases, model_cases, sidecar_cases
 from diagnosis_runs import simulate_run, sinusoid_reference
 from feeddrive.cli import main
-from feeddrive.data import write_run
+from feeddrive.data import load_run, write_run
+from feeddrive.identify.pipeline import classify_why
+from feeddrive.validation.replay import check_run
 from feeddrive.model_file import paper_model, save_model
 
 #: (case, commands that may accept it): not a broken file for that command's purpose
-ACCEPTED = {("csv", "constant_x"): {"validate", "diagnose", "report"},  # x stuck: a gap to show
-            ("sidecar", "kind_unknown"): {"validate", "diagnose", "report"}}  # identify's key
+ACCEPTED = {("csv", "constant_x"): {"validate", "diagnose", "report"}}  # x stuck: a gap to show
 
 
 @pytest.fixture(scope="module")
@@ -99,3 +101,60 @@ def test_bad_file_refused_by_every_command(tmp_path, capsys, good, group, name):
         assert str(bad) in err[0], (cmd, err[0])
         assert _digest(d) == before, cmd
         assert not out.exists() or not any(out.iterdir()), (cmd, list(out.iterdir()))
+
+
+FOREIGN = [c[0] for c in foreign_sidecar_cases({"controller": {}, "sensors": {}})]
+
+
+@pytest.mark.parametrize("name", FOREIGN)
+def test_foreign_sidecar_is_read_for_what_it_says(tmp_path, good, name):
+    """A sidecar is information: every key it has that the tools do not use is named in
+    one line, left out of ``run.meta``, and the run stays usable."""
+    good_csv, good_side, _ = good
+    meta, key = next((m, k) for n, m, k in foreign_sidecar_cases(good_side) if n == name)
+    _put(tmp_path / "run.csv", good_csv)
+    _put(tmp_path / "run.json", json.dumps(meta))
+    run = load_run(tmp_path / "run.csv")
+    side = check_run(run)
+    line = side.note_line("run.json")
+    if key is None:                          # identify's key: its classification says so
+        assert line is None and "the sidecar's kind 'banana' is not one of" in classify_why(run)[1]
+        return
+    assert line is not None and "\n" not in line and key in line, line
+    ignored = {k for k in side.ignored if "." not in k} - {"controller"}
+    assert not ignored & set(run.meta), (ignored, run.meta)
+    for k in side.ignored:
+        if k.startswith("sensors."):
+            assert k[8:] not in run.meta["sensors"]
+    if name.startswith("controller") and name != "controller_law":
+        assert side.controller is None and run.meta["controller"] is None
+        assert "no closed-loop replay" in line
+    else:
+        assert side.controller == {k: v for k, v in good_side["controller"].items()}
+
+
+def test_validate_shows_what_it_can_with_a_foreign_controller(tmp_path, good, capsys):
+    good_csv, good_side, _ = good
+    _put(tmp_path / "run.csv", good_csv)
+    foreign = {"type": "pid", "law": "PID, lead on D, D low-pass", "Kp": 2e5, "Ki": 3e6,
+               "Kd": 3e3, "d_lowpass_Hz": 400.0, "lead_zero_Hz": 40.0, "force_per_volt": 78.7}
+    _put(tmp_path / "run.json", json.dumps(dict(good_side, controller=foreign)))
+    assert main(["validate", str(tmp_path / "run.csv")]) == 0
+    out = capsys.readouterr().out
+    assert "ignored controller" in out and "'Kv' missing" in out and "law, Kd" in out, out
+    assert "position gap not computed" in out and "position gap x_sim" not in out, out
+    assert re.search(r"force residual .*: rms \d", out), out
+    # diagnose uses the run and keeps the line in what it writes
+    _put(tmp_path / "model.json", json.dumps(good[2]))
+    assert main(["diagnose", str(tmp_path / "run.csv"), "--model", str(tmp_path / "model.json"),
+                 "--out", str(tmp_path / "d"), "--max-steps", "1"]) == 0
+    notes = json.loads((tmp_path / "d" / "diagnosis.json").read_text())["notes"]
+    assert any("run.json: ignored controller" in n and "'Kv' missing" in n for n in notes), notes
+    assert any("closed-loop gap not computed" in n for n in notes), notes
+    capsys.readouterr()
+    # the same controller described with one descriptive key: replayed, the key named
+    _put(tmp_path / "run.json", json.dumps(dict(good_side, controller=dict(
+        good_side["controller"], law="PID"))))
+    assert main(["validate", str(tmp_path / "run.csv")]) == 0
+    out = capsys.readouterr().out
+    assert "ignored controller.law" in out and "position gap x_sim - x_meas" in out, out

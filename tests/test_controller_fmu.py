@@ -210,7 +210,7 @@ def _refused(values: Mapping[str, Any], set_after: Mapping[str, Any] | None = No
 
 @pytest.mark.parametrize("values, name, value, rng", [
     ({"pid.Kp": -1.0}, "pid.Kp", "-1", "[0, "),
-    ({"ctrl.type": 4}, "ctrl.type", "4", "3]"),
+    ({"ctrl.type": 5}, "ctrl.type", "5", "4]"),
     ({"ss.n": 9}, "ss.n", "9", "8]"),
     ({"zpetc.preview": 65}, "zpetc.preview", "65", "64]"),
     ({"ff.friction": 3}, "ff.friction", "3", "2]"),

@@ -12,6 +12,7 @@ with the pre-rolling periods of 2 s.
 """
 from __future__ import annotations
 
+import json
 from functools import partial
 
 import numpy as np
@@ -235,3 +236,43 @@ def test_standard_campaign_round_trip(tmp_path, fmu_path):
                        paper_model().fmu_parameters())
     print(cmp.text())
     assert cmp.ok
+
+
+FOREIGN_CONTROLLER = {"type": "pid", "law": "PID, lead filter on the derivative path, "
+                      "derivative low-pass", "Kp": 2.0e5, "Ki": 3.0e6, "Kd": 3.0e3,
+                      "d_lowpass_Hz": 400.0, "lead_zero_Hz": 40.0, "lead_pole_Hz": 120.0,
+                      "force_per_volt": 78.7}
+
+
+def test_sidecars_of_another_program_give_the_same_model(runs_dir, model_path, tmp_path, capsys):
+    """The campaign with every sidecar as another program writes it (its own controller
+    description, unknown keys in ``controller`` and ``sensors``) identifies the same model,
+    number for number, as with those keys removed; each run's ignored keys in one line."""
+    foreign, stripped = tmp_path / "foreign", tmp_path / "stripped"
+    foreign.mkdir(), stripped.mkdir()
+    for csv in sorted(runs_dir.glob("*.csv")):
+        meta = json.loads(csv.with_suffix(".json").read_text())
+        for d in (foreign, stripped):
+            (d / csv.name).symlink_to(csv)
+        plain = {k: v for k, v in meta.items() if k != "controller"}
+        (stripped / f"{csv.stem}.json").write_text(json.dumps(plain))
+        meta["sensors"] = dict(meta["sensors"], encoder="LIP 581", interpolation=4096)
+        if meta.get("controller") is not None:
+            meta["controller"] = FOREIGN_CONTROLLER
+        (foreign / f"{csv.stem}.json").write_text(json.dumps(meta))
+    models = {}
+    for d in (foreign, stripped):
+        capsys.readouterr()
+        assert cli.main(["identify", str(d), "--out", str(d / "model.json")]) == 0
+        models[d.name] = (json.loads((d / "model.json").read_text()), capsys.readouterr().out)
+    (fm, out), (sm, plain_out) = models["foreign"], models["stripped"]
+    assert fm["parameters"] == sm["parameters"] and fm["effects"] == sm["effects"]
+    assert fm["parameters"] == json.loads(model_path.read_text())["parameters"]
+    lines = [ln for ln in out.splitlines() if "ignored" in ln]
+    n_runs = len(list(runs_dir.glob("*.csv")))
+    assert len(lines) == n_runs and "ignored" not in plain_out
+    closed = [ln for ln in lines if "no closed-loop replay" in ln]
+    assert len(closed) == sum(json.loads(p.read_text()).get("controller") is not None
+                              for p in runs_dir.glob("*.json")) > 0
+    for ln in closed:
+        assert "sensors.encoder, sensors.interpolation" in ln and "law, Kd" in ln, ln

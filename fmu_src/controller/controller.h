@@ -17,7 +17,7 @@
 /* the most samples a reference may last: an exact double and a long long (sample indices) */
 #define REF_MAX_SAMPLES 1e15
 
-enum { CTRL_STATE_SPACE = 1, CTRL_PID = 2, CTRL_PID_LEAD = 3 };
+enum { CTRL_STATE_SPACE = 1, CTRL_PID = 2, CTRL_PID_LEAD = 3, CTRL_LTI = 4 };
 enum { REF_INPUT = 0, REF_SINUSOID = 1, REF_POINT_TO_POINT = 2 };
 enum { FF_FRICTION_NONE = 0, FF_FRICTION_STATIC = 1, FF_FRICTION_GMS = 2 };
 
@@ -29,6 +29,11 @@ typedef struct {
     int n;
     double Ac[CTRL_NS_MAX][CTRL_NS_MAX], By[CTRL_NS_MAX], Br[CTRL_NS_MAX], Bu[CTRL_NS_MAX],
         Cc[CTRL_NS_MAX], Dy, Dr;
+    /* any linear controller (feeddrive.control.lti), inputs e = (r, y):
+     * v = C s + D e; u = clamp(v + u_ff); s <- A s + B e + L (u - v - u_ff); first s = s0 + s0_r r */
+    int lti_n;
+    double lti_A[CTRL_NS_MAX][CTRL_NS_MAX], lti_B[CTRL_NS_MAX][2], lti_C[CTRL_NS_MAX], lti_D[2],
+        lti_L[CTRL_NS_MAX], lti_s0[CTRL_NS_MAX], lti_s0_r[CTRL_NS_MAX];
     /* PID (force equivalent) and lead (Tustin of (1 + s/w_z)/(1 + s/w_p)) */
     double Kp, Kv, Ki, fpv, tf, pid_a, pid_b;
     bool anti_windup, lead;

@@ -1,7 +1,7 @@
 /* The control laws, sample k (u[k] from x_meas[k], applied over [t_k, t_k+1)):
  * state space (feeddrive.control.lti_step: u = Cc s + Dy y + Dr r + u_ff, clamp,
  * s <- Ac s + By y + Br r + Bu (u - u_ff), s[0] = y at the first sample), PID and PID with lead
- * (feeddrive.control.pid), the ZPETC pre-filter run on the reference preview samples ahead
+ * (feeddrive.control.pid), any linear controller (feeddrive.control.lti), the ZPETC pre-filter run on the reference preview samples ahead
  * (scipy.signal.lfilter's direct form II transposed, steady at the first reference sample),
  * and the feedforward. The operations are those of the Python twins, in the same order. */
 #include <math.h>
@@ -65,6 +65,30 @@ static double state_space(const ctrl_params_t *p, ctrl_state_t *s, double y, dou
     return u;
 }
 
+/* the general linear controller, the operations of feeddrive.control.lti.compile_lti_step in
+ * its order: every term, left to right, from 0.0 */
+static double lti(const ctrl_params_t *p, ctrl_state_t *s, double y, double r, double uff) {
+    double v = 0.0, w, u, c, old[CTRL_NS_MAX];
+    int i, j, n = p->lti_n;
+    if (s->fresh) {
+        for (j = 0; j < n; j++) s->s[j] = p->lti_s0[j] + p->lti_s0_r[j] * r;
+        s->fresh = false;
+    }
+    for (j = 0; j < n; j++) v = v + p->lti_C[j] * s->s[j];
+    v = v + p->lti_D[0] * r + p->lti_D[1] * y;
+    w = v + uff;
+    s->u_law = w;
+    u = clamp_u(w, p->u_limit);
+    c = u - w;
+    memcpy(old, s->s, sizeof old);
+    for (i = 0; i < n; i++) {
+        double acc = 0.0;
+        for (j = 0; j < n; j++) acc = acc + p->lti_A[i][j] * old[j];
+        s->s[i] = acc + p->lti_B[i][0] * r + p->lti_B[i][1] * y + p->lti_L[i] * c;
+    }
+    return u;
+}
+
 static double pid(const ctrl_params_t *p, ctrl_state_t *s, double y, double r, double uff) {
     double e = r - y, D, q_before, F, u;
     if (p->tf == 0.0) {
@@ -113,6 +137,10 @@ static bool sample_finite(const ctrl_params_t *p, const ctrl_state_t *s, double 
         if (!finite_or_why("the state-space output before the clamp", -1, s->u_law, why, n)) return false;
         for (j = 0; j < p->n; j++)
             if (!finite_or_why("the state-space state s", j, s->s[j], why, n)) return false;
+    } else if (p->type == CTRL_LTI) {
+        if (!finite_or_why("the linear controller's output before the clamp", -1, s->u_law, why, n)) return false;
+        for (j = 0; j < p->lti_n; j++)
+            if (!finite_or_why("the linear controller's state lti.s", j, s->s[j], why, n)) return false;
     } else {
         if (!finite_or_why("the PID output before the clamp", -1, s->u_law, why, n) ||
             !finite_or_why("the PID integral", -1, s->q, why, n) ||
@@ -138,7 +166,8 @@ bool ctrl_sample(const ctrl_params_t *p, ctrl_state_t *s, const ctrl_in_t *in, c
     s->x_cmd = r;
     s->u_ff = uff;
     s->r_x = s->rx[slot];
-    s->u = p->type == CTRL_STATE_SPACE ? state_space(p, s, y, r, uff) : pid(p, s, y, r, uff);
+    s->u = p->type == CTRL_STATE_SPACE ? state_space(p, s, y, r, uff)
+         : p->type == CTRL_LTI ? lti(p, s, y, r, uff) : pid(p, s, y, r, uff);
     s->k = k + 1;
     return sample_finite(p, s, y, why, whylen);
 }

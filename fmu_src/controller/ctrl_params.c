@@ -13,6 +13,10 @@
 #define COMPILE_CHECK(name, cond) typedef char compile_check_##name[(cond) ? 1 : -1]
 #define COUNT(a) (sizeof(a) / sizeof((a)[0]))
 COMPILE_CHECK(ss_sizes_match_xml, COUNT(CVRA_ss_Cc) == CTRL_NS_MAX + 1 && COUNT(CVRA2_ss_Ac) == CTRL_NS_MAX + 1);
+COMPILE_CHECK(lti_sizes_match_xml, COUNT(CVRA2_lti_A) == CTRL_NS_MAX + 1 && COUNT(CVRA2_lti_A[0]) == CTRL_NS_MAX + 1 &&
+              COUNT(CVRA2_lti_B) == CTRL_NS_MAX + 1 && COUNT(CVRA2_lti_B[0]) == 3 && COUNT(CVRA_lti_C) == CTRL_NS_MAX + 1 &&
+              COUNT(CVRA_lti_L) == CTRL_NS_MAX + 1 && COUNT(CVRA_lti_s0) == CTRL_NS_MAX + 1 &&
+              COUNT(CVRA_lti_s0_r) == CTRL_NS_MAX + 1 && COUNT(CVRA_lti_D) == 3);
 COMPILE_CHECK(zpetc_sizes_match_xml, COUNT(CVRA_zpetc_b) == CTRL_NZ_MAX + 1 && COUNT(CVRA_zpetc_zi) == CTRL_NZ_MAX);
 COMPILE_CHECK(plant_offset_consistent, CVR_plant_friction_F_s - VR_friction_F_s == PLANT_VR_OFFSET);
 
@@ -106,6 +110,26 @@ static bool compile_state_space(const double *val, ctrl_params_t *p, char *msg, 
     return true;
 }
 
+/* the linear controller: every element is a finite value of its declared range (checked at the
+ * set); the order is the one rule of the combination */
+static bool compile_lti(const double *val, ctrl_params_t *p, char *msg, size_t msglen) {
+    int i, j;
+    p->lti_n = (int)val[CVR_lti_n];
+    if (p->lti_n < 0 || p->lti_n > CTRL_NS_MAX) FAIL("lti.n = %d: allowed [0, %d]", p->lti_n, CTRL_NS_MAX);
+    for (i = 0; i < CTRL_NS_MAX; i++) {
+        p->lti_B[i][0] = val[CVRA2_lti_B[i + 1][1]];
+        p->lti_B[i][1] = val[CVRA2_lti_B[i + 1][2]];
+        p->lti_C[i] = val[CVRA_lti_C[i + 1]];
+        p->lti_L[i] = val[CVRA_lti_L[i + 1]];
+        p->lti_s0[i] = val[CVRA_lti_s0[i + 1]];
+        p->lti_s0_r[i] = val[CVRA_lti_s0_r[i + 1]];
+        for (j = 0; j < CTRL_NS_MAX; j++) p->lti_A[i][j] = val[CVRA2_lti_A[i + 1][j + 1]];
+    }
+    p->lti_D[0] = val[CVRA_lti_D[1]];
+    p->lti_D[1] = val[CVRA_lti_D[2]];
+    return true;
+}
+
 static bool compile_zpetc(const double *val, ctrl_params_t *p, char *msg, size_t msglen) {
     int j;
     p->zpetc = val[CVR_zpetc_on] != 0.0;
@@ -163,8 +187,8 @@ bool ctrl_compile(const double *val, ctrl_params_t *p, char *msg, size_t msglen)
     p->u_limit = val[CVR_u_limit];
     p->quantum = val[CVR_scale_quantum];
     if (!(p->Ts > 0.0)) FAIL("Ts = %.17g: allowed (0, inf) s", p->Ts);
-    if (p->type < CTRL_STATE_SPACE || p->type > CTRL_PID_LEAD)
-        FAIL("ctrl.type = %d: allowed 1 (state_space), 2 (pid), 3 (pid_lead)", p->type);
+    if (p->type < CTRL_STATE_SPACE || p->type > CTRL_LTI)
+        FAIL("ctrl.type = %d: allowed 1 (state_space), 2 (pid), 3 (pid_lead), 4 (lti)", p->type);
     if (p->source < REF_INPUT || p->source > REF_POINT_TO_POINT)
         FAIL("ref.source = %d: allowed 0 (inputs), 1 (sinusoid), 2 (point to point)", p->source);
     if (!(p->u_limit > 0.0)) FAIL("u_limit = %.17g: allowed (0, 1e6] V", p->u_limit);
@@ -172,6 +196,7 @@ bool ctrl_compile(const double *val, ctrl_params_t *p, char *msg, size_t msglen)
     if (!(p->quantum == 0.0 || p->quantum >= 1e-12))
         FAIL("scale.quantum = %.17g m: allowed 0 (no quantisation) or [1e-12, 1] m", p->quantum);
     if (p->type == CTRL_STATE_SPACE) { if (!compile_state_space(val, p, msg, msglen)) return false; }
+    else if (p->type == CTRL_LTI) { if (!compile_lti(val, p, msg, msglen)) return false; }
     else if (!compile_pid(val, p, msg, msglen)) return false;
     if (!compile_zpetc(val, p, msg, msglen) || !compile_reference(val, p, msg, msglen)) return false;
     p->ff = val[CVR_ff_on] != 0.0;

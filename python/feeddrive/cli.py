@@ -240,10 +240,11 @@ def _cmd_diagnose(a: argparse.Namespace) -> int:
     check_dir(a.out, inputs, a.force)
     runs = [load_run(p) for p in a.runs]
     model = load_model(a.model)
-    for run in runs:
-        check_run(run, model)
+    sides = [check_run(run, model) for run in runs]
+    said = [line for run, s in zip(runs, sides) if (line := s.note_line(str(sidecar_path(run.path))))]
     diag = diagnose(runs, model, max_steps=a.max_steps, force_gain=a.force_gain,
-                    window=a.window, n_blocks=a.blocks, closed_loop=not a.no_closed_loop)
+                    window=a.window, n_blocks=a.blocks, closed_loop=not a.no_closed_loop,
+                    notes=said)
     report = write_diagnosis(diag, a.out, inputs, a.force)
     for note in diag.notes:
         print(note)

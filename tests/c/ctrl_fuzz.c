@@ -476,7 +476,8 @@ static int relevant(int row, int type, int source, int zpetc, int ff) {
     const char *n = CTRL_VARS[row].name;
     if (!is_param(row)) return 0;
     if (!strncmp(n, "ss.", 3)) return type == 1;
-    if (!strncmp(n, "pid.", 4)) return type != 1;
+    if (!strncmp(n, "lti.", 4)) return type == 4;
+    if (!strncmp(n, "pid.", 4)) return type == 2 || type == 3;
     if (!strncmp(n, "lead.", 5)) return type == 3;
     if (!strncmp(n, "zpetc.", 6)) return zpetc;
     if (!strncmp(n, "ref.", 4)) return source != 0;
@@ -488,7 +489,7 @@ static int relevant(int row, int type, int source, int zpetc, int ff) {
  * up to 12 of the parameters that act in it at values inside their ranges; initialised, 50 samples */
 static void random_setting(slot_t *s) {
     int n = 1 + rint_(12), j, status;
-    int type = 1 + rint_(3), source = rint_(3), zpetc = chance(0.3), ff = chance(0.3);
+    int type = 1 + rint_(4), source = rint_(3), zpetc = chance(0.3), ff = chance(0.3);
     n_settings++;
     cur_fn = "setting: switches";
     mark(s);

@@ -409,6 +409,78 @@ static void case_ref_p2p_samples(void) {
     }
 }
 
+/* the linear controller (ctrl.type 4) at its largest order, every element of lti.* set: A a
+ * stable coupled 8 x 8 (0.6 I plus off-diagonal 0.02), B, C, L, s0, s0_r all nonzero, a clamp that
+ * acts; the order past the table (lti.n = 9) refused first; 3000 samples of a moving x_meas all
+ * answer fmi2OK with |u| <= u_limit; then a non-finite element is refused naming the variable,
+ * and the instance keeps running */
+static void case_lti_full_order(void) {
+    host_env_t env = {0};
+    fmi2Component c = ctrl2_new(&env, "lti_full_order");
+    fmi2ValueReference r = CVR_u;
+    fmi2Real u;
+    fmi2Status st;
+    int i, j, k, clamped = 0;
+    EXPECT(c, "instantiate failed: %s", env.last);
+    st = ctrl2_set(c, CVR_lti_n, 9);
+    EXPECT(st == fmi2Error && strstr(env.last, "lti.n") && strstr(env.last, "9"), "lti.n = 9: %s \"%s\"", st2(st), env.last);
+    EXPECT(ctrl2_set(c, CVR_ctrl_type, 4) == fmi2OK && ctrl2_set(c, CVR_lti_n, 8) == fmi2OK &&
+           ctrl2_set(c, CVR_u_limit, 0.5) == fmi2OK, "the switches were refused: %s", env.last);
+    for (i = 1; i <= 8; i++) {
+        for (j = 1; j <= 8; j++)
+            EXPECT(ctrl2_set(c, CVRA2_lti_A[i][j], i == j ? 0.6 : 0.02) == fmi2OK, "lti.A refused: %s", env.last);
+        EXPECT(ctrl2_set(c, CVRA2_lti_B[i][1], 10.0 * i) == fmi2OK && ctrl2_set(c, CVRA2_lti_B[i][2], -10.0 * i) == fmi2OK &&
+               ctrl2_set(c, CVRA_lti_C[i], 0.5 / i) == fmi2OK && ctrl2_set(c, CVRA_lti_L[i], 0.1) == fmi2OK &&
+               ctrl2_set(c, CVRA_lti_s0[i], 1e-3 * i) == fmi2OK && ctrl2_set(c, CVRA_lti_s0_r[i], -1e-3) == fmi2OK,
+               "lti.B/C/L/s0 refused: %s", env.last);
+    }
+    EXPECT(ctrl2_set(c, CVRA_lti_D[1], 100.0) == fmi2OK && ctrl2_set(c, CVRA_lti_D[2], -100.0) == fmi2OK,
+           "lti.D refused: %s", env.last);
+    EXPECT(ctrl2_init(c) == fmi2OK, "initialise failed: %s", env.last);
+    for (k = 0; k < 3000; k++) {
+        fmi2ValueReference m = CVR_x_meas;
+        fmi2Real x = 0.15 + 0.01 * sin(k * 1e-2);
+        EXPECT(api.SetReal(c, &m, 1, &x) == fmi2OK && api.GetReal(c, &r, 1, &u) == fmi2OK, "sample %d: %s", k, env.last);
+        EXPECT(isfinite(u) && fabs(u) <= 0.5, "sample %d: u = %g", k, u);
+        clamped += fabs(u) == 0.5;
+        EXPECT(api.DoStep(c, k * 5e-4, 5e-4, fmi2True) == fmi2OK, "step %d: %s", k, env.last);
+    }
+    EXPECT(clamped > 0, "the clamp never acted");
+    st = ctrl2_set(c, CVRA2_lti_A[8][8], NAN);
+    EXPECT(st == fmi2Error && strstr(env.last, "lti.A[8,8]") && strstr(env.last, "finite"),
+           "lti.A[8,8] = NaN: %s \"%s\"", st2(st), env.last);
+    EXPECT(api.GetReal(c, &r, 1, &u) == fmi2OK && isfinite(u) && api.DoStep(c, 3000 * 5e-4, 5e-4, fmi2True) == fmi2OK,
+           "after the refusal: %s", env.last);
+    SAY("%d of 3000 samples clamped; lti.n = 9 and lti.A[8,8] = NaN refused", clamped);
+    api.FreeInstance(c);
+}
+
+/* an unstable linear controller (A = 2 I, C = [1, -1], fed by x_meas): the states overflow,
+ * where u = inf - inf = NaN: the sample is refused naming lti.s, no getter answers OK with it */
+static void case_unstable_lti(void) {
+    host_env_t env = {0};
+    fmi2Component c = ctrl2_new(&env, "unstable_lti");
+    fmi2ValueReference r = CVR_u;
+    fmi2Real u;
+    fmi2Status s = fmi2OK;
+    int k;
+    EXPECT(c, "instantiate failed: %s", env.last);
+    EXPECT(ctrl2_set(c, CVR_ctrl_type, 4) == fmi2OK && ctrl2_set(c, CVR_lti_n, 2) == fmi2OK &&
+           ctrl2_set(c, CVRA2_lti_A[1][1], 2.0) == fmi2OK && ctrl2_set(c, CVRA2_lti_A[2][2], 2.0) == fmi2OK &&
+           ctrl2_set(c, CVRA2_lti_B[1][2], 1.0) == fmi2OK && ctrl2_set(c, CVRA2_lti_B[2][2], 2.0) == fmi2OK &&
+           ctrl2_set(c, CVRA_lti_C[1], 1.0) == fmi2OK && ctrl2_set(c, CVRA_lti_C[2], -1.0) == fmi2OK &&
+           ctrl2_init(c) == fmi2OK, "set-up failed: %s", env.last);
+    for (k = 0; k < 4000 && s == fmi2OK; k++) {
+        s = api.GetReal(c, &r, 1, &u);
+        if (s == fmi2OK) EXPECT(isfinite(u), "sample %d: fmi2GetReal answered fmi2OK with u = %g", k, u);
+        if (s == fmi2OK) s = api.DoStep(c, k * 5e-4, 5e-4, fmi2True);
+    }
+    EXPECT(s == fmi2Error && strstr(env.last, "lti.s[") && strstr(env.last, "not finite"),
+           "sample %d: answered %s \"%s\"", k, st2(s), env.last);
+    SAY("sample %d -> fmi2Error \"%s\"", k - 1, env.last);
+    api.FreeInstance(c);
+}
+
 typedef struct { const char *name; void (*run)(void); } case_t;
 static const case_t CASES[] = {
     {"step_inf", case_step_inf},
@@ -421,6 +493,8 @@ static const case_t CASES[] = {
 #endif
     {"boolean_size_max2", case_boolean_size_max2},
     {"unstable_state_space", case_unstable_state_space},
+    {"unstable_lti", case_unstable_lti},
+    {"lti_full_order", case_lti_full_order},
     {"ref_duration", case_ref_duration},
     {"ref_duration_samples", case_ref_duration_samples},
     {"ref_point_to_point", case_ref_point_to_point},

@@ -22,6 +22,7 @@ the steps :mod:`confirmed` confirms (the two model files of the diagnosis).
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -214,7 +215,7 @@ def closed_loop_gap(runs: list[Run], model: ModelFile) -> dict | None:
     """Closed-loop position error of ``model`` re-simulated with each run's controller.
 
     Only runs that have ``x_ref`` and whose sidecar (:mod:`feeddrive.harness.sidecar`)
-    names a controller of a type the harness knows (:data:`~feeddrive.harness.controllers.
+    names a controller the registry builds (:data:`~feeddrive.harness.controllers.
     CONTROLLERS`) count; None when there is none.  The replay
     (:func:`feeddrive.harness.runs.replay`) reads the position at the run's
     ``sensors.quantum``, without noise, under the run's load.  Returns rms and max
@@ -223,9 +224,8 @@ def closed_loop_gap(runs: list[Run], model: ModelFile) -> dict | None:
     """
     errs, near = [], []
     for run in runs:
-        side = read_sidecar(run.meta, where=f"{run.path or run.name}: sidecar")
-        if side.controller is None or run.x_ref is None \
-                or side.controller.get("type") not in CONTROLLERS:
+        side = read_sidecar(run.meta, where=f"{run.path or run.name}: sidecar", run=run)
+        if side.controller is None or run.x_ref is None:
             continue
         x_sim = replay(model.fmu_parameters(), run, side)
         errs.append(side.sensors.quantise(x_sim) - np.asarray(run.x))
@@ -478,7 +478,8 @@ def verdict(res: list[RunResidual], floors: list[NoiseFloor], gate: Gate,
 
 def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
              force_gain: float | None = None, window: int | None = None,
-             n_blocks: int = DEFAULT_BLOCKS, closed_loop: bool = True) -> "Diagnosis":
+             n_blocks: int = DEFAULT_BLOCKS, closed_loop: bool = True,
+             notes: Sequence[str] = ()) -> "Diagnosis":
     """Diagnose what ``model`` lacks against measured ``runs`` (see module docstring).
 
     Parameters
@@ -490,6 +491,8 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
     window : Savitzky-Golay window of the acceleration estimate [samples] (None: 20 ms).
     n_blocks : held-out blocks over all runs.
     closed_loop : also re-simulate runs whose sidecar describes their controller.
+    notes : lines said about the inputs (what a sidecar said that was not used), kept first
+        in the diagnosis's notes.
     """
     if not runs:
         raise ValueError("diagnose: no runs given")
@@ -501,12 +504,13 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
     floor_N = float(np.sqrt(np.mean(np.concatenate([f.sigma[q.valid] ** 2
                                                      for f, q in zip(floors, res)]))))
     gate = make_gate(model, res, floor_N)
-    notes = sorted({q.force_source for q in res})
+    notes = list(notes) + sorted({q.force_source for q in res})
     steps: list[Step] = []
     cl = closed_loop_gap(runs, current) if closed_loop else None
     if closed_loop and cl is None:
         notes.append("closed-loop gap not computed: no run has x_ref and a sidecar 'controller' "
-                     f"of a known type ({', '.join(map(repr, CONTROLLERS))})")
+                     f"the registry builds (types {', '.join(map(repr, CONTROLLERS))}; the "
+                     "sidecar lines above say what was not understood)")
     stop = {"reason": f"max_steps = {max_steps} reached"}
     for _ in range(max_steps):
         ctx = Context(res, current, n_blocks=n_blocks)

@@ -2,12 +2,13 @@
 the FMU driven sample by sample.
 
 The FMU (C, fmu_src/controller/) runs the harness's controllers -- ``state_space``, ``pid``,
-``pid_lead`` -- with the ZPETC pre-filter and the feedforward.  The design stays in Python:
+``pid_lead``, ``lti`` -- with the ZPETC pre-filter and the feedforward.  The design stays in Python:
 :func:`controller_fmu_parameters` designs the controller of a spec (pole placement, observer,
 ZPETC, exactly as :func:`~.controllers.make_controller` does) and returns the FMU's start
 values: the controller matrices ``ss.*`` (u = Cc s + Dy y + Dr r + u_ff, s <- Ac s + By y +
 Br r + Bu (u - u_ff)), the pre-filter ``zpetc.*`` (b, a, lfilter_zi, preview), the PID gains
-``pid.*`` and lead corners ``lead.*``, the feedforward switches ``ff.*`` and the nominal plant
+``pid.*`` and lead corners ``lead.*``, a linear controller's realisation ``lti.*`` (A, B,
+C, D, back-calculation gain L, first state s0 + s0_r x_ref[0]), the feedforward switches ``ff.*`` and the nominal plant
 ``plant.*`` the feedforward runs on.  For another plant: put its parameters in the spec
 (``state_space_spec(design_params=...)``, or a PID's gains) and call it again.
 
@@ -35,14 +36,14 @@ from ..control.feedforward import FeedforwardOptions
 from ..control.pid import PID
 from ..control.state_space import StateSpaceController
 from ..fmu import FMUError, FMUNotFoundError, Plant
-from .controllers import make_controller
+from .controllers import lti_realisation, make_controller
 from .references import Reference, sinusoid
 
 CONTROLLER_FMU_ENV = "FEEDDRIVE_CONTROLLER_FMU"
 DEFAULT_CONTROLLER_FMU = Path(str(resources.files("feeddrive") / "DriveController.fmu"))
 NS_MAX = 8          #: state-space controller states the FMU holds
 NZ_MAX = 16         #: ZPETC coefficients the FMU holds
-TYPES = {"state_space": 1, "pid": 2, "pid_lead": 3}
+TYPES = {"state_space": 1, "pid": 2, "pid_lead": 3, "lti": 4}
 FRICTION = {"none": 0, "static": 1, "gms": 2}
 
 Values = dict[str, float | int | bool]
@@ -113,6 +114,23 @@ def _pid_values(c: PID) -> Values:
     return out
 
 
+def _lti_values(spec: Mapping[str, Any]) -> Values:
+    """``lti.*`` of an ``lti`` spec: its realisation (A, B, C, D), the back-calculation gain
+    and the first state, as :class:`~feeddrive.control.lti.LTIController` runs them."""
+    r = lti_realisation(spec)
+    n = r.n
+    if n > NS_MAX:
+        raise ValueError(f"controller_fmu: the lti controller has {n} states; the FMU holds at "
+                         f"most {NS_MAX}")
+    out: Values = {"lti.n": n, "lti.D[1]": float(r.D[0, 0]), "lti.D[2]": float(r.D[0, 1]),
+                   "u_limit": r.u_limit, "zpetc.on": False, "ff.on": False}
+    for key, vec in (("C", r.C[0]), ("L", r.L), ("s0", r.s0), ("s0_r", r.s0_r)):
+        out.update({f"lti.{key}[{i + 1}]": float(vec[i]) for i in range(n)})
+    out.update({f"lti.B[{i + 1},{j + 1}]": float(r.B[i, j]) for i in range(n) for j in range(2)})
+    out.update({f"lti.A[{i + 1},{j + 1}]": float(r.A[i, j]) for i in range(n) for j in range(n)})
+    return out
+
+
 def _feedforward_values(ff: Mapping[str, Any] | None) -> Values:
     if ff is None:
         return {"ff.on": False}
@@ -141,8 +159,9 @@ def controller_fmu_parameters(spec: Mapping[str, Any], Ts: float = 5e-4,
 
     Parameters
     ----------
-    spec : ``state_space``, ``pid`` or ``pid_lead`` spec (see :mod:`.controllers`).
-    Ts : sample time [s] (the state-space design takes it from ``spec["design"]``).
+    spec : ``state_space``, ``pid``, ``pid_lead`` or ``lti`` spec (see :mod:`.controllers`).
+    Ts : sample time [s] (the state-space design takes it from ``spec["design"]``, an
+        ``lti`` spec from its ``Ts``).
     reference : :func:`sinusoid_source` / :func:`point_to_point_source` values, or None for
         the inputs (``ref.source`` 0).
     quantum : scale resolution the FMU applies to ``x_meas`` [m] (0: none; the harness
@@ -156,10 +175,14 @@ def controller_fmu_parameters(spec: Mapping[str, Any], Ts: float = 5e-4,
         raise ValueError(f"controller_fmu: type {kind!r} is not known; known: {sorted(TYPES)}")
     if kind == "state_space":
         Ts = float(spec.get("design", {}).get("Ts", Ts))
+    if kind == "lti":
+        Ts = lti_realisation(spec).Ts
     ctrl = make_controller(spec, sinusoid(0.0, 1.0, 0.15, 10 * Ts, Ts=Ts))
     out: Values = {"Ts": Ts, "ctrl.type": TYPES[kind], "scale.quantum": float(quantum),
                    "ref.source": 0}
-    if isinstance(ctrl, StateSpaceController):
+    if kind == "lti":
+        out.update(_lti_values(spec))
+    elif isinstance(ctrl, StateSpaceController):
         out.update(_state_space_values(ctrl))
         out.update(_feedforward_values(spec.get("feedforward")))
     else:

@@ -14,6 +14,14 @@ Every controller has ``reset()`` and ``step(x_meas, k) -> u`` [V]; it is built f
     [N/V] (required), ``u_limit`` [V], ``tf`` [s], ``anti_windup`` (optional).
 ``pid_lead``
     The PID with a lead filter on its force command: also ``lead_zero_hz``, ``lead_pole_hz``.
+``lti``
+    Any linear digital controller from (x_ref, x_meas) [m] to u [V]
+    (:mod:`feeddrive.control.lti`): ``Ts`` [s] (required, the run's sample time), either
+    ``A`` (n x n), ``B`` (n x 2), ``C`` (1 x n), ``D`` (1 x 2) or ``num`` ([num for x_ref,
+    num for x_meas], descending powers of z) with ``den`` (one list, or one per input);
+    ``u_limit`` [V]; ``anti_windup`` null, ``{"gain": [L_1 .. L_n]}`` or ``{"pole": p}``
+    (back-calculation, all eigenvalues of A - L C at p); ``x0`` "rest" (default), "zero" or
+    a list of n states.  Order n <= :data:`~feeddrive.control.lti.LTI_MAX_ORDER`.
 
 :func:`make_controller` builds one (ValueError naming the key for a bad spec);
 :func:`controller_spec` gives the spec back from a controller.
@@ -28,6 +36,8 @@ import numpy as np
 
 from ..control.design_model import design_model
 from ..control.feedforward import FeedforwardOptions, feedforward
+from ..control.lti import (LTI_MAX_ORDER, LTIController, back_calculation_gain, cascade_tf,
+                           pid_tf, rest_state, tf_to_ss)
 from ..control.pid import DEFAULT_FORCE_PER_VOLT, DEFAULT_GAINS, DEFAULT_U_LIMIT, PID
 from ..control.state_space import (DEFAULT_MECH_HZ, DEFAULT_MECH_REAL_HZ, DEFAULT_MECH_ZETA,
                                    DEFAULT_OBS_CURRENT, DEFAULT_OBS_HZ, DEFAULT_OBS_ZETA,
@@ -93,6 +103,45 @@ def pid_lead_spec(lead_zero_hz: float = DEFAULT_LEAD[0], lead_pole_hz: float = D
     spec.update({"type": "pid_lead", "lead_zero_hz": float(lead_zero_hz),
                  "lead_pole_hz": float(lead_pole_hz)})
     return spec
+
+
+def lti_spec(Ts: float, A: Any = None, B: Any = None, C: Any = None, D: Any = None,
+             num: Any = None, den: Any = None, u_limit: float = DEFAULT_U_LIMIT,
+             anti_windup: Mapping[str, Any] | None = None, x0: Any = "rest") -> dict[str, Any]:
+    """Spec of a general linear controller: state space (A, B, C, D) or transfer functions
+    (num, den); see the module docstring."""
+    spec: dict[str, Any] = {"type": "lti", "Ts": float(Ts)}
+    if num is not None or den is not None:
+        spec["num"] = [np.asarray(p, float).tolist() for p in num]
+        spec["den"] = (np.asarray(den, float).tolist() if np.ndim(den[0]) == 0
+                       else [np.asarray(p, float).tolist() for p in den])
+    else:
+        for key, v in (("A", A), ("B", B), ("C", C), ("D", D)):
+            spec[key] = np.asarray(v, float).tolist()
+    spec.update({"u_limit": float(u_limit),
+                 "anti_windup": None if anti_windup is None else dict(anti_windup),
+                 "x0": x0 if isinstance(x0, str) else np.asarray(x0, float).tolist()})
+    return spec
+
+
+def pid_lti_spec(Ts: float = 5e-4, Kp: float = DEFAULT_GAINS["Kp"],
+                 Kv: float = DEFAULT_GAINS["Kv"], Ki: float = DEFAULT_GAINS["Ki"],
+                 force_per_volt: float = DEFAULT_FORCE_PER_VOLT, tf: float = 0.0,
+                 lead: tuple[float, float] | None = None, u_limit: float = DEFAULT_U_LIMIT,
+                 anti_windup: Mapping[str, Any] | None = None) -> dict[str, Any]:
+    """The PID (filtered derivative ``tf``, optional ``lead``) of ``pid``/``pid_lead`` as an
+    ``lti`` spec in transfer-function form (:func:`feeddrive.control.lti.pid_tf`)."""
+    num, den = pid_tf(Kp, Kv, Ki, force_per_volt, Ts, tf=tf, lead=lead)
+    return lti_spec(Ts, num=num, den=den, u_limit=u_limit, anti_windup=anti_windup)
+
+
+def cascade_lti_spec(Kx: float, Kv: float, Ti: float, f_velocity: float, Ts: float = 5e-4,
+                     u_limit: float = DEFAULT_U_LIMIT,
+                     anti_windup: Mapping[str, Any] | None = None) -> dict[str, Any]:
+    """The cascaded P-PI with a velocity filter (:func:`feeddrive.control.lti.cascade_tf`)
+    as an ``lti`` spec."""
+    num, den = cascade_tf(Kx, Kv, Ti, f_velocity, Ts)
+    return lti_spec(Ts, num=num, den=den, u_limit=u_limit, anti_windup=anti_windup)
 
 
 # ---------------------------------------------------------------- spec -> controller
@@ -184,6 +233,107 @@ def _pid_lead(spec: Mapping[str, Any], ref: Reference, u_ff: np.ndarray | None) 
     return PID(ref.x, Ts=ref.Ts, u_ff=u_ff, lead=lead, **_pid_kwargs(spec))
 
 
+_LTI_KEYS = {"Ts", "A", "B", "C", "D", "num", "den", "u_limit", "anti_windup", "x0"}
+
+
+@dataclass(frozen=True)
+class LTIRealisation:
+    """What an ``lti`` spec describes: the matrices, the clamp, the back-calculation gain L
+    and the first state s0 + s0_r x_ref[0]."""
+
+    Ts: float
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
+    D: np.ndarray
+    u_limit: float
+    L: np.ndarray
+    s0: np.ndarray
+    s0_r: np.ndarray
+
+    @property
+    def n(self) -> int:
+        return self.A.shape[0]
+
+
+def _matrix(spec: Mapping[str, Any], key: str, shape: tuple[int, ...]) -> np.ndarray:
+    try:
+        m = np.asarray(spec[key], dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"controller (lti): {key} must be a matrix of numbers") from None
+    if m.size == 0 and 0 in shape:
+        return m.reshape(shape)
+    if m.shape != shape:
+        raise ValueError(f"controller (lti): {key} has shape {m.shape}, needs {shape}")
+    if not np.all(np.isfinite(m)):
+        raise ValueError(f"controller (lti): {key} has a value that is not finite")
+    return m
+
+
+def lti_realisation(spec: Mapping[str, Any]) -> LTIRealisation:
+    """The realisation of an ``lti`` spec; ValueError naming the key for a bad one."""
+    _check_keys(spec, _LTI_KEYS)
+    Ts = _number(spec, "Ts")
+    if not Ts > 0:
+        raise ValueError(f"controller (lti): Ts = {Ts!r} must be > 0 [s]")
+    u_limit = _number(spec, "u_limit", DEFAULT_U_LIMIT)
+    if not u_limit > 0:
+        raise ValueError(f"controller (lti): u_limit = {u_limit!r} must be > 0 [V]")
+    ss, tf = [k for k in ("A", "B", "C", "D") if k in spec], [k for k in ("num", "den") if k in spec]
+    if ss and tf or not (len(ss) == 4 or len(tf) == 2):
+        raise ValueError("controller (lti): give either A, B, C, D (state space) or num and "
+                         f"den (transfer functions), got {sorted(ss + tf)}")
+    if tf:
+        try:
+            A, B, C, D = tf_to_ss(spec["num"], spec["den"])
+        except (TypeError, ValueError) as e:
+            raise ValueError(f"controller (lti): {str(e).removeprefix('lti: ')}") from None
+    else:
+        try:
+            n = len(spec["A"])
+        except TypeError:
+            raise ValueError("controller (lti): A must be a square matrix (a list of rows)") from None
+        A, B = _matrix(spec, "A", (n, n)), _matrix(spec, "B", (n, 2))
+        C, D = _matrix(spec, "C", (1, n)), _matrix(spec, "D", (1, 2))
+    n = A.shape[0]
+    if n > LTI_MAX_ORDER:
+        raise ValueError(f"controller (lti): order {n}; at most {LTI_MAX_ORDER} states")
+    aw = spec.get("anti_windup")
+    if aw is None:
+        L = np.zeros(n)
+    elif isinstance(aw, Mapping) and set(aw) == {"gain"}:
+        L = _matrix({"anti_windup.gain": aw["gain"]}, "anti_windup.gain", (n,))
+    elif isinstance(aw, Mapping) and set(aw) == {"pole"}:
+        pole = _number(aw, "pole")
+        try:
+            L = back_calculation_gain(A, C, pole)
+        except ValueError as e:
+            raise ValueError(f"controller (lti): {str(e).removeprefix('lti: ')}") from None
+    else:
+        raise ValueError(f"controller (lti): anti_windup = {aw!r}: allowed null, "
+                         '{"gain": [n numbers]} or {"pole": p}')
+    x0 = spec.get("x0", "rest")
+    s0, s0_r = np.zeros(n), np.zeros(n)
+    if isinstance(x0, str):
+        if x0 == "rest":
+            s0_r = rest_state(A, B, C, D)
+        elif x0 != "zero":
+            raise ValueError(f"controller (lti): x0 = {x0!r}: allowed 'rest', 'zero' or a list "
+                             f"of {n} numbers")
+    else:
+        s0 = _matrix({"x0": x0}, "x0", (n,))
+    return LTIRealisation(Ts=Ts, A=A, B=B, C=C, D=D, u_limit=u_limit, L=L, s0=s0, s0_r=s0_r)
+
+
+def _lti(spec: Mapping[str, Any], ref: Reference, u_ff: np.ndarray | None) -> LTIController:
+    r = lti_realisation(spec)
+    if abs(r.Ts - ref.Ts) > 1e-9 * ref.Ts:
+        raise ValueError(f"controller (lti): Ts = {r.Ts!r} s is not the sample time of the "
+                         f"loop, {ref.Ts!r} s")
+    return LTIController(ref.x, r.A, r.B, r.C, r.D, r.u_limit, L=r.L, s0=r.s0, s0_r=r.s0_r,
+                         u_ff=u_ff)
+
+
 # ---------------------------------------------------------------- controller -> spec
 def _pid_spec_of(c: PID) -> dict[str, Any]:
     kw = {"Kp": c.Kp, "Kv": c.Kv, "Ki": c.Ki, "force_per_volt": c.force_per_volt,
@@ -198,12 +348,17 @@ class ControllerType:
     name: str
     build: Callable[[Mapping[str, Any], Reference, np.ndarray | None], Controller]
     default_spec: Callable[[], dict[str, Any]]
+    #: the keys a spec of this type may have besides ``type``
+    keys: frozenset[str] = frozenset()
 
 
 CONTROLLERS: dict[str, ControllerType] = {
-    "state_space": ControllerType("state_space", _state_space, state_space_spec),
-    "pid": ControllerType("pid", _pid, pid_spec),
-    "pid_lead": ControllerType("pid_lead", _pid_lead, pid_lead_spec),
+    "state_space": ControllerType("state_space", _state_space, state_space_spec,
+                                  frozenset(_SS_KEYS)),
+    "pid": ControllerType("pid", _pid, pid_spec, frozenset(_PID_KEYS)),
+    "pid_lead": ControllerType("pid_lead", _pid_lead, pid_lead_spec,
+                               frozenset(_PID_KEYS | {"lead_zero_hz", "lead_pole_hz"})),
+    "lti": ControllerType("lti", _lti, pid_lti_spec, frozenset(_LTI_KEYS)),
 }
 
 

@@ -112,7 +112,8 @@ def _by_signals(run: Run) -> tuple[str | None, str]:
 def classify_why(run: Run) -> tuple[str, str]:
     """The experiment kind of a run and why it was put there.
 
-    The sidecar's ``kind`` when given (one of :data:`KINDS`); else the signals (held
+    The sidecar's ``kind`` when it is one of :data:`KINDS`; else (another word is said in
+    the reason) the signals (held
     position and a two-level u: 'prbs'; no x_ref: 'force_open_loop'; reversing:
     'prerolling'; monotonic with a steady speed: 'constant_speed', else 'variable_speed'),
     and a file stem that names a kind must agree with them.  ValueError naming the run
@@ -120,12 +121,11 @@ def classify_why(run: Run) -> tuple[str, str]:
     """
     kind = (run.meta or {}).get("kind")
     where = run_label(run)
-    if kind is not None:
-        if kind not in KINDS:
-            side = sidecar_path(run.path) if run.path is not None else f"{where}: sidecar"
-            raise ValueError(f"{side}: kind = {kind!r} is not one of {', '.join(KINDS)}")
+    if kind in KINDS:
         return str(kind), "the sidecar's kind"
     found, why = _by_signals(run)
+    if kind is not None:
+        why = f"the sidecar's kind {kind!r} is not one of {', '.join(KINDS)}; {why}"
     stem = Path(run.path).stem if getattr(run, "path", None) is not None \
         else str((run.meta or {}).get("name", ""))
     named = next((k for k, pattern in _STEMS if re.match(pattern, stem)), None)
@@ -461,9 +461,11 @@ def _position_friction_step(res: IdentificationResult, groups: dict, acc: _Colle
 
 
 def load_checked_runs(runs_dir: str | Path, out: str | Path | None = None,
-                      truth: Any = None) -> list[Run]:
+                      truth: Any = None, notes: list[str] | None = None) -> list[Run]:
     """The runs of ``runs_dir``, each checked (:func:`check_run`), after checking that ``out``
-    may be written (writable, not an input such as a ``truth`` file); ValueError if none."""
+    may be written (writable, not an input such as a ``truth`` file); ValueError if none.
+    With ``notes`` a list, one line per run whose sidecar says something the tools do not
+    use (the keys ignored, the replay that cannot be done) is appended to it."""
     inputs = (truth,) if isinstance(truth, (str, Path)) else ()
     if out is not None:
         check_file(out, Reads.of(files=inputs, run_folders=[runs_dir]))
@@ -471,7 +473,9 @@ def load_checked_runs(runs_dir: str | Path, out: str | Path | None = None,
     if not runs:
         raise ValueError(f"identify: {runs_dir} holds no *.csv run")
     for run in runs:
-        check_run(run)
+        line = check_run(run).note_line(str(sidecar_path(run.path)) if run.path else run.name)
+        if line and notes is not None:
+            notes.append(line)
     return runs
 
 
@@ -485,8 +489,10 @@ def identify_folder(runs_dir: str | Path, out: str | Path | None = None,
     (:func:`feeddrive.outputs.check_file`: writable, not an input) and replaced atomically.
     """
     inputs = (truth,) if isinstance(truth, (str, Path)) else ()
-    runs = load_checked_runs(runs_dir, out, truth)
+    side_notes: list[str] = []
+    runs = load_checked_runs(runs_dir, out, truth, side_notes)
     res = identify_runs(runs, truth=truth, **kw)
+    res.notes[:0] = side_notes
     if out is not None:
         save_model(res.model, out, inputs)
         res.out_path = Path(out)

@@ -88,9 +88,11 @@ def bootstrap_folder(runs_dir: str | Path, out: str | Path | None, n: int, seed:
     model file with its ``uncertainty`` (arguments and ``out`` checked before any work)."""
     check_arguments(n, level, workers, seed)
     inputs = (truth,) if isinstance(truth, (str, Path)) else ()
-    runs = load_checked_runs(runs_dir, out, truth)
+    side_notes: list[str] = []
+    runs = load_checked_runs(runs_dir, out, truth, side_notes)
     check_campaign(runs)
     res = identify_runs(runs, truth=truth)
+    res.notes[:0] = side_notes
     boot = run_bootstrap(runs, res.model, res.defaulted, n, seed=seed, level=level,
                          scheduler=scheduler, workers=workers, parallel=parallel,
                          progress=progress)

@@ -217,6 +217,8 @@ def _controller(raw: Any, src: str) -> dict[str, Any]:
         raise StudyError(src, f"{fld}.type", f"{kind!r} is not a controller; known: "
                                             f"{', '.join(sorted(CONTROLLERS))}")
     spec = CONTROLLERS[kind].default_spec()
+    if kind == "lti" and {"A", "B", "C", "D"} & set(raw):      # the other form than the default's
+        spec.pop("num"), spec.pop("den")
     spec.update(raw)
     return spec
 

@@ -8,14 +8,10 @@ from pathlib import Path
 
 import numpy as np
 
-import math
-
 from ..data import DataError, Run, check_plausible, load_run, sidecar_path
 from ..diagnose.residual import force_residual
-from ..harness.controllers import make_controller
-from ..harness.references import from_positions
 from ..harness.runs import replay
-from ..harness.sidecar import Sidecar, read_sidecar
+from ..harness.sidecar import Sidecar, read_run_sidecar, read_sidecar
 from ..model_file import ModelFile, load_model, paper_model
 from ..paper import STROKE
 from ..plausibility import check_units
@@ -58,26 +54,16 @@ def check_run(run: Run, model: ModelFile | None = None) -> Sidecar:
     :func:`feeddrive.data.check_plausible` (rows, magnitudes, sampling, a run that carries
     something), :func:`feeddrive.plausibility.check_units` (positions, speeds,
     accelerations and currents a feed drive can have, against the stroke of ``model``, the
-    paper's without one: the likely unit mistake), then the sidecar: the schema's fields (:func:`read_sidecar`), a controller
-    the harness can build from it, ``force_gain`` a number > 0.  Returns the read sidecar;
-    raises ValueError naming the CSV or the JSON file and the field.
+    paper's without one: the likely unit mistake), then the sidecar
+    (:func:`~feeddrive.harness.sidecar.read_run_sidecar`): refused only where it
+    contradicts the CSV; what it says that the tools do not understand (unknown keys, a
+    controller the registry cannot build) is left out of ``run.meta`` and named in the
+    returned sidecar's ``note_line()``.  Raises ValueError naming the CSV or the JSON file
+    and the field.
     """
     check_plausible(run)
     check_units(run, model_stroke(model))
-    where = str(sidecar_path(run.path)) if run.path is not None else f"{run.name}: sidecar"
-    side = read_sidecar(run.meta, where=where)
-    if side.controller is not None:
-        Ts = side.Ts if side.Ts is not None else run.Ts
-        x = run.x_ref if run.x_ref is not None else run.x
-        try:
-            make_controller(side.controller, from_positions(x[:8], Ts))
-        except (ValueError, TypeError, KeyError) as e:
-            raise ValueError(f"{where}: controller: {e}") from None
-    g = run.meta.get("force_gain")
-    if g is not None and (isinstance(g, bool) or not isinstance(g, (int, float))
-                          or not (math.isfinite(g) and g > 0)):
-        raise ValueError(f"{where}: force_gain = {g!r} must be a number > 0 [N/V]")
-    return side
+    return read_run_sidecar(run)
 
 
 def force_residual_summary(run: Run, model: ModelFile) -> tuple[dict[str, float], list[str]]:
@@ -105,21 +91,30 @@ def force_residual_summary(run: Run, model: ModelFile) -> tuple[dict[str, float]
     return out, notes
 
 
-def validate(run: Run, model: ModelFile) -> ValidationReport:
-    """Replay ``run`` (closed loop when its sidecar names the controller) and compute the gap.
+def validate(run: Run, model: ModelFile, side: Sidecar | None = None) -> ValidationReport:
+    """Replay ``run`` (closed loop when its sidecar names a controller the registry builds)
+    and compute the gap.
 
     The replay (:func:`feeddrive.harness.runs.replay`) reads the position as the run's
     scale did (``sensors.quantum`` of the sidecar) without noise: the model's prediction.
-    ValueError (naming the run) for a sidecar or controller spec the harness cannot read.
+    ``side`` is the run's sidecar as :func:`check_run` read it (default: read here); what it
+    ignored and what could not be done without it are in the report's notes.
     """
     notes: list[str] = []
     pos = None
     x_sim = None
-    side = read_sidecar(run.meta, where=f"{run.path or run.name}: sidecar")
+    if side is None:
+        side = read_sidecar(run.meta, where=f"{run.path or run.name}: sidecar", run=run)
+    line = side.note_line("sidecar")
+    if line:
+        notes.append(line)
     if side.controller is not None and run.x_ref is not None:
         Ts = side.Ts if side.Ts is not None else run.Ts
         x_sim = replay(model.fmu_parameters(), run, side)
         pos = summarise(x_sim - run.x, run.x_ref, Ts)
+    elif side.foreign_controller is not None:
+        notes.append("closed-loop position gap not computed: the sidecar's controller is not "
+                     "one the registry builds (see above); only the force residual")
     else:
         notes.append("no controller in the run's sidecar (or no x_ref): the closed-loop position gap "
                      "is not computed; only the force residual")
@@ -133,5 +128,5 @@ def validate_file(measured: Path, model_path: Path | None = None) -> ValidationR
     """CLI entry: load the run and the model file (default: the paper's model)."""
     run = load_run(measured)
     model = load_model(model_path) if model_path else paper_model()
-    check_run(run, model)
-    return validate(run, model)
+    side = check_run(run, model)
+    return validate(run, model, side)

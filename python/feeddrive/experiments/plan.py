@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from ..control.pid import DEFAULT_U_LIMIT
-from ..harness.controllers import make_controller, pid_spec
+from ..harness.controllers import DEFAULT_LEAD, make_controller, pid_lead_spec
 from ..harness.references import Reference, point_to_point, prbs, sinusoid
 from ..harness.sidecar import SCHEMA
 from ..model_file import ModelFile
@@ -66,6 +66,13 @@ VAR_MIN_TOP = 5e-3           #: its top speed must reach this [m/s] (S(v) must c
 PREROLLING_PERIOD, PREROLLING_PERIODS = 4.0, 3.0
 MIN_STROKE_ROOM = 20e-3      #: travel needed inside the margins [m]
 MIN_V_MAX = 1e-3             #: the large pre-rolling sinusoid moves at up to 0.79 mm/s
+#: force-equivalent gains of the plan's default controller, a PID with the registry's lead
+#: filter, for a moving mass of PAPER_MASS (scaled with the model's mass): stiffer than the
+#: registry's default PID so that the 0.3 mm/s runs slide steadily (the default PID's
+#: speed wanders by > 25 % there on the paper's friction); margins on the paper's design
+#: model: phase 38 deg, gain 5.6 dB, crossover 44 Hz
+PLAN_GAINS: dict[str, float] = {"Kp": 3.0e5, "Kv": 3.5e3, "Ki": 6.0e6}
+PAPER_MASS = 16.1
 #: default machine limits beside the stroke (the paper's drive)
 DEFAULT_V_MAX, DEFAULT_A_MAX = 0.25, 5.0
 
@@ -447,6 +454,15 @@ class _Builder:
                      reference="x_ref = centre - amplitude cos(2 pi t / period)")
 
 
+def default_controller(params: Mapping[str, Any], u_limit: float) -> dict[str, Any]:
+    """The plan's controller when none is given: :data:`PLAN_GAINS` scaled by m / 16.1 kg,
+    the registry's lead filter, anti-windup, the model's force per volt, clamp ``u_limit``."""
+    scale = float(params["m"]) / PAPER_MASS
+    return pid_lead_spec(*DEFAULT_LEAD, **{k: v * scale for k, v in PLAN_GAINS.items()},
+                         force_per_volt=force_per_volt(params), u_limit=u_limit,
+                         anti_windup=True)
+
+
 def make_plan(model: ModelFile, limits: Limits,
               controller: Mapping[str, Any] | None = None) -> Plan:
     """The campaign sized to ``limits`` on the nominal ``model`` (its Ts, mass, friction and
@@ -454,14 +470,14 @@ def make_plan(model: ModelFile, limits: Limits,
 
     ``controller`` is the drive's controller as a registry spec
     (:mod:`feeddrive.harness.controllers`), written into every closed-loop sidecar; default:
-    the registry's PID at the model's force per volt and ``limits.u_limit``.  PlanError
+    :func:`default_controller`.  PlanError
     naming the option for limits the campaign cannot fit.
     """
     params = model.fmu_parameters()
     check_limits(limits, params)
     Ts = float(params["Ts"])
-    spec = pid_spec(force_per_volt=force_per_volt(params), u_limit=limits.u_limit) \
-        if controller is None else _check_controller(controller, Ts)
+    spec = default_controller(params, limits.u_limit) if controller is None \
+        else _check_controller(controller, Ts)
     plan = Plan(model_name=model.name, limits=limits, Ts=Ts, controller=spec)
     b = _Builder(plan, params)
     b.prbs()

@@ -56,8 +56,10 @@ HOLD_SHARE = 0.8             #: a load, with static friction, may need this shar
 PRBS_AMPLITUDE = 0.3         #: PRBS level +- [V] added to the controller's output
 PRBS_ORDER, PRBS_PERIODS, PRBS_SETTLE = 11, 4, 0.1
 FORCE_MARGIN = 2e-3          #: the open-loop run stops this close to a stroke end [m]
-FORCE_PERIOD = 0.2           #: square-wave period aimed at [s] ...
-FORCE_MIN_PERIOD = 0.04      #: ... and the shortest allowed [s]
+FORCE_PERIOD = 0.2           #: square-wave period aimed at [s]
+#: travel between the open-loop run's reversals [m]: ``identify``'s mass step leaves out
+#: 1 mm after each reversal and every sample slower than 10 mm/s
+MASS_TRAVEL = 4e-3
 FORCE_DURATION = 2.0         #: length of the square wave [s]
 FORCE_FRICTION_FACTOR = 2.0  #: the open-loop force must reach this multiple of F_s
 VAR_SPEED = (1e-3, 20e-3)    #: speed range of the variable-speed run [m/s], period below
@@ -370,29 +372,23 @@ class _Builder:
         lim, p = self.plan.limits, self.p
         m, F_s, F_c = float(p["m"]), float(p["friction.F_s"]), float(p["friction.F_c"])
         fpv = force_per_volt(p)
-        A = min(1.0, lim.u_limit, lim.a_max * m / fpv)
-        F = A * fpv
+        A = min(max(1.0, FORCE_FRICTION_FACTOR * F_s / fpv), lim.u_limit, lim.a_max * m / fpv)
+        a_net = (A * fpv - F_c) / m                 # while sliding
         room = 0.5 * (self.hi - self.lo) - FORCE_MARGIN
-        a_net = max(F - F_c, 0.1 * F) / m
-        T = min(FORCE_PERIOD, 4 * lim.v_max / a_net, float(np.sqrt(16 * room / a_net)))
-        if T < FORCE_MIN_PERIOD:       # lower the force instead, down to FORCE_FRICTION_FACTOR F_s
-            T = FORCE_MIN_PERIOD
-            a_net = min(4 * lim.v_max / T, 16 * room / T**2)
-            F = a_net * m + F_c
-            A = F / fpv
-            if F < FORCE_FRICTION_FACTOR * F_s:
-                F_min = FORCE_FRICTION_FACTOR * F_s
-                v_need = (F_min - F_c) / m * FORCE_MIN_PERIOD / 4
-                x_need = 2 * ((F_min - F_c) / m * FORCE_MIN_PERIOD**2 / 16 + FORCE_MARGIN)
-                given = (f"--v-max: {lim.v_max:g} m/s", f"v_max >= {v_need:.3g} m/s") \
-                    if lim.v_max < v_need else (
-                        f"--stroke: {lim.stroke[1] - lim.stroke[0]:g} m",
-                        f"X1 - X0 >= {x_need + 2 * STROKE_MARGIN:.3g} m")
-                option, rule = given
+        T = min(FORCE_PERIOD, 4 * lim.v_max / a_net)
+        if a_net * T**2 / 16 < MASS_TRAVEL:        # too little travel between reversals:
+            a_net = lim.v_max**2 / MASS_TRAVEL      # a lower force, longer, up to v_max
+            a_low = (FORCE_FRICTION_FACTOR * F_s - F_c) / m
+            if a_net < a_low:
                 raise PlanError(
-                    f"{option}; the open-loop mass run needs {FORCE_FRICTION_FACTOR:g} F_s = "
-                    f"{F_min:.1f} N for at least {FORCE_MIN_PERIOD / 4 * 1e3:g} ms at a time: "
-                    f"{rule}")
+                    f"--v-max: {lim.v_max:g} m/s; the open-loop mass run needs "
+                    f"{FORCE_FRICTION_FACTOR:g} F_s = {FORCE_FRICTION_FACTOR * F_s:.1f} N and "
+                    f"{MASS_TRAVEL * 1e3:g} mm of travel between reversals: v_max >= "
+                    f"{np.sqrt(MASS_TRAVEL * a_low):.3g} m/s")
+            T = 4 * lim.v_max / a_net
+            A = (a_net * m + F_c) / fpv
+        T = min(T, float(np.sqrt(16 * room / a_net)))
+        F = A * fpv
         T = self.Ts * 2 * max(2, int(round(T / (2 * self.Ts))))
         n_periods = max(2, int(round(FORCE_DURATION / T)))
         u = square_wave_input(self.Ts, A, T, n_periods, 0.0, 0.1)

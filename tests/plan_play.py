@@ -3,9 +3,9 @@
 What a user does with ``feeddrive plan``'s folder, with the FMU (at a truth's parameters) as
 the machine: each reference of ``DIR/reference`` is played (closed loop under the sidecar's
 controller, after the sidecar's settling hold with the load hung; open loop from rest at the
-sidecar's position, stopped near a stroke end), the recording gets the sensors' effects
-(100 nm scale, current noise acting on the stage), and is written as ``NAME.csv`` with the
-plan's sidecar copied beside it unchanged.
+sidecar's position, stopped where the stage leaves the sidecar's ``stop_outside``), the
+recording gets the sensors' effects (100 nm scale, current noise acting on the stage), and is
+written as ``NAME.csv`` with the plan's sidecar copied beside it unchanged.
 """
 from __future__ import annotations
 
@@ -43,9 +43,8 @@ def _open_loop(params: Mapping[str, Any], sensors: Sensors, cols: dict[str, np.n
     with Plant(params, interface="cs", tolerance=1e-6) as plant:
         res = sampled_signals(simulate_open_loop(plant, t, u, F_ext=F, start_values={
             "x": float(side["position"]), "v": 0.0}))
-    x_min, x_max = float(params["stroke.x_min"]), float(params["stroke.x_max"])
-    margin = float(side["stop_margin"])
-    out = np.flatnonzero((res["x"] < x_min + margin) | (res["x"] > x_max - margin))
+    lo, hi = (float(v) for v in side["stop_outside"])
+    out = np.flatnonzero((res["x"] < lo) | (res["x"] > hi))
     stop = int(out[0]) if out.size else len(res["x"])
     return to_run({k: v[:stop] for k, v in res.items()}, sensors, x_ref=None, F_load=0.0)
 

@@ -403,7 +403,8 @@ class _Builder:
                  f"{F:.0f} N (> {FORCE_FRICTION_FACTOR:g} F_s) accelerate the stage; the "
                  "identified maps and friction are subtracted", controller=False,
                  position=self.mid, amplitude=A, period=T, n_periods=n_periods, bias=0.0,
-                 rest=0.1, stop_margin=FORCE_MARGIN)
+                 rest=0.1, stop_outside=[lim.stroke[0] + FORCE_MARGIN,
+                                         lim.stroke[1] - FORCE_MARGIN])
 
     def variable_speed(self) -> None:
         lim = self.plan.limits

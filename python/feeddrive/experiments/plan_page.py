@@ -55,7 +55,7 @@ def plan_markdown(plan: Plan, source: str, size_bytes: int | None = None) -> str
           "sample and record the total voltage as `u`.",
           "- The open-loop run (`time,u`): switch the position controller off, start at rest "
           "where the run says, apply `u` to the amplifier reference and stop (and end the "
-          "recording) where the stage comes near a stroke end.",
+          "recording) where the stage leaves the sidecar's `stop_outside` interval.",
           f"- Record each run as `NN_name.csv` in one folder and copy `{SIDECAR_DIR}/NN_name.json` "
           "beside it: the sidecar says which experiment it is, the sample time, the "
           "controller and the load. If your controller is not the one in the sidecar, "

@@ -56,10 +56,10 @@ def _controllers() -> list:
                                        anti_windup=True), id="pid_lead")]
 
 
-def _plan(tmp: Path, *options: str, controller: dict | None = None) -> Path:
+def _plan(tmp: Path, *options: str, controller: dict | None | str = "default") -> Path:
     out = tmp / "plan"
     args = ["plan", "--out", str(out), *options]
-    if controller is not None:
+    if controller != "default":
         spec = tmp / "controller.json"
         spec.write_text(json.dumps(controller))
         args += ["--controller", str(spec)]
@@ -181,7 +181,19 @@ def test_a_bad_controller_file_is_refused_in_one_line(tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert "--controller" in err and "Kv" in err and "\n" not in err
     with pytest.raises(PlanError, match="--controller"):
-        make_plan(paper_model(), default_limits(paper_model()), {"type": "lqg"})
+        make_plan(paper_model(), default_limits(paper_model()), {"Kp": 1.0})
+
+
+@pytest.mark.parametrize("spec", [None, {"type": "cascade_p_pi", "Kv": 120.0, "law": "P-PI"}])
+def test_a_controller_the_toolkit_does_not_simulate_is_kept_with_a_note(tmp_path, capsys, spec):
+    """A sidecar is information: the drive's own controller description (or null) goes into
+    the closed-loop sidecars as given; the plan says a closed-loop replay will be skipped."""
+    out = _plan(tmp_path, "--stroke", "0", "0.06", controller=spec)
+    assert "replay (validate)" in capsys.readouterr().out
+    for side in (out / "sidecar").glob("*.json"):
+        meta = json.loads(side.read_text())
+        assert meta["controller"] == (None if meta["kind"] == "force_open_loop" else spec)
+        assert ("hold_before_record" in meta) == (meta["kind"] != "force_open_loop")
 
 
 def test_plan_does_not_replace_a_folder_it_did_not_write(tmp_path, capsys):

@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from ..control.pid import DEFAULT_U_LIMIT
-from ..harness.controllers import DEFAULT_LEAD, make_controller, pid_lead_spec
+from ..harness.controllers import CONTROLLERS, DEFAULT_LEAD, make_controller, pid_lead_spec
 from ..harness.references import Reference, point_to_point, prbs, sinusoid
 from ..harness.sidecar import SCHEMA
 from ..model_file import ModelFile
@@ -159,7 +159,7 @@ class Plan:
     model_name: str
     limits: Limits
     Ts: float
-    controller: dict[str, Any]
+    controller: dict[str, Any] | None       #: None: the drive's controller is not described
     runs: list[PlannedRun] = field(default_factory=list)
     #: parameters -> why the plan cannot identify them under these limits
     not_identified: dict[str, str] = field(default_factory=dict)
@@ -227,7 +227,17 @@ def check_limits(limits: Limits, params: Mapping[str, Any]) -> None:
                         f"(a_max >= {F_need / m:.2f} m/s^2)")
 
 
-def _check_controller(spec: Mapping[str, Any], Ts: float) -> dict[str, Any]:
+def _check_controller(spec: Mapping[str, Any], Ts: float, notes: list[str]) -> dict[str, Any]:
+    """A spec of a registry type must build; another type is kept as the drive's own
+    description (a note says the closed-loop replay cannot use it)."""
+    if not isinstance(spec.get("type"), str):
+        raise PlanError("--controller: the spec needs a 'type' (a string)")
+    if spec["type"] not in CONTROLLERS:
+        notes.append(f"controller type {spec['type']!r} is not one the toolkit simulates "
+                     f"({', '.join(sorted(CONTROLLERS))}): kept in the sidecars as your "
+                     "description; identification does not need it, a closed-loop replay "
+                     "(validate) is skipped")
+        return dict(spec)
     ref = Reference(Ts, np.zeros(2), np.zeros(2), np.zeros(2))
     try:
         make_controller(spec, ref)
@@ -238,11 +248,11 @@ def _check_controller(spec: Mapping[str, Any], Ts: float) -> dict[str, Any]:
 
 # ---------------------------------------------------------------- the runs
 def _sidecar(kind: str, Ts: float, controller: Mapping[str, Any] | None, load: float,
-             /, **extra: Any) -> dict[str, Any]:
+             closed_loop: bool, /, **extra: Any) -> dict[str, Any]:
     meta: dict[str, Any] = {"schema": SCHEMA, "experiment": kind, "Ts": Ts,
                             "controller": None if controller is None else dict(controller),
                             "F_load": float(load), "kind": kind}
-    if controller is not None:
+    if closed_loop:
         meta["hold_before_record"] = HOLD
     meta.update(extra)
     return meta
@@ -267,10 +277,11 @@ class _Builder:
         self.accel = min(RAMP_ACCEL, lim.a_max)
 
     def add(self, group: str, stem: str, columns: dict[str, np.ndarray], load: float,
-            moves: str, why: str, controller: bool = True, **extra: Any) -> None:
+            moves: str, why: str, closed_loop: bool = True, **extra: Any) -> None:
         name = f"{len(self.plan.runs) + 1:02d}_{stem}"
         kind = KIND_OF_GROUP[group]
-        side = _sidecar(kind, self.Ts, self.plan.controller if controller else None, load,
+        side = _sidecar(kind, self.Ts, self.plan.controller if closed_loop else None, load,
+                        closed_loop,
                         name=name, group=group, **extra)
         self.plan.runs.append(PlannedRun(name, group, kind, columns, side, float(load), moves,
                                          why))
@@ -401,7 +412,7 @@ class _Builder:
                  "stroke end",
                  f"without a controller the force steps of "
                  f"{F:.0f} N (> {FORCE_FRICTION_FACTOR:g} F_s) accelerate the stage; the "
-                 "identified maps and friction are subtracted", controller=False,
+                 "identified maps and friction are subtracted", closed_loop=False,
                  position=self.mid, amplitude=A, period=T, n_periods=n_periods, bias=0.0,
                  rest=0.1, stop_outside=[lim.stroke[0] + FORCE_MARGIN,
                                          lim.stroke[1] - FORCE_MARGIN])
@@ -461,21 +472,32 @@ def default_controller(params: Mapping[str, Any], u_limit: float) -> dict[str, A
 
 
 def make_plan(model: ModelFile, limits: Limits,
-              controller: Mapping[str, Any] | None = None) -> Plan:
+              controller: Mapping[str, Any] | None | str = "default") -> Plan:
     """The campaign sized to ``limits`` on the nominal ``model`` (its Ts, mass, friction and
     force constant size the runs).
 
     ``controller`` is the drive's controller as a registry spec
-    (:mod:`feeddrive.harness.controllers`), written into every closed-loop sidecar; default:
-    :func:`default_controller`.  PlanError
+    (:mod:`feeddrive.harness.controllers`), written into every closed-loop sidecar: "default"
+    is :func:`default_controller`; None writes null (not described); a type the registry
+    does not know is kept as written, with a note.  PlanError
     naming the option for limits the campaign cannot fit.
     """
     params = model.fmu_parameters()
     check_limits(limits, params)
     Ts = float(params["Ts"])
-    spec = default_controller(params, limits.u_limit) if controller is None \
-        else _check_controller(controller, Ts)
-    plan = Plan(model_name=model.name, limits=limits, Ts=Ts, controller=spec)
+    notes: list[str] = []
+    if isinstance(controller, str):
+        if controller != "default":
+            raise ValueError(f"make_plan: controller {controller!r}: give a spec, None or "
+                             "'default'")
+        spec = default_controller(params, limits.u_limit)
+    elif controller is None:
+        spec = None
+        notes.append("no controller described (controller null in the sidecars): a "
+                     "closed-loop replay (validate) of the recordings is skipped")
+    else:
+        spec = _check_controller(controller, Ts, notes)
+    plan = Plan(model_name=model.name, limits=limits, Ts=Ts, controller=spec, notes=notes)
     b = _Builder(plan, params)
     b.prbs()
     map_speed = b.map_runs()

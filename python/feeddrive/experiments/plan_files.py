@@ -82,16 +82,16 @@ def write_plan(plan: Plan, out: str | Path, source: str, inputs: Sequence[str | 
     return size
 
 
-def _controller(path: str | Path) -> dict[str, Any]:
+def _controller(path: str | Path) -> dict[str, Any] | None:
     try:
         spec = json.loads(Path(path).read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError) as e:
         raise PlanError(f"--controller: {path}: {e}") from None
     except json.JSONDecodeError as e:
         raise PlanError(f"--controller: {path}: line {e.lineno}: not JSON ({e.msg})") from None
-    if not isinstance(spec, dict):
+    if spec is not None and not isinstance(spec, dict):
         raise PlanError(f"--controller: {path}: must hold a JSON object (a controller spec "
-                        "with a 'type')")
+                        "with a 'type') or null")
     return spec
 
 
@@ -104,7 +104,7 @@ def plan_command(out: str | Path, model: str | Path | None = None,
     """What ``feeddrive plan`` does: the plan for the model file (default the paper's) and
     the limits given, written to ``out``; returns the plan and the bytes written."""
     mf: ModelFile = paper_model() if model is None else load_model(model)
-    spec = None if controller is None else _controller(controller)
+    spec = "default" if controller is None else _controller(controller)
     limits = default_limits(mf, stroke, v_max, a_max, u_limit, loads)
     plan = make_plan(mf, limits, spec)
     source = "the paper's model" if model is None else f"the model file {Path(model).name}"

@@ -155,6 +155,24 @@ def test_what_cannot_be_identified_is_said_at_plan_time(tmp_path, capsys):
     assert len({r.sidecar["speed"] for r in plan.runs if r.group == "stribeck"}) >= 6
 
 
+def test_prerolling_amplitudes_follow_the_nominal_model():
+    """The small sinusoid must travel past 2 Delta_N-1 and stay below 2 Delta_N: the paper's
+    80 um for the paper's model, the midpoint for a model whose elements are twice as long."""
+    def amplitudes(model: ModelFile) -> list[float]:
+        plan = make_plan(model, default_limits(model))
+        return sorted(r.sidecar["amplitude"] for r in plan.runs if r.kind == "prerolling")
+
+    paper = paper_model()
+    assert amplitudes(paper) == [80e-6, 0.5e-3]
+    p = dict(paper.parameters)
+    for j in range(1, 6):
+        p[f"friction.k[{j}]"] *= 0.5
+    soft = ModelFile(name="soft", effects=paper.effects, parameters=p)
+    delta = [p[f"friction.nu[{j}]"] * p["friction.F_s"] / p[f"friction.k[{j}]"] for j in (4, 5)]
+    small, large = amplitudes(soft)
+    assert delta[0] + 10e-6 < small < delta[1] - 10e-6 and large > delta[1]
+
+
 @pytest.mark.parametrize("options, option", [
     (["--stroke", "0.1", "0.12"], "--stroke"),
     (["--stroke", "0.2", "0.1"], "--stroke"),

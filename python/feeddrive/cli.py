@@ -390,13 +390,14 @@ def build_parser() -> argparse.ArgumentParser:
     _path(p, OUT_DIR, "--out", required=True)
     _path(p, FILE, "--model", default=None, help="nominal model file (default: the paper's)")
     _path(p, FILE, "--controller", default=None,
-          help="the drive's controller as a JSON spec for the sidecars (default: the PID)")
+          help="the drive's controller as a JSON spec for the sidecars (default: a PID with lead)")
     p.add_argument("--stroke", type=_FINITE, nargs=2, metavar=("X0", "X1"), default=None,
                    help="usable stroke [m] (default: the model's)")
-    p.add_argument("--v-max", type=_POSITIVE, default=None, help="speed limit [m/s]")
-    p.add_argument("--a-max", type=_POSITIVE, default=None, help="acceleration limit [m/s^2]")
+    p.add_argument("--v-max", type=_POSITIVE, default=None, help="speed limit [m/s] (default 0.25)")
+    p.add_argument("--a-max", type=_POSITIVE, default=None,
+                   help="acceleration limit [m/s^2] (default 5)")
     p.add_argument("--u-limit", type=_POSITIVE, default=None,
-                   help="amplifier reference range +- [V]")
+                   help="amplifier reference range +- [V] (default 10)")
     p.add_argument("--loads", type=_loads, default=None, metavar="N,...",
                    help="loads to hang for the maps [N] (default 54.9,272.7)")
     p.add_argument("--html", action="store_true", help="also write plan.html")

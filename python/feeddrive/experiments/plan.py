@@ -66,6 +66,7 @@ VAR_SPEED = (1e-3, 20e-3)    #: speed range of the variable-speed run [m/s], per
 VAR_PERIOD = 0.5
 VAR_MIN_TOP = 5e-3           #: its top speed must reach this [m/s] (S(v) must change)
 PREROLLING_PERIOD, PREROLLING_PERIODS = 4.0, 3.0
+PREROLLING_SPARE = 10e-6     #: the small amplitude keeps this from Delta_N-1 and Delta_N [m]
 MIN_STROKE_ROOM = 20e-3      #: travel needed inside the margins [m]
 MIN_V_MAX = 1e-3             #: the large pre-rolling sinusoid moves at up to 0.79 mm/s
 #: force-equivalent gains of the plan's default controller, a PID with the registry's lead
@@ -447,16 +448,34 @@ class _Builder:
                  period=period, duration=duration, x_start=x0,
                  variable_phase=[k_begin * self.Ts, k_end * self.Ts])
 
+    def prerolling_amplitudes(self) -> tuple[float, float]:
+        """The small amplitude between the nominal model's Delta_N-1 and Delta_N (the
+        campaign's 80 um when it lies there with 10 um to spare), the large one past 2 Delta_N
+        (the campaign's 0.5 mm, or 1.2 Delta_N when that is larger)."""
+        p = self.p
+        N = int(p.get("friction.N", 0))
+        small, large = min(PREROLLING_AMPLITUDES), max(PREROLLING_AMPLITUDES)
+        if N < 2:
+            return small, large
+        D = [float(p[f"friction.nu[{j}]"]) * float(p["friction.F_s"]) / float(p[f"friction.k[{j}]"])
+             for j in (N - 1, N)]
+        if not D[0] + PREROLLING_SPARE < small < D[1] - PREROLLING_SPARE:
+            small = 0.5 * (D[0] + D[1])
+            self.plan.notes.append(
+                f"pre-rolling: the small amplitude is {small * 1e6:.0f} um, midway between the "
+                f"model's Delta_{N - 1} = {D[0] * 1e6:.0f} um and Delta_{N} = {D[1] * 1e6:.0f} um")
+        return small, max(large, 1.2 * D[1])
+
     def prerolling(self) -> None:
-        for A in PREROLLING_AMPLITUDES:
+        for A in self.prerolling_amplitudes():
             ref = sinusoid(A, PREROLLING_PERIOD, self.mid, PREROLLING_PERIODS * PREROLLING_PERIOD,
                            Ts=self.Ts)
-            self.add("prerolling", f"prerolling_A{A * 1e6:g}um", _closed(ref), 0.0,
-                     f"x = {self.mid:.4f} - {A * 1e6:g} um cos(2 pi t / {PREROLLING_PERIOD:g} s)",
-                     (
-                         "a travel that passes the slope changes of the force-position curve "
-                         "below gross sliding" if A < 2e-4 else
-                         "gross sliding at every reversal gives the end of pre-rolling"),
+            small = A < max(PREROLLING_AMPLITUDES) - 1e-12
+            self.add("prerolling", f"prerolling_A{A * 1e6:.0f}um", _closed(ref), 0.0,
+                     f"x = {self.mid:.4f} - {A * 1e6:.0f} um cos(2 pi t / {PREROLLING_PERIOD:g} s)",
+                     "a travel that passes the slope changes of the force-position curve "
+                     "below gross sliding" if small else
+                     "gross sliding at every reversal gives the end of pre-rolling",
                      amplitude=A, period=PREROLLING_PERIOD, n_periods=PREROLLING_PERIODS,
                      centre=self.mid,
                      reference="x_ref = centre - amplitude cos(2 pi t / period)")

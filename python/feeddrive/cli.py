@@ -20,6 +20,7 @@ from .diagnose.emps import emps_baseline_model
 from .diagnose.workflow import diagnose
 from .experiments.campaign import MAX_REPEATS, write_campaign
 from .export_fmu import fmu_command
+from .experiments.plan_files import plan_command, summary
 from .fmu import FMUError, fmu_path
 from .harness.controller_fmu import (CONTROLLER_FMU_ENV, DEFAULT_CONTROLLER_FMU,
                                      controller_fmu_path)
@@ -121,6 +122,7 @@ def _number(kind: type, rule: str, ok):
 
 
 _POSITIVE = _number(float, "a finite number > 0", lambda v: 0 < v < float("inf"))
+_FINITE = _number(float, "a finite number", lambda v: abs(v) < float("inf"))
 _STEPS = _number(int, "an integer >= 1", lambda v: v >= 1)
 _BLOCKS = _number(int, "an integer >= 2", lambda v: v >= 2)
 _WINDOW = _number(int, "an odd integer >= 5 [samples]", lambda v: v >= 5 and v % 2 == 1)
@@ -213,6 +215,25 @@ def _cmd_experiments(a: argparse.Namespace) -> int:
 def _cmd_fmu(a: argparse.Namespace) -> int:
     print(fmu_command(a.model, a.out, a.fmi, a.force))
     return 0
+
+
+def _cmd_plan(a: argparse.Namespace) -> int:
+    plan, size = plan_command(Path(a.out), a.model, a.controller, a.stroke, a.v_max, a.a_max,
+                              a.u_limit, a.loads, force=a.force, html=a.html)
+    print(summary(plan, a.out, size))
+    return 0
+
+
+def _loads(text: str) -> tuple[float, ...]:
+    """``--loads``: comma-separated finite loads [N]."""
+    try:
+        values = tuple(float(t) for t in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a comma-separated list of numbers "
+                                         "[N]") from None
+    if not all(abs(v) < float("inf") for v in values):
+        raise argparse.ArgumentTypeError(f"{text} is out of range: loads must be finite [N]")
+    return tuple(v for v in values if v != 0)
 
 
 def _cmd_identify(a: argparse.Namespace) -> int:
@@ -378,6 +399,24 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--fmi", type=int, choices=(2, 3), default=2, help="FMI version (default 2)")
     p.add_argument("--force", action="store_true", help="replace an existing --out and its .ssv")
     p.set_defaults(func=_cmd_fmu)
+    p = sub.add_parser("plan", help="the identification campaign as references and sidecars "
+                                    "to run on a real drive, sized to its limits")
+    _path(p, OUT_DIR, "--out", required=True)
+    _path(p, FILE, "--model", default=None, help="nominal model file (default: the paper's)")
+    _path(p, FILE, "--controller", default=None,
+          help="the drive's controller as a JSON spec for the sidecars (default: a PID with lead)")
+    p.add_argument("--stroke", type=_FINITE, nargs=2, metavar=("X0", "X1"), default=None,
+                   help="usable stroke [m] (default: the model's)")
+    p.add_argument("--v-max", type=_POSITIVE, default=None, help="speed limit [m/s] (default 0.25)")
+    p.add_argument("--a-max", type=_POSITIVE, default=None,
+                   help="acceleration limit [m/s^2] (default 5)")
+    p.add_argument("--u-limit", type=_POSITIVE, default=None,
+                   help="amplifier reference range +- [V] (default 10)")
+    p.add_argument("--loads", type=_loads, default=None, metavar="N,...",
+                   help="loads to hang for the maps [N] (default 54.9,272.7)")
+    p.add_argument("--html", action="store_true", help="also write plan.html")
+    _force_argument(p)
+    p.set_defaults(func=_cmd_plan)
     p = sub.add_parser("identify", help="identify a model file from a folder of runs")
     _path(p, RUNS, "runs")
     _path(p, OUT_FILE, "--out", required=True)

@@ -22,6 +22,7 @@ the steps :mod:`confirmed` confirms (the two model files of the diagnosis).
 """
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -478,7 +479,8 @@ def verdict(res: list[RunResidual], floors: list[NoiseFloor], gate: Gate,
 
 def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
              force_gain: float | None = None, window: int | None = None,
-             n_blocks: int = DEFAULT_BLOCKS, closed_loop: bool = True) -> "Diagnosis":
+             n_blocks: int = DEFAULT_BLOCKS, closed_loop: bool = True,
+             progress: Callable[[str], None] | None = None) -> "Diagnosis":
     """Diagnose what ``model`` lacks against measured ``runs`` (see module docstring).
 
     Parameters
@@ -490,9 +492,12 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
     window : Savitzky-Golay window of the acceleration estimate [samples] (None: 20 ms).
     n_blocks : held-out blocks over all runs.
     closed_loop : also re-simulate runs whose sidecar describes their controller.
+    progress : called with each stage's name as it starts (a progress bar).
     """
     if not runs:
         raise ValueError("diagnose: no runs given")
+    stage = progress or (lambda name: None)
+    stage("force residual, noise floor")
     kw = {"force_gain": force_gain, "window": window}
     current = model
     res = start_res = residuals(runs, current, **kw)
@@ -503,12 +508,15 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
     gate = make_gate(model, res, floor_N)
     notes = sorted({q.force_source for q in res})
     steps: list[Step] = []
+    if closed_loop:
+        stage("closed-loop gap")
     cl = closed_loop_gap(runs, current) if closed_loop else None
     if closed_loop and cl is None:
         notes.append("closed-loop gap not computed: no run has x_ref and a sidecar 'controller' "
                      f"of a known type ({', '.join(map(repr, CONTROLLERS))})")
     stop = {"reason": f"max_steps = {max_steps} reached"}
-    for _ in range(max_steps):
+    for k in range(max_steps):
+        stage(f"step {k + 1}: candidates")
         ctx = Context(res, current, n_blocks=n_blocks)
         ranking = rank(ctx, gate)
         lead, others = choose(ranking, gate)
@@ -551,6 +559,7 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
         current, res = step.model_after, step.residual_after
     else:
         stop["gap"] = gap(res)
+    stage("verdict, confirmation")
     v = verdict(res, floors, gate, stop.get("band"))
     if v["verdict"] == "unexplained_residual":
         v = add_hint(v, fit_hints(runs, current, res, kw), gate)

@@ -36,12 +36,23 @@ class ValidationReport:
         lines += [f"  note: {n}" for n in self.notes]
         if self.position is not None:
             p = self.position
-            lines.append(f"  position gap x_sim - x_meas: reversal peak {p.reversal_peak * 1e6:.2f} um, "
-                         f"elsewhere max {p.band * 1e6:.2f} um, rms {p.rms * 1e6:.2f} um")
+            lines.append("  position gap x_sim - x_meas (simulated minus measured position, after "
+                         "the first 0.5 s):")
+            lines.append("    reversal peak (largest |gap| within 0.25 s of a reversal of x_ref): " + _um(
+                p.reversal_peak, "no reversal of x_ref after the first 0.5 s"))
+            lines.append("    elsewhere max: " + _um(
+                p.band, "every sample after the first 0.5 s is near a reversal"))
+            lines.append("    rms: " + _um(p.rms, "the run is no longer than 0.5 s"))
         if self.force:
-            lines.append("  force residual K_f(x) i - m a - F_cg(x) - F_f - F_load [N]: " +
+            lines.append("  force residual K_f(x) i - m a - F_cg(x) - F_f - F_load (the force the "
+                         "model does not explain) [N]: " +
                          ", ".join(f"{k} {v:.3f}" for k, v in self.force.items()))
         return "\n".join(lines)
+
+
+def _um(value: float, missing: str) -> str:
+    """A length [m] in µm, or why it is missing."""
+    return f"{value * 1e6:.2f} µm" if math.isfinite(value) else f"not computed: {missing}"
 
 
 def model_stroke(model: ModelFile | None) -> tuple[float, float]:

@@ -413,6 +413,7 @@ def identification_page(runs_dir: str | Path, out_dir: str | Path, truth: Any = 
     reads = Reads.of(run_folders=[runs_dir])
     with output_dir(out_dir, reads, force, what="identification") as stage:
         res = identify_folder(runs_dir, stage / "model.json", truth=truth, progress=progress)
+        res.out_path = out_dir / "model.json"           # where it is once the folder is in place
         page = Page(stage, f"feeddrive: identification from {runs_dir}")
         if progress is not None:
             progress("figures")

@@ -113,7 +113,8 @@ class _Version(argparse.Action):
         super().__init__(option_strings, dest=dest, default=default, nargs=0, help=help)
 
     def __call__(self, parser, namespace, values, option_string=None):
-        parser.exit(0, f"feeddrive {version()}\n")
+        print(f"feeddrive {version()}")
+        parser.exit(0)
 
 
 def version() -> str:
@@ -390,6 +391,7 @@ def _cmd_sweep(a: argparse.Namespace) -> int:
     from .outputs import check_dir
     from .report.study import write_bootstrap_report, write_study_report
     from .study import BootstrapStudy, load_study_file, run_bootstrap_study, run_study
+    from .study.table import CSV_NAME, IDENTITY_NAME
     study = load_study_file(a.study)
     if a.force and a.resume:
         raise UsageError("give one of --force (start again, replacing --out) and --resume "
@@ -399,15 +401,21 @@ def _cmd_sweep(a: argparse.Namespace) -> int:
             raise UsageError(f"--resume: {a.study} is a bootstrap study (kind 'bootstrap'), written "
                              "whole at the end; run it again without --resume")
         boot = run_bootstrap_study(study, a.out, scheduler=a.scheduler, workers=a.workers,
-                                   parallel=not a.serial, progress=progress_enabled(a))
+                                   parallel=not a.serial, progress=progress_enabled(a),
+                                   force=a.force)
         report = write_bootstrap_report(boot, a.out)
         print(boot.summary())
         print(f"wrote {report}")
         return 0
-    if a.force and Path(a.out).exists():
+    out = Path(a.out)
+    if a.force and out.exists():
         import shutil
-        check_dir(a.out, command_reads(a, {"study": STUDY}), force=True)
-        shutil.rmtree(a.out)
+        check_dir(out, command_reads(a, {"study": STUDY}), force=True)
+        shutil.rmtree(out)
+    elif (out.is_dir() and any(out.iterdir())
+          and not any((out / n).exists() for n in (CSV_NAME, IDENTITY_NAME))):
+        raise UsageError(f"{out}: is a non-empty folder without a study's results; give --force "
+                         "to replace it, or another --out")
     try:
         res = run_study(study, a.out, scheduler=a.scheduler, workers=a.workers, resume=a.resume,
                         progress=progress_enabled(a), parallel=not a.serial)

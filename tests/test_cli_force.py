@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import re
+import sys
 from dataclasses import replace
 from pathlib import Path
 
@@ -158,3 +159,20 @@ def test_validate_of_runs_without_a_reversal_or_a_reference_prints_no_nan(inputs
         assert not re.search(r"\bnan\b", out, re.IGNORECASE), out
         assert re.search(r"rms \d+\.\d{3}", out), out       # the force residual [N]
     assert re.search(r"rms: \d+\.\d\d µm", out) is None      # noref: no position figures
+
+
+def test_progress_on_a_terminal_only(tmp_path, capsys, monkeypatch, fmu_path):
+    """validate's stages on stderr when it is a terminal; nothing when it is not (a pipe, a
+    file, a test's capture) or with --no-progress."""
+    run = simulate_run(paper_model(), sinusoid_reference(1.0, period=6.0), name="p")
+    write_run(run, tmp_path / "p.csv")
+    argv = ["validate", str(tmp_path / "p.csv")]
+    capsys.readouterr()
+    assert cli.main(argv) == 0
+    assert capsys.readouterr().err == ""
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
+    assert cli.main(argv) == 0
+    err = capsys.readouterr().err
+    assert "validate: 3 stages" in err and "force residual" in err, err
+    assert cli.main([*argv, "--no-progress"]) == 0
+    assert capsys.readouterr().err == ""

@@ -49,8 +49,14 @@ OUTPUT_ROLES = (OUT_FILE, OUT_DIR)
 _ROLE = "feeddrive_role"
 
 
+#: how the help shows the value of a path option of each role
+_METAVAR = {RUN: "RUN.csv", RUNS: "DIR", FILE: "FILE", TREE: "DIR", STUDY: "STUDY.json",
+            OUT_FILE: "FILE", OUT_DIR: "DIR"}
+
+
 def _path(p: argparse.ArgumentParser, role: str, *flags: str, **kw) -> argparse.Action:
     """Add a path argument with its ``role`` (what the guard reads from it or checks)."""
+    kw.setdefault("metavar", _METAVAR[role] if flags[0].startswith("-") else flags[0].upper())
     action = p.add_argument(*flags, **kw)
     setattr(action, _ROLE, role)
     return action
@@ -69,7 +75,6 @@ def command_reads(a: argparse.Namespace, roles: dict[str, str]):
     from .harness.controller_fmu import CONTROLLER_FMU_ENV, DEFAULT_CONTROLLER_FMU
     from .model_description import DEFAULT_FMU, FMU_ENV
     from .outputs import Reads
-    from .study import study_reads
     got: dict[str, list] = {RUN: [], RUNS: [], FILE: [], TREE: [], STUDY: []}
     for dest, role in roles.items():
         value = getattr(a, dest, None)
@@ -79,8 +84,10 @@ def command_reads(a: argparse.Namespace, roles: dict[str, str]):
             os.environ.get(CONTROLLER_FMU_ENV) or DEFAULT_CONTROLLER_FMU]
     reads = Reads.of(files=got[FILE] + fmus, runs=got[RUN], run_folders=got[RUNS],
                      trees=got[TREE])
-    for study in got[STUDY]:
-        reads = reads + study_reads(study)
+    if got[STUDY]:
+        from .study import study_reads          # dask: only for the commands that read a study
+        for study in got[STUDY]:
+            reads = reads + study_reads(study)
     return reads
 
 
@@ -234,11 +241,16 @@ def _cmd_system(a: argparse.Namespace) -> int:
                          out / f"{system.name}_container.fmu") if p.exists()]
     if there and not a.force:
         raise OutputError(f"{there[0]}: exists; give --force to replace it, or another --out")
-    files = write_all(system, out)
+    with _stages("system", a) as stage:
+        stage("SSP, OSP, container FMU")
+        files = write_all(system, out)
+        if a.run:
+            stage("libcosim and fmpy runs")
+            compared = compare_engines(system, files)
     for kind, path in files.items():
         print(f"wrote {path} ({kind})")
     if a.run:
-        print("\n".join(compare_engines(system, files)))
+        print("\n".join(compared))
     return 0
 
 
@@ -285,7 +297,8 @@ def _bar(items: Sequence, desc: str, unit: str, a: argparse.Namespace):
 
 def _cmd_validate(a: argparse.Namespace) -> int:
     from .validation.replay import validate_file
-    rep = validate_file(Path(a.measured), Path(a.model) if a.model else None)
+    with _stages("validate", a) as stage:
+        rep = validate_file(Path(a.measured), Path(a.model) if a.model else None, stage)
     print(rep.text())
     return 0
 
@@ -540,6 +553,7 @@ def _register_system(sub) -> None:
     p.add_argument("--run", action="store_true",
                    help="run them in libcosim and fmpy and compare with the harness")
     p.add_argument("--force", action="store_true", help="replace the case's files in --out if they exist")
+    _progress_argument(p)
     p.set_defaults(func=_cmd_system)
 
 
@@ -582,6 +596,7 @@ def _register_validate(sub) -> None:
                  example="feeddrive validate runs/variable_speed.csv --model model.json")
     _path(p, RUN, "measured", help="the recording to replay (CSV with time,u,x[,i,x_ref])")
     _path(p, FILE, "--model", default=None, help="model file (default: the paper's model)")
+    _progress_argument(p)
     p.set_defaults(func=_cmd_validate)
 
 
@@ -631,7 +646,7 @@ def _register_diagnose(sub) -> None:
                  reads="RUNS (recordings: CSV and JSON sidecars, docs/data-format.md);\n"
                        "--model: the starting model file",
                  writes="OUT/diagnosis.json, OUT/model.json (the confirmed effects),\n"
-                        "OUT/model_all_fits.json, OUT/index.html; the steps and verdict on stdout",
+                        "OUT/model_all_fits.json, OUT/report.html; the steps and verdict on stdout",
                  example="feeddrive diagnose runs/cv_p30mm_s_P0.csv runs/variable_speed.csv \\\n"
                          "    --model model.json --out diag")
     _path(p, RUN, "runs", nargs="+", type=Path, help="measured runs (CSV recordings, docs/data-format.md)")

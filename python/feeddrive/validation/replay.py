@@ -3,12 +3,12 @@ report the gap (position error at reversals and elsewhere; force residual along 
 trajectory)."""
 from __future__ import annotations
 
+import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-
-import math
 
 from ..data import DataError, Run, check_plausible, load_run, sidecar_path
 from ..diagnose.residual import force_residual
@@ -116,33 +116,41 @@ def force_residual_summary(run: Run, model: ModelFile) -> tuple[dict[str, float]
     return out, notes
 
 
-def validate(run: Run, model: ModelFile) -> ValidationReport:
+def validate(run: Run, model: ModelFile,
+             progress: Callable[[str], None] | None = None) -> ValidationReport:
     """Replay ``run`` (closed loop when its sidecar names the controller) and compute the gap.
 
     The replay (:func:`feeddrive.harness.runs.replay`) reads the position as the run's
     scale did (``sensors.quantum`` of the sidecar) without noise: the model's prediction.
     ValueError (naming the run) for a sidecar or controller spec the harness cannot read.
+    ``progress`` is called with each stage's name as it starts (a progress bar).
     """
+    stage = progress or (lambda name: None)
     notes: list[str] = []
     pos = None
     x_sim = None
     side = read_sidecar(run.meta, where=f"{run.path or run.name}: sidecar")
     if side.controller is not None and run.x_ref is not None:
         Ts = side.Ts if side.Ts is not None else run.Ts
+        stage("closed-loop replay")
         x_sim = replay(model.fmu_parameters(), run, side)
         pos = summarise(x_sim - run.x, run.x_ref, Ts)
     else:
         notes.append("no controller in the run's sidecar (or no x_ref): the closed-loop position gap "
                      "is not computed; only the force residual")
+    stage("force residual")
     force, fnotes = force_residual_summary(run, model)
     notes += fnotes
     return ValidationReport(run=run, model_name=model.name, position=pos, force=force, notes=notes,
                             x_sim=x_sim)
 
 
-def validate_file(measured: Path, model_path: Path | None = None) -> ValidationReport:
+def validate_file(measured: Path, model_path: Path | None = None,
+                  progress: Callable[[str], None] | None = None) -> ValidationReport:
     """CLI entry: load the run and the model file (default: the paper's model)."""
+    if progress is not None:
+        progress("load")
     run = load_run(measured)
     model = load_model(model_path) if model_path else paper_model()
     check_run(run, model)
-    return validate(run, model)
+    return validate(run, model, progress)

@@ -51,6 +51,13 @@ def test_help_imports_no_stage():
         assert not heavy and not stages, (cmd or "top level", heavy[:5], stages[:5])
 
 
+def test_every_command_has_its_module():
+    """Each command's work is a module of feeddrive.commands with ``main``."""
+    import importlib
+    for name in SUB.choices:
+        assert callable(importlib.import_module(f"feeddrive.commands.{name}").main), name
+
+
 def test_a_command_still_imports_its_stages_when_it_runs(tmp_path):
     """The lazy imports are real: `model` (a cheap command) runs and writes its file."""
     p = subprocess.run([sys.executable, "-m", "feeddrive.cli", "model", "--paper", "--out",
@@ -110,10 +117,11 @@ def test_choices_are_the_modules_own():
     from feeddrive.experiments.campaign import MAX_REPEATS
     from feeddrive.validation.circle_test import FEEDFORWARD
     from feeddrive.validation.xy_machine import MISMATCH
+    from feeddrive.commands.system import systems
     assert cli.MAX_REPEATS == MAX_REPEATS
     assert set(cli.FEEDFORWARD_CHOICES) == set(FEEDFORWARD)
     assert tuple(cli.MISMATCH_CHOICES) == tuple(MISMATCH)
-    assert tuple(cli.SYSTEM_CASES) == tuple(cli.systems())
+    assert tuple(cli.SYSTEM_CASES) == tuple(systems())
 
 
 def test_top_level_help_names_every_command_and_the_vocabulary(capsys):

@@ -5,7 +5,8 @@ The parser is built from the standard library only: every command's work (and th
 imports it needs: scipy, fmpy, matplotlib, dask, the package's stages) is imported inside the
 function that runs it, so ``feeddrive --help`` and ``feeddrive CMD --help`` answer at once.
 Each command has one registration function (its arguments, help, what it reads and writes,
-an example) listed in :data:`COMMANDS`, and one ``_cmd_*`` function that runs it.
+an example) listed in :data:`COMMANDS`, and its work in a module of :mod:`feeddrive.commands`,
+imported by a two-line ``_cmd_*`` function when the command runs.
 
 One option vocabulary: ``--out`` is where a command writes (a file or a folder), ``--model``
 a model file it reads, ``--force`` lets it replace an existing output, ``--workers`` the
@@ -34,7 +35,7 @@ SHARED_ENV = "FEEDDRIVE_SHARED"
 
 #: the choices the parser offers, named here so that ``--help`` imports no stage; a test
 #: checks them against the modules that define them (experiments.campaign.MAX_REPEATS,
-#: validation.circle_test.FEEDFORWARD, validation.xy_machine.MISMATCH, the systems below)
+#: validation.circle_test.FEEDFORWARD, validation.xy_machine.MISMATCH, commands.system)
 MAX_REPEATS = 100
 FEEDFORWARD_CHOICES = ("gms", "none", "static")
 MISMATCH_CHOICES = ("sec4", "none")
@@ -108,10 +109,6 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {one_line(message)} ({self.prog} --help: the options)\n")
 
 
-class UsageError(ValueError):
-    """A command was given arguments it cannot use."""
-
-
 class _Version(argparse.Action):
     """``--version``: the installed package's version (read only when asked)."""
 
@@ -158,288 +155,58 @@ _LEVEL = _number(float, "a number in (0, 1)", lambda v: 0 < v < 1)
 _REPEATS = _number(int, f"an integer in [1, {MAX_REPEATS}]", lambda v: 1 <= v <= MAX_REPEATS)
 
 
-def progress_enabled(a: argparse.Namespace) -> bool:
-    """Progress bars: on a terminal (stderr) unless ``--no-progress``."""
-    return not getattr(a, "no_progress", False) and sys.stderr.isatty()
-
-
-def _check_out_file(path: Path, inputs: list, force: bool) -> Path:
-    """An output file: writable and none of ``inputs`` (:func:`feeddrive.outputs.check_file`),
-    and not an existing file unless ``force``."""
-    from .outputs import OutputError, check_file
-    out = check_file(path, inputs)
-    if out.exists() and not force:
-        raise OutputError(f"{out}: exists; give --force to replace it, or another --out")
-    return out
-
-
 # ---------------------------------------------------------------- the commands' work
+# each command's module (feeddrive.commands.*) is imported only when the command runs
 
 
 def _cmd_run(a: argparse.Namespace) -> int:
-    from .data import load_runs
-    from .fmu import fmu_path
-    from .outputs import check_dir
-    from .report.main_job import main_job
-    from .validation.replay import check_run
-    fmu_path()      # no FMU: one line before the job starts
-    check_dir(Path(a.out), [a.runs, a.shared], a.force)
-    for run in load_runs(a.runs) if a.runs else ():
-        check_run(run)      # a bad run: one line now, not after the reproductions
-    main_job(Path(a.out), print_tables=True, runs_dir=Path(a.runs) if a.runs else None,
-             shared_dir=Path(a.shared) if a.shared else None, force=a.force,
-             progress=progress_enabled(a))
-    return 0
+    from .commands import run
+    return run.main(a)
 
 
 def _cmd_report(a: argparse.Namespace) -> int:
-    from .model_file import load_model
-    from .report.identification import identification_page
-    truth = load_model(Path(a.truth)) if a.truth else None
-    with _stages("report", a) as stage:
-        page, res = identification_page(Path(a.runs), Path(a.out), truth=truth, force=a.force,
-                                        progress=stage)
-    print(res.text())
-    print(f"wrote {page} (figures: {len(list(Path(a.out).glob('*.png')))} PNG) and "
-          f"{Path(a.out) / 'model.json'} (the identified model)")
-    return 0
+    from .commands import report
+    return report.main(a)
 
 
 def _cmd_model(a: argparse.Namespace) -> int:
-    from .diagnose.emps import emps_baseline_model
-    from .model_file import paper_model, save_model
-    out = _check_out_file(Path(a.out), [], a.force)
-    if a.paper and a.emps:
-        raise UsageError("give one of --paper and --emps")
-    if a.paper:
-        save_model(paper_model(), out)
-        print(f"wrote {out}: the paper's full model; edit its \"effects\" map for reduced models")
-    elif a.emps:
-        save_model(emps_baseline_model(), out)
-        print(f"wrote {out}: the EMPS authors' rigid baseline (use --force-gain 35.15 with its runs)")
-    else:
-        raise UsageError("give --paper (the paper's full model) or --emps (EMPS baseline)")
-    return 0
-
-
-def systems() -> dict[str, Callable]:
-    """The closed loops ``feeddrive system --case`` writes, by name."""
-    from .systems import sec3_system, sec4_system
-    return {"sec3": sec3_system, "sec4_gms": lambda: sec4_system("gms"),
-            "sec4_static": lambda: sec4_system("static")}
+    from .commands import model
+    return model.main(a)
 
 
 def _cmd_system(a: argparse.Namespace) -> int:
-    from .fmu import fmu_path
-    from .outputs import OutputError
-    from .systems import write_all
-    from .systems.compare import compare_engines
-    fmu_path()
-    system = systems()[a.case]()
-    out = Path(a.out)
-    there = [p for p in (out / f"{system.name}.ssp", out / f"{system.name}_osp",
-                         out / f"{system.name}_container.fmu") if p.exists()]
-    if there and not a.force:
-        raise OutputError(f"{there[0]}: exists; give --force to replace it, or another --out")
-    with _stages("system", a) as stage:
-        stage("SSP, OSP, container FMU")
-        files = write_all(system, out)
-        if a.run:
-            stage("libcosim and fmpy runs")
-            compared = compare_engines(system, files)
-    for kind, path in files.items():
-        print(f"wrote {path} ({kind})")
-    if a.run:
-        print("\n".join(compared))
-    return 0
+    from .commands import system
+    return system.main(a)
 
 
 def _cmd_circle(a: argparse.Namespace) -> int:
-    from .fmu import fmu_path
-    from .harness.controller_fmu import controller_fmu_path
-    from .outputs import output_dir
-    from .report.circle import write_circle_report
-    from .systems.xy_system import circle_system, write_xy_osp
-    from .validation.circle_test import MIN_PER_M_S, check_fits, circle_table, circular_case
-    from .validation.xy_machine import xy_axes
-    fmu_path()
-    controller_fmu_path()        # no FMU: one line before the runs
-    axes = xy_axes(a.x_model, a.y_model, a.mismatch)       # a bad model file: one line now
-    radii = [r * 1e-3 for r in a.radius_mm]
-    for r in radii:
-        check_fits(axes, r)
-    directions = list(dict.fromkeys(a.direction))
-    combos = [(r, f, ff) for r in radii for f in a.feed_m_min for ff in dict.fromkeys(a.feedforward)]
-    with output_dir(Path(a.out), [a.x_model, a.y_model], a.force, what="circle") as stage:
-        cases = [circular_case(axes, r, f / MIN_PER_M_S, ff, directions)
-                 for r, f, ff in _bar(combos, "circle", "case", a)]
-        lines = [f"axis {ax.name}: {ax.source} (m = {ax.nominal['m']:g} kg); plant = nominal "
-                 + ("x Sec. 4 mismatch" if a.mismatch == "sec4" else "(no mismatch)")
-                 for ax in axes]
-        write_circle_report(cases, stage, lines)
-        osp = [write_xy_osp(sy, stage / "osp" / sy.name).parent.name
-               for sy in (circle_system(axes, c.radius, c.feed, d, c.feedforward)
-                          for c in cases for d in directions)] if a.osp else []
-    print(circle_table(cases))
-    print("\n".join(lines))
-    print(f"wrote {Path(a.out) / 'index.html'} and {len(cases)} polar plots (circle_*.png)")
-    if osp:
-        print(f"wrote {len(osp)} OSP system structures for libcosim (4 FMUs each): "
-              f"{Path(a.out) / 'osp' / osp[0] / 'OspSystemStructure.xml'}, ...")
-    return 0
-
-
-def _bar(items: Sequence, desc: str, unit: str, a: argparse.Namespace):
-    """``items`` behind a tqdm bar on stderr (quiet off a terminal or with --no-progress)."""
-    from tqdm import tqdm
-    return tqdm(items, desc=desc, unit=unit, disable=not progress_enabled(a))
+    from .commands import circle
+    return circle.main(a)
 
 
 def _cmd_validate(a: argparse.Namespace) -> int:
-    from .validation.replay import validate_file
-    with _stages("validate", a) as stage:
-        rep = validate_file(Path(a.measured), Path(a.model) if a.model else None, stage)
-    print(rep.text())
-    return 0
+    from .commands import validate
+    return validate.main(a)
 
 
 def _cmd_experiments(a: argparse.Namespace) -> int:
-    from .experiments.campaign import write_campaign
-    paths = write_campaign(Path(a.out), model=Path(a.model) if a.model else None, seed=a.seed,
-                           force=a.force, repeats=a.repeats, progress=progress_enabled(a))
-    print(f"wrote {len(paths)} runs to {a.out}")
-    return 0
+    from .commands import experiments
+    return experiments.main(a)
 
 
 def _cmd_identify(a: argparse.Namespace) -> int:
-    from .identify.pipeline import identify_folder
-    from .model_file import load_model
-    from .study.bootstrap import bootstrap_folder
-    if a.position_friction and a.bootstrap is not None:
-        raise ValueError("--position-friction is not available with --bootstrap "
-                         "(the bootstrap repeats the paper's steps 1-6)")
-    _check_out_file(Path(a.out), [a.truth], a.force)
-    truth = load_model(Path(a.truth)).fmu_parameters() if a.truth else None
-    if a.bootstrap is None:
-        with _stages("identify", a) as stage:
-            res = identify_folder(Path(a.runs), Path(a.out), truth=truth,
-                                  position_friction=a.position_friction, progress=stage)
-        print(res.text())
-        return 0
-    res, boot = bootstrap_folder(Path(a.runs), Path(a.out), a.bootstrap, seed=a.seed,
-                                 level=a.level, truth=truth, scheduler=a.scheduler,
-                                 workers=a.workers, parallel=not a.serial,
-                                 progress=progress_enabled(a))
-    print(res.text())
-    print(boot.text())
-    return 0
+    from .commands import identify
+    return identify.main(a)
 
 
 def _cmd_diagnose(a: argparse.Namespace) -> int:
-    from .data import load_run, sidecar_path
-    from .diagnose.workflow import diagnose
-    from .model_file import load_model
-    from .outputs import check_dir
-    from .report.diagnosis import write_diagnosis
-    from .validation.replay import check_run
-    inputs = [a.model, *a.runs, *(sidecar_path(p) for p in a.runs)]
-    check_dir(a.out, inputs, a.force)
-    runs = [load_run(p) for p in a.runs]
-    model = load_model(a.model)
-    for run in runs:
-        check_run(run, model)
-    with _stages("diagnose", a) as stage:
-        diag = diagnose(runs, model, max_steps=a.max_steps, force_gain=a.force_gain,
-                        window=a.window, n_blocks=a.blocks, closed_loop=not a.no_closed_loop,
-                        progress=stage)
-        stage("report")
-        report = write_diagnosis(diag, a.out, inputs, a.force)
-    for note in diag.notes:
-        print(note)
-    for k, s in enumerate(diag.steps, 1):
-        amb = f" (cannot be told from {', '.join(s.ambiguous_with)})" if s.ambiguous_with else ""
-        print(f"step {k}: {s.decision} {s.effect}{amb}: held-out improvement "
-              f"{s.evidence['heldout_improvement']:.1%}, t = {s.evidence['t_blocks']:.1f}; "
-              f"force gap (rms of the force residual) {s.gap_before['force_rms_N']:.3g} N -> "
-              f"{s.gap_after['force_rms_N']:.3g} N")
-    print(f"stopped: {diag.stop.get('reason')}")
-    print(f"verdict: {diag.verdict['verdict']}: {diag.verdict['sentence']}")
-    for rec in diag.confirmation.get("steps", []):
-        print(f"{rec['effect']}: {'confirmed' if rec['confirmed'] else 'not confirmed'}: {rec['why']}")
-    mj, ma = diag.confirmation["model_json"], diag.confirmation["model_all_fits_json"]
-    print(f"model.json: the confirmed effects ({', '.join(mj['effects_added']) or 'none added'}), "
-          f"force gap {mj['gap_N']:.3g} N; model_all_fits.json: every fit "
-          f"({', '.join(ma['effects_added']) or 'none added'}), force gap {ma['gap_N']:.3g} N")
-    print(f"wrote {a.out / 'diagnosis.json'}, {a.out / 'model.json'}, "
-          f"{a.out / 'model_all_fits.json'}, {report}")
-    return 0
-
-
-class _stages:
-    """A tqdm bar of named stages (elapsed time shown): ``with _stages(desc, a) as stage:``,
-    then ``stage(name)`` as each stage starts; quiet off a terminal or with --no-progress."""
-
-    def __init__(self, desc: str, a: argparse.Namespace) -> None:
-        self.desc, self.enabled = desc, progress_enabled(a)
-        self.bar = None
-
-    def __enter__(self) -> Callable[[str], None]:
-        if self.enabled:
-            from tqdm import tqdm
-            self.bar = tqdm(desc=self.desc, unit="stage", bar_format="{desc}: {n} stages, "
-                            "{elapsed} {postfix}")
-        return self
-
-    def __call__(self, name: str) -> None:
-        if self.bar is not None:
-            self.bar.set_postfix_str(name, refresh=False)
-            self.bar.update(1)
-
-    def __exit__(self, *exc) -> None:
-        if self.bar is not None:
-            self.bar.close()
+    from .commands import diagnose
+    return diagnose.main(a)
 
 
 def _cmd_sweep(a: argparse.Namespace) -> int:
-    from .outputs import check_dir
-    from .report.study import write_bootstrap_report, write_study_report
-    from .study import BootstrapStudy, load_study_file, run_bootstrap_study, run_study
-    from .study.table import CSV_NAME, IDENTITY_NAME
-    study = load_study_file(a.study)
-    if a.force and a.resume:
-        raise UsageError("give one of --force (start again, replacing --out) and --resume "
-                         "(keep the finished rows)")
-    if isinstance(study, BootstrapStudy):
-        if a.resume:
-            raise UsageError(f"--resume: {a.study} is a bootstrap study (kind 'bootstrap'), written "
-                             "whole at the end; run it again without --resume")
-        boot = run_bootstrap_study(study, a.out, scheduler=a.scheduler, workers=a.workers,
-                                   parallel=not a.serial, progress=progress_enabled(a),
-                                   force=a.force)
-        report = write_bootstrap_report(boot, a.out)
-        print(boot.summary())
-        print(f"wrote {report}")
-        return 0
-    out = Path(a.out)
-    if a.force and out.exists():
-        import shutil
-        check_dir(out, command_reads(a, {"study": STUDY}), force=True)
-        shutil.rmtree(out)
-    elif (out.is_dir() and any(out.iterdir())
-          and not any((out / n).exists() for n in (CSV_NAME, IDENTITY_NAME))):
-        raise UsageError(f"{out}: is a non-empty folder without a study's results; give --force "
-                         "to replace it, or another --out")
-    try:
-        res = run_study(study, a.out, scheduler=a.scheduler, workers=a.workers, resume=a.resume,
-                        progress=progress_enabled(a), parallel=not a.serial)
-    except KeyboardInterrupt:
-        print(f"feeddrive sweep: interrupted; the finished runs are in {a.out / 'results.csv'}: "
-              f"run again with --resume", file=sys.stderr)
-        return 130
-    report = write_study_report(res, a.out)
-    print(res.summary())
-    print(f"wrote {report}")
-    return 0
+    from .commands import sweep
+    return sweep.main(a)
 
 
 # ---------------------------------------------------------------- the parser

@@ -5,7 +5,7 @@
 #                     FMU build/LinearMotorFeedDrive3.fmu (same physics; FMI 2.0 stays the default)
 #                     and the controller as FMI 3.0, build/DriveController3.fmu
 #   make run          set-up, FMU, the paper's closed-loop reproductions, report (prints the tables)
-#   make test         set-up, FMU, the importers, every test
+#   make test         set-up, FMU, the importers, Chromium (browser), every test
 #   make importers    the importers the tests run besides fmpy, from registries only (below)
 #   make bench        benchmark table (build/bench.md)
 #   make docs         the documentation site (MkDocs, mkdocs.yml) into build/docs/, warnings as errors
@@ -97,7 +97,7 @@ FMIPP_SRC       := $(BUILD)/importers/fmipp-src
 FMIPP_STAMP     := $(VENV)/.fmipp-installed
 FMIPP_APT       := swig libboost-filesystem-dev libboost-system-dev
 
-.PHONY: all fmu run test bench wheel clean venv fuzz-tools importers docs wine-tools FORCE
+.PHONY: all fmu run test bench wheel clean venv fuzz-tools importers docs wine-tools browser FORCE
 all: fmu
 fmu: $(FMU) $(PKG_FMU) $(CTRL_FMU) $(PKG_CTRL_FMU) $(FMU3) $(PKG_FMU3) $(CTRL3_FMU) $(PKG_CTRL3_FMU)
 venv: $(STAMP)
@@ -243,6 +243,15 @@ fuzz-tools:
 	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq clang >/dev/null; } || \
 	    echo "note: clang is not installed and cannot be installed here: the libFuzzer run is skipped"
 
+# the browser test of the HTML reports (tests/test_reports_browser.py) drives Debian's headless
+# Chromium through its chromedriver: installed here when missing and apt-get is usable (root);
+# otherwise that test is skipped and says why
+browser:
+	@{ command -v chromium >/dev/null 2>&1 && command -v chromedriver >/dev/null 2>&1; } || \
+	    { [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1 && apt-get update -qq && \
+	    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium chromium-driver >/dev/null; } || \
+	    echo "note: chromium and chromium-driver are not installed and cannot be installed here: the browser test is skipped"
+
 importers: $(FMI_SIM) $(FMI4J_CP) $(FMIPP_STAMP)
 
 # Wine runs the FMUs' win64 binaries in the tests (tests/test_win64.py): Debian's wine64, installed
@@ -294,7 +303,7 @@ $(FMIPP_STAMP): $(STAMP) tools/patch_fmipp.py
 # the suite on TEST_WORKERS processes (pytest-xdist; default one per core), the tests of one
 # file in one process (their module fixtures and C-host builds stay together); TEST_WORKERS=0: one
 TEST_WORKERS ?= $(shell nproc 2>/dev/null || echo 2)
-test: fmu fuzz-tools importers wine-tools
+test: fmu fuzz-tools browser importers wine-tools
 	$(PY) -m pytest -q -n $(TEST_WORKERS) --dist loadfile tests
 
 # the C benchmark hosts are test code (tests/c); built here and handed to the benchmark

@@ -1,5 +1,5 @@
 """Every command that reads a run CSV, a sidecar or a model file (validate, diagnose, identify,
-experiments, report --runs) refuses a bad one with exit
+experiments, report) refuses a bad one with exit
 status 2 and ONE line on stderr naming the file, never a traceback, modifying no input and
 writing no output (corpus: tests/bad_corpus.py, made from one good closed-loop run)."""
 from __future__ import annotations
@@ -20,7 +20,7 @@ from feeddrive.validation.replay import check_run
 from feeddrive.model_file import paper_model, save_model
 
 #: (case, commands that may accept it): not a broken file for that command's purpose
-ACCEPTED = {("csv", "constant_x"): {"validate", "diagnose", "report"}}  # x stuck: a gap to show
+ACCEPTED = {("csv", "constant_x"): {"validate", "diagnose"}}  # x stuck: a gap to show
 
 
 @pytest.fixture(scope="module")
@@ -80,10 +80,10 @@ def test_bad_file_refused_by_every_command(tmp_path, capsys, good, group, name):
     commands = {"validate": ["validate", str(run), "--model", str(model)],
                 "diagnose": ["diagnose", str(run), "--model", str(model), "--out", str(out / "d")],
                 "identify": ["identify", str(d), "--out", str(out / "id.json")],
-                "report": ["report", "--runs", str(d), "--out", str(out / "r")]}
+                "report": ["report", str(d), "--out", str(out / "r")]}
     if group == "model":
         commands["identify"] += ["--truth", str(model)]
-        del commands["report"]                          # reads no model file
+        commands["report"] += ["--truth", str(model)]
         commands["experiments"] = ["experiments", "--out", str(out / "e"), "--model", str(model)]
         commands["fmu"] = ["fmu", str(model), "--out", str(out / "m.fmu")]
     before = _digest(d)

@@ -386,7 +386,7 @@ def test_mode_of_a_replaced_output_kept_when_it_is_not_an_input(tmp_path):
     out = tmp_path / "m.json"
     save_model(PAPER, out)
     out.chmod(0o644)
-    assert cli.main(["model", "--paper", "--out", str(out)]) == 0
+    assert cli.main(["model", "--paper", "--out", str(out), "--force"]) == 0
     assert stat.S_IMODE(out.stat().st_mode) == 0o644
 
 

@@ -154,7 +154,8 @@ def test_every_controller_type_through_validate_and_diagnose(name, tmp_path, cap
     # validate: the replay of the true model is within the sensors' effect of the run
     assert cli(["validate", str(path)]) == 0
     out = capsys.readouterr().out
-    m = re.search(r"reversal peak ([\d.]+) um, elsewhere max ([\d.]+) um, rms ([\d.]+) um", out)
+    m = re.search(r"reversal peak .*: ([\d.]+) µm\n.*elsewhere max: ([\d.]+) µm\n.*rms: ([\d.]+) µm",
+                  out)
     assert m, out
     peak, band, rms = map(float, m.groups())
     assert peak < 2.0 and band < 2.0 and 0.0 < rms < 1.0, out

@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from .bench_c import instructions_per_sample, run_bench_cs, run_cycles, run_two_fmus
+from .bench_cli import help_rows
 from .bench_study import study_rows
 from .data import Run, write_run
 from .fmu import Plant
@@ -260,7 +261,8 @@ def main(argv: list[str] | None = None) -> int:
     if a.bench_cs and not a.library:
         ap.error("--bench-cs needs --library (the FMU's .so)")
     study = study_rows(a.study_runs)   # first: a worker's peak RSS counts from this process's
-    rows = load_rows()
+    rows = help_rows(a.repeats)
+    rows += load_rows()
     py_rows, figs = python_rows(a.repeats)
     rows += py_rows
     rows += two_fmu_rows(figs["wall_cs"], figs["res_cs"], a.repeats,

@@ -1,6 +1,19 @@
 """`feeddrive` command line: parses the arguments and calls the modules (model, experiments,
 identification, validation, diagnosis, report).
 
+The parser is built from the standard library only: every command's work (and the heavy
+imports it needs: scipy, fmpy, matplotlib, dask, the package's stages) is imported inside the
+function that runs it, so ``feeddrive --help`` and ``feeddrive CMD --help`` answer at once.
+Each command has one registration function (its arguments, help, what it reads and writes,
+an example) listed in :data:`COMMANDS`, and its work in a module of :mod:`feeddrive.commands`,
+imported by a two-line ``_cmd_*`` function when the command runs.
+
+One option vocabulary: ``--out`` is where a command writes (a file or a folder), ``--model``
+a model file it reads, ``--force`` lets it replace an existing output, ``--workers`` the
+number of worker processes.  No command replaces a file without ``--force`` (a folder
+feeddrive wrote itself, marked by ``.feeddrive-output``, holds one run's results and is
+replaced by the next run).
+
 Bad input (a file, a field, a parameter) ends a command with one line on stderr naming it
 and exit status 2, never a traceback; control characters of a file name are escaped in it.
 Before a command starts, every output option is checked against everything the command reads
@@ -12,40 +25,21 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
-from .data import load_run, load_runs, sidecar_path
-from .diagnose.emps import emps_baseline_model
-from .diagnose.workflow import diagnose
-from .experiments.campaign import MAX_REPEATS, write_campaign
-from .export_fmu import fmu_command
-from .experiments.plan_files import plan_command, summary
-from .fmu import FMUError, fmu_path
-from .harness.controller_fmu import (CONTROLLER_FMU_ENV, DEFAULT_CONTROLLER_FMU,
-                                     controller_fmu_path)
-from .identify.pipeline import identify_folder
 from .inputs import one_line
-from .model_description import DEFAULT_FMU, FMU_ENV
-from .model_file import load_model, paper_model, save_model
-from .outputs import Reads, check_dir, check_file, check_not_input, output_dir
-from .report.circle import write_circle_report
-from .report.diagnosis import write_diagnosis
-from .report.main_job import main_job
-from .report.study import write_bootstrap_report, write_study_report
-from .study import BootstrapStudy, load_study_file, run_bootstrap_study, run_study, study_reads
-from .study.bootstrap import bootstrap_folder
-from .systems import sec3_system, sec4_system, write_all
-from .systems.compare import compare_engines
-from .systems.xy_system import circle_system, write_xy_osp
-from .validation.circle_test import (FEEDFORWARD, MIN_PER_M_S, check_fits, circle_table,
-                                    circular_case)
-from .validation.replay import check_run, validate_file
-from .validation.xy_machine import MISMATCH, xy_axes
 
 BUILD = Path("build")           # relative to the working directory
 SHARED_ENV = "FEEDDRIVE_SHARED"
 
+#: the choices the parser offers, named here so that ``--help`` imports no stage; a test
+#: checks them against the modules that define them (experiments.campaign.MAX_REPEATS,
+#: validation.circle_test.FEEDFORWARD, validation.xy_machine.MISMATCH, commands.system)
+MAX_REPEATS = 100
+FEEDFORWARD_CHOICES = ("gms", "none", "static")
+MISMATCH_CHOICES = ("sec4", "none")
+SYSTEM_CASES = ("sec3", "sec4_gms", "sec4_static")
 
 #: roles of the path arguments: a run CSV (and its sidecar), a folder of runs (every
 #: ``*.csv`` and its sidecar), a file (model file), a folder read as a whole (nothing may be
@@ -56,8 +50,14 @@ OUTPUT_ROLES = (OUT_FILE, OUT_DIR)
 _ROLE = "feeddrive_role"
 
 
+#: how the help shows the value of a path option of each role
+_METAVAR = {RUN: "RUN.csv", RUNS: "DIR", FILE: "FILE", TREE: "DIR", STUDY: "STUDY.json",
+            OUT_FILE: "FILE", OUT_DIR: "DIR"}
+
+
 def _path(p: argparse.ArgumentParser, role: str, *flags: str, **kw) -> argparse.Action:
     """Add a path argument with its ``role`` (what the guard reads from it or checks)."""
+    kw.setdefault("metavar", _METAVAR[role] if flags[0].startswith("-") else flags[0].upper())
     action = p.add_argument(*flags, **kw)
     setattr(action, _ROLE, role)
     return action
@@ -70,9 +70,12 @@ def path_roles(parser: argparse.ArgumentParser) -> dict[str, dict[str, str]]:
             for name, p in sub.choices.items()}
 
 
-def command_reads(a: argparse.Namespace, roles: dict[str, str]) -> Reads:
-    """Everything the command of ``a`` reads: the files behind its path arguments (by role)
-    and the plant and controller FMUs."""
+def command_reads(a: argparse.Namespace, roles: dict[str, str]):
+    """Everything the command of ``a`` reads (a :class:`feeddrive.outputs.Reads`): the files
+    behind its path arguments (by role) and the plant and controller FMUs."""
+    from .harness.controller_fmu import CONTROLLER_FMU_ENV, DEFAULT_CONTROLLER_FMU
+    from .model_description import DEFAULT_FMU, FMU_ENV
+    from .outputs import Reads
     got: dict[str, list] = {RUN: [], RUNS: [], FILE: [], TREE: [], STUDY: []}
     for dest, role in roles.items():
         value = getattr(a, dest, None)
@@ -82,14 +85,17 @@ def command_reads(a: argparse.Namespace, roles: dict[str, str]) -> Reads:
             os.environ.get(CONTROLLER_FMU_ENV) or DEFAULT_CONTROLLER_FMU]
     reads = Reads.of(files=got[FILE] + fmus, runs=got[RUN], run_folders=got[RUNS],
                      trees=got[TREE])
-    for study in got[STUDY]:
-        reads = reads + study_reads(study)
+    if got[STUDY]:
+        from .study import study_reads          # dask: only for the commands that read a study
+        for study in got[STUDY]:
+            reads = reads + study_reads(study)
     return reads
 
 
 def check_outputs(a: argparse.Namespace, roles: dict[str, str]) -> None:
     """The guard run before every command: each output option (a file or a folder) against
     everything the command reads (:func:`feeddrive.outputs.check_not_input`)."""
+    from .outputs import check_not_input
     reads = command_reads(a, roles)
     for dest, role in roles.items():
         if role in OUTPUT_ROLES and getattr(a, dest, None) is not None:
@@ -103,8 +109,26 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {one_line(message)} ({self.prog} --help: the options)\n")
 
 
-class UsageError(ValueError):
-    """A command was given arguments it cannot use."""
+class _Version(argparse.Action):
+    """``--version``: the installed package's version (read only when asked)."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS,
+                 help="print feeddrive's version and exit"):
+        super().__init__(option_strings, dest=dest, default=default, nargs=0, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(f"feeddrive {version()}")
+        parser.exit(0)
+
+
+def version() -> str:
+    """The version of the installed ``feeddrive`` distribution (the package's own without one)."""
+    from importlib import metadata
+    try:
+        return metadata.version("feeddrive")
+    except metadata.PackageNotFoundError:
+        from . import __version__
+        return __version__
 
 
 def _number(kind: type, rule: str, ok):
@@ -132,96 +156,53 @@ _LEVEL = _number(float, "a number in (0, 1)", lambda v: 0 < v < 1)
 _REPEATS = _number(int, f"an integer in [1, {MAX_REPEATS}]", lambda v: 1 <= v <= MAX_REPEATS)
 
 
-def _cmd_model(a: argparse.Namespace) -> int:
-    out = check_file(Path(a.out))
-    if a.paper and a.emps:
-        raise UsageError("give one of --paper and --emps")
-    if a.paper:
-        save_model(paper_model(), out)
-        print(f"wrote {out}: the paper's full model; edit its \"effects\" map for reduced models")
-    elif a.emps:
-        save_model(emps_baseline_model(), out)
-        print(f"wrote {out}: the EMPS authors' rigid baseline (use --force-gain 35.15 with its runs)")
-    else:
-        raise UsageError("give --paper (the paper's full model) or --emps (EMPS baseline)")
-    return 0
+# ---------------------------------------------------------------- the commands' work
+# each command's module (feeddrive.commands.*) is imported only when the command runs
+
+
+def _cmd_run(a: argparse.Namespace) -> int:
+    from .commands import run
+    return run.main(a)
 
 
 def _cmd_report(a: argparse.Namespace) -> int:
-    fmu_path()      # no FMU: one line before the job starts
-    check_dir(Path(a.out), [a.runs, a.shared], a.force)
-    for run in load_runs(a.runs) if a.runs else ():
-        check_run(run)      # a bad run: one line now, not after the reproductions
-    main_job(Path(a.out), print_tables=a.command == "run", runs_dir=Path(a.runs) if a.runs else None,
-             shared_dir=Path(a.shared) if a.shared else None, force=a.force)
-    return 0
+    from .commands import report
+    return report.main(a)
 
 
-SYSTEMS = {"sec3": sec3_system, "sec4_gms": lambda: sec4_system("gms"),
-           "sec4_static": lambda: sec4_system("static")}
+def _cmd_model(a: argparse.Namespace) -> int:
+    from .commands import model
+    return model.main(a)
 
 
 def _cmd_system(a: argparse.Namespace) -> int:
-    fmu_path()
-    system = SYSTEMS[a.case]()
-    files = write_all(system, Path(a.out))
-    for kind, path in files.items():
-        print(f"wrote {path} ({kind})")
-    if a.run:
-        print("\n".join(compare_engines(system, files)))
-    return 0
+    from .commands import system
+    return system.main(a)
 
 
 def _cmd_circle(a: argparse.Namespace) -> int:
-    fmu_path()
-    controller_fmu_path()        # no FMU: one line before the runs
-    axes = xy_axes(a.x_model, a.y_model, a.mismatch)       # a bad model file: one line now
-    radii = [r * 1e-3 for r in a.radius_mm]
-    for r in radii:
-        check_fits(axes, r)
-    directions = list(dict.fromkeys(a.direction))
-    with output_dir(Path(a.out), [a.x_model, a.y_model], a.force, what="circle") as stage:
-        cases = [circular_case(axes, r, f / MIN_PER_M_S, ff, directions)
-                 for r in radii for f in a.feed_m_min for ff in dict.fromkeys(a.feedforward)]
-        lines = [f"axis {ax.name}: {ax.source} (m = {ax.nominal['m']:g} kg); plant = nominal "
-                 + ("x Sec. 4 mismatch" if a.mismatch == "sec4" else "(no mismatch)")
-                 for ax in axes]
-        write_circle_report(cases, stage, lines)
-        osp = [write_xy_osp(sy, stage / "osp" / sy.name).parent.name
-               for sy in (circle_system(axes, c.radius, c.feed, d, c.feedforward)
-                          for c in cases for d in directions)] if a.osp else []
-    print(circle_table(cases))
-    print("\n".join(lines))
-    print(f"wrote {Path(a.out) / 'index.html'} and {len(cases)} polar plots (circle_*.png)")
-    if osp:
-        print(f"wrote {len(osp)} OSP system structures for libcosim (4 FMUs each): "
-              f"{Path(a.out) / 'osp' / osp[0] / 'OspSystemStructure.xml'}, ...")
-    return 0
+    from .commands import circle
+    return circle.main(a)
 
 
 def _cmd_validate(a: argparse.Namespace) -> int:
-    rep = validate_file(Path(a.measured), Path(a.model) if a.model else None)
-    print(rep.text())
-    return 0
+    from .commands import validate
+    return validate.main(a)
 
 
 def _cmd_experiments(a: argparse.Namespace) -> int:
-    paths = write_campaign(Path(a.out), model=Path(a.model) if a.model else None, seed=a.seed,
-                           force=a.force, repeats=a.repeats)
-    print(f"wrote {len(paths)} runs to {a.out}")
-    return 0
+    from .commands import experiments
+    return experiments.main(a)
 
 
 def _cmd_fmu(a: argparse.Namespace) -> int:
-    print(fmu_command(a.model, a.out, a.fmi, a.force))
-    return 0
+    from .commands import fmu
+    return fmu.main(a)
 
 
 def _cmd_plan(a: argparse.Namespace) -> int:
-    plan, size = plan_command(Path(a.out), a.model, a.controller, a.stroke, a.v_max, a.a_max,
-                              a.u_limit, a.loads, force=a.force, html=a.html)
-    print(summary(plan, a.out, size))
-    return 0
+    from .commands import plan
+    return plan.main(a)
 
 
 def _loads(text: str) -> tuple[float, ...]:
@@ -237,171 +218,203 @@ def _loads(text: str) -> tuple[float, ...]:
 
 
 def _cmd_identify(a: argparse.Namespace) -> int:
-    if a.position_friction and a.bootstrap is not None:
-        raise ValueError("--position-friction is not available with --bootstrap "
-                         "(the bootstrap repeats the paper's steps 1-6)")
-    check_file(Path(a.out), [a.truth])
-    truth = load_model(Path(a.truth)).fmu_parameters() if a.truth else None
-    if a.bootstrap is None:
-        res = identify_folder(Path(a.runs), Path(a.out), truth=truth,
-                              position_friction=a.position_friction)
-        print(res.text())
-        return 0
-    res, boot = bootstrap_folder(Path(a.runs), Path(a.out), a.bootstrap, seed=a.seed,
-                                 level=a.level, truth=truth, scheduler=a.scheduler,
-                                 workers=a.workers, parallel=not a.serial,
-                                 progress=not a.no_progress)
-    print(res.text())
-    print(boot.text())
-    return 0
+    from .commands import identify
+    return identify.main(a)
 
 
 def _cmd_diagnose(a: argparse.Namespace) -> int:
-    inputs = [a.model, *a.runs, *(sidecar_path(p) for p in a.runs)]
-    check_dir(a.out, inputs, a.force)
-    runs = [load_run(p) for p in a.runs]
-    model = load_model(a.model)
-    sides = [check_run(run, model) for run in runs]
-    said = [line for run, s in zip(runs, sides) if (line := s.note_line(str(sidecar_path(run.path))))]
-    diag = diagnose(runs, model, max_steps=a.max_steps, force_gain=a.force_gain,
-                    window=a.window, n_blocks=a.blocks, closed_loop=not a.no_closed_loop,
-                    notes=said)
-    report = write_diagnosis(diag, a.out, inputs, a.force)
-    for note in diag.notes:
-        print(note)
-    for k, s in enumerate(diag.steps, 1):
-        amb = f" (cannot be told from {', '.join(s.ambiguous_with)})" if s.ambiguous_with else ""
-        print(f"step {k}: {s.decision} {s.effect}{amb}: held-out improvement "
-              f"{s.evidence['heldout_improvement']:.1%}, t = {s.evidence['t_blocks']:.1f}; "
-              f"force gap {s.gap_before['force_rms_N']:.3g} N -> "
-              f"{s.gap_after['force_rms_N']:.3g} N")
-    print(f"stopped: {diag.stop.get('reason')}")
-    print(f"verdict: {diag.verdict['verdict']}: {diag.verdict['sentence']}")
-    for rec in diag.confirmation.get("steps", []):
-        print(f"{rec['effect']}: {'confirmed' if rec['confirmed'] else 'not confirmed'}: {rec['why']}")
-    mj, ma = diag.confirmation["model_json"], diag.confirmation["model_all_fits_json"]
-    print(f"model.json: the confirmed effects ({', '.join(mj['effects_added']) or 'none added'}), "
-          f"force gap {mj['gap_N']:.3g} N; model_all_fits.json: every fit "
-          f"({', '.join(ma['effects_added']) or 'none added'}), force gap {ma['gap_N']:.3g} N")
-    print(f"wrote {a.out / 'diagnosis.json'}, {a.out / 'model.json'}, "
-          f"{a.out / 'model_all_fits.json'}, {report}")
-    return 0
+    from .commands import diagnose
+    return diagnose.main(a)
 
 
 def _cmd_sweep(a: argparse.Namespace) -> int:
-    study = load_study_file(a.study)
-    if a.workers is not None and a.workers < 1:
-        raise UsageError(f"--workers {a.workers}: must be >= 1")
-    if isinstance(study, BootstrapStudy):
-        if a.resume:
-            raise UsageError(f"--resume: {a.study} is a bootstrap study (kind 'bootstrap'), written "
-                             "whole at the end; run it again without --resume")
-        boot = run_bootstrap_study(study, a.out, scheduler=a.scheduler, workers=a.workers,
-                                   parallel=not a.serial, progress=not a.no_progress)
-        report = write_bootstrap_report(boot, a.out)
-        print(boot.summary())
-        print(f"wrote {report}")
-        return 0
-    try:
-        res = run_study(study, a.out, scheduler=a.scheduler, workers=a.workers, resume=a.resume,
-                        progress=not a.no_progress, parallel=not a.serial)
-    except KeyboardInterrupt:
-        print(f"feeddrive sweep: interrupted; the finished runs are in {a.out / 'results.csv'}: "
-              f"run again with --resume", file=sys.stderr)
-        return 130
-    report = write_study_report(res, a.out)
-    print(res.summary())
-    print(f"wrote {report}")
-    return 0
+    from .commands import sweep
+    return sweep.main(a)
 
 
-def _diagnose_arguments(p: argparse.ArgumentParser) -> None:
-    _path(p, RUN, "runs", nargs="+", type=Path, help="measured runs (CSV recordings, docs/data-format.md)")
-    _path(p, FILE, "--model", required=True, type=Path, help="starting model file (JSON)")
-    _path(p, OUT_DIR, "--out", required=True, type=Path, help="output directory")
-    p.add_argument("--max-steps", type=_STEPS, default=4, help="at most this many effects (>= 1)")
-    p.add_argument("--force-gain", type=_POSITIVE, default=None,
-                   help="N/V for runs without a current column (else the sidecar's "
-                        "'force_gain', else the model's current loop)")
-    p.add_argument("--window", type=_WINDOW, default=None,
-                   help="Savitzky-Golay window of the acceleration [samples, odd >= 5] (default 20 ms)")
-    p.add_argument("--blocks", type=_BLOCKS, default=10, help="held-out blocks over all runs (>= 2)")
-    p.add_argument("--no-closed-loop", action="store_true",
-                   help="skip the closed-loop re-simulation of runs with a known controller")
+# ---------------------------------------------------------------- the parser
+
+DESCRIPTION = ("feeddrive: the linear-motor feed drive of Villegas et al. (2014) as FMUs, and the "
+               "workflow around it: reproduce the paper, simulate experiments, identify a "
+               "machine's parameters from recordings, validate in closed loop, diagnose what "
+               "a model lacks.")
+
+_VOCABULARY = """\
+options every command uses in the same sense:
+  --out PATH     where the command writes (a file or a folder)
+  --model FILE   a model file it reads (JSON; `feeddrive model` writes one)
+  --force        replace an existing output (without it no file is replaced; a folder
+                 feeddrive wrote, marked by .feeddrive-output, is replaced by the next run)
+  --workers N    worker processes (default: one per core)
+
+a first session:
+  feeddrive run --out build/report            the paper's Secs. 3 and 4 reproduced
+  feeddrive experiments --out runs            the identification experiments as recordings
+  feeddrive identify runs --out model.json    a model file identified from them
+  feeddrive diagnose runs/cv_p30mm_s_P0.csv runs/variable_speed.csv --model model.json --out diag
+  feeddrive CMD --help                        what CMD reads, writes, and an example
+
+recordings: CSV columns time,u,x[,i,x_ref,...] in SI units (s, V, m, A) with an optional
+JSON sidecar; the format is in docs/data-format.md."""
+
+
+def _command(sub, name: str, summary: str, *, reads: str, writes: str,
+             example: str) -> argparse.ArgumentParser:
+    """A sub-command whose help says what it does, reads and writes, and shows an example."""
+    epilog = f"reads:\n{_indent(reads)}\nwrites:\n{_indent(writes)}\nexample:\n{_indent(example)}"
+    return sub.add_parser(name, help=summary, description=summary[:1].upper() + summary[1:] + ".",
+                          epilog=epilog, formatter_class=argparse.RawDescriptionHelpFormatter)
+
+
+def _indent(text: str) -> str:
+    return "\n".join("  " + line for line in text.strip("\n").splitlines())
+
+
+def _force_argument(p: argparse.ArgumentParser, what: str = "folder") -> None:
+    text = ("replace --out if it exists" if what == "file" else
+            "replace --out when it is a non-empty folder feeddrive did not write")
+    p.add_argument("--force", action="store_true", help=text)
+
+
+def _progress_argument(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--no-progress", action="store_true",
+                   help="no progress bar (there is none either when stderr is not a terminal)")
+
+
+def _register_run(sub) -> None:
+    p = _command(sub, "run", "the main job: the paper's Secs. 3 and 4 reproduced, the report "
+                 "written and its tables printed",
+                 reads="the plant FMU; with --runs, a folder of recordings (docs/data-format.md);\n"
+                       "with --shared, DIR/realdata/odrive-cogging (the ODrive cogging maps)",
+                 writes="OUT/index.html with its figures (PNG) and sec3_measured.csv; the tables on\n"
+                        "stdout (tracking errors in µm)",
+                 example="feeddrive run --out build/report --shared ../shared --force")
+    _path(p, OUT_DIR, "--out", default=str(BUILD / "report"),
+          help="output folder (default build/report)")
+    _path(p, RUNS, "--runs", default=None,
+          help="folder of identification runs whose figures are added to the report")
+    _path(p, TREE, "--shared", default=os.environ.get(SHARED_ENV) or None,
+          help=f"the shared data folder (holds realdata/odrive-cogging); default ${SHARED_ENV}")
     _force_argument(p)
+    _progress_argument(p)
+    p.set_defaults(func=_cmd_run)
 
 
-def _force_argument(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--force", action="store_true",
-                   help="replace a non-empty --out folder that feeddrive did not write")
+def _register_report(sub) -> None:
+    p = _command(sub, "report", "the identification report of a folder of recordings: the "
+                 "figures of the paper's Figs. 5-13 (no reproductions)",
+                 reads="RUNS/*.csv and their JSON sidecars (docs/data-format.md); --truth: a model file",
+                 writes="OUT/index.html with its figures (PNG) and OUT/model.json (the identified model)",
+                 example="feeddrive experiments --out runs\n"
+                         "feeddrive report runs --out build/identification")
+    _path(p, RUNS, "runs", type=Path, help="folder of recordings (for instance from `feeddrive "
+                                           "experiments`)")
+    _path(p, OUT_DIR, "--out", type=Path, default=BUILD / "identification",
+          help="output folder (default build/identification)")
+    _path(p, FILE, "--truth", default=None,
+          help="model file the runs came from (virtual runs): adds true vs identified")
+    _force_argument(p)
+    _progress_argument(p)
+    p.set_defaults(func=_cmd_report)
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The parser of every ``feeddrive`` sub-command."""
-    ap = _Parser(prog="feeddrive", description=__doc__.split("\n\n")[0])
-    sub = ap.add_subparsers(dest="command", required=True)
-    for name, text in (("run", "the main job: Secs. 3 and 4 reproduced, report written, tables printed"),
-                       ("report", "write build/report/index.html (figures and tables)")):
-        p = sub.add_parser(name, help=text)
-        _path(p, OUT_DIR, "--out", default=str(BUILD / "report"))
-        _path(p, RUNS, "--runs", default=None, help="folder of identification runs to add to the report")
-        _path(p, TREE, "--shared", default=os.environ.get(SHARED_ENV) or None,
-                       help=f"the shared data folder (holds realdata/odrive-cogging); default ${SHARED_ENV}")
-        _force_argument(p)
-        p.set_defaults(func=_cmd_report)
-    p = sub.add_parser("model", help="write a model file")
+def _register_model(sub) -> None:
+    p = _command(sub, "model", "write a model file (JSON: effects and parameters)",
+                 reads="nothing",
+                 writes="OUT (a model file, JSON); refuses an existing file without --force",
+                 example="feeddrive model --paper --out paper.json")
     p.add_argument("--paper", action="store_true", help="the paper's full model")
     p.add_argument("--emps", action="store_true", help="the EMPS benchmark authors' rigid baseline")
-    _path(p, OUT_FILE, "--out", default="model.json")
+    _path(p, OUT_FILE, "--out", default="model.json", help="model file to write (default model.json)")
+    _force_argument(p, "file")
     p.set_defaults(func=_cmd_model)
-    p = sub.add_parser("system", help="write the closed loop as SSP, OSP and container FMU")
-    p.add_argument("--case", choices=sorted(SYSTEMS), default="sec3")
-    _path(p, OUT_DIR, "--out", default=str(BUILD / "system"))
+
+
+def _register_system(sub) -> None:
+    p = _command(sub, "system", "write the closed loop as SSP, OSP and container FMU",
+                 reads="the plant FMU",
+                 writes="OUT/<case>.ssp, OUT/<case>_osp/, OUT/<case>_container.fmu; with --run, the\n"
+                        "agreement of libcosim and fmpy with the harness (µm) on stdout",
+                 example="feeddrive system --case sec3 --out build/system --run")
+    p.add_argument("--case", choices=SYSTEM_CASES, default="sec3",
+                   help="the loop: Sec. 3 (state space), Sec. 4 with GMS or static-friction "
+                        "feedforward (default sec3)")
+    _path(p, OUT_DIR, "--out", default=str(BUILD / "system"), help="output folder (default build/system)")
     p.add_argument("--run", action="store_true",
                    help="run them in libcosim and fmpy and compare with the harness")
+    p.add_argument("--force", action="store_true", help="replace the case's files in --out if they exist")
+    _progress_argument(p)
     p.set_defaults(func=_cmd_system)
-    p = sub.add_parser("circle", help="the ISO 230-4 circular test on the X-Y table: G, H, "
-                                      "quadrant glitches, polar plots")
+
+
+def _register_circle(sub) -> None:
+    p = _command(sub, "circle", "the ISO 230-4 circular test on the X-Y table: G, H, "
+                 "quadrant glitches, polar plots",
+                 reads="the plant and controller FMUs; --x-model, --y-model: model files",
+                 writes="OUT/index.html and a polar plot per case (circle_*.png); with --osp, OUT/osp/;\n"
+                        "the table of G, H and glitches (µm) on stdout",
+                 example="feeddrive circle --radius-mm 10 --feed-m-min 1 --out build/circle")
     p.add_argument("--radius-mm", type=_POSITIVE, nargs="+", default=[10.0, 50.0],
                    help="circle radii [mm] (default 10 50)")
     p.add_argument("--feed-m-min", type=_POSITIVE, nargs="+", default=[1.0, 5.0],
                    help="feeds [m/min] (default 1 5)")
     p.add_argument("--direction", nargs="+", choices=("ccw", "cw"), default=["ccw", "cw"],
                    help="contouring directions (H needs both)")
-    p.add_argument("--feedforward", nargs="+", choices=sorted(FEEDFORWARD), default=["none", "gms"],
+    p.add_argument("--feedforward", nargs="+", choices=FEEDFORWARD_CHOICES, default=["none", "gms"],
                    help="feedforward cases (default none gms)")
     _path(p, FILE, "--x-model", type=Path, default=None, help="model file of the X axis (default: the paper's drive)")
     _path(p, FILE, "--y-model", type=Path, default=None,
-                   help="model file of the Y axis (default: the paper's drive, 40 kg, friction x1.5, magnets +9.375 mm)")
-    p.add_argument("--mismatch", choices=MISMATCH, default="sec4",
+          help="model file of the Y axis (default: the paper's drive, 40 kg, friction x1.5, magnets +9.375 mm)")
+    p.add_argument("--mismatch", choices=MISMATCH_CHOICES, default="sec4",
                    help="plant = nominal x the Sec. 4 mismatch (default), or the nominal itself")
     p.add_argument("--osp", action="store_true",
                    help="also write each circle as an OSP system structure (4 FMUs) for libcosim in OUT/osp/")
-    _path(p, OUT_DIR, "--out", default=str(BUILD / "circle"), help="output folder (index.html, circle_*.png)")
+    _path(p, OUT_DIR, "--out", default=str(BUILD / "circle"),
+          help="output folder (default build/circle: index.html, circle_*.png)")
     _force_argument(p)
+    _progress_argument(p)
     p.set_defaults(func=_cmd_circle)
-    p = sub.add_parser("validate", help="replay a measured run through model and controller")
-    _path(p, RUN, "measured")
-    _path(p, FILE, "--model", default=None)
+
+
+def _register_validate(sub) -> None:
+    p = _command(sub, "validate", "replay a measured run through model and controller and "
+                 "print the gap",
+                 reads="MEASURED (a recording: CSV and its JSON sidecar, docs/data-format.md);\n"
+                       "--model: a model file (default: the paper's model)",
+                 writes="nothing; prints the position gap x_sim - x_meas (µm) and the force\n"
+                        "residual (N)",
+                 example="feeddrive validate runs/variable_speed.csv --model model.json")
+    _path(p, RUN, "measured", help="the recording to replay (CSV with time,u,x[,i,x_ref])")
+    _path(p, FILE, "--model", default=None, help="model file (default: the paper's model)")
+    _progress_argument(p)
     p.set_defaults(func=_cmd_validate)
-    p = sub.add_parser("experiments", help="write the identification experiments as virtual runs")
-    _path(p, OUT_DIR, "--out", required=True)
-    _path(p, FILE, "--model", default=None)
+
+
+def _register_experiments(sub) -> None:
+    p = _command(sub, "experiments", "write the identification experiments as virtual runs",
+                 reads="the plant FMU; --model: a model file (default: the paper's model)",
+                 writes="OUT/*.csv and their JSON sidecars (docs/data-format.md), one per run",
+                 example="feeddrive experiments --out runs --repeats 3")
+    _path(p, OUT_DIR, "--out", required=True, help="output folder of the recordings")
+    _path(p, FILE, "--model", default=None, help="model file to simulate (default: the paper's model)")
     p.add_argument("--seed", type=_SEED, default=1, help="noise seed (>= 0)")
     p.add_argument("--repeats", type=_REPEATS, default=1,
                    help="runs of every experiment with independent noise (for identify --bootstrap)")
     _force_argument(p)
+    _progress_argument(p)
     p.set_defaults(func=_cmd_experiments)
-    p = sub.add_parser("fmu", help="write a model file as its own plant FMU (start values) and "
-                                   "an SSP parameter set (.ssv) beside it")
-    _path(p, FILE, "model", type=Path, help="model file (JSON)")
-    _path(p, OUT_FILE, "--out", required=True, type=Path, help="the FMU to write (NAME.fmu; NAME.ssv beside it)")
-    p.add_argument("--fmi", type=int, choices=(2, 3), default=2, help="FMI version (default 2)")
-    p.add_argument("--force", action="store_true", help="replace an existing --out and its .ssv")
-    p.set_defaults(func=_cmd_fmu)
-    p = sub.add_parser("plan", help="the identification campaign as references and sidecars "
-                                    "to run on a real drive, sized to its limits")
-    _path(p, OUT_DIR, "--out", required=True)
+
+
+def _register_plan(sub) -> None:
+    p = _command(sub, "plan", "the identification campaign as references and sidecars to run on "
+                              "a real drive, sized to its limits",
+                 reads="--model: the nominal model file (default: the paper's model);\n"
+                       "--controller: the drive's controller as a JSON spec (docs/data-format.md)",
+                 writes="OUT/plan.md (and plan.html with --html): the runs in order, what to record\n"
+                        "and why; OUT/reference/NN_name.csv (time,x_ref or time,u);\n"
+                        "OUT/sidecar/NN_name.json (keep it beside the recording)",
+                 example="feeddrive plan --out myplan --stroke 0.05 0.45 --v-max 0.2 --loads 50,250")
+    _path(p, OUT_DIR, "--out", required=True, help="output folder of the plan")
     _path(p, FILE, "--model", default=None, help="nominal model file (default: the paper's)")
     _path(p, FILE, "--controller", default=None,
           help="the drive's controller as a JSON spec for the sidecars (default: a PID with lead)")
@@ -417,34 +430,108 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--html", action="store_true", help="also write plan.html")
     _force_argument(p)
     p.set_defaults(func=_cmd_plan)
-    p = sub.add_parser("identify", help="identify a model file from a folder of runs")
-    _path(p, RUNS, "runs")
-    _path(p, OUT_FILE, "--out", required=True)
+
+
+def _register_fmu(sub) -> None:
+    p = _command(sub, "fmu", "write a model file as its own plant FMU (its start values) and an "
+                             "SSP parameter set (.ssv) beside it",
+                 reads="MODEL (a model file, JSON) and the packaged plant FMU",
+                 writes="OUT (NAME.fmu, FMI 2.0 or 3.0) and NAME.ssv beside it; refuses an existing\n"
+                        "file without --force",
+                 example="feeddrive fmu model.json --out MyDrive.fmu --fmi 2")
+    _path(p, FILE, "model", type=Path, help="model file (JSON), e.g. from `feeddrive identify`")
+    _path(p, OUT_FILE, "--out", required=True, type=Path,
+          help="the FMU to write (NAME.fmu; NAME.ssv beside it)")
+    p.add_argument("--fmi", type=int, choices=(2, 3), default=2, help="FMI version (default 2)")
+    _force_argument(p, "file")
+    p.set_defaults(func=_cmd_fmu)
+
+
+def _register_identify(sub) -> None:
+    p = _command(sub, "identify", "identify a model file from a folder of runs",
+                 reads="RUNS/*.csv and their JSON sidecars (docs/data-format.md: PRBS, constant-speed\n"
+                       "runs with loads, Stribeck speeds, open-loop force, variable speed,\n"
+                       "pre-rolling); --truth: a model file",
+                 writes="OUT (the identified model file, JSON; with --bootstrap, with intervals);\n"
+                        "refuses an existing file without --force; the identified values on stdout",
+                 example="feeddrive identify runs --out model.json")
+    _path(p, RUNS, "runs", help="folder of recordings (for instance from `feeddrive experiments`)")
+    _path(p, OUT_FILE, "--out", required=True, help="model file to write (JSON)")
     _path(p, FILE, "--truth", default=None, help="model file of the truth (virtual runs): print true vs identified")
     p.add_argument("--bootstrap", type=_REPLICATES, default=None, metavar="N",
                    help="N replicates over runs resampled within cells of repeats: intervals in the model file")
     p.add_argument("--level", type=_LEVEL, default=0.95, help="coverage of the bootstrap intervals (0..1)")
     p.add_argument("--seed", type=_SEED, default=0, help="bootstrap seed (>= 0)")
-    p.add_argument("--workers", type=_STEPS, default=None, help="LocalCluster worker processes (default: one per core)")
+    p.add_argument("--workers", type=_STEPS, default=None, help="worker processes (default: one per core)")
     p.add_argument("--scheduler", default=None, help="address of a Dask scheduler (default: a LocalCluster)")
     p.add_argument("--serial", action="store_true", help="every replicate in this process (no Dask)")
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    _progress_argument(p)
     p.add_argument("--position-friction", action="store_true",
                    help="also identify the friction-level profile p(x) (effect position_friction) "
                         "from the constant-speed runs (not with --bootstrap)")
+    _force_argument(p, "file")
     p.set_defaults(func=_cmd_identify)
-    p = sub.add_parser("diagnose", help="find the effects the model lacks (force residual, held-out blocks)")
-    _diagnose_arguments(p)
+
+
+def _register_diagnose(sub) -> None:
+    p = _command(sub, "diagnose", "find the effects the model lacks (force residual, held-out blocks)",
+                 reads="RUNS (recordings: CSV and JSON sidecars, docs/data-format.md);\n"
+                       "--model: the starting model file",
+                 writes="OUT/diagnosis.json, OUT/model.json (the confirmed effects),\n"
+                        "OUT/model_all_fits.json, OUT/report.html; the steps and verdict on stdout",
+                 example="feeddrive diagnose runs/cv_p30mm_s_P0.csv runs/variable_speed.csv \\\n"
+                         "    --model model.json --out diag")
+    _path(p, RUN, "runs", nargs="+", type=Path, help="measured runs (CSV recordings, docs/data-format.md)")
+    _path(p, FILE, "--model", required=True, type=Path, help="starting model file (JSON)")
+    _path(p, OUT_DIR, "--out", required=True, type=Path, help="output folder")
+    p.add_argument("--max-steps", type=_STEPS, default=4, help="at most this many effects (>= 1)")
+    p.add_argument("--force-gain", type=_POSITIVE, default=None,
+                   help="N/V for runs without a current column (else the sidecar's "
+                        "'force_gain', else the model's current loop)")
+    p.add_argument("--window", type=_WINDOW, default=None,
+                   help="Savitzky-Golay window of the acceleration [samples, odd >= 5] (default 20 ms)")
+    p.add_argument("--blocks", type=_BLOCKS, default=10, help="held-out blocks over all runs (>= 2)")
+    p.add_argument("--no-closed-loop", action="store_true",
+                   help="skip the closed-loop re-simulation of runs with a known controller")
+    _force_argument(p)
+    _progress_argument(p)
     p.set_defaults(func=_cmd_diagnose)
-    p = sub.add_parser("sweep", help="a parameter study (STUDY.json) on Dask: table, sensitivities, report")
+
+
+def _register_sweep(sub) -> None:
+    p = _command(sub, "sweep", "a parameter study (STUDY.json) on Dask: table, sensitivities, report",
+                 reads="STUDY (JSON, schema feeddrive.study/1) and the model file, recording or\n"
+                       "runs folder it names",
+                 writes="OUT/results.csv, OUT/results.parquet, OUT/report.html; the sensitivities\n"
+                        "on stdout",
+                 example="feeddrive sweep friction_study.json --out build/study --workers 2")
     _path(p, STUDY, "study", type=Path, help="study file (JSON, schema feeddrive.study/1)")
     _path(p, OUT_DIR, "--out", required=True, type=Path, help="output folder (results.csv/.parquet, report.html)")
     p.add_argument("--scheduler", default=None, help="address of a Dask scheduler (default: a LocalCluster)")
-    p.add_argument("--workers", type=int, default=None, help="LocalCluster worker processes (default: one per core)")
+    p.add_argument("--workers", type=_STEPS, default=None, help="worker processes (default: one per core)")
     p.add_argument("--resume", action="store_true", help="keep the finished rows in --out, compute the missing runs")
     p.add_argument("--serial", action="store_true", help="every run in this process (no Dask)")
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--force", action="store_true",
+                   help="start again: replace the results already in --out")
+    _progress_argument(p)
     p.set_defaults(func=_cmd_sweep)
+
+
+#: one registration function per command, in the order of ``feeddrive --help``
+COMMANDS: tuple[Callable[[argparse._SubParsersAction], None], ...] = (
+    _register_run, _register_report, _register_model, _register_system, _register_circle,
+    _register_validate, _register_experiments, _register_plan, _register_identify,
+    _register_diagnose, _register_fmu, _register_sweep)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The parser of every ``feeddrive`` sub-command."""
+    ap = _Parser(prog="feeddrive", description=DESCRIPTION, epilog=_VOCABULARY,
+                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--version", action=_Version)
+    sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    for register in COMMANDS:
+        register(sub)
     return ap
 
 
@@ -452,6 +539,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Run one ``feeddrive`` command; returns its exit status (2: bad input, one line on stderr)."""
     parser = build_parser()
     a = parser.parse_args(argv)
+    from .fmu import FMUError
     try:
         check_outputs(a, path_roles(parser)[a.command])
         return int(a.func(a) or 0)

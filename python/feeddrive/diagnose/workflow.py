@@ -22,7 +22,7 @@ the steps :mod:`confirmed` confirms (the two model files of the diagnosis).
 """
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -479,7 +479,8 @@ def verdict(res: list[RunResidual], floors: list[NoiseFloor], gate: Gate,
 def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
              force_gain: float | None = None, window: int | None = None,
              n_blocks: int = DEFAULT_BLOCKS, closed_loop: bool = True,
-             notes: Sequence[str] = ()) -> "Diagnosis":
+             notes: Sequence[str] = (),
+             progress: Callable[[str], None] | None = None) -> "Diagnosis":
     """Diagnose what ``model`` lacks against measured ``runs`` (see module docstring).
 
     Parameters
@@ -493,9 +494,12 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
     closed_loop : also re-simulate runs whose sidecar describes their controller.
     notes : lines said about the inputs (what a sidecar said that was not used), kept first
         in the diagnosis's notes.
+    progress : called with each stage's name as it starts (a progress bar).
     """
     if not runs:
         raise ValueError("diagnose: no runs given")
+    stage = progress or (lambda name: None)
+    stage("force residual, noise floor")
     kw = {"force_gain": force_gain, "window": window}
     current = model
     res = start_res = residuals(runs, current, **kw)
@@ -506,13 +510,16 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
     gate = make_gate(model, res, floor_N)
     notes = list(notes) + sorted({q.force_source for q in res})
     steps: list[Step] = []
+    if closed_loop:
+        stage("closed-loop gap")
     cl = closed_loop_gap(runs, current) if closed_loop else None
     if closed_loop and cl is None:
         notes.append("closed-loop gap not computed: no run has x_ref and a sidecar 'controller' "
                      f"the registry builds (types {', '.join(map(repr, CONTROLLERS))}; the "
                      "sidecar lines above say what was not understood)")
     stop = {"reason": f"max_steps = {max_steps} reached"}
-    for _ in range(max_steps):
+    for k in range(max_steps):
+        stage(f"step {k + 1}: candidates")
         ctx = Context(res, current, n_blocks=n_blocks)
         ranking = rank(ctx, gate)
         lead, others = choose(ranking, gate)
@@ -555,6 +562,7 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
         current, res = step.model_after, step.residual_after
     else:
         stop["gap"] = gap(res)
+    stage("verdict, confirmation")
     v = verdict(res, floors, gate, stop.get("band"))
     if v["verdict"] == "unexplained_residual":
         v = add_hint(v, fit_hints(runs, current, res, kw), gate)

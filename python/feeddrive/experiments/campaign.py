@@ -87,7 +87,7 @@ def _check_repeats(repeats: int) -> int:
 
 
 def campaign(params: Mapping[str, Any], sensors: Sensors, quick: bool = False,
-             repeats: int = 1) -> dict[str, list[Run]]:
+             repeats: int = 1, progress: bool | None = None) -> dict[str, list[Run]]:
     """Run every experiment on the plant ``params`` (FMU parameters, SI).
 
     Parameters
@@ -95,17 +95,16 @@ def campaign(params: Mapping[str, Any], sensors: Sensors, quick: bool = False,
     params : FMU parameters; sensors : noise model and campaign seed; quick : short runs.
     repeats : runs of every job, with independent noise (1 .. :data:`MAX_REPEATS`).
 
-    Returns
-    -------
-    dict
-        Runs by group (:data:`GROUPS`); each run's ``meta['name']`` is its file stem,
-        suffixed ``_r1`` ... when ``repeats > 1``, and ``meta['repeat']`` the repeat's number.
-        A progress bar over the runs is shown unless ``quick``.
+    Returns runs by group (:data:`GROUPS`); each run's ``meta['name']`` is its file stem
+    (suffixed ``_r1`` ... when ``repeats > 1``, and ``meta['repeat']`` the repeat's number).
+    ``progress``: a bar over the runs on stderr (None: unless ``quick``, on a terminal).
     """
     _check_repeats(repeats)
     out: dict[str, list[Run]] = {g: [] for g in GROUPS}
     jobs = [(g, label, fn, k) for g, label, fn in plan(quick) for k in range(repeats)]
-    for group, label, fn, k in tqdm(jobs, desc="experiments", unit="run", disable=quick):
+    for group, label, fn, k in tqdm(jobs, desc="experiments", unit="run", 
+                                    disable=(True if quick else None) if progress is None
+                                    else not progress):
         keys = (label,) if k == 0 else (label, k)
         runs = fn(params, replace(sensors, seed=run_seed(sensors.seed, *keys)))
         if repeats > 1:
@@ -131,7 +130,7 @@ def _parameters(model: Path | str | ModelFile | Mapping[str, Any] | None) -> dic
 
 def write_campaign(out_dir: Path, model: Path | ModelFile | Mapping[str, Any] | None = None,
                    seed: int = 1, quick: bool = False, force: bool = False,
-                   repeats: int = 1) -> list[Path]:
+                   repeats: int = 1, progress: bool | None = None) -> list[Path]:
     """Run the campaign on ``model`` (default: the paper's) and write every run.
 
     Parameters
@@ -142,6 +141,7 @@ def write_campaign(out_dir: Path, model: Path | ModelFile | Mapping[str, Any] | 
     model : a model file path, a :class:`ModelFile`, FMU parameters, or None (paper).
     seed : campaign seed (sensor noise); quick : short runs (tests).
     repeats : runs of every experiment with independent noise (for ``identify --bootstrap``).
+    progress : a bar over the runs on stderr (None: unless ``quick``, on a terminal).
 
     Returns
     -------
@@ -153,7 +153,8 @@ def write_campaign(out_dir: Path, model: Path | ModelFile | Mapping[str, Any] | 
     out_dir = Path(out_dir)
     inputs = (model,) if isinstance(model, (str, Path)) else ()
     with output_dir(out_dir, inputs, force, what="experiments") as stage:
-        runs = campaign(params, Sensors(seed=int(seed)), quick=quick, repeats=repeats)
+        runs = campaign(params, Sensors(seed=int(seed)), quick=quick, repeats=repeats,
+                        progress=progress)
         names: list[str] = []
         for group in GROUPS:
             for run in runs[group]:

@@ -28,7 +28,7 @@ result holds the table of true versus identified parameters (:mod:`.truth_table`
 from __future__ import annotations
 
 import re
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -299,7 +299,8 @@ def identify_runs(runs: Sequence[Run], truth: ModelFile | Mapping[str, Any] | st
                   name: str = "identified", current_timing: str = "held",
                   prerolling_elements: int = 5,
                   min_map_span: float = MIN_MAP_SPAN, position_friction: bool = False,
-                  profile_knots: int = 16) -> IdentificationResult:
+                  profile_knots: int = 16,
+                  progress: Callable[[str], None] | None = None) -> IdentificationResult:
     """Identify a model from runs (see the module docstring).
 
     Parameters
@@ -315,7 +316,9 @@ def identify_runs(runs: Sequence[Run], truth: ModelFile | Mapping[str, Any] | st
         [m]: a cubic fitted over a few mm is meaningless over the whole stroke.
     position_friction : also identify the friction-level profile p(x) (step 7) and switch
         the effect on; ``profile_knots`` knots over the stroke the runs slid over.
+    progress : called with each step's name as it starts (a progress bar).
     """
+    stage = progress or (lambda name: None)
     placed: list[str] = []
     groups = group_runs(runs, placed)
     base = paper_model()
@@ -325,13 +328,19 @@ def identify_runs(runs: Sequence[Run], truth: ModelFile | Mapping[str, Any] | st
     if not all_runs:
         raise ValueError("identify: no runs")
     acc.take({"Ts": sample_time(all_runs[0].time, label=run_label(all_runs[0]))})
+    stage("current loop")
     dc_gain = _current_loop_step(res, groups, acc, all_runs)
+    stage("position maps, Stribeck")
     _maps_and_stribeck_steps(res, groups, acc, dc_gain, min_map_span)
+    stage("mass")
     _mass_step(res, groups, acc, dc_gain, current_timing)
+    stage("attraction")
     _attraction_step(res, groups, acc, dc_gain, current_timing)
+    stage("pre-rolling")
     _prerolling_step(res, groups, acc, dc_gain, current_timing, prerolling_elements)
     effects = dict(base.effects)
     if position_friction:
+        stage("position friction")
         effects["position_friction"] = _position_friction_step(res, groups, acc, dc_gain,
                                                                current_timing, profile_knots)
     if not acc.identified - {"Ts"}:

@@ -6,11 +6,12 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import matplotlib.pyplot as plt
 import numpy as np
 
-from ..validation.circle_test import CircleCase, circle_table
+from ..validation.circle_test import MIN_PER_M_S, CircleCase, circle_table
 from .page import Page
 
 DIVISIONS = 4           #: grid rings either side of the nominal circle
@@ -60,6 +61,28 @@ def polar_figure(case: CircleCase) -> plt.Figure:
     return fig
 
 
+def direction_rows(cases: Sequence[CircleCase]) -> list[dict[str, Any]]:
+    """The table of every figure, one row per case and direction (narrow enough for a page):
+    radius, feed, feedforward, direction, G, F max / min, the glitch at each quadrant change,
+    the case's G_b and H, the run's wall time."""
+    angles = sorted({round(g.angle_deg) for c in cases for r in c.runs.values() for g in r.glitches})
+    rows = []
+    for c in cases:
+        for d, r in c.runs.items():
+            row: dict[str, Any] = {"r [mm]": c.radius * 1e3, "feed [m/min]": c.feed * MIN_PER_M_S,
+                                   "feedforward": c.feedforward, "direction": d,
+                                   "G": r.trace.G * 1e6, "F max": r.trace.F_max * 1e6,
+                                   "F min": r.trace.F_min * 1e6}
+            heights = {round(g.angle_deg): g.height * 1e6 for g in r.glitches}
+            for a in angles:
+                row[f"glitch {a}°"] = heights.get(a, "-")
+            row["G_b"] = c.G_b * 1e6 if np.isfinite(c.G_b) else "-"
+            row["H"] = c.H * 1e6 if np.isfinite(c.H) else "-"
+            row["wall [s]"] = r.wall
+            rows.append(row)
+    return rows
+
+
 def write_circle_report(cases: Sequence[CircleCase], out_dir: str | Path,
                         axes_text: Sequence[str] = ()) -> Path:
     """index.html and one polar plot per case in ``out_dir`` (a staged folder)."""
@@ -71,7 +94,8 @@ def write_circle_report(cases: Sequence[CircleCase], out_dir: str | Path,
               "glitch: quadrant reversal spike over the local baseline, + outwards.")
     page.lines(list(axes_text))
     page.pre(circle_table(cases))
-    page.table([c.row() for c in cases], caption="All figures (um, m/min, s)")
+    page.table(direction_rows(cases), caption="All figures: one row per case and direction "
+               "(lengths in µm; G_b and H: both directions of the case)")
     for c in cases:
         page.figure(polar_figure(c), case_name(c),
                     caption=f"{case_name(c)}: magnified radial deviation, CCW blue, CW red")

@@ -185,9 +185,11 @@ def _write_diagnosis(diag: Diagnosis, out: Path) -> Path:
     page.lines(doc["notes"])
     nf, sig = doc["noise_floor"], doc["significance"]
     page.heading("Noise floor")
-    page.table([{"run": name, **row} for name, row in nf["runs"].items()],
-               caption="noise floor per run: position step, force noise, timing jitter and "
-                       "the force each leaves in the residual [N]")
+    names = list(nf["runs"])
+    fields = list(dict.fromkeys(k for row in nf["runs"].values() for k in row))
+    page.table([{"quantity": k, **{n: nf["runs"][n].get(k, "-") for n in names}} for k in fields],
+               caption="noise floor per run (a column each): position step, force noise, "
+                       "timing jitter and the force each leaves in the residual [N]")
     ls, lf = doc["localisation_start"]["regimes"], doc["localisation_final"]["regimes"]
     page.table([{"regime": k, "noise floor [N]": f, "start model [N]": ls.get(k, {}).get("rms"),
                  "final model [N]": lf.get(k, {}).get("rms")}

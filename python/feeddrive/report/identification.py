@@ -39,6 +39,7 @@ from ..identify.pipeline import IdentificationResult, identify_folder, identify_
 from ..identify.sec4_check import REVERSAL_TOL, Sec4Comparison, compare_sec4
 from ..identify.truth_table import elements
 from ..model_file import save_model
+from ..outputs import Reads, output_dir
 from ..physics import eq1_friction, simulate_current, stribeck_level
 from ..physics import position_maps as maps
 from .page import Page
@@ -393,3 +394,29 @@ def identification_section(page: Page, runs: str | Path | Sequence[Run] | Identi
                     "Sec. 4 tracking error: true plant vs identified plant")
     return res
 
+
+
+def identification_page(runs_dir: str | Path, out_dir: str | Path, truth: Any = None,
+                        force: bool = False,
+                        progress: Callable[[str], None] | None = None
+                        ) -> tuple[Path, IdentificationResult]:
+    """Identify the runs of ``runs_dir`` and write the identification report into ``out_dir``:
+    ``index.html`` with every figure, and ``model.json`` (the identified model).
+
+    ``out_dir`` is checked first and written whole at the end
+    (:func:`feeddrive.outputs.output_dir`: a non-empty folder feeddrive did not write is
+    refused unless ``force``).  ``truth``: the model the runs came from (a
+    :class:`~feeddrive.model_file.ModelFile`), when known.  ``progress`` is called with each
+    step's name.  Returns the page's path and the result.
+    """
+    out_dir = Path(out_dir)
+    reads = Reads.of(run_folders=[runs_dir])
+    with output_dir(out_dir, reads, force, what="identification") as stage:
+        res = identify_folder(runs_dir, stage / "model.json", truth=truth, progress=progress)
+        res.out_path = out_dir / "model.json"           # where it is once the folder is in place
+        page = Page(stage, f"feeddrive: identification from {runs_dir}")
+        if progress is not None:
+            progress("figures")
+        identification_section(page, res, sec4=truth is not None)
+        page.write()
+    return out_dir / "index.html", res

@@ -22,7 +22,8 @@ ODRIVE = Path("realdata") / "odrive-cogging"     # inside the shared data folder
 
 
 def main_job(out_dir: Path, print_tables: bool = True, runs_dir: Path | None = None,
-             shared_dir: Path | None = None, force: bool = False) -> dict:
+             shared_dir: Path | None = None, force: bool = False,
+             progress: bool | None = None) -> dict:
     """Run Secs. 3 and 4, write ``out_dir/index.html``; return the tables' rows.
 
     With ``runs_dir`` (a folder of identification runs, e.g. from ``feeddrive experiments``)
@@ -32,18 +33,20 @@ def main_job(out_dir: Path, print_tables: bool = True, runs_dir: Path | None = N
 
     ``out_dir`` is checked first and written whole at the end (it then holds this report
     only: :func:`feeddrive.outputs.output_dir`; a non-empty folder we did not write, or one
-    holding ``runs_dir``, is refused unless ``force``)."""
+    holding ``runs_dir``, is refused unless ``force``).  ``progress``: a bar of the stages on
+    stderr (None: when ``print_tables`` and stderr is a terminal)."""
     out_dir = Path(out_dir)
     with output_dir(out_dir, (runs_dir, shared_dir), force, what="report") as stage:
-        return _main_job(stage, out_dir, print_tables, runs_dir, shared_dir)
+        return _main_job(stage, out_dir, print_tables, runs_dir, shared_dir, progress)
 
 
 def _main_job(out_dir: Path, final_dir: Path, print_tables: bool, runs_dir: Path | None,
-              shared_dir: Path | None) -> dict:
+              shared_dir: Path | None, progress: bool | None) -> dict:
     """:func:`main_job` writing into ``out_dir`` (moved to ``final_dir`` afterwards)."""
     page = Page(out_dir, "feeddrive: the linear-motor feed drive of Villegas et al. (2014)")
     t0 = time.perf_counter()
-    steps = tqdm(total=3, desc="feeddrive run", unit="stage", disable=not print_tables)
+    steps = tqdm(total=3, desc="feeddrive run", unit="stage",
+                 disable=(None if print_tables else True) if progress is None else not progress)
     ctrl = make_controller(state_space_spec(), Reference(5e-4, [0.15, 0.15], [0.0, 0.0], [0.0, 0.0]))
     design = ctrl.format_report()
     steps.update(1)

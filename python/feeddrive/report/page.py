@@ -74,7 +74,8 @@ class Page:
         style = ("body{font-family:sans-serif;max-width:1100px;margin:auto}"
                  "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #999;"
                  "padding:2px 8px;text-align:right}caption{font-weight:bold}"
-                 "img{max-width:100%}figure{margin:1em 0}")
+                 "img{max-width:100%}figure{margin:1em 0}"
+                 "pre{white-space:pre-wrap;overflow-wrap:anywhere}")
         doc = (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(self.title)}"
                f"</title><style>{style}</style></head><body><h1>{html.escape(self.title)}</h1>"
                + "\n".join(self.parts) + "</body></html>")

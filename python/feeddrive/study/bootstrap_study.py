@@ -165,11 +165,12 @@ def _write_rows(rows: list[dict[str, Any]], folder: Path) -> None:
 
 def run_bootstrap_study(study: BootstrapStudy, out: str | Path, scheduler: str | None = None,
                         workers: int | None = None, parallel: bool = True,
-                        progress: bool = False) -> BootstrapStudyResult:
-    """Run ``study`` into the folder ``out`` (checked first; written whole at the end)."""
+                        progress: bool = False, force: bool = False) -> BootstrapStudyResult:
+    """Run ``study`` into the folder ``out`` (checked first; written whole at the end; a
+    non-empty folder feeddrive did not write is refused unless ``force``)."""
     out = Path(out)
     inputs = [study.runs, Path(study.source)] + ([study.truth] if study.truth else [])
-    with output_dir(out, inputs, force=False, what="bootstrap study") as stage:
+    with output_dir(out, inputs, force=force, what="bootstrap study") as stage:
         res, boot = bootstrap_folder(study.runs, stage / MODEL_NAME, study.replicates,
                                      seed=study.seed, level=study.level,
                                      truth=load_model(study.truth).fmu_parameters()

@@ -62,10 +62,10 @@ class ResultsTable:
                 old = None
             if old != ident["sha256"]:
                 raise ValueError(f"{self.out}: holds the results of another study (its "
-                                 f"{IDENTITY_NAME} differs); give another --out")
+                                 f"{IDENTITY_NAME} differs); give another --out, or --force to replace them")
             if not resume:
                 raise ValueError(f"{self.out}: already holds results of this study; give "
-                                 f"--resume to compute only the missing runs, or another --out")
+                                 f"--resume to compute only the missing runs, --force to start again, or another --out")
             self.rows = self._read(csv_path) if csv_path.exists() else {}
         self.out.mkdir(parents=True, exist_ok=True)
         id_path.write_text(json.dumps(ident, indent=1, sort_keys=True) + "\n", encoding="utf-8")

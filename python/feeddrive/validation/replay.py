@@ -3,6 +3,8 @@ report the gap (position error at reversals and elsewhere; force residual along 
 trajectory)."""
 from __future__ import annotations
 
+import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -32,12 +34,23 @@ class ValidationReport:
         lines += [f"  note: {n}" for n in self.notes]
         if self.position is not None:
             p = self.position
-            lines.append(f"  position gap x_sim - x_meas: reversal peak {p.reversal_peak * 1e6:.2f} um, "
-                         f"elsewhere max {p.band * 1e6:.2f} um, rms {p.rms * 1e6:.2f} um")
+            lines.append("  position gap x_sim - x_meas (simulated minus measured position, after "
+                         "the first 0.5 s):")
+            lines.append("    reversal peak (largest |gap| within 0.25 s of a reversal of x_ref): " + _um(
+                p.reversal_peak, "no reversal of x_ref after the first 0.5 s"))
+            lines.append("    elsewhere max: " + _um(
+                p.band, "every sample after the first 0.5 s is near a reversal"))
+            lines.append("    rms: " + _um(p.rms, "the run is no longer than 0.5 s"))
         if self.force:
-            lines.append("  force residual K_f(x) i - m a - F_cg(x) - F_f - F_load [N]: " +
+            lines.append("  force residual K_f(x) i - m a - F_cg(x) - F_f - F_load (the force the "
+                         "model does not explain) [N]: " +
                          ", ".join(f"{k} {v:.3f}" for k, v in self.force.items()))
         return "\n".join(lines)
+
+
+def _um(value: float, missing: str) -> str:
+    """A length [m] in µm, or why it is missing."""
+    return f"{value * 1e6:.2f} µm" if math.isfinite(value) else f"not computed: {missing}"
 
 
 def model_stroke(model: ModelFile | None) -> tuple[float, float]:
@@ -91,7 +104,8 @@ def force_residual_summary(run: Run, model: ModelFile) -> tuple[dict[str, float]
     return out, notes
 
 
-def validate(run: Run, model: ModelFile, side: Sidecar | None = None) -> ValidationReport:
+def validate(run: Run, model: ModelFile, side: Sidecar | None = None,
+             progress: Callable[[str], None] | None = None) -> ValidationReport:
     """Replay ``run`` (closed loop when its sidecar names a controller the registry builds)
     and compute the gap.
 
@@ -99,7 +113,9 @@ def validate(run: Run, model: ModelFile, side: Sidecar | None = None) -> Validat
     scale did (``sensors.quantum`` of the sidecar) without noise: the model's prediction.
     ``side`` is the run's sidecar as :func:`check_run` read it (default: read here); what it
     ignored and what could not be done without it are in the report's notes.
+    ``progress`` is called with each stage's name as it starts (a progress bar).
     """
+    stage = progress or (lambda name: None)
     notes: list[str] = []
     pos = None
     x_sim = None
@@ -110,6 +126,7 @@ def validate(run: Run, model: ModelFile, side: Sidecar | None = None) -> Validat
         notes.append(line)
     if side.controller is not None and run.x_ref is not None:
         Ts = side.Ts if side.Ts is not None else run.Ts
+        stage("closed-loop replay")
         x_sim = replay(model.fmu_parameters(), run, side)
         pos = summarise(x_sim - run.x, run.x_ref, Ts)
     elif side.foreign_controller is not None:
@@ -118,15 +135,19 @@ def validate(run: Run, model: ModelFile, side: Sidecar | None = None) -> Validat
     else:
         notes.append("no controller in the run's sidecar (or no x_ref): the closed-loop position gap "
                      "is not computed; only the force residual")
+    stage("force residual")
     force, fnotes = force_residual_summary(run, model)
     notes += fnotes
     return ValidationReport(run=run, model_name=model.name, position=pos, force=force, notes=notes,
                             x_sim=x_sim)
 
 
-def validate_file(measured: Path, model_path: Path | None = None) -> ValidationReport:
+def validate_file(measured: Path, model_path: Path | None = None,
+                  progress: Callable[[str], None] | None = None) -> ValidationReport:
     """CLI entry: load the run and the model file (default: the paper's model)."""
+    if progress is not None:
+        progress("load")
     run = load_run(measured)
     model = load_model(model_path) if model_path else paper_model()
     side = check_run(run, model)
-    return validate(run, model, side)
+    return validate(run, model, side, progress)

@@ -1,4 +1,4 @@
-"""Identification procedures of the paper (Secs. 2.2-2.4) on measured runs, numpy/scipy only.
+r"""Identification procedures of the paper (Secs. 2.2-2.4) on measured runs, numpy/scipy only.
 
 Every ``identify_*`` function takes :class:`feeddrive.data.Run` objects (the ``fit_*``
 variants plain arrays) and returns a small dataclass with ``parameters`` in FMU naming and SI,

@@ -18,7 +18,7 @@ from pathlib import Path
 from .data import load_run, load_runs, sidecar_path
 from .diagnose.emps import emps_baseline_model
 from .diagnose.workflow import diagnose
-from .experiments.campaign import MAX_REPEATS, write_campaign
+from .experiments.campaign import FORMATS as RUN_FORMATS, MAX_REPEATS, write_campaign
 from .export_fmu import fmu_command
 from .fmu import FMUError, fmu_path
 from .harness.controller_fmu import (CONTROLLER_FMU_ENV, DEFAULT_CONTROLLER_FMU,
@@ -205,7 +205,7 @@ def _cmd_validate(a: argparse.Namespace) -> int:
 
 def _cmd_experiments(a: argparse.Namespace) -> int:
     paths = write_campaign(Path(a.out), model=Path(a.model) if a.model else None, seed=a.seed,
-                           force=a.force, repeats=a.repeats)
+                           force=a.force, repeats=a.repeats, fmt=a.format)
     print(f"wrote {len(paths)} runs to {a.out}")
     return 0
 
@@ -369,6 +369,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--seed", type=_SEED, default=1, help="noise seed (>= 0)")
     p.add_argument("--repeats", type=_REPEATS, default=1,
                    help="runs of every experiment with independent noise (for identify --bootstrap)")
+    p.add_argument("--format", choices=RUN_FORMATS, default=RUN_FORMATS[0],
+                   help="file format of the runs: gzip-compressed CSV (default) or plain CSV")
     _force_argument(p)
     p.set_defaults(func=_cmd_experiments)
     p = sub.add_parser("fmu", help="write a model file as its own plant FMU (start values) and "

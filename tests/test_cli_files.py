@@ -32,7 +32,7 @@ ROLES = cli.path_roles(cli.build_parser())
 NOT_PATHS = {"paper", "emps", "force", "case", "run", "radius_mm", "feed_m_min", "direction",
              "feedforward", "mismatch", "osp", "seed", "repeats", "bootstrap", "level",
              "workers", "scheduler", "serial", "no_progress", "position_friction", "max_steps",
-             "force_gain", "window", "blocks", "no_closed_loop", "resume", "fmi", "help",
+             "force_gain", "window", "blocks", "no_closed_loop", "resume", "fmi", "format", "help",
              "stroke", "v_max", "a_max", "u_limit", "loads", "html"}
 
 #: a tiny sweep (two runs of 0.2 s) on a model file beside the study

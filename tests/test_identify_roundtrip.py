@@ -224,9 +224,10 @@ def test_truth_table_flags_a_wrong_parameter(result, truth):
 
 @pytest.mark.slow
 def test_standard_campaign_round_trip(tmp_path, fmu_path):
-    """`feeddrive experiments` (the full campaign on the paper's model: whole-stroke 1 mm/s
-    ripple/cogging runs, ~2.5 min) then the identification of that folder: every tolerance
-    met and the Sec. 4 prediction within 2 um at every reversal."""
+    """`feeddrive experiments` (the full campaign on the paper's model, as written by default:
+    .csv.gz runs, whole-stroke 20 mm/s ripple/cogging runs, Stribeck pairs 0.3 ... 120 mm/s,
+    ~1.5 min) then the identification of that folder: every tolerance met and the Sec. 4
+    prediction within 2 um at every reversal."""
     runs = tmp_path / "runs"
     assert cli.main(["experiments", "--out", str(runs), "--seed", "1"]) == 0
     res = identify_folder(runs, tmp_path / "model.json", truth=paper_model())

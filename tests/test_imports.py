@@ -29,7 +29,8 @@ LAYERS: dict[str, int] = {
     "experiments": 6,
     "identify": 7, "validation": 7, "diagnose": 7, "realdata": 7, "study": 7,
     "report": 8, "systems": 8,
-    "cli": 9, "commands": 9, "bench": 9, "bench_c": 9, "bench_cli": 9, "bench_study": 9, "__main__": 9,
+    "cli": 9, "commands": 9, "bench": 9, "bench_c": 9, "bench_campaign": 9, "bench_cli": 9, "bench_study": 9,
+    "__main__": 9,
 }
 
 

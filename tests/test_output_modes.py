@@ -13,6 +13,7 @@ from pathlib import Path
 import pytest
 
 from feeddrive import cli
+from feeddrive.data import sidecar_path
 from feeddrive.experiments import campaign as campaign_mod
 from feeddrive.experiments.campaign import write_campaign
 from feeddrive.outputs import MARKER, output_dir
@@ -46,7 +47,7 @@ def test_files_and_folders_follow_the_umask(tmp_path, mask, monkeypatch, fmu2_pa
         runs = write_campaign(tmp_path / "runs", model=paper_parameters(), quick=True)
     files = [tmp_path / "m.json", tmp_path / "D.fmu", tmp_path / "D.ssv",
              tmp_path / "report" / MARKER, tmp_path / "report" / "sub" / "a.txt",
-             tmp_path / "runs" / MARKER, *runs, *(r.with_suffix(".json") for r in runs)]
+             tmp_path / "runs" / MARKER, *runs, *(sidecar_path(r) for r in runs)]
     for f in files:
         assert _mode(f) == file_mode, (f, oct(_mode(f)))
     for d in (tmp_path / "report", tmp_path / "report" / "sub", tmp_path / "runs"):

@@ -1,4 +1,5 @@
-"""`make bench`: speed, accuracy and memory of the FMU, written as a Markdown table.
+"""`make bench`: speed, accuracy and memory of the FMU (and the size of the default
+campaign), written as a Markdown table.
 
 Not a test: it measures and prints (targets from the developers' guide are shown beside the
 measured figures; a miss is reported, not hidden)."""
@@ -16,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .bench_campaign import campaign_rows
 from .bench_c import instructions_per_sample, run_bench_cs, run_cycles, run_two_fmus
 from .bench_cli import help_rows
 from .bench_study import study_rows
@@ -271,6 +273,7 @@ def main(argv: list[str] | None = None) -> int:
     rows += engine_rows(figs["wall_cs"], figs["res_cs"], a.repeats)
     rows += fast_path_rows()
     rows += ecos_rows(figs["wall_cs"], min(a.repeats, 3))
+    rows += campaign_rows()
     if a.bench_cs:
         rows += c_rows(Path(a.bench_cs), Path(a.cycles) if a.cycles else None, Path(a.library), a.repeats)
     else:

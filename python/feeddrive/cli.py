@@ -35,8 +35,10 @@ SHARED_ENV = "FEEDDRIVE_SHARED"
 
 #: the choices the parser offers, named here so that ``--help`` imports no stage; a test
 #: checks them against the modules that define them (experiments.campaign.MAX_REPEATS,
-#: validation.circle_test.FEEDFORWARD, validation.xy_machine.MISMATCH, commands.system)
+#: validation.circle_test.FEEDFORWARD, validation.xy_machine.MISMATCH, commands.system,
+#: experiments.campaign.FORMATS)
 MAX_REPEATS = 100
+RUN_FORMATS = ("csv.gz", "csv")
 FEEDFORWARD_CHOICES = ("gms", "none", "static")
 MISMATCH_CHOICES = ("sec4", "none")
 SYSTEM_CASES = ("sec3", "sec4_gms", "sec4_static")
@@ -400,6 +402,8 @@ def _register_experiments(sub) -> None:
     p.add_argument("--seed", type=_SEED, default=1, help="noise seed (>= 0)")
     p.add_argument("--repeats", type=_REPEATS, default=1,
                    help="runs of every experiment with independent noise (for identify --bootstrap)")
+    p.add_argument("--format", choices=RUN_FORMATS, default=RUN_FORMATS[0],
+                   help="file format of the runs: gzip-compressed CSV (default) or plain CSV")
     _force_argument(p)
     _progress_argument(p)
     p.set_defaults(func=_cmd_experiments)

@@ -8,14 +8,23 @@ plain ASCII decimal with an optional exponent (:data:`_NUMBER`).  :func:`_check_
 the rules on the values (finite, time strictly increasing, at least 2 rows).  Every broken
 rule raises :class:`DataError` naming the file, the 1-based line and the column.  The public
 face of runs (``Run``, ``load_run``, ``write_run``) is :mod:`feeddrive.data`.
+
+A recording whose name ends in ``.gz`` (``run.csv.gz``) is gzip-compressed CSV: it is
+streamed through :mod:`gzip` with the same chunks, rules and messages as a plain one (line
+numbers count the decompressed text); a file that is no valid gzip stream, or ends early,
+raises :class:`DataError` naming it.
 """
 from __future__ import annotations
 
 import codecs
 import csv
+import gzip
+import io
 import re
+import zlib
 from collections.abc import Iterator
 from pathlib import Path
+from typing import IO
 
 import numpy as np
 
@@ -25,6 +34,23 @@ from .inputs import InputFileError, open_input
 KNOWN_COLUMNS: tuple[str, ...] = ("time", "u", "i", "x", "x_ref", "F_load")
 #: Columns a run must have.
 REQUIRED_COLUMNS: tuple[str, ...] = ("time", "u", "x")
+#: File name endings of a recording: plain CSV and gzip-compressed CSV.
+RUN_SUFFIXES: tuple[str, ...] = (".csv", ".csv.gz")
+
+
+def is_compressed(path: str | Path) -> bool:
+    """True when ``path`` names a gzip-compressed file (its name ends in ``.gz``)."""
+    return Path(path).name.lower().endswith(".gz")
+
+
+def run_stem(path: str | Path) -> str:
+    """The name of a recording without its ending (``.csv.gz``, ``.csv``, or the last
+    suffix): ``run.csv.gz`` -> ``run``."""
+    name = Path(path).name
+    for end in sorted(RUN_SUFFIXES, key=len, reverse=True):
+        if name.lower().endswith(end) and len(name) > len(end):
+            return name[:-len(end)]
+    return Path(path).stem
 
 
 class DataError(ValueError):
@@ -56,7 +82,7 @@ def _decode_error(path: Path, e: UnicodeDecodeError) -> DataError:
     blocks: the memory stays bounded whatever the file's size)."""
     dec = codecs.getincrementaldecoder("utf-8-sig")()
     offset, line = 0, 1
-    with open_input(path, encoding=None) as f:
+    with _open_bytes(path) as f:
         while block := f.read(_CHUNK_CHARS):
             try:
                 dec.decode(block)
@@ -84,8 +110,47 @@ _CHUNK_ROWS = 1 << 15
 _BLANK = frozenset({"\n", "\r\n", "\r", ""})
 
 
-def _open(path: Path):
-    return open_input(path, encoding="utf-8-sig")
+class _Gzip(gzip.GzipFile):
+    """A gzip stream that closes the file it reads when it is closed."""
+
+    def close(self) -> None:
+        raw = self.fileobj
+        try:
+            super().close()
+        finally:
+            if raw is not None:
+                raw.close()
+
+
+def _open_bytes(path: Path) -> IO[bytes]:
+    """The bytes of the recording ``path``: decompressed on the fly for a ``.gz`` file."""
+    f = open_input(path, encoding=None)
+    if not is_compressed(path):
+        return f
+    try:
+        if not f.read(2):               # gzip reads an empty file as an empty stream
+            raise gzip.BadGzipFile("empty file")
+        f.seek(0)
+        return _Gzip(fileobj=f, mode="rb")
+    except BaseException:
+        f.close()
+        raise
+
+
+def _open(path: Path) -> IO[str]:
+    if not is_compressed(path):
+        return open_input(path, encoding="utf-8-sig")
+    return io.TextIOWrapper(_open_bytes(path), encoding="utf-8-sig", newline="")
+
+
+#: what a broken gzip stream raises while it is read (bad header or CRC, truncated, bad data)
+_GZIP_ERRORS = (gzip.BadGzipFile, EOFError, zlib.error)
+
+
+def _gzip_error(path: Path, e: BaseException) -> DataError:
+    what = str(e) or type(e).__name__
+    return DataError(path, None, None, f"not a valid gzip file ({what}): a .gz recording is "
+                     "gzip-compressed CSV")
 
 
 #: the header row must end within this many bytes (a few KiB of column names; a file without
@@ -109,7 +174,7 @@ _NUMBER_RULE = ("numbers are plain ASCII decimal: digits 0-9, one '.', an option
 def _check_header_bytes(path: Path) -> None:
     """The header row ends within :data:`MAX_HEADER_BYTES` and holds no NUL byte (reads at
     most that many bytes)."""
-    with open_input(path, encoding=None) as f:
+    with _open_bytes(path) as f:
         head = f.read(MAX_HEADER_BYTES)
     end = min((k for k in (head.find(b"\n"), head.find(b"\r")) if k >= 0), default=-1)
     if end < 0 and len(head) == MAX_HEADER_BYTES:
@@ -356,9 +421,14 @@ def read_columns(path: Path) -> tuple[dict[str, np.ndarray], dict[str, np.ndarra
     except InputFileError as e:
         raise DataError(path, None, None, e.problem) from None
     except _NotPlain:
-        names, cols, extra, lines = _read_strict(path)
+        try:
+            names, cols, extra, lines = _read_strict(path)
+        except _GZIP_ERRORS as e:
+            raise _gzip_error(path, e) from None
     except UnicodeDecodeError as e:
         raise _decode_error(path, e) from None
+    except _GZIP_ERRORS as e:
+        raise _gzip_error(path, e) from None
     else:
         cols = {n: v for n, v in every.items() if n in KNOWN_COLUMNS}
         extra = {n: v for n, v in every.items() if n not in KNOWN_COLUMNS}

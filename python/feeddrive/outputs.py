@@ -35,7 +35,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
-from .data import sidecar_path
+from .data import RUN_SUFFIXES, sidecar_path
 
 #: the file that marks a folder as written by feeddrive
 MARKER = ".feeddrive-output"
@@ -67,14 +67,14 @@ class Reads:
            run_folders: Iterable[str | Path | None] = (),
            trees: Iterable[str | Path | None] = ()) -> Reads:
         """The files and folders given, each run CSV with its sidecar path (whether or not the
-        sidecar exists: a file written there would become one), every ``*.csv`` of each run
+        sidecar exists: a file written there would become one), every ``*.csv`` and ``*.csv.gz`` of each run
         folder with its sidecar path (and the folder itself)."""
         items = [(Path(f), "") for f in files if f is not None]
         csvs = [Path(r) for r in runs if r is not None]
         for folder in (Path(d) for d in run_folders if d is not None):
             items.append((folder, ""))
             if folder.is_dir():
-                csvs += sorted(folder.glob("*.csv"))
+                csvs += sorted({p for end in RUN_SUFFIXES for p in folder.glob(f"*{end}")})
         for run in csvs:
             items += [(run, ""), (sidecar_path(run), f"the sidecar of {run}, ")]
         return cls(tuple(items), tuple(Path(t) for t in trees if t is not None))

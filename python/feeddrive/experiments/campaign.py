@@ -3,15 +3,16 @@
 Groups (keys of :func:`campaign`) and file stems written by :func:`write_campaign`:
 
 - ``prbs``: ``prbs`` (current loop, Eq. 2);
-- ``cogging_ripple``: ``cv_{p|m}1mm_s_P{0,54.9,272.7}`` (Eqs. 4, 5);
-- ``stribeck``: ``cv_{p|m}<v>mm_s_P0`` at several speeds (Eq. 13; the unloaded 1 mm/s pair
-  of ``cogging_ripple`` is a Stribeck point too);
+- ``cogging_ripple``: ``cv_{p|m}20mm_s_P{0,54.9,272.7}`` (Eqs. 4, 5; ``1mm_s`` with ``quick``);
+- ``stribeck``: ``cv_{p|m}<v>mm_s_P0`` at 0.3 ... 120 mm/s (Eq. 13; the unloaded pair of
+  ``cogging_ripple`` is a Stribeck point too);
 - ``force_open_loop``: ``force_open_loop`` (mass);
 - ``variable_speed``: ``variable_speed`` (C, Eq. 14);
 - ``prerolling``: ``prerolling_A80um``, ``prerolling_A500um`` (Eqs. 15-18).
 
-The full campaign covers the whole stroke at 1 mm/s (six runs of ~5 min of simulated time
-each); ``quick=True`` shortens every run (segments of a few mm, fewer periods) for tests.
+The full campaign covers the whole stroke at 20 mm/s (six runs of ~16 s of simulated time
+each; the paper's 1 mm/s is a Stribeck pair over one magnet pitch); ``quick=True`` shortens
+every run (segments of a few mm at 1 mm/s, fewer periods) for tests.
 Each job's noise seed is derived from the campaign seed and the job's label.
 ``repeats=K`` runs every job K times with independent noise (repeat k > 0 seeds from
 (seed, label, k), so repeat 0 is the campaign without repeats); the file stems then end in
@@ -31,8 +32,8 @@ from ..data import RECORDING_DECIMALS, Run, write_run
 from ..harness.sensors import Sensors
 from ..model_file import ModelFile, load_model, paper_model
 from ..outputs import output_dir
-from .constant_speed import (PAPER_LOADS, PAPER_SPEED, STRIBECK_SPEEDS, constant_speed_runs,
-                             run_seed, stribeck_runs)
+from .constant_speed import (MAP_SPEED, PAPER_LOADS, PAPER_SPEED, STRIBECK_SPEEDS,
+                             constant_speed_runs, run_seed, stribeck_runs)
 from .force_open_loop import force_open_loop_runs
 from .prbs import prbs_runs
 from .prerolling_excitation import AMPLITUDES as PREROLLING_AMPLITUDES, prerolling_runs
@@ -45,6 +46,8 @@ GROUPS: tuple[str, ...] = ("prbs", "cogging_ripple", "stribeck", "force_open_loo
 Job = tuple[str, str, Callable[[Mapping[str, Any], Sensors], list[Run]]]
 #: Most repeats of one campaign (each is a whole campaign of runs).
 MAX_REPEATS = 100
+#: File formats of the written runs (``--format``): gzip-compressed or plain CSV.
+FORMATS: tuple[str, ...] = ("csv.gz", "csv")
 
 
 def plan(quick: bool = False) -> list[Job]:
@@ -58,10 +61,11 @@ def plan(quick: bool = False) -> list[Job]:
     else:
         jobs.append(("prbs", "prbs", partial(prbs_runs, periods=4)))
     cv_segment = (0.148, 0.152) if quick else None          # None: the whole stroke
+    cv_speed = PAPER_SPEED if quick else MAP_SPEED
     for P in PAPER_LOADS:
         for d in (1, -1):
             jobs.append(("cogging_ripple", f"cogging_ripple_P{P:g}_d{d:+d}",
-                         partial(constant_speed_runs, speeds=(PAPER_SPEED,), loads=(P,),
+                         partial(constant_speed_runs, speeds=(cv_speed,), loads=(P,),
                                  directions=(d,), segment=cv_segment)))
     speeds = (2e-3, 20e-3) if quick else STRIBECK_SPEEDS
     kw = {"cruise_time": 2.0, "min_length": 4e-3} if quick else {}
@@ -130,26 +134,30 @@ def _parameters(model: Path | str | ModelFile | Mapping[str, Any] | None) -> dic
 
 def write_campaign(out_dir: Path, model: Path | ModelFile | Mapping[str, Any] | None = None,
                    seed: int = 1, quick: bool = False, force: bool = False,
-                   repeats: int = 1, progress: bool | None = None) -> list[Path]:
+                   repeats: int = 1, progress: bool | None = None,
+                   fmt: str = "csv.gz") -> list[Path]:
     """Run the campaign on ``model`` (default: the paper's) and write every run.
 
     Parameters
     ----------
-    out_dir : folder for ``<name>.csv`` + ``<name>.json``: checked before the campaign runs,
+    out_dir : folder for ``<name>.csv.gz`` + ``<name>.json``: checked before the campaign runs,
         written whole at the end (:func:`feeddrive.outputs.output_dir`: it then holds this
         campaign's runs only; a non-empty folder we did not write is refused unless ``force``).
     model : a model file path, a :class:`ModelFile`, FMU parameters, or None (paper).
     seed : campaign seed (sensor noise); quick : short runs (tests).
     repeats : runs of every experiment with independent noise (for ``identify --bootstrap``).
     progress : a bar over the runs on stderr (None: unless ``quick``, on a terminal).
+    fmt : ``"csv.gz"`` (gzip-compressed CSV, the default) or ``"csv"`` (:data:`FORMATS`).
 
     Returns
     -------
     list of Path
-        The CSV paths written, in campaign order.
+        The recordings written, in campaign order.
     """
     params = _parameters(model)
     _check_repeats(repeats)
+    if fmt not in FORMATS:
+        raise ValueError(f"write_campaign: format must be one of {', '.join(FORMATS)}, got {fmt!r}")
     out_dir = Path(out_dir)
     inputs = (model,) if isinstance(model, (str, Path)) else ()
     with output_dir(out_dir, inputs, force, what="experiments") as stage:
@@ -158,7 +166,7 @@ def write_campaign(out_dir: Path, model: Path | ModelFile | Mapping[str, Any] | 
         names: list[str] = []
         for group in GROUPS:
             for run in runs[group]:
-                name = f"{run.meta['name']}.csv"
+                name = f"{run.meta['name']}.{fmt}"
                 if name in names:
                     raise ValueError(f"write_campaign: two runs named {name}")
                 write_run(run, stage / name, RECORDING_DECIMALS)

@@ -31,9 +31,13 @@ from .recording import STROKE_MARGIN, closed_loop_measurement, run_seed, stroke
 PAPER_LOADS: tuple[float, ...] = (0.0, 54.9, 272.7)
 #: Speed of the paper's ripple/cogging runs [m/s].
 PAPER_SPEED: float = 1e-3
-#: Default speeds of the Stribeck runs [m/s] (1 mm/s comes from the unloaded ripple runs).
-STRIBECK_SPEEDS: tuple[float, ...] = (0.3e-3, 0.6e-3, 2e-3, 4e-3, 8e-3, 15e-3, 30e-3, 60e-3,
-                                      120e-3)
+#: Speed of the campaign's whole-stroke ripple/cogging runs [m/s]: Eqs. 4-7 need the current
+#: at constant speed over the stroke, not the paper's 1 mm/s; at 20 mm/s a run is 15 s of
+#: cruise instead of 290 s, and the maps identify within the same tolerances.
+MAP_SPEED: float = 20e-3
+#: Default speeds of the Stribeck runs [m/s] (unloaded, each over at least one magnet pitch).
+STRIBECK_SPEEDS: tuple[float, ...] = (0.3e-3, 0.6e-3, 1e-3, 2e-3, 4e-3, 8e-3, 15e-3, 30e-3,
+                                      60e-3, 120e-3)
 def _tag(speed: float, direction: int, P: float) -> str:
     sign = "p" if direction > 0 else "m"
     return f"cv_{sign}{speed * 1e3:g}mm_s_P{P:g}"

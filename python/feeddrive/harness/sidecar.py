@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from ..data import Run
+from ..data import Run, sidecar_path
 from .controllers import CONTROLLERS, make_controller
 from .references import from_positions
 from .sensors import Sensors
@@ -243,7 +243,7 @@ def read_run_sidecar(run: Run, where: str | None = None, clean: bool = True) -> 
     the run's ``meta`` becomes ``Sidecar.meta`` (what was used), so that every tool reads
     the same understood keys."""
     if where is None:
-        where = str(run.path.with_suffix(".json")) if run.path is not None \
+        where = str(sidecar_path(run.path)) if run.path is not None \
             else f"{run.name or 'run'}: sidecar"
     side = read_sidecar(run.meta, where=where, run=run)
     if clean:

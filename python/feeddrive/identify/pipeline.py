@@ -35,7 +35,7 @@ from typing import Any
 
 import numpy as np
 
-from ..data import Run, load_runs, sidecar_path
+from ..data import Run, load_runs, run_stem, sidecar_path
 from ..model_file import ModelFile, load_model, paper_model, save_model
 from ..outputs import Reads, check_file
 from ..validation.replay import check_run
@@ -126,7 +126,7 @@ def classify_why(run: Run) -> tuple[str, str]:
     found, why = _by_signals(run)
     if kind is not None:
         why = f"the sidecar's kind {kind!r} is not one of {', '.join(KINDS)}; {why}"
-    stem = Path(run.path).stem if getattr(run, "path", None) is not None \
+    stem = run_stem(run.path) if getattr(run, "path", None) is not None \
         else str((run.meta or {}).get("name", ""))
     named = next((k for k, pattern in _STEMS if re.match(pattern, stem)), None)
     if named is not None and found is not None and named != found \
@@ -480,7 +480,7 @@ def load_checked_runs(runs_dir: str | Path, out: str | Path | None = None,
         check_file(out, Reads.of(files=inputs, run_folders=[runs_dir]))
     runs = load_runs(runs_dir)
     if not runs:
-        raise ValueError(f"identify: {runs_dir} holds no *.csv run")
+        raise ValueError(f"identify: {runs_dir} holds no run (*.csv or *.csv.gz)")
     for run in runs:
         line = check_run(run).note_line(str(sidecar_path(run.path)) if run.path else run.name)
         if line and notes is not None:

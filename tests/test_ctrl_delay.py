@@ -164,3 +164,27 @@ def test_ecos_at_ts_is_the_harness_with_delay_one(delay1_files) -> None:
     s, _, h = delay1_files
     r = run_ecos(s)
     assert float(np.max(np.abs(r["x"] - h["x"]))) <= 1e-9
+
+
+@pytest.mark.parametrize("delay", [0, 1])
+def test_c_gauss_seidel_master_is_the_harness_bit_for_bit(fmu_path, delay: int) -> None:
+    """tests/c/two_fmus (the C master of `make bench`): plant first, controller second, the
+    6 s Sec. 3 loop equal to the harness's with the same delay, to the bit."""
+    import subprocess
+    from pathlib import Path
+
+    from feeddrive.bench_c import run_two_fmus
+    from feeddrive.harness.controller_fmu import ControllerFMU
+    repo = Path(__file__).resolve().parents[1]
+    host = repo / "build" / "tests_c" / "two_fmus"
+    subprocess.run(["make", "-s", "-C", str(repo / "tests" / "c"), str(host)], check=True,
+                   capture_output=True, text=True)
+    spec = {**state_space_spec(), "delay": delay}
+    ref, h = _harness(spec, P)
+    values = controller_fmu_parameters(spec, reference=sinusoid_source(A, P, C, P), quantum=1e-7)
+    with ControllerFMU(values) as c:
+        typed = {k: (c.vr(k), c.vars[k].type[0], float(v)) for k, v in values.items()}
+    _, x = run_two_fmus(host, repo / "build" / "binaries" / "linux64" / "LinearMotorFeedDrive.so",
+                        repo / "build" / "controller" / "binaries" / "linux64" / "DriveController.so",
+                        typed, ref.n, float(ref.x[0]), repetitions=1)
+    assert np.array_equal(np.asarray(x), h["x"])

@@ -156,7 +156,8 @@ def _cmd_report(a: argparse.Namespace) -> int:
 
 
 SYSTEMS = {"sec3": sec3_system, "sec4_gms": lambda: sec4_system("gms"),
-           "sec4_static": lambda: sec4_system("static")}
+           "sec4_static": lambda: sec4_system("static"),
+           "sec3_delay1": lambda: sec3_system(delay=1)}
 
 
 def _cmd_system(a: argparse.Namespace) -> int:

@@ -6,8 +6,12 @@ structure and a fmpy container FMU.
   component, bound to it by a ``ParameterBinding`` with the set inline (libcosim reads
   inline ``ParameterValues`` only, not a ``source``); the same sets as files,
   ``resources/plant.ssv`` and ``resources/controller.ssv``, for tools that take a ``.ssv``.
+  The ``DefaultExperiment`` carries two annotations: libcosim's ``osp:FixedStepAlgorithm``
+  (base step h, ``numWorkerThreads="0"``: the FMUs step on the calling thread) and
+  ``org.feeddrive.delay``, the delay convention the Jacobi files carry (:mod:`.closed_loop`).
 - ``<name>_osp/OspSystemStructure.xml`` (libcosim's format, fixed-step algorithm, base step
-  Ts/``jacobi_substeps``) next to copies of both FMUs; the start values are ``InitialValues``.
+  Ts/``jacobi_substeps``) next to copies of both FMUs; the start values are ``InitialValues``;
+  a comment states the delay convention.
 - ``<name>_container.fmu``: fmpy's container FMU (``fmpy.container_fmu``), the two FMUs
   nested, fixed step Ts, the start values as its parameters (``plant.m`` ...), outputs
   ``x`` (plant) and ``u`` (controller).

@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 from feeddrive.control.pid import DEFAULT_FORCE_PER_VOLT
-from feeddrive.systems.floor import pair_values, time_ecos_pair, time_libcosim_pair, write_pair_osp
+from feeddrive.systems.floor import (pair_values, time_ecos_pair, time_libcosim_pair,
+                                     time_libcosim_pair_ssp, write_pair_osp)
 
 
 def test_pair_structure(ctrl_fmu_path, tmp_path) -> None:
@@ -24,6 +25,8 @@ def test_engines_step_the_pair(ctrl_fmu_path, tmp_path) -> None:
     pytest.importorskip("libcosimpy", reason="libcosimpy: python/pyproject.toml [test]")
     w = time_libcosim_pair(tmp_path, 200)
     assert np.isfinite(w) and w > 0
+    w0 = time_libcosim_pair_ssp(tmp_path, 200)
+    assert np.isfinite(w0) and w0 > 0
     try:
         w_e = time_ecos_pair(200)
     except ImportError as e:

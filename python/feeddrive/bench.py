@@ -32,7 +32,7 @@ from .paper import paper_parameters
 from .systems import run_container, sec3_system, write_all
 from .systems.ecos import time_ecos
 from .systems.engines import time_libcosim_osp
-from .systems.floor import time_ecos_pair, time_libcosim_pair
+from .systems.floor import time_ecos_pair, time_libcosim_pair, time_libcosim_pair_ssp
 
 
 def _closed_loop(interface: str, tolerance: float, ref) -> tuple[float, dict]:
@@ -236,6 +236,8 @@ def engine_rows(wall_python: float, res_python: dict, repeats: int = 5) -> list[
         except ImportError:
             w_lc, lc = float("nan"), ("not measured (libcosimpy not installed: pip install 'python[test]')", "")
         w_fl, fl = _floor(lambda n: time_libcosim_pair(Path(tmp) / "pair", n, s.Ts), s.n, repeats)
+        _, fl0 = _floor(lambda n: time_libcosim_pair_ssp(Path(tmp) / "pair_ssp", n, s.Ts), s.n,
+                        repeats)
         runs = [run_container(files["container"], s.n, s.Ts) for _ in range(repeats)]
     w_c = min(float(r["wall"]) for r in runs)
     rows = [(f"6 s closed loop (delay 1), controller FMU in libcosim (OSP, h = Ts, best of {repeats})",
@@ -243,6 +245,9 @@ def engine_rows(wall_python: float, res_python: dict, repeats: int = 5) -> list[
             ("  libcosim's floor: a trivial pair of FMUs (two gains), h = Ts, same steps",
              fl + (f"; the loop beyond it: {(w_lc - w_fl) * 1e3:.0f} ms" if w_lc == w_lc and w_fl == w_fl
                    else ""), ""),
+            ("  libcosim's floor without worker threads: the pair as SSP, numWorkerThreads = 0",
+             fl0 + " (the loop's SSP cannot run so in libcosimpy 0.0.6: its x, v start values "
+             "are refused as non-inputs)", ""),
             (f"same, fmpy container FMU under simulate_fmu (step Ts, ctrl.delay 1, best of {repeats})",
              f"{w_c * 1e3:.0f} ms wall, {w_c / wall_python:.2f} x the Python-controller run",
              "<= 1/3")]

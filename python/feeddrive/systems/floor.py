@@ -9,13 +9,15 @@ controller's.
 from __future__ import annotations
 
 import time
+import zipfile
 from pathlib import Path
+from xml.etree import ElementTree as ET
 
 from ..harness.controller_fmu import controller_fmu_parameters, controller_fmu_path
 from ..harness.controllers import pid_spec
 from .ecos import load_ecospy
 from .engines import quiet_libcosim
-from .files import _literal, _types, osp_structure
+from .files import FMU_TYPE, OSP_SSP, SSC, SSD, _literal, _types, osp_structure
 
 #: the pair's connections (start component, output, end component, input)
 PAIR = (("a", "u", "b", "x_meas"), ("b", "u", "a", "x_meas"))
@@ -72,3 +74,52 @@ def time_ecos_pair(n: int, Ts: float = 5e-4) -> float:
         sim.free()
         ss.free()
     return wall
+
+
+def write_pair_ssp(path: str | Path, Ts: float = 5e-4) -> Path:
+    """The pair as an SSP package for libcosim, its fixed step at h = Ts without worker threads
+    (``numWorkerThreads="0"``).  No parameter bindings (libcosimpy 0.0.6 does not apply
+    them): both instances run on the controller FMU's defaults, a PID on ``x_meas``."""
+    path = Path(path)
+    fmu = controller_fmu_path()
+    ET.register_namespace("ssd", SSD)
+    ET.register_namespace("ssc", SSC)
+    ET.register_namespace("osp", OSP_SSP)
+    root = ET.Element(f"{{{SSD}}}SystemStructureDescription", {"version": "1.0", "name": "pair"})
+    system = ET.SubElement(root, f"{{{SSD}}}System", {"name": "pair"})
+    elements = ET.SubElement(system, f"{{{SSD}}}Elements")
+    for name in ("a", "b"):
+        c = ET.SubElement(elements, f"{{{SSD}}}Component",
+                          {"name": name, "type": FMU_TYPE, "source": f"resources/{fmu.name}"})
+        conns = ET.SubElement(c, f"{{{SSD}}}Connectors")
+        for var, kind in (("x_meas", "input"), ("u", "output")):
+            ET.SubElement(ET.SubElement(conns, f"{{{SSD}}}Connector", {"name": var, "kind": kind}),
+                          f"{{{SSC}}}Real")
+    connections = ET.SubElement(system, f"{{{SSD}}}Connections")
+    for a, av, b, bv in PAIR:
+        ET.SubElement(connections, f"{{{SSD}}}Connection", {
+            "startElement": a, "startConnector": av, "endElement": b, "endConnector": bv})
+    exp = ET.SubElement(root, f"{{{SSD}}}DefaultExperiment", {"startTime": "0.0"})
+    alg = ET.SubElement(ET.SubElement(ET.SubElement(exp, f"{{{SSD}}}Annotations"),
+                                      f"{{{SSC}}}Annotation", {"type": "com.opensimulationplatform"}),
+                        f"{{{OSP_SSP}}}Algorithm")
+    ET.SubElement(alg, f"{{{OSP_SSP}}}FixedStepAlgorithm",
+                  {"baseStepSize": repr(float(Ts)), "numWorkerThreads": "0"})
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as z:
+        z.writestr("SystemStructure.ssd", ET.tostring(root, encoding="utf-8", xml_declaration=True))
+        z.write(fmu, f"resources/{fmu.name}")
+    return path
+
+
+def time_libcosim_pair_ssp(directory: str | Path, n: int, Ts: float = 5e-4) -> float:
+    """Wall time [s] of libcosim's ``simulate_until(n Ts)`` on the pair's SSP package: the
+    fixed step on the calling thread, libcosim's floor without its thread pool."""
+    from libcosimpy.CosimExecution import CosimExecution   # optional: the test extra
+    quiet_libcosim()
+    ssp = write_pair_ssp(Path(directory) / "pair.ssp", Ts)
+    execution = CosimExecution.from_ssp_file(str(ssp))
+    wall0 = time.perf_counter()
+    if not execution.simulate_until(int(round(n * Ts * 1e9))):
+        raise RuntimeError("libcosim: simulate_until failed on the trivial pair (SSP)")
+    return time.perf_counter() - wall0

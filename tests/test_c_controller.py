@@ -39,7 +39,7 @@ SANITIZER_MARKS = ("runtime error:", "AddressSanitizer", "LeakSanitizer", "Undef
                    "ThreadSanitizer")
 CASES = ["step_inf", "step_huge", "step_tiny_ts", "step_coarse_time", "get_float64_null", "boolean_size_max3",
          "boolean_size_max2", "unstable_state_space", "unstable_lti", "lti_full_order", "ref_duration", "ref_duration_samples",
-         "ref_point_to_point", "ref_p2p_samples"]
+         "ref_point_to_point", "ref_p2p_samples", "delay"]
 
 
 def build(*targets: str) -> None:

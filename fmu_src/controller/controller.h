@@ -25,6 +25,7 @@ enum { FF_FRICTION_NONE = 0, FF_FRICTION_STATIC = 1, FF_FRICTION_GMS = 2 };
 typedef struct {
     double Ts, u_limit, quantum;
     int type, source;
+    int delay;                        /* computation delay [samples], 0 or 1 (ctrl.delay) */
     /* state space: u = Cc s + Dy y + Dr r + u_ff;  s <- Ac s + By y + Br r + Bu (u - u_ff) */
     int n;
     double Ac[CTRL_NS_MAX][CTRL_NS_MAX], By[CTRL_NS_MAX], Br[CTRL_NS_MAX], Bu[CTRL_NS_MAX],
@@ -61,6 +62,7 @@ typedef struct { long long j; double cs; } ref_gen_t;
 /* Everything that changes from sample to sample. */
 typedef struct {
     long long k;                           /* index of the next sample */
+    double y_prev;                    /* x_meas of the last sample (ctrl.delay 1 reads it) */
     double s[CTRL_NS_MAX];
     bool fresh;
     double q, D, e_prev, F_prev, L_prev;
@@ -85,7 +87,8 @@ double feedforward_sample(const ctrl_params_t *p, gms_track_t *g, double x, doub
 
 /* ctrl_law.c */
 void ctrl_reset(const ctrl_params_t *p, ctrl_state_t *s);
-/* one sample: u (and x_cmd, u_ff, r_x) from the inputs of this instant; advances the state.
+/* one sample: u (and x_cmd, u_ff, r_x) from the inputs of this instant (with ctrl.delay 1, from
+ * the x_meas of the previous sample, the first sample's own at k = 0); advances the state.
  * false when a number it produced or keeps is not finite (a diverging controller or filter,
  * inputs out of scale), with `why` naming it; the state is then unusable */
 bool ctrl_sample(const ctrl_params_t *p, ctrl_state_t *s, const ctrl_in_t *in, char *why, size_t whylen);

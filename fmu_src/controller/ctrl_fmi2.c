@@ -1,9 +1,14 @@
 /* FMI 2.0 co-simulation glue of the controller FMU: the plant's call-sequence table
  * (fmi2_allowed.h) and logging (fmi2_log.h), the value table of ctrl_vars.h, one controller
  * sample per sample instant t_k = t0 + k Ts.
- * Sample convention: u at t_k is the controller's output for the inputs set at t_k (it depends
- * on x_meas directly): fmi2GetReal computes the pending sample from the current inputs,
- * fmi2DoStep commits it and takes every further sample inside the step with the inputs held. */
+ * Sample convention: u at t_k is the controller's output for the inputs as they stand at t_k (it
+ * depends on x_meas directly): fmi2GetReal computes the pending sample from the current inputs,
+ * fmi2DoStep commits it and takes every further sample inside the step with the inputs held.
+ * Once read in Step Mode, the sample at t_k is fixed: inputs set after the read are the next
+ * sample's (FMI's Step Mode: no output of an instant after a set at that instant).  So a master
+ * that steps the plant first and the controller second (Gauss-Seidel) reads u_k+1 from
+ * x(t_k+1), no delay; a Jacobi master (outputs read after the step, inputs set after) reads
+ * at t_k+1 the sample computed from x(t_k): one sample of delay at h = Ts. */
 #include <math.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -32,6 +37,7 @@ typedef struct {
     int params_ok;
     ctrl_state_t s, pending;      /* committed state; the sample at the current instant */
     int pending_ok;
+    int pending_read;             /* the pending sample's outputs were read in Step Mode */
     fmi2CallbackFunctions cb;
     char *name;
     int logging_on;
@@ -110,6 +116,7 @@ static int evaluate(ctrl_instance_t *c, const char *fn) {
     }
     store_outputs(c, &c->pending);
     c->pending_ok = 1;
+    c->pending_read = 0;
     return 1;
 }
 
@@ -126,7 +133,7 @@ static fmi2Status initialize(ctrl_instance_t *c, const char *fn) {
     if (compile(c, fn) != fmi2OK) { c->params_ok = 0; return fmi2Error; }
     c->params_ok = 1;
     ctrl_reset(&c->p, &c->s);
-    c->pending_ok = 0;
+    c->pending_ok = c->pending_read = 0;
     return fmi2OK;
 }
 
@@ -136,7 +143,7 @@ static void defaults(ctrl_instance_t *c) {
     c->fsm = ST_INSTANTIATED;
     c->time = c->t0 = 0.0;
     c->params_ok = 0;
-    c->pending_ok = 0;
+    c->pending_ok = c->pending_read = 0;
 }
 
 /* ---------------------------------------------------------------- life cycle */
@@ -232,6 +239,7 @@ fmi2Status fmi2ExitInitializationMode(fmi2Component comp) {
     ctrl_instance_t *c = FMU_ENTER(comp, fmi2ExitInitializationMode);
     if (!c) return fmi2Error;
     if (!c->params_ok && initialize(c, "fmi2ExitInitializationMode") != fmi2OK) { c->fsm = ST_ERROR; return fmi2Error; }
+    c->pending_read = c->pending_ok;   /* a first sample read in Initialization Mode is fixed */
     c->fsm = ST_STEP_COMPLETE;
     return fmi2OK;
 }
@@ -287,6 +295,7 @@ static fmi2Status get_values(ctrl_instance_t *c, const char *fn, const fmi2Value
     if (!c || !arrays_ok(c, fn, vr, nvr, value)) return fmi2Error;
     if (c->fsm == ST_INIT && !c->params_ok && initialize(c, fn) != fmi2OK) return fmi2Error;
     if (c->params_ok && (c->fsm & (ST_INIT | ST_STEP_COMPLETE)) && !evaluate(c, fn)) return fmi2Error;
+    if (c->pending_ok && (c->fsm & ST_STEP_COMPLETE)) c->pending_read = 1;
     for (k = 0; k < nvr; k++) {
         int row = lookup(c, fn, vr[k], type);
         double v;
@@ -378,12 +387,12 @@ static fmi2Status set_values(ctrl_instance_t *c, const char *fn, const fmi2Value
             c->p = old;
             return fmi2Error;
         }
-        c->pending_ok = 0;
+        c->pending_ok = c->pending_read = 0;
         return fmi2OK;
     }
     for (k = 0; k < nvr; k++) c->val[vr[k]] = as_double(type, value, k);
     if (c->fsm & ST_INIT) c->params_ok = 0;
-    c->pending_ok = 0;
+    if (!c->pending_read) c->pending_ok = 0;   /* a sample read in Step Mode keeps its inputs */
     return fmi2OK;
 }
 
@@ -436,7 +445,7 @@ fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h, fmi2Boolean no
         c->time = fmax(c->time, sample_time(c, c->s.k));
         if (!evaluate(c, "fmi2DoStep")) return fmi2Error;
         c->s = c->pending;
-        c->pending_ok = 0;
+        c->pending_ok = c->pending_read = 0;
         if (++taken > CTRL_BUDGET_SAMPLES + 2.0) {   /* the count above bounds this loop; kept as its guard */
             ctrl_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: more than %.0f samples in one step (budget)",
                      CTRL_BUDGET_SAMPLES);

@@ -156,7 +156,8 @@ static bool sample_finite(const ctrl_params_t *p, const ctrl_state_t *s, double 
 bool ctrl_sample(const ctrl_params_t *p, ctrl_state_t *s, const ctrl_in_t *in, char *why, size_t whylen) {
     long long k = s->k, j;
     int slot = (int)(k % CTRL_RB);
-    double y = in->x_meas, r, uff = 0.0;
+    double y = (p->delay && k > 0) ? s->y_prev : in->x_meas, r, uff = 0.0;
+    s->y_prev = in->x_meas;
     if (p->quantum > 0.0) y = nearbyint(y / p->quantum) * p->quantum;
     if (k == 0)   /* the samples before the first input: the reference at rest at its first value */
         for (j = 0; j < p->preview; j++) push_reference(p, s, j, in->x_ref, 0.0, 0.0);

@@ -186,9 +186,11 @@ bool ctrl_compile(const double *val, ctrl_params_t *p, char *msg, size_t msglen)
     p->source = (int)val[CVR_ref_source];
     p->u_limit = val[CVR_u_limit];
     p->quantum = val[CVR_scale_quantum];
+    p->delay = (int)val[CVR_ctrl_delay];
     if (!(p->Ts > 0.0)) FAIL("Ts = %.17g: allowed (0, inf) s", p->Ts);
     if (p->type < CTRL_STATE_SPACE || p->type > CTRL_LTI)
         FAIL("ctrl.type = %d: allowed 1 (state_space), 2 (pid), 3 (pid_lead), 4 (lti)", p->type);
+    if (p->delay < 0 || p->delay > 1) FAIL("ctrl.delay = %d: allowed 0 or 1 sample", p->delay);
     if (p->source < REF_INPUT || p->source > REF_POINT_TO_POINT)
         FAIL("ref.source = %d: allowed 0 (inputs), 1 (sinusoid), 2 (point to point)", p->source);
     if (!(p->u_limit > 0.0)) FAIL("u_limit = %.17g: allowed (0, 1e6] V", p->u_limit);

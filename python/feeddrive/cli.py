@@ -41,7 +41,7 @@ MAX_REPEATS = 100
 RUN_FORMATS = ("csv.gz", "csv")
 FEEDFORWARD_CHOICES = ("gms", "none", "static")
 MISMATCH_CHOICES = ("sec4", "none")
-SYSTEM_CASES = ("sec3", "sec4_gms", "sec4_static")
+SYSTEM_CASES = ("sec3", "sec4_gms", "sec4_static", "sec3_delay1")
 
 #: roles of the path arguments: a run CSV (and its sidecar), a folder of runs (every
 #: ``*.csv`` and its sidecar), a file (model file), a folder read as a whole (nothing may be

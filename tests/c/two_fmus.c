@@ -1,6 +1,8 @@
 /* A C master for the closed loop as two FMUs: controller FMU (DriveController) + plant FMU,
- * macro step Ts, the harness's convention (python/feeddrive/harness/two_fmus.py): at t_k read
- * the plant's x, set the controller's x_meas, read its u, set the plant's u, step both.
+ * macro step Ts, Gauss-Seidel with the plant first (python/feeddrive/harness/two_fmus.py):
+ * step the plant over [t_k, t_k+1] holding u_k, read x(t_k+1), set it as the controller's
+ * x_meas, step the controller over [t_k, t_k+1], read u_k+1, set it on the plant.  No input
+ * is set and read back at one instant in Step Mode; the harness's run with ctrl.delay.
  * Usage: two_fmus PLANT.so CONTROLLER.so PARAMS N X0 OUT [repetitions]
  *   PARAMS: one controller start value a line, "<value reference> <R|I|B> <value>"
  *   (written by feeddrive.bench_c.run_two_fmus); the plant keeps its defaults (the paper's).
@@ -78,14 +80,12 @@ static double run(const fmi_api_t *plant, const fmi_api_t *ctrl, const start_t *
     CHECK(plant->GetReal(pc, &vx, 1, &x[0]), "plant x");
     for (k = 0; k < n; k++) {
         double t = (double)k * Ts;
-        if (k > 0) {
-            CHECK(ctrl->SetReal(cc, &vxm, 1, &x[k]), "controller x_meas");
-            CHECK(ctrl->GetReal(cc, &vcu, 1, &u), "controller u");
-            CHECK(plant->SetReal(pc, &vu, 1, &u), "plant u");
-        }
-        CHECK(ctrl->DoStep(cc, t, Ts, fmi2True), "controller doStep");
+        if (k > 0) CHECK(plant->SetReal(pc, &vu, 1, &u), "plant u");
         CHECK(plant->DoStep(pc, t, Ts, fmi2True), "plant doStep");
         CHECK(plant->GetReal(pc, &vx, 1, &x[k + 1]), "plant x");
+        CHECK(ctrl->SetReal(cc, &vxm, 1, &x[k + 1]), "controller x_meas");
+        CHECK(ctrl->DoStep(cc, t, Ts, fmi2True), "controller doStep");
+        CHECK(ctrl->GetReal(cc, &vcu, 1, &u), "controller u");
     }
     w = host_now() - w0;
     ctrl->FreeInstance(cc);

@@ -15,7 +15,8 @@ from .common import stages
 def systems() -> dict[str, Callable]:
     """The closed loops ``feeddrive system --case`` writes, by name."""
     return {"sec3": sec3_system, "sec4_gms": lambda: sec4_system("gms"),
-            "sec4_static": lambda: sec4_system("static")}
+            "sec4_static": lambda: sec4_system("static"),
+            "sec3_delay1": lambda: sec3_system(delay=1)}
 
 
 def main(a: argparse.Namespace) -> int:

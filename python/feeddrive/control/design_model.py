@@ -47,6 +47,8 @@ class DesignModel:
     G1: float
     tf_num: np.ndarray
     tf_den: np.ndarray
+    #: the controller's computation delay [samples] among the ``n_delay`` input delays
+    delay: int = 0
 
     @property
     def n(self) -> int:
@@ -96,13 +98,17 @@ def ss_freqresp(A: np.ndarray, B: np.ndarray, C: np.ndarray, D: np.ndarray, Ts: 
     return (C[None] @ X)[:, 0, 0] + D[0, 0]
 
 
-def design_model(params: Mapping[str, float]) -> DesignModel:
+def design_model(params: Mapping[str, float], delay: int = 0) -> DesignModel:
     """Build the sampled design model from FMU-named parameters (SI).
 
     Uses ``m``, ``Ts``, ``ripple.c[0]`` (K_f0) and ``current.a[1..5]``, ``current.b[0..5]``.
     The double integrator K_f0/(m s^2) from i to x is discretised with
-    ``scipy.signal.cont2discrete`` (ZOH: i is held between samples).
+    ``scipy.signal.cont2discrete`` (ZOH: i is held between samples).  ``delay`` (0 or 1)
+    samples of computation delay are added to the input delays: u computed at t_k reaches
+    the amplifier at t_k+delay.
     """
+    if delay not in (0, 1):
+        raise ValueError(f"design_model.py: delay = {delay!r}: allowed 0 or 1 sample")
     for key in ("m", "Ts", "ripple.c[0]"):
         if key not in params:
             raise KeyError(f"design_model.py: parameter {key!r} missing")
@@ -121,8 +127,9 @@ def design_model(params: Mapping[str, float]) -> DesignModel:
          np.array([[1.0, 0.0]]), np.zeros((1, 1))), Ts, method="zoh")
     # G(z) = z^-d0 B'(z^-1)/A(z^-1); keep one sample of it in G' (strictly proper) if d0 >= 1
     d0 = int(np.argmax(num != 0.0))
-    d = max(d0 - 1, 0)
-    num_g = num[d:]                           # G' = z^-(d0-d) B'/A in powers of z^-1
+    d_g = max(d0 - 1, 0)
+    num_g = num[d_g:]                         # G' = z^-(d0-d_g) B'/A in powers of z^-1
+    d = d_g + delay                           # input delays: G's beyond G', the controller's
     L = max(len(num_g), len(den))
     num_g = np.pad(num_g, (0, L - len(num_g)))
     den_g = np.pad(den, (0, L - len(den)))    # same length -> descending powers of z
@@ -155,9 +162,9 @@ def design_model(params: Mapping[str, float]) -> DesignModel:
     g_num = np.trim_zeros(np.pad(num, (0, Lg - len(num))), "f")
     g_den = np.pad(den, (0, Lg - len(den)))
     tf_num = np.convolve(0.5 * Ts**2 * K_f0 / m * np.array([1.0, 1.0]), g_num)
-    tf_den = np.convolve(np.array([1.0, -2.0, 1.0]), g_den)
+    tf_den = np.convolve(np.array([1.0, -2.0, 1.0] + [0.0] * delay), g_den)
     return DesignModel(A=A, B=B, C=C, D=np.zeros((1, 1)), Ts=Ts, n_dyn=n_dyn, n_delay=d,
-                       K_f0=K_f0, m=m, G1=G1, tf_num=tf_num, tf_den=tf_den)
+                       K_f0=K_f0, m=m, G1=G1, tf_num=tf_num, tf_den=tf_den, delay=delay)
 
 
 def simulate_linear(model: DesignModel, controller: object, n_steps: int, x0: float = 0.0,

@@ -94,3 +94,22 @@ def frequency_grid(Ts: float, f_min: float = 0.01, n: int = 20000) -> np.ndarray
     f_nyq = 0.5 / Ts
     return np.concatenate((np.logspace(np.log10(f_min), np.log10(f_nyq * 0.99999), n - 1),
                            [f_nyq]))
+
+
+#: margins below which a loop is called poorly damped: gain 6 dB, phase 30 deg, |1 + L| 0.5
+POOR_GAIN_DB, POOR_PHASE_DEG, POOR_MODULUS = 6.0, 30.0, 0.5
+
+
+def poor_margins(m: Margins) -> list[str]:
+    """What is poor in ``m`` (empty when every margin meets :data:`POOR_GAIN_DB`,
+    :data:`POOR_PHASE_DEG`, :data:`POOR_MODULUS`), one phrase each."""
+    out = []
+    if m.gain_margin_db < POOR_GAIN_DB:
+        out.append(f"gain margin {m.gain_margin_db:.1f} dB < {POOR_GAIN_DB:g} dB "
+                   f"(at {m.gain_margin_hz:.0f} Hz)")
+    if m.phase_margin_deg < POOR_PHASE_DEG:
+        out.append(f"phase margin {m.phase_margin_deg:.1f} deg < {POOR_PHASE_DEG:g} deg "
+                   f"(crossover {m.crossover_hz:.0f} Hz)")
+    if m.modulus_margin < POOR_MODULUS:
+        out.append(f"modulus margin {m.modulus_margin:.2f} < {POOR_MODULUS:g}")
+    return out

@@ -252,9 +252,13 @@ class StateSpaceController:
         enters as K_x r + k_q Ts r/(z - 1), so T = B_P(z) (K_x (z - 1) + k_q Ts) / A_cl(z)
         with A_cl the characteristic polynomial of the designed closed loop.  T(1) = 1 by
         integral action; the numerator is scaled to make that exact despite round-off.
+        With a computation delay (``model.delay``) the loop runs the sample at t_k on the
+        measurement of t_k-1 and the reference of t_k: the design's extra z^-1 is not between
+        r and x, T is multiplied by z.
         """
         num_p, _ = self.model.tf()
         num = np.convolve(num_p, [self.K[0], self.k_q * self.Ts - self.K[0]])
+        num = np.convolve(num, [1.0] + [0.0] * self.model.delay)
         ev = np.linalg.eigvals(self.A_aug - self.B_aug @ self.K_aug[None, :])
         den = np.real(np.poly(ev))
         num = num * (np.real(np.prod(1.0 - ev)) / np.polyval(num, 1.0))

@@ -36,7 +36,7 @@ from ..control.feedforward import FeedforwardOptions
 from ..control.pid import PID
 from ..control.state_space import StateSpaceController
 from ..fmu import FMUError, FMUNotFoundError, Plant
-from .controllers import lti_realisation, make_controller
+from .controllers import DelayedController, lti_realisation, make_controller, spec_delay
 from .references import Reference, sinusoid
 
 CONTROLLER_FMU_ENV = "FEEDDRIVE_CONTROLLER_FMU"
@@ -154,7 +154,7 @@ def _feedforward_values(ff: Mapping[str, Any] | None) -> Values:
 
 def controller_fmu_parameters(spec: Mapping[str, Any], Ts: float = 5e-4,
                               reference: Mapping[str, Any] | None = None,
-                              quantum: float = 0.0) -> Values:
+                              quantum: float = 0.0, handover: int = 0) -> Values:
     """The controller FMU's start values for the controller ``spec`` (a sidecar ``controller``).
 
     Parameters
@@ -166,6 +166,10 @@ def controller_fmu_parameters(spec: Mapping[str, Any], Ts: float = 5e-4,
         the inputs (``ref.source`` 0).
     quantum : scale resolution the FMU applies to ``x_meas`` [m] (0: none; the harness
         quantises before the controller).
+    handover : samples of delay the master adds by itself: 0 for a Gauss-Seidel master (ours,
+        plant first), 1 for a Jacobi engine at h = Ts (libcosim, Ecos, fmpy's SSP), whose
+        one-step handover *is* one sample of computation delay.  The FMU's ``ctrl.delay`` is
+        the spec's ``delay`` less ``handover`` (the design keeps the spec's delay).
 
     ValueError (from the registry, naming the key) for a bad spec, or when the FMU cannot hold
     the controller.
@@ -178,8 +182,16 @@ def controller_fmu_parameters(spec: Mapping[str, Any], Ts: float = 5e-4,
     if kind == "lti":
         Ts = lti_realisation(spec).Ts
     ctrl = make_controller(spec, sinusoid(0.0, 1.0, 0.15, 10 * Ts, Ts=Ts))
+    delay = spec_delay(spec) - int(handover)
+    if handover not in (0, 1) or delay < 0:
+        raise ValueError(f"controller_fmu: handover = {handover!r} with the spec's delay = "
+                         f"{spec_delay(spec)}: allowed handover 0 or 1, at most the delay")
+    if isinstance(ctrl, DelayedController):
+        ctrl = ctrl.inner
     out: Values = {"Ts": Ts, "ctrl.type": TYPES[kind], "scale.quantum": float(quantum),
                    "ref.source": 0}
+    if delay:
+        out["ctrl.delay"] = delay
     if kind == "lti":
         out.update(_lti_values(spec))
     elif isinstance(ctrl, StateSpaceController):

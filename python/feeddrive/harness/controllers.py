@@ -23,11 +23,19 @@ Every controller has ``reset()`` and ``step(x_meas, k) -> u`` [V]; it is built f
     (back-calculation, all eigenvalues of A - L C at p); ``x0`` "rest" (default), "zero" or
     a list of n states.  Order n <= :data:`~feeddrive.control.lti.LTI_MAX_ORDER`.
 
+Every type also takes ``delay`` (0, the default, or 1 sample of computation delay): with 1,
+the sample at t_k runs on the measurement of t_k-1 (:class:`DelayedController`), as a drive
+that applies at t_k+1 what it computed from x_k; the state-space design then places its poles
+on the design model with that delay (:func:`~feeddrive.control.design_model.design_model`),
+and a spec whose delayed loop has poor margins (:func:`delay_margins`,
+:func:`~feeddrive.control.margins.poor_margins`) is built with a :class:`PoorMarginsWarning`.
+
 :func:`make_controller` builds one (ValueError naming the key for a bad spec);
 :func:`controller_spec` gives the spec back from a controller.
 """
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable, Mapping
 from dataclasses import asdict, dataclass, fields
 from typing import Any, Protocol
@@ -35,6 +43,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from ..control.design_model import design_model
+from ..control.margins import Margins, poor_margins
 from ..control.feedforward import FeedforwardOptions, feedforward
 from ..control.lti import (LTI_MAX_ORDER, LTIController, back_calculation_gain, cascade_tf,
                            pid_tf, rest_state, tf_to_ss)
@@ -157,7 +166,7 @@ def _number(spec: Mapping[str, Any], key: str, default: Any = None) -> float:
 
 
 def _check_keys(spec: Mapping[str, Any], allowed: set[str]) -> None:
-    unknown = set(spec) - allowed - {"type"}
+    unknown = set(spec) - allowed - {"type"} - COMMON_KEYS
     if unknown:
         raise ValueError(f"controller ({spec.get('type')}): unknown key(s) {sorted(unknown)}; "
                          f"allowed {sorted(allowed)}")
@@ -186,6 +195,40 @@ def _feedforward_u(spec: Mapping[str, Any], ref: Reference) -> np.ndarray | None
     return feedforward(ref.x, ref.Ts, ff["parameters"], opts, v_ref=ref.v, a_ref=ref.a).u
 
 
+#: keys every type's spec may have: ``delay`` (0 or 1 sample of computation delay)
+COMMON_KEYS = frozenset({"delay"})
+
+
+def spec_delay(spec: Mapping[str, Any]) -> int:
+    """The spec's computation delay [samples]: 0 (default) or 1; ValueError otherwise."""
+    d = spec.get("delay", 0)
+    if isinstance(d, bool) or d not in (0, 1):
+        raise ValueError(f"controller ({spec.get('type')}): delay = {d!r}: allowed 0 or 1 "
+                         f"sample")
+    return int(d)
+
+
+class DelayedController:
+    """A controller with one sample of computation delay: the sample at t_k (its
+    reference, its feedforward) runs on the measurement of t_k-1 (the first on its own), so
+    what it computed from x_k is applied over [t_k+1, t_k+2)."""
+
+    def __init__(self, inner: Controller) -> None:
+        self.inner = inner
+        self._prev: float | None = None
+
+    def reset(self) -> None:
+        """Reset the controller and forget the held measurement."""
+        self.inner.reset()
+        self._prev = None
+
+    def step(self, x_meas: float, k: int) -> float:
+        """u [V] of sample k from the measurement of sample k - 1."""
+        y = x_meas if self._prev is None else self._prev
+        self._prev = x_meas
+        return self.inner.step(y, k)
+
+
 _SS_KEYS = {"design", "mech_hz", "mech_zeta", "mech_real_hz", "observer_hz", "observer_zeta",
             "observer_current_poles", "prefilter", "feedforward"}
 
@@ -199,7 +242,7 @@ def _state_space(spec: Mapping[str, Any], ref: Reference, u_ff: np.ndarray | Non
                          f"{list(DESIGN_KEYS)}")
     p = dict(paper_parameters())
     p.update(design)
-    model = design_model(p)
+    model = design_model(p, delay=spec_delay(spec))
     poles = default_poles(model, f_hz=_number(spec, "mech_hz", DEFAULT_MECH_HZ),
                           zeta=_number(spec, "mech_zeta", DEFAULT_MECH_ZETA),
                           f_real_hz=_number(spec, "mech_real_hz", DEFAULT_MECH_REAL_HZ))
@@ -354,12 +397,38 @@ class ControllerType:
 
 CONTROLLERS: dict[str, ControllerType] = {
     "state_space": ControllerType("state_space", _state_space, state_space_spec,
-                                  frozenset(_SS_KEYS)),
-    "pid": ControllerType("pid", _pid, pid_spec, frozenset(_PID_KEYS)),
+                                  frozenset(_SS_KEYS) | COMMON_KEYS),
+    "pid": ControllerType("pid", _pid, pid_spec, frozenset(_PID_KEYS) | COMMON_KEYS),
     "pid_lead": ControllerType("pid_lead", _pid_lead, pid_lead_spec,
-                               frozenset(_PID_KEYS | {"lead_zero_hz", "lead_pole_hz"})),
-    "lti": ControllerType("lti", _lti, pid_lti_spec, frozenset(_LTI_KEYS)),
+                               frozenset(_PID_KEYS | {"lead_zero_hz", "lead_pole_hz"})
+                               | COMMON_KEYS),
+    "lti": ControllerType("lti", _lti, pid_lti_spec, frozenset(_LTI_KEYS) | COMMON_KEYS),
 }
+
+
+class PoorMarginsWarning(UserWarning):
+    """A controller spec whose loop, with its computation delay, has poor margins."""
+
+
+def delay_margins(spec: Mapping[str, Any], ctrl: Controller) -> Margins | None:
+    """The loop margins of ``ctrl`` (built from ``spec``) on the design model with the
+    spec's computation delay: the state-space design's own model, the paper's for a PID (its
+    ``force_per_volt`` is the paper's drive); None for an ``lti`` controller."""
+    if isinstance(ctrl, DelayedController):
+        ctrl = ctrl.inner
+    if isinstance(ctrl, StateSpaceController):
+        return ctrl.margins()
+    if isinstance(ctrl, PID):
+        return ctrl.margins(design_model(paper_parameters(), delay=spec_delay(spec)))
+    return None
+
+
+def _warn_poor_margins(spec: Mapping[str, Any], ctrl: Controller) -> None:
+    m = delay_margins(spec, ctrl)
+    poor = [] if m is None else poor_margins(m)
+    if poor:
+        warnings.warn(f"controller ({spec.get('type')}) with delay = {spec_delay(spec)}: "
+                      + "; ".join(poor), PoorMarginsWarning, stacklevel=3)
 
 
 def make_controller(spec: Mapping[str, Any], ref: Reference,
@@ -376,14 +445,18 @@ def make_controller(spec: Mapping[str, Any], ref: Reference,
     kind = spec.get("type")
     if kind not in CONTROLLERS:
         raise ValueError(f"controller: type {kind!r} is not known; known: {sorted(CONTROLLERS)}")
+    delay = spec_delay(spec)
     ctrl = CONTROLLERS[kind].build(spec, ref, None if u_ff is None else np.asarray(u_ff, float))
+    if delay:
+        _warn_poor_margins(spec, ctrl)
+        ctrl = DelayedController(ctrl)
     ctrl.spec = dict(spec)
     return ctrl
 
 
 def controller_spec(ctrl: Controller) -> dict[str, Any]:
     """The JSON-able spec of a controller (the one it was made from, or a PID's own)."""
-    if isinstance(ctrl, PID):
+    if isinstance(ctrl, PID) and getattr(ctrl, "spec", {}).get("delay", 0) == 0:
         return _pid_spec_of(ctrl)
     spec = getattr(ctrl, "spec", None)
     if spec is None:

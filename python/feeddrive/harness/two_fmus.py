@@ -1,12 +1,14 @@
 """The closed loop as two FMUs, controller FMU + plant FMU, stepped from Python.
 
-Connections: plant ``x`` -> controller ``x_meas`` (the controller FMU quantises it at
-``scale.quantum``), controller ``u`` -> plant ``u``.  Macro step = Ts.  Sample convention
-of :func:`~.simulate.simulate_closed_loop`: at t_k the master reads the plant's x(t_k), sets
-it as x_meas, reads u(t_k) (computed from that x_meas, no extra delay), sets it on the plant
-and steps both FMUs over [t_k, t_k+1]; the plant holds u over the step and its current loop
-takes the sample at t_k (its own one-sample delay, Eq. 2).  u[0] is computed from x0 during
-the controller's initialisation and is the plant's start value of ``u``.
+Connections: plant ``x_measured`` -> controller ``x_meas`` (the controller FMU quantises it
+at ``scale.quantum``), controller ``u`` -> plant ``u``.  Macro step = Ts, Gauss-Seidel with
+the plant first: over [t_k, t_k+1] the plant steps holding u_k, the master reads x(t_k+1),
+sets it as the controller's x_meas, steps the controller over [t_k, t_k+1] and reads u_k+1
+(the controller FMU's sample at t_k+1 from that x_meas), which it sets on the plant.  No
+input is set and read back at one instant in Step Mode (FMI 2.0/3.0 co-simulation), and the
+loop is the harness's (:func:`~.simulate.simulate_closed_loop`) with the controller's own
+``ctrl.delay``: u_k from x(t_k) with ``ctrl.delay`` 0.  u[0] is computed from x0 during the
+controller's initialisation and is the plant's start value of ``u``.
 """
 from __future__ import annotations
 
@@ -22,11 +24,17 @@ from ..fmu import FMUError, Plant, Result
 from .controller_fmu import ControllerFMU
 
 
+def _fail(what: str, *fmus: Plant) -> FMUError:
+    msgs = [m for f in fmus for m in f.messages]
+    return FMUError(what + ": " + (msgs[-1] if msgs else ""))
+
+
 def simulate_two_fmus(plant_params: Mapping[str, Any], ctrl_params: Mapping[str, Any], n: int,
                       x0: float, Ts: float = 5e-4, F_ext: float = 0.0,
                       controller_path: str | Path | None = None,
                       plant_path: str | Path | None = None, tolerance: float = 1e-6) -> Result:
-    """Run n samples; returns time, x (the plant's, rows k = 0..n), u and ``wall`` [s].
+    """Run n samples; returns time, x (the plant's ``x_measured``, rows k = 0..n), u and
+    ``wall`` [s].
 
     ``ctrl_params``: :func:`~.controller_fmu.controller_fmu_parameters` (with ``Ts``).
     """
@@ -34,8 +42,7 @@ def simulate_two_fmus(plant_params: Mapping[str, Any], ctrl_params: Mapping[str,
             Plant(plant_params, interface="cs", tolerance=tolerance, path=plant_path) as plant:
         wall0 = time.perf_counter()     # from initialisation to the end (as the harness's)
         ctrl.start({"x_meas": float(x0)})
-        cu = ctrl.raw(["u", "x_meas"])
-        u0 = float(cu.get()[0])
+        u0 = float(ctrl.raw(["u"]).get()[0])
         plant.start({"x": float(x0), "v": 0.0, "u": u0, "F_ext": float(F_ext)}, t0=0.0)
         px = plant.raw(["x_measured"])
         cr, pr = ctrl.raw_calls(), plant.raw_calls()
@@ -50,21 +57,19 @@ def simulate_two_fmus(plant_params: Mapping[str, Any], ctrl_params: Mapping[str,
         us = (ctypes.c_double * (n + 1))()
         base_x, base_u = ctypes.addressof(xs), ctypes.addressof(us)
         if p_get(pc, vr_x, 1, base_x) > 1:
-            raise FMUError("plant fmi2GetReal x: " + (plant.messages[-1] if plant.messages else ""))
+            raise _fail("plant fmi2GetReal x", plant)
         us[0] = u0
         for k in range(n):
             t = k * Ts
-            if k > 0:
-                if (c_set(cc, vr_xm, 1, base_x + 8 * k) > 1 or c_get(cc, vr_u_c, 1, base_u + 8 * k) > 1
-                        or p_set(pc, vr_u_p, 1, base_u + 8 * k) > 1):
-                    raise FMUError(f"exchange at t = {t}: "
-                                   + ((ctrl.messages + plant.messages) or [""])[-1])
-            if c_step(cc, t, Ts, 1) > 1 or p_step(pc, t, Ts, 1) > 1:
-                raise FMUError(f"fmi2DoStep at t = {t}: "
-                               + ((ctrl.messages + plant.messages) or [""])[-1])
+            if k > 0 and p_set(pc, vr_u_p, 1, base_u + 8 * k) > 1:
+                raise _fail(f"plant fmi2SetReal u at t = {t}", plant)
+            if p_step(pc, t, Ts, 1) > 1:
+                raise _fail(f"plant fmi2DoStep at t = {t}", plant)
             if p_get(pc, vr_x, 1, base_x + 8 * (k + 1)) > 1:
-                raise FMUError(f"plant fmi2GetReal x at t = {t + Ts}: "
-                               + (plant.messages[-1] if plant.messages else ""))
+                raise _fail(f"plant fmi2GetReal x at t = {t + Ts}", plant)
+            if (c_set(cc, vr_xm, 1, base_x + 8 * (k + 1)) > 1 or c_step(cc, t, Ts, 1) > 1
+                    or c_get(cc, vr_u_c, 1, base_u + 8 * (k + 1)) > 1):
+                raise _fail(f"controller at t = {t + Ts}", ctrl)
         us[n] = us[n - 1]
         wall = time.perf_counter() - wall0
     return Result({"time": np.arange(n + 1) * Ts, "x": np.array(xs), "u": np.array(us),

@@ -6,6 +6,14 @@ external input.  Start values: the plant's parameters, ``x`` = the reference's f
 ``solver.tol`` (the tolerance the harness gives through fmi2SetupExperiment, which an engine
 may not), the controller's parameter set (:func:`~..harness.controller_fmu.controller_fmu_parameters`)
 and ``x_meas`` = the same first value.
+
+Delay convention: ``delay`` is the computation delay of the harness run the system
+reproduces (the controller spec's ``delay``).  Our Gauss-Seidel masters and fmpy's container
+FMU hand u over within the step: the controller FMU's ``ctrl.delay`` is ``delay``.  The Jacobi
+engines (libcosim, Ecos, fmpy's ``simulate_ssp``) hand outputs over after the step: at
+h = Ts that is one sample, so their files carry ``ctrl.delay`` = ``delay`` - 1 (a system with
+``delay`` 1 runs them at h = Ts and reproduces the harness with delay 1); a system with
+``delay`` 0 runs them at h = Ts/``jacobi_substeps`` (a delay of h the harness does not have).
 """
 from __future__ import annotations
 
@@ -39,8 +47,11 @@ class ClosedLoopSystem:
     controller_fmu: Path = field(default_factory=controller_fmu_path)
     tolerance: float = 1e-6
     #: macro steps per sample Ts of the Jacobi engines (libcosim, simulate_ssp): their
-    #: outputs reach the inputs one macro step late; with a whole Ts the loop is unstable
+    #: outputs reach the inputs one macro step late; with a whole Ts the loop designed for
+    #: no delay is unstable, so 10 unless ``delay`` is 1 (then 1: h = Ts)
     jacobi_substeps: int = 10
+    #: the computation delay [samples] of the harness run the system reproduces
+    delay: int = 0
 
     @property
     def n(self) -> int:
@@ -52,29 +63,47 @@ class ClosedLoopSystem:
         """The Jacobi engines' macro step [s] (the container FMU's is Ts)."""
         return self.Ts / self.jacobi_substeps
 
-    def start_values(self) -> dict[str, Values]:
-        """Start values by component name (``plant``, ``controller``)."""
+    def ctrl_delay(self, jacobi: bool) -> int:
+        """The controller FMU's ``ctrl.delay`` in a Jacobi engine (``jacobi``) or in a master
+        that hands u over within the step."""
+        return self.delay - 1 if jacobi and self.jacobi_substeps == 1 and self.delay else self.delay
+
+    def start_values(self, jacobi: bool = False) -> dict[str, Values]:
+        """Start values by component name (``plant``, ``controller``) for a Jacobi engine
+        (``jacobi``) or not (see the module's delay convention)."""
         plant: Values = {**self.plant, "x": self.x0, "v": 0.0, "solver.tol": self.tolerance}
-        return {"plant": plant, "controller": {**self.controller, "x_meas": self.x0}}
+        ctrl: Values = {**self.controller, "x_meas": self.x0}
+        if self.delay:
+            ctrl["ctrl.delay"] = self.ctrl_delay(jacobi)
+        return {"plant": plant, "controller": ctrl}
 
 
 def _system(name: str, plant: Mapping[str, float | int | bool], spec: Mapping,
             amplitude: float, period: float, centre: float, duration: float) -> ClosedLoopSystem:
     ctrl = controller_fmu_parameters(spec, reference=sinusoid_source(amplitude, period, centre,
                                                                      duration), quantum=1e-7)
+    delay = int(spec.get("delay", 0))
     return ClosedLoopSystem(name=name, plant=dict(plant), controller=ctrl,
-                            x0=centre - amplitude, stop_time=duration, Ts=float(ctrl["Ts"]))
+                            x0=centre - amplitude, stop_time=duration, Ts=float(ctrl["Ts"]),
+                            jacobi_substeps=1 if delay else 10, delay=delay)
 
 
-def sec3_system() -> ClosedLoopSystem:
-    """Sec. 3: state space + ZPETC on the paper's plant, 30 mm / 6 s sinusoid, 100 nm scale."""
-    return _system("sec3", paper_parameters(), state_space_spec(), sec3.AMPLITUDE, sec3.PERIOD,
-                   sec3.CENTRE, sec3.PERIOD)
+def sec3_system(delay: int = 0) -> ClosedLoopSystem:
+    """Sec. 3: state space + ZPETC on the paper's plant, 30 mm / 6 s sinusoid, 100 nm scale;
+    ``delay`` samples of computation delay (designed for)."""
+    spec = {**state_space_spec(), "delay": delay} if delay else state_space_spec()
+    return _system("sec3" if not delay else f"sec3_delay{delay}", paper_parameters(), spec,
+                   sec3.AMPLITUDE, sec3.PERIOD, sec3.CENTRE, sec3.PERIOD)
 
 
-def sec4_system(friction: str = "gms", duration: float = sec4.DURATION) -> ClosedLoopSystem:
+def sec4_system(friction: str = "gms", duration: float = sec4.DURATION,
+                delay: int = 0) -> ClosedLoopSystem:
     """Sec. 4: feedforward (``friction`` static/gms, with cogging and ripple) on the paper's
-    nominal parameters, the perturbed plant, 5 mm / 6 s sinusoid, 100 nm scale."""
+    nominal parameters, the perturbed plant, 5 mm / 6 s sinusoid, 100 nm scale; ``delay``
+    samples of computation delay."""
     spec = state_space_spec(paper_parameters(), feedforward=FeedforwardOptions(friction=friction))
-    return _system(f"sec4_{friction}", sec4.perturbed_plant(), spec, sec4.AMPLITUDE, sec4.PERIOD,
-                   sec4.CENTRE, duration)
+    if delay:
+        spec["delay"] = delay
+    return _system(f"sec4_{friction}" + (f"_delay{delay}" if delay else ""),
+                   sec4.perturbed_plant(), spec, sec4.AMPLITUDE, sec4.PERIOD, sec4.CENTRE,
+                   duration)

@@ -22,7 +22,8 @@ def compare_engines(system: ClosedLoopSystem, files: dict[str, Path]) -> list[st
         return float(np.nanmax(np.abs(r["x"][1:] - ref["x"][1:]))) * 1e6
 
     lines = [f"{system.name}: {system.n} samples of Ts = {system.Ts * 1e3:g} ms; harness: macro "
-             f"step Ts, u(t_k) from x(t_k); Jacobi engines: macro step Ts/{N}, one step late"]
+             f"step Ts, computation delay {system.delay} sample(s); Jacobi engines: macro step "
+             f"Ts/{N}, one step late, ctrl.delay {system.ctrl_delay(jacobi=True)}"]
     runs = [("fmpy container FMU (simulate_fmu)", run_container(files["container"], system.n,
                                                                 system.Ts), False),
             ("libcosim (OspSystemStructure.xml)", run_libcosim_osp(files["osp"].parent, system.n,

@@ -87,7 +87,7 @@ def _closed_loop(system: ClosedLoopSystem, substeps: int | None) -> Iterator:
     ss.add_model("controller", str(system.controller_fmu))
     for a, av, b, bv in CONNECTIONS:
         ss.make_real_connection(f"{a}::{av}", f"{b}::{bv}")
-    ss.add_parameter_set("init", {f"{comp}::{k}": _typed(v) for comp, vals in system.start_values().items()
+    ss.add_parameter_set("init", {f"{comp}::{k}": _typed(v) for comp, vals in system.start_values(jacobi=True).items()
                                   for k, v in vals.items()})
     sim = ecospy.EcosSimulation(structure=ss, step_size=system.Ts / (substeps or system.jacobi_substeps))
     try:

@@ -6,8 +6,12 @@ structure and a fmpy container FMU.
   component, bound to it by a ``ParameterBinding`` with the set inline (libcosim reads
   inline ``ParameterValues`` only, not a ``source``); the same sets as files,
   ``resources/plant.ssv`` and ``resources/controller.ssv``, for tools that take a ``.ssv``.
+  The ``DefaultExperiment`` carries two annotations: libcosim's ``osp:FixedStepAlgorithm``
+  (base step h, ``numWorkerThreads="0"``: the FMUs step on the calling thread) and
+  ``org.feeddrive.delay``, the delay convention the Jacobi files carry (:mod:`.closed_loop`).
 - ``<name>_osp/OspSystemStructure.xml`` (libcosim's format, fixed-step algorithm, base step
-  Ts/``jacobi_substeps``) next to copies of both FMUs; the start values are ``InitialValues``.
+  Ts/``jacobi_substeps``) next to copies of both FMUs; the start values are ``InitialValues``;
+  a comment states the delay convention.
 - ``<name>_container.fmu``: fmpy's container FMU (``fmpy.container_fmu``), the two FMUs
   nested, fixed step Ts, the start values as its parameters (``plant.m`` ...), outputs
   ``x`` (plant) and ``u`` (controller).
@@ -34,6 +38,8 @@ SSD = "http://ssp-standard.org/SSP1/SystemStructureDescription"
 SSC = "http://ssp-standard.org/SSP1/SystemStructureCommon"
 SSV = "http://ssp-standard.org/SSP1/SystemStructureParameterValues"
 OSP = "http://opensimulationplatform.com/MSMI/OSPSystemStructure"
+OSP_SSP = "http://opensimulationplatform.com/SSP/OSPAnnotations"
+FD = "https://feeddrive.invalid/ssp/delay"
 FMU_TYPE = "application/x-fmu-sharedlibrary"
 
 
@@ -49,11 +55,12 @@ def _literal(kind: str, value: float | int | bool) -> str:
     return repr(float(value))
 
 
-def _typed(system: ClosedLoopSystem) -> dict[str, list[tuple[str, str, str]]]:
-    """component -> [(variable, FMI type, literal)]; ValueError for a name the FMU lacks."""
+def _typed(system: ClosedLoopSystem, jacobi: bool = True) -> dict[str, list[tuple[str, str, str]]]:
+    """component -> [(variable, FMI type, literal)] for a Jacobi engine's file (``jacobi``) or
+    the container's; ValueError for a name the FMU lacks."""
     fmus = {"plant": system.plant_fmu, "controller": system.controller_fmu}
     out: dict[str, list[tuple[str, str, str]]] = {}
-    for comp, values in system.start_values().items():
+    for comp, values in system.start_values(jacobi=jacobi).items():
         types = _types(fmus[comp])
         bad = sorted(set(values) - set(types))
         if bad:
@@ -79,6 +86,8 @@ def _ssd(system: ClosedLoopSystem) -> bytes:
     ET.register_namespace("ssd", SSD)
     ET.register_namespace("ssc", SSC)
     ET.register_namespace("ssv", SSV)
+    ET.register_namespace("osp", OSP_SSP)
+    ET.register_namespace("fd", FD)
     root = ET.Element(f"{{{SSD}}}SystemStructureDescription",
                       {"version": "1.0", "name": f"feeddrive_{system.name}"})
     sysel = ET.SubElement(root, f"{{{SSD}}}System", {"name": "closed_loop"})
@@ -104,9 +113,37 @@ def _ssd(system: ClosedLoopSystem) -> bytes:
     for a, ac, b, bc in CONNECTIONS:
         ET.SubElement(connections, f"{{{SSD}}}Connection", {
             "startElement": a, "startConnector": ac, "endElement": b, "endConnector": bc})
-    ET.SubElement(root, f"{{{SSD}}}DefaultExperiment",
-                  {"startTime": "0.0", "stopTime": repr(float(system.stop_time))})
+    exp = ET.SubElement(root, f"{{{SSD}}}DefaultExperiment",
+                        {"startTime": "0.0", "stopTime": repr(float(system.stop_time))})
+    notes = ET.SubElement(exp, f"{{{SSD}}}Annotations")
+    # libcosim's fixed-step algorithm stepping the FMUs on the calling thread (no pool wake-up)
+    osp = ET.SubElement(ET.SubElement(notes, f"{{{SSC}}}Annotation",
+                                      {"type": "com.opensimulationplatform"}),
+                        f"{{{OSP_SSP}}}Algorithm")
+    ET.SubElement(osp, f"{{{OSP_SSP}}}FixedStepAlgorithm",
+                  {"baseStepSize": repr(float(system.jacobi_step)), "numWorkerThreads": "0"})
+    conv = ET.SubElement(ET.SubElement(notes, f"{{{SSC}}}Annotation",
+                                       {"type": "org.feeddrive.delay"}), f"{{{FD}}}Delay")
+    conv.attrib.update(_convention(system))
     return ET.tostring(root, encoding="utf-8", xml_declaration=True)
+
+
+def _convention(system: ClosedLoopSystem) -> dict[str, str]:
+    """The delay convention a Jacobi engine's file carries (see :mod:`.closed_loop`)."""
+    return {"harnessDelay": str(system.delay) if system.jacobi_substeps == 1 else "none",
+            "ctrlDelay": str(system.ctrl_delay(jacobi=True)),
+            "macroStep": repr(float(system.jacobi_step)), "master": "jacobi"}
+
+
+def _convention_text(system: ClosedLoopSystem) -> str:
+    c = _convention(system)
+    if c["harnessDelay"] == "none":
+        return (f" Jacobi master at h = {c['macroStep']} s (Ts/{system.jacobi_substeps}), "
+                f"ctrl.delay = {c['ctrlDelay']}: the controller's u lags x by h, a delay the "
+                "harness run does not have. ")
+    return (f" Jacobi master at h = Ts = {c['macroStep']} s: the engine's handover is one "
+            f"sample of computation delay; ctrl.delay = {c['ctrlDelay']} here reproduces the "
+            f"harness run with delay = {c['harnessDelay']}. ")
 
 
 def write_ssp(system: ClosedLoopSystem, path: str | Path) -> Path:
@@ -125,7 +162,7 @@ def write_ssp(system: ClosedLoopSystem, path: str | Path) -> Path:
 
 def osp_structure(directory: str | Path, step: float,
                   simulators: Sequence[tuple[str, Path, list[tuple[str, str, str]]]],
-                  connections: Sequence[tuple[str, str, str, str]]) -> Path:
+                  connections: Sequence[tuple[str, str, str, str]], note: str = "") -> Path:
     """Write ``directory/OspSystemStructure.xml`` (fixed step ``step`` [s]) with each simulator
     (name, FMU, typed initial values (variable, kind, literal)) and its FMU copied beside it,
     and the connections (simulator, output, simulator, input); returns the XML's path."""
@@ -133,6 +170,8 @@ def osp_structure(directory: str | Path, step: float,
     d.mkdir(parents=True, exist_ok=True)
     ET.register_namespace("", OSP)
     root = ET.Element(f"{{{OSP}}}OspSystemStructure", {"version": "0.1"})
+    if note:
+        root.append(ET.Comment(note))
     ET.SubElement(root, f"{{{OSP}}}StartTime").text = "0.0"
     ET.SubElement(root, f"{{{OSP}}}BaseStepSize").text = repr(float(step))
     ET.SubElement(root, f"{{{OSP}}}Algorithm").text = "fixedStep"
@@ -163,7 +202,7 @@ def write_osp(system: ClosedLoopSystem, directory: str | Path) -> Path:
     fmus = {"controller": system.controller_fmu, "plant": system.plant_fmu}
     return osp_structure(directory, system.jacobi_step,
                          [(comp, fmus[comp], values) for comp, values in _typed(system).items()],
-                         CONNECTIONS)
+                         CONNECTIONS, note=_convention_text(system))
 
 
 def write_container(system: ClosedLoopSystem, path: str | Path) -> Path:
@@ -196,7 +235,7 @@ def write_container(system: ClosedLoopSystem, path: str | Path) -> Path:
                                       start=None if comp == "controller" else repr(float(system.x0))),
                         comps[comp], var[comp][name]))
     for kind_wanted in ("Real", "Integer", "Boolean"):
-        for comp, values in _typed(system).items():
+        for comp, values in _typed(system, jacobi=False).items():
             for name, kind, lit in values:
                 src = var[comp][name]
                 if kind != kind_wanted or (src.causality not in ("parameter", "input")

@@ -8,7 +8,8 @@ u = the controller's u for x0); then per macro step h = Ts/jacobi_substeps: step
 (integer nanoseconds, t = j h_ns / 1e9), so that the plant's integrator sees the same
 floating-point times: with the 100 nm scale a last-bit difference in x can flip a
 quantisation level and grow to micrometres.  The controller's u read at
-t_k is thus computed from x(t_k - h): a delay of one macro step the harness does not have.
+t_k is thus computed from x(t_k - h): at h = Ts one sample of computation delay, the
+harness's ``delay`` 1 with the files' ``ctrl.delay`` 0 (:mod:`.closed_loop`).
 """
 from __future__ import annotations
 
@@ -21,7 +22,7 @@ from .closed_loop import ClosedLoopSystem
 
 def simulate_jacobi(system: ClosedLoopSystem) -> Result:
     """Run ``system`` with the Jacobi master; x, u at t_k = k Ts, k = 0..n (after the step)."""
-    sv = system.start_values()
+    sv = system.start_values(jacobi=True)
     N, n = system.jacobi_substeps, system.n
     h_ns = int(round(system.jacobi_step * 1e9))   # libcosim's clock: integer nanoseconds
     h = h_ns / 1e9

@@ -76,7 +76,9 @@ def _argv(name: str, inputs: Path, out: Path) -> list[str]:
             "identify": ["identify", str(d / "runs"), "--out", str(out)],
             "diagnose": ["diagnose", str(d / "runs" / "r.csv"), "--model",
                          str(d / "base_model.json"), "--out", str(out)],
-            "sweep": ["sweep", str(d / "study.json"), "--out", str(out), "--serial"]}[name]
+            "sweep": ["sweep", str(d / "study.json"), "--out", str(out), "--serial"],
+            "fmu": ["fmu", str(d / "base_model.json"), "--out", str(out)],
+            "plan": ["plan", "--out", str(out)]}[name]
 
 
 WRITERS = sorted(n for n, r in cli.path_roles(cli.build_parser()).items()
@@ -85,7 +87,7 @@ WRITERS = sorted(n for n, r in cli.path_roles(cli.build_parser()).items()
 
 def test_the_cases_cover_every_command_that_writes(tmp_path):
     assert set(WRITERS) == {"run", "report", "model", "system", "circle", "experiments",
-                            "identify", "diagnose", "sweep"}
+                            "identify", "diagnose", "sweep", "fmu", "plan"}
 
 
 @pytest.mark.parametrize("name", WRITERS)
@@ -93,6 +95,9 @@ def test_an_existing_output_is_refused_without_force(name, inputs, tmp_path, cap
     if name in ("model", "identify"):           # a file
         target = tmp_path / "model.json"
         target.write_text("{}\n")
+    elif name == "fmu":                         # the FMU file
+        target = tmp_path / "MyDrive.fmu"
+        target.write_bytes(b"mine")
     elif name == "system":                      # one of the case's files in the folder
         target = tmp_path / "sys"
         target.mkdir()

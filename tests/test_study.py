@@ -231,7 +231,7 @@ def test_bench_study_rows_give_figures() -> None:
 
 def test_readme_example_study_runs(tmp_path: Path) -> None:
     text = (Path(__file__).resolve().parents[1] / "docs" / "studies.md").read_text()
-    section = text.split("## Parameter studies", 1)[1]
+    section = text.split("# Parameter studies", 1)[1]
     docs = [json.loads(b.split("```", 1)[0]) for b in section.split("```json")[1:]]
     doc = next(d for d in docs if d["name"] == "friction and mass, one at a time")
     doc["experiment"]["reference"]["duration"] = 0.6      # shorter here: one top reversal

@@ -137,4 +137,8 @@ def test_static_friction_reversal_error_at_default_tolerance() -> None:
     print(f"reversal error: default {peaks[1e-6] * 1e6:.4f} um, rtol 1e-10 {peaks[1e-10] * 1e6:.4f} um")
     assert abs(peaks[1e-6] - peaks[1e-10]) < 0.05e-6
     assert stuck_moves[1e-6] == 0.0 and stuck_moves[1e-10] == 0.0
-    assert abs(peaks[1e-6] - 45.80e-6) < 0.05e-6   # the make run table's figure
+    # the make run table's figure: the peak of a ~46 um error between two runs whose controller
+    # gains come from scipy's pole placement and whose noise from numpy's generator; across their
+    # releases it moves by ~0.1 um (45.79 um with scipy 1.15, 45.88 um with 1.17), while the
+    # solver's own share (default vs rtol 1e-10, above) stays below 0.01 um
+    assert abs(peaks[1e-6] - 45.8e-6) < 0.2e-6

@@ -73,7 +73,7 @@ FMIPP_SRC       := $(BUILD)/importers/fmipp-src
 FMIPP_STAMP     := $(VENV)/.fmipp-installed
 FMIPP_APT       := swig libboost-filesystem-dev libboost-system-dev
 
-.PHONY: all fmu run test bench wheel clean venv fuzz-tools importers
+.PHONY: all fmu run test bench wheel clean venv fuzz-tools importers interval-coverage
 all: fmu
 fmu: $(FMU) $(PKG_FMU) $(CTRL_FMU) $(PKG_CTRL_FMU) $(FMU3) $(PKG_FMU3) $(CTRL3_FMU) $(PKG_CTRL3_FMU)
 venv: $(STAMP)
@@ -231,6 +231,15 @@ bench: fmu
 	$(PY) -m feeddrive.bench --out $(BUILD)/bench.md --bench-cs $(TESTS_C)/bench_cs \
 	    --cycles $(TESTS_C)/cycles --library $(SO) --two-fmus $(TESTS_C)/two_fmus \
 	    --controller-library $(CTRL_SO)
+
+# coverage of identify --bootstrap intervals over 20 FMU campaigns, the parametric
+# (bias-corrected) and the whole-run percentile method (docs/intervals.md); CPU-hours scale:
+# about 10 min (parametric) and 7 min (runs) on one idle core
+interval-coverage: fmu
+	nice $(PY) -m feeddrive.study.coverage --campaigns 20 --replicates 10 --repeats 2 \
+	    --method parametric --out $(BUILD)/coverage_parametric.json
+	nice $(PY) -m feeddrive.study.coverage --campaigns 20 --replicates 20 --repeats 2 \
+	    --method runs --out $(BUILD)/coverage_runs.json
 
 wheel: $(PKG_FMU) $(PKG_CTRL_FMU) $(PKG_FMU3) $(PKG_CTRL3_FMU)
 	rm -rf $(BUILD)/feeddrive-*.whl python/build

@@ -102,7 +102,8 @@ def test_uncertainty_round_trip_and_rules(tmp_path):
 @pytest.mark.parametrize("args", (["--bootstrap", "1"], ["--bootstrap", "x"],
                                   ["--bootstrap", "4", "--level", "1.5"],
                                   ["--bootstrap", "4", "--workers", "0"],
-                                  ["--bootstrap", "4", "--seed", "-1"]))
+                                  ["--bootstrap", "4", "--seed", "-1"],
+                                  ["--bootstrap", "12", "--interval-method", "guess"]))
 def test_bad_bootstrap_arguments_exit_2(tmp_path, capsys, args):
     with pytest.raises(SystemExit) as e:
         cli.main(["identify", str(tmp_path), "--out", str(tmp_path / "m.json"), *args])
@@ -182,7 +183,7 @@ def test_bootstrap_study_file_through_sweep(quiet, tmp_path, capsys):
     for j, r in enumerate(runs):
         write_run(r, folder / f"{j:03d}_{r.name}.csv")
     study = {"schema": "feeddrive.study/1", "kind": "bootstrap", "name": "intervals",
-             "runs": "campaign", "replicates": 3, "seed": 3}
+             "runs": "campaign", "replicates": 3, "seed": 3, "method": "runs"}
     (tmp_path / "boot.json").write_text(json.dumps(study))
     out = tmp_path / "out"
     assert cli.main(["sweep", str(tmp_path / "boot.json"), "--out", str(out), "--serial",
@@ -201,7 +202,8 @@ def test_bootstrap_study_file_through_sweep(quiet, tmp_path, capsys):
     assert (out / "replicates.csv").read_text().count("\n") == 4
     assert "bootstrap intervals" in (out / "report.html").read_text()
     for bad, fld in (({"replicates": 1}, "replicates"), ({"runs": "nowhere"}, "runs"),
-                     ({"kind": "bogus"}, "kind"), ({"level": 2}, "level"), ({"extra": 1}, "extra")):
+                     ({"kind": "bogus"}, "kind"), ({"level": 2}, "level"), ({"extra": 1}, "extra"),
+                     ({"method": "guess"}, "method")):
         (tmp_path / "bad.json").write_text(json.dumps({**study, **bad}))
         assert cli.main(["sweep", str(tmp_path / "bad.json"), "--out", str(tmp_path / "o2")]) == 2
         err = capsys.readouterr().err.strip().splitlines()

@@ -223,7 +223,7 @@ def _cmd_identify(a: argparse.Namespace) -> int:
     res, boot = bootstrap_folder(Path(a.runs), Path(a.out), a.bootstrap, seed=a.seed,
                                  level=a.level, truth=truth, scheduler=a.scheduler,
                                  workers=a.workers, parallel=not a.serial,
-                                 progress=not a.no_progress)
+                                 progress=not a.no_progress, method=a.interval_method)
     print(res.text())
     print(boot.text())
     return 0
@@ -369,7 +369,11 @@ def build_parser() -> argparse.ArgumentParser:
     _path(p, OUT_FILE, "--out", required=True)
     _path(p, FILE, "--truth", default=None, help="model file of the truth (virtual runs): print true vs identified")
     p.add_argument("--bootstrap", type=_REPLICATES, default=None, metavar="N",
-                   help="N replicates over runs resampled within cells of repeats: intervals in the model file")
+                   help="N replicates: intervals in the model file (see --interval-method)")
+    p.add_argument("--interval-method", choices=("parametric", "runs"), default="parametric",
+                   help="parametric: campaigns simulated on the identified model, bias-corrected "
+                        "intervals (N >= 10); runs: percentiles over whole runs resampled within "
+                        "cells of repeats (noise spread only, no bias)")
     p.add_argument("--level", type=_LEVEL, default=0.95, help="coverage of the bootstrap intervals (0..1)")
     p.add_argument("--seed", type=_SEED, default=0, help="bootstrap seed (>= 0)")
     p.add_argument("--workers", type=_STEPS, default=None, help="LocalCluster worker processes (default: one per core)")

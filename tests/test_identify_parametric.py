@@ -142,3 +142,42 @@ def test_runs_that_cannot_be_made_again_are_refused_with_one_line(fmu_path, tmp_
                      "4", "--serial"]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "at least 10" in err and not out.exists()
+
+
+@pytest.mark.slow
+def test_identify_bootstrap_writes_bias_corrected_intervals_and_the_report_shows_them(
+        fmu_path, tmp_path, capsys):
+    """``identify DIR --bootstrap 10`` on a campaign made by the FMU: the model file's
+    intervals say parametric and carry the bias; the summary names the measured noise (the
+    campaign's 5 mA within 10 %); the report's table shows method, replicates and bias."""
+    from feeddrive.identify.pipeline import identify_runs
+    from feeddrive.report.identification import add_to_page, uncertainty_rows
+    from feeddrive.report.page import Page
+    from feeddrive.study.coverage import coverage_campaign
+    runs = coverage_campaign(3, repeats=1)
+    (tmp_path / "runs").mkdir()
+    for r in runs:
+        write_run(r, tmp_path / "runs" / f"{r.name}.csv")
+    save_model(coverage_truth(), tmp_path / "truth.json")
+    out = tmp_path / "m.json"
+    assert cli.main(["identify", str(tmp_path / "runs"), "--out", str(out), "--bootstrap", "10",
+                     "--serial", "--no-progress", "--truth", str(tmp_path / "truth.json")]) == 0
+    text = capsys.readouterr().out
+    assert "parametric bootstrap: 10/10 campaigns" in text, text
+    noise = float(text.split("current noise ")[1].split(" mA")[0])
+    assert noise == pytest.approx(5.0, rel=0.1)
+    model = load_model(out)
+    for n in ("m", "friction.F_s", "friction.sigma2"):
+        iv = model.uncertainty[n]
+        assert iv["method"] == "parametric" and iv["replicates"] == 10 and "bias" in iv
+        assert iv["lo"] < iv["hi"]
+    assert "Ts" not in model.uncertainty
+    res = identify_runs(runs, truth=coverage_truth())
+    res.model = model
+    rows = {r["parameter"]: r for r in uncertainty_rows(res)}
+    assert rows["friction.F_s"]["method"] == "parametric, bias-corrected"
+    assert rows["friction.F_s"]["bias corrected"] == model.uncertainty["friction.F_s"]["bias"]
+    page = Page(tmp_path / "report", "identification")
+    add_to_page(page, res)
+    html = page.write().read_text()
+    assert "parametric, bias-corrected" in html and "intervals.md" in html

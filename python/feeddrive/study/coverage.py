@@ -167,20 +167,20 @@ def campaign_intervals(runs: Sequence[Run], method: str, replicates: int, seed: 
 def coverage_study(K: int, method: str = "parametric", replicates: int = 20,
                    repeats: int = 1, level: float = 0.95, names: Sequence[str] = CHECKED,
                    parallel: bool = False, workers: int | None = None,
-                   log: Any = None) -> Coverage:
-    """K campaigns (:func:`coverage_campaign` 0..K-1), each identified and given intervals
-    by ``method``; the truth is :func:`coverage_truth`."""
+                   log: Any = None, first: int = 0) -> Coverage:
+    """K campaigns (:func:`coverage_campaign` first..first+K-1), each identified and given
+    intervals by ``method``; the truth is :func:`coverage_truth`."""
     if method not in METHODS:
         raise ValueError(f"method {method!r}: must be one of {', '.join(METHODS)}")
     cov = Coverage(method=method, level=level, replicates=replicates, repeats=repeats,
                    names=tuple(names))
     t0 = time.process_time()
-    for k in range(K):
+    for k in range(first, first + K):
         runs = coverage_campaign(k, repeats)
         cov.rows.append(campaign_intervals(runs, method, replicates, seed=k, level=level,
                                            names=names, parallel=parallel, workers=workers))
         if log is not None:
-            print(f"campaign {k + 1}/{K} done ({time.process_time() - t0:.0f} s cpu)",
+            print(f"campaign {k + 1 - first}/{K} done ({time.process_time() - t0:.0f} s cpu)",
                   file=log, flush=True)
     cov.cpu_s = time.process_time() - t0
     return cov
@@ -191,13 +191,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m feeddrive.study.coverage",
                                  description="coverage of identify --bootstrap intervals")
     ap.add_argument("--campaigns", type=int, default=20)
+    ap.add_argument("--first", type=int, default=0, help="number of the first campaign")
     ap.add_argument("--replicates", type=int, default=20)
     ap.add_argument("--repeats", type=int, default=2)
     ap.add_argument("--method", choices=METHODS, default="parametric")
     ap.add_argument("--level", type=float, default=0.95)
     ap.add_argument("--out", type=Path, default=None, help="JSON file of the rows and table")
     a = ap.parse_args(argv)
-    cov = coverage_study(a.campaigns, a.method, a.replicates, a.repeats, a.level, log=sys.stderr)
+    cov = coverage_study(a.campaigns, a.method, a.replicates, a.repeats, a.level, log=sys.stderr,
+                         first=a.first)
     print(cov.table())
     for f in cov.failures():
         print("BELOW THE BINOMIAL QUANTILE:", f)

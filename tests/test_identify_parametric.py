@@ -19,6 +19,7 @@ from scipy import stats
 
 from feeddrive import cli
 from feeddrive.data import write_run
+from feeddrive.experiments.constant_speed import constant_speed_runs
 from feeddrive.experiments.force_open_loop import force_open_loop_runs
 from feeddrive.experiments.prbs import prbs_runs
 from feeddrive.experiments.resimulate import can_resimulate, resimulate
@@ -124,22 +125,40 @@ def test_a_run_made_again_on_its_plant_with_its_seed_is_the_run(fmu_path):
         assert np.std(d) == pytest.approx(np.sqrt(2) * sensors.current_noise, rel=0.15)
 
 
-def test_runs_that_cannot_be_made_again_are_refused_with_one_line(fmu_path, tmp_path, capsys):
+def test_runs_that_cannot_be_made_again_give_no_interval_and_say_why(fmu_path, tmp_path,
+                                                                     capsys):
+    """A PRBS run without its controller or sequence has its current made again from its
+    recorded u (Eq. 2: i = G(z) u; noise-free, the FMU's current to 1 uA after the
+    filter's start); a closed-loop run without its controller cannot be made again: the
+    model is identified and written without intervals, and the output says why.  Fewer
+    than 10 replicates are refused (one line, exit 2)."""
     params = paper_model().fmu_parameters()
-    run = prbs_runs(params, Sensors(seed=5), periods=1)[0]
+    quiet = Sensors(current_noise=0.0, seed=5)
+    run = prbs_runs(params, quiet, periods=1)[0]
     no_ctrl = replace(run, meta={**run.meta, "controller": None})
     assert "controller" in can_resimulate(no_ctrl)
     no_seq = replace(run, meta={k: v for k, v in run.meta.items() if k != "prbs_start"})
     assert "prbs_start" in can_resimulate(no_seq)
-    (tmp_path / "runs").mkdir()
-    write_run(no_ctrl, tmp_path / "runs" / "prbs.csv")
+    again = resimulate(no_seq, params, quiet, current_only=True)
+    np.testing.assert_array_equal(again.u, run.u)
+    np.testing.assert_allclose(again.i[50:], run.i[50:], atol=1e-6)
+    cv = constant_speed_runs(params, Sensors(seed=6), speeds=(20e-3,), loads=(0.0,),
+                             directions=(1,), segment=(0.14, 0.16))[0]
+    cv = replace(cv, meta={**cv.meta, "controller": None})
+    folder = tmp_path / "runs"
+    folder.mkdir()
+    for r in (replace(prbs_runs(params, Sensors(seed=7), periods=1)[0], meta=no_ctrl.meta),
+              force_open_loop_runs(params, Sensors(seed=8), n_periods=2)[0], cv):
+        write_run(r, folder / f"{r.meta['name']}.csv")
     out = tmp_path / "m.json"
-    assert cli.main(["identify", str(tmp_path / "runs"), "--out", str(out), "--bootstrap",
-                     "12", "--serial"]) == 2
-    err = capsys.readouterr().err.strip()
-    assert "\n" not in err and "controller" in err and not out.exists()
-    assert cli.main(["identify", str(tmp_path / "runs"), "--out", str(out), "--bootstrap",
-                     "4", "--serial"]) == 2
+    assert cli.main(["identify", str(folder), "--out", str(out), "--bootstrap", "12",
+                     "--serial", "--no-progress"]) == 0
+    text = capsys.readouterr().out
+    assert "not run, no intervals" in text and "controller" in text, text
+    assert load_model(out).uncertainty == {}
+    out.unlink()
+    assert cli.main(["identify", str(folder), "--out", str(out), "--bootstrap", "4",
+                     "--serial"]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "at least 10" in err and not out.exists()
 

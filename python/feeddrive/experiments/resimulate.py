@@ -11,9 +11,12 @@ the model would record under the same experiment with the given :class:`Sensors`
 - an open-loop run (no controller, no ``x_ref``): the recorded voltage ``u`` from the
   recorded start position, at rest.
 
-What it cannot redo it refuses with a ValueError naming the run and the missing field (a
-run without a controller in its sidecar but with ``x_ref``, a PRBS run without its
-sequence).  This is what the parametric bootstrap of the identification
+With ``current_only`` only the current is made again, ``i = G(z) u`` of the model's Eq. 2
+on the recorded ``u`` plus the noise (every other column as recorded): what a PRBS run
+needs for the current loop's fit (Eq. 2 relates u and i only), for a PRBS run whose sidecar
+does not give the sequence or the controller.  What it cannot redo it refuses with a
+ValueError naming the run and the missing field (a run without a controller in its sidecar
+but with ``x_ref``, a PRBS run without its sequence).  This is what the parametric bootstrap of the identification
 (:mod:`feeddrive.identify.parametric`) simulates its campaigns with.
 """
 from __future__ import annotations
@@ -26,6 +29,7 @@ import numpy as np
 from ..data import Run
 from ..fmu import Plant
 from ..harness.references import from_positions
+from ..physics import CurrentLoop
 from ..harness.runs import to_run
 from ..harness.sensors import Sensors
 from ..harness.sidecar import read_sidecar
@@ -71,9 +75,16 @@ def can_resimulate(run: Run) -> str | None:
     return None
 
 
-def resimulate(run: Run, params: Mapping[str, Any], sensors: Sensors) -> Run:
+def resimulate(run: Run, params: Mapping[str, Any], sensors: Sensors,
+               current_only: bool = False) -> Run:
     """``run``'s experiment on the plant ``params`` with ``sensors`` (see the module
     docstring); the new run keeps the sidecar's experiment keys and records ``sensors``."""
+    if current_only:
+        meta = dict(run.meta or {})
+        meta["sensors"] = sensors.to_json()
+        i = CurrentLoop.from_parameters(params).current(run.u) \
+            + sensors.current_noise_series(run.n)
+        return Run(**{**run.columns(), "i": i}, meta=meta)
     why = can_resimulate(run)
     if why is not None:
         raise ValueError(why)

@@ -147,6 +147,23 @@ def intervals(rows: Sequence[dict[str, Any]], names: Sequence[str], level: float
     return out
 
 
+def single_run_parameters(rows: Sequence[dict[str, Any]], names: Sequence[str],
+                          repeats: int) -> dict[str, str]:
+    """The parameters a single run per replicate feeds (the current loop from one PRBS run,
+    the mass from one force run, ...): over the replicates they take at most ``repeats``
+    values (the largest cell), so their percentiles are R whole runs' values, not an interval
+    of the stated level.  ``{name: why}``; a parameter with one value (fixed) is not one."""
+    ok = [r for r in rows if r["status"] == OK]
+    out: dict[str, str] = {}
+    for n in names:
+        k = len({r[n] for r in ok})
+        if 1 < k <= repeats:
+            out[n] = (f"takes only {k} values over {len(ok)} replicates: one run per replicate "
+                      f"feeds it (cells of {repeats} repeats), no interval from resampling whole "
+                      "runs (--interval-method parametric resamples within the run)")
+    return out
+
+
 @dataclass
 class Bootstrap:
     """A finished bootstrap: rows in replicate order, intervals, cost."""
@@ -174,6 +191,9 @@ class Bootstrap:
         cpu = float(np.mean([r["wall_s"] for r in ok])) if ok else math.nan
         cost = (f"in {self.wall_s:.1f} s on {self.workers} worker(s) ({cpu:.2f} s per "
                 "replicate)")
+        if self.method != "runs" and not self.rows:
+            return ("parametric bootstrap: not run, no intervals: "
+                    + "; ".join(self.refused.values()))
         if self.method != "runs":
             line = (f"parametric bootstrap: {len(ok)}/{len(self.rows)} campaigns of "
                     f"{self.n_cells} runs simulated on the identified model and identified "
@@ -190,6 +210,10 @@ class Bootstrap:
         line = (f"bootstrap: {len(ok)}/{len(self.rows)} replicates over {self.n_cells} cells "
                 f"of repeated runs {cost}; percentile intervals of the noise spread, "
                 "without the method's bias")
+        if self.refused:
+            line += (f"\n  no interval for {len(self.refused)} parameters fed by one run per "
+                     "replicate: " + ", ".join(list(self.refused)[:6])
+                     + (" ..." if len(self.refused) > 6 else ""))
         if self.single:
             line += (f"; {len(self.single)} runs have no repeat (no spread from them): "
                      + ", ".join(self.single[:4]) + (" ..." if len(self.single) > 4 else ""))

@@ -56,7 +56,7 @@ from ..experiments.resimulate import can_resimulate, resimulate
 from ..harness.sensors import Sensors
 from ..harness.sidecar import read_sidecar
 from ..signals import run_label
-from .pipeline import IdentificationResult, identify_runs
+from .pipeline import IdentificationResult, classify, identify_runs
 
 OK, FAILED = "ok", "failed"
 MIN_REPLICATES = 10       #: fewest successful replicates for an interval
@@ -94,13 +94,20 @@ def measured_sensors(runs: Sequence[Run], fit: IdentificationResult) -> tuple[Se
     return Sensors(quantum=quantum, current_noise=noise, noise_on_stage=on_stage), text
 
 
-def check_resimulable(runs: Sequence[Run]) -> None:
-    """ValueError (the first run's reason) unless every run can be simulated again."""
-    for r in runs:
-        why = can_resimulate(r)
+def current_only(runs: Sequence[Run]) -> tuple[bool, ...]:
+    """Per run: True for a PRBS run that cannot be simulated whole (its current is made again
+    from its recorded u: all the current loop's fit reads)."""
+    return tuple(classify(r) == "prbs" and can_resimulate(r) is not None for r in runs)
+
+
+def why_not_resimulable(runs: Sequence[Run]) -> str | None:
+    """None when every run can be simulated again (whole, or its current for a PRBS run),
+    else the first run's reason."""
+    for r, cur in zip(runs, current_only(runs)):
+        why = None if cur else can_resimulate(r)
         if why is not None:
-            raise ValueError(f"identify --bootstrap: a parametric bootstrap simulates every run "
-                             f"again; {why}")
+            return f"a parametric bootstrap simulates every run again; {why}"
+    return None
 
 
 @dataclass(frozen=True)
@@ -114,6 +121,7 @@ class ParametricTask:
     names: tuple[str, ...]
     seed: int
     options: tuple[tuple[str, Any], ...] = ()
+    current_only: tuple[bool, ...] = ()     #: per run: only its current made again
 
 
 def simulated_campaign(task: ParametricTask, replicate: int) -> list[Run]:
@@ -124,7 +132,8 @@ def simulated_campaign(task: ParametricTask, replicate: int) -> list[Run]:
         s = Sensors(quantum=task.sensors.quantum, current_noise=task.sensors.current_noise,
                     noise_on_stage=task.sensors.noise_on_stage,
                     seed=run_seed(task.seed, int(replicate), j))
-        new = resimulate(run, params, s)
+        new = resimulate(run, params, s,
+                         current_only=bool(task.current_only and task.current_only[j]))
         new.meta["name"] = run.name
         out.append(new)
     return out

@@ -14,7 +14,7 @@ from typing import Any
 
 from ..data import Run
 from ..identify.bootstrap import (Bootstrap, BootstrapTask, check_campaign, identified_names,
-                                  intervals, run_replicates)
+                                  intervals, run_replicates, single_run_parameters)
 from ..identify import parametric
 from ..identify.pipeline import IdentificationResult, identify_runs, load_checked_runs
 from ..model_file import ModelFile, save_model
@@ -68,9 +68,11 @@ def run_bootstrap(runs: Sequence[Run], model: ModelFile, defaulted: Sequence[str
     t0 = time.perf_counter()
     rows, n_workers = _execute(task, n, run_replicates, scheduler, workers, parallel, progress)
     single = [runs[g[0]].name for g in groups if len(g) == 1]
-    uncertainty = {k: {**v, "method": "runs"} for k, v in intervals(rows, names, level).items()}
+    refused = single_run_parameters(rows, names, max(len(g) for g in groups))
+    uncertainty = {k: {**v, "method": "runs"} for k, v in intervals(rows, names, level).items()
+                   if k not in refused}
     return Bootstrap(rows=rows, uncertainty=uncertainty, n_cells=len(groups), single=single,
-                     wall_s=time.perf_counter() - t0, workers=n_workers)
+                     wall_s=time.perf_counter() - t0, workers=n_workers, refused=refused)
 
 
 def _execute(task: Any, n: int, fn: Any, scheduler: str | None, workers: int | None,
@@ -115,12 +117,15 @@ def run_parametric(runs: Sequence[Run], fit: IdentificationResult, n: int, seed:
     """
     check_arguments(n, level, workers, seed)
     check_parametric_replicates(n)
-    parametric.check_resimulable(runs)
+    why = parametric.why_not_resimulable(runs)
+    if why is not None:
+        raise ValueError(f"identify --bootstrap: {why}")
     sensors, noise_text = parametric.measured_sensors(runs, fit)
     names = identified_names(fit.model, fit.defaulted)
     task = parametric.ParametricTask(
         runs=tuple(runs), params=tuple(fit.model.fmu_parameters().items()), sensors=sensors,
-        names=names, seed=int(seed), options=tuple(sorted((options or {}).items())))
+        names=names, seed=int(seed), options=tuple(sorted((options or {}).items())),
+        current_only=parametric.current_only(runs))
     t0 = time.perf_counter()
     rows, n_workers = _execute(task, n, parametric.run_replicates, scheduler, workers,
                                parallel, progress)
@@ -149,20 +154,24 @@ def bootstrap_folder(runs_dir: str | Path, out: str | Path | None, n: int, seed:
         raise ValueError(f"--interval-method {method!r}: must be one of {', '.join(METHODS)}")
     inputs = (truth,) if isinstance(truth, (str, Path)) else ()
     runs = load_checked_runs(runs_dir, out, truth)
+    why = None
     if method == "runs":
         check_campaign(runs)
     else:
         check_parametric_replicates(n)
-        parametric.check_resimulable(runs)
+        why = parametric.why_not_resimulable(runs)
     res = identify_runs(runs, truth=truth)
     if method == "runs":
         boot = run_bootstrap(runs, res.model, res.defaulted, n, seed=seed, level=level,
                              scheduler=scheduler, workers=workers, parallel=parallel,
                              progress=progress)
+    elif why is not None:           # the sidecars do not say how to repeat a run: no intervals
+        boot = Bootstrap(rows=[], uncertainty={}, n_cells=len(runs), method=parametric.METHOD,
+                         refused={"every parameter": why})
     else:
         boot = run_parametric(runs, res, n, seed=seed, level=level, scheduler=scheduler,
                               workers=workers, parallel=parallel, progress=progress)
-        res.notes += [f"no interval for {k}: {why}" for k, why in boot.refused.items()]
+    res.notes += [f"no interval for {k}: {why}" for k, why in boot.refused.items()]
     res.model = replace(res.model, uncertainty=boot.uncertainty)
     if out is not None:
         save_model(res.model, out, inputs)

@@ -8,11 +8,12 @@ experiment, the same controller and reference, fresh sensor noise at the campaig
 simulated campaign again.  Over B such replicates ``theta*_b``:
 
 - bias ``b = mean(theta*) - theta_hat`` (what the method adds on its own: the Stribeck
-  fit's systematic offset, the output-error fit's small-sample bias, the noise that acts on
-  the stage as a force, ...);
+  fit's systematic offset, the shift the noise acting on the stage as a force gives the
+  friction, ...);
 - spread ``s = std(theta*)`` (ddof 1): the noise-driven scatter of the estimate, the current
   loop's from the one PRBS run it is fitted to (every replicate has its own noise in that
-  run: a within-run spread, not R whole runs);
+  run: a within-run spread, not R whole runs; a PRBS run the sidecar does not describe has
+  its current made again from its recorded u, :func:`current_only`);
 - the interval ``theta_hat - b +- t_{B-1,(1+level)/2} s sqrt(1 + 1/B)``: centred on the
   bias-corrected estimate; ``sqrt(1 + 1/B)`` carries the error of the bias estimated from B
   replicates and Student's t the error of ``s`` (a prediction interval for a normal

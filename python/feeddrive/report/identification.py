@@ -306,13 +306,13 @@ INTERVAL_METHODS = {"parametric": "parametric, bias-corrected", "runs": "runs, p
 INTERVAL_EVIDENCE = {
     "parametric": "parametric: every run simulated again on the identified model with the "
                   "measured noise and identified again; interval = estimate - bias +- "
-                  "t s sqrt(1 + 1/B) over B replicates. Coverage over 20 campaigns made by the "
-                  "FMU: the truth inside 19-20 of 20 intervals for m, F_s, F_c, V_s, delta, "
-                  "sigma2 (docs/intervals.md); the current loop's coefficients only when the "
-                  "PRBS run determines G(z)'s structure.",
+                  "t s sqrt(1 + 1/B) over the B replicates (the bias column is the b "
+                  "subtracted). Its coverage over 20 campaigns made by the FMU, per parameter, "
+                  "is in docs/intervals.md (Coverage); the current loop's coefficients are "
+                  "conditional on the order/delay the estimate chose.",
     "runs": "runs: percentiles over whole runs resampled within cells of repeats: the noise "
-            "spread only, without the method's bias (these intervals missed the truth of the "
-            "Stribeck parameters in most FMU campaigns: docs/intervals.md).",
+            "spread only, without the method's bias (their coverage of the Stribeck "
+            "parameters over FMU campaigns is in docs/intervals.md: far below the level).",
 }
 
 

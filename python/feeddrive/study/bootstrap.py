@@ -69,10 +69,13 @@ def run_bootstrap(runs: Sequence[Run], model: ModelFile, defaulted: Sequence[str
     rows, n_workers = _execute(task, n, run_replicates, scheduler, workers, parallel, progress)
     single = [runs[g[0]].name for g in groups if len(g) == 1]
     refused = single_run_parameters(rows, names, max(len(g) for g in groups))
+    ok = [r for r in rows if r["status"] == "ok"]
+    fixed = [k for k in names if ok and len({r[k] for r in ok}) == 1]
     uncertainty = {k: {**v, "method": "runs"} for k, v in intervals(rows, names, level).items()
-                   if k not in refused}
+                   if k not in refused and k not in fixed}
     return Bootstrap(rows=rows, uncertainty=uncertainty, n_cells=len(groups), single=single,
-                     wall_s=time.perf_counter() - t0, workers=n_workers, refused=refused)
+                     wall_s=time.perf_counter() - t0, workers=n_workers, refused=refused,
+                     fixed=fixed)
 
 
 def _execute(task: Any, n: int, fn: Any, scheduler: str | None, workers: int | None,

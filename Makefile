@@ -233,8 +233,8 @@ bench: fmu
 	    --controller-library $(CTRL_SO)
 
 # coverage of identify --bootstrap intervals over 20 FMU campaigns, the parametric
-# (bias-corrected) and the whole-run percentile method (docs/intervals.md); CPU-hours scale:
-# about 10 min (parametric) and 7 min (runs) on one idle core
+# (bias-corrected) and the whole-run percentile method (docs/intervals.md): about 8 min
+# (parametric) and 5 min (runs) of CPU on one core
 interval-coverage: fmu
 	nice $(PY) -m feeddrive.study.coverage --campaigns 20 --replicates 10 --repeats 2 \
 	    --method parametric --out $(BUILD)/coverage_parametric.json

@@ -174,7 +174,7 @@ def test_report_shows_the_intervals(quiet, tmp_path):
     add_to_page(page, base)
     html = page.write().read_text()
     assert "bootstrap intervals" in html and "true inside" in html
-    assert "without the method's bias" in html
+    assert "noise spread only, without the method" in html
 
 
 @pytest.mark.slow

@@ -30,9 +30,9 @@ ROLES = cli.path_roles(cli.build_parser())
 
 #: arguments of the sub-commands that are not paths (every other argument has a role)
 NOT_PATHS = {"paper", "emps", "force", "case", "run", "radius_mm", "feed_m_min", "direction",
-             "feedforward", "mismatch", "osp", "seed", "repeats", "bootstrap", "interval_method", "level",
-             "workers", "scheduler", "serial", "no_progress", "position_friction", "max_steps",
-             "force_gain", "window", "blocks", "no_closed_loop", "resume", "help"}
+             "feedforward", "mismatch", "osp", "seed", "repeats", "bootstrap", "interval_method",
+             "level", "workers", "scheduler", "serial", "no_progress", "position_friction",
+             "max_steps", "force_gain", "window", "blocks", "no_closed_loop", "resume", "help"}
 
 #: a tiny sweep (two runs of 0.2 s) on a model file beside the study
 STUDY = {"schema": "feeddrive.study/1", "name": "guard", "model": "base_model.json",

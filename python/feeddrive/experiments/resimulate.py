@@ -16,8 +16,8 @@ on the recorded ``u`` plus the noise (every other column as recorded): what a PR
 needs for the current loop's fit (Eq. 2 relates u and i only), for a PRBS run whose sidecar
 does not give the sequence or the controller.  What it cannot redo it refuses with a
 ValueError naming the run and the missing field (a run without a controller in its sidecar
-but with ``x_ref``, a PRBS run without its sequence).  This is what the parametric bootstrap of the identification
-(:mod:`feeddrive.identify.parametric`) simulates its campaigns with.
+but with ``x_ref``, a PRBS run without its sequence).  This is what the parametric bootstrap
+of the identification (:mod:`feeddrive.identify.parametric`) simulates its campaigns with.
 """
 from __future__ import annotations
 

@@ -97,7 +97,7 @@ FMIPP_SRC       := $(BUILD)/importers/fmipp-src
 FMIPP_STAMP     := $(VENV)/.fmipp-installed
 FMIPP_APT       := swig libboost-filesystem-dev libboost-system-dev
 
-.PHONY: all fmu run test bench wheel clean venv fuzz-tools importers docs wine-tools browser FORCE
+.PHONY: all fmu run test bench wheel clean venv fuzz-tools importers docs wine-tools browser interval-coverage FORCE
 all: fmu
 fmu: $(FMU) $(PKG_FMU) $(CTRL_FMU) $(PKG_CTRL_FMU) $(FMU3) $(PKG_FMU3) $(CTRL3_FMU) $(PKG_CTRL3_FMU)
 venv: $(STAMP)
@@ -319,6 +319,15 @@ bench: fmu
 docs: $(STAMP)
 	NO_MKDOCS_2_WARNING=1 $(PY) -m mkdocs build --strict --site-dir $(BUILD)/docs
 	@echo "the site: $(BUILD)/docs/index.html"
+
+# coverage of identify --bootstrap intervals over 20 FMU campaigns, the parametric
+# (bias-corrected) and the whole-run percentile method (docs/intervals.md): about 8 min
+# (parametric) and 5 min (runs) of CPU on one core
+interval-coverage: fmu
+	nice $(PY) -m feeddrive.study.coverage --campaigns 20 --replicates 10 --repeats 2 \
+	    --method parametric --out $(BUILD)/coverage_parametric.json
+	nice $(PY) -m feeddrive.study.coverage --campaigns 20 --replicates 20 --repeats 2 \
+	    --method runs --out $(BUILD)/coverage_runs.json
 
 wheel: $(PKG_FMU) $(PKG_CTRL_FMU) $(PKG_FMU3) $(PKG_CTRL3_FMU)
 	rm -rf $(BUILD)/feeddrive-*.whl python/build

@@ -30,7 +30,8 @@ ROLES = cli.path_roles(cli.build_parser())
 
 #: arguments of the sub-commands that are not paths (every other argument has a role)
 NOT_PATHS = {"paper", "emps", "force", "case", "run", "radius_mm", "feed_m_min", "direction",
-             "feedforward", "mismatch", "osp", "seed", "repeats", "bootstrap", "level",
+             "feedforward", "mismatch", "osp", "seed", "repeats", "bootstrap", "interval_method",
+             "level",
              "workers", "scheduler", "serial", "no_progress", "position_friction", "max_steps",
              "force_gain", "window", "blocks", "no_closed_loop", "resume", "fmi", "format", "help",
              "stroke", "v_max", "a_max", "u_limit", "loads", "html"}

@@ -120,6 +120,8 @@ def test_choices_are_the_modules_own():
     from feeddrive.commands.system import systems
     assert cli.MAX_REPEATS == MAX_REPEATS
     assert tuple(cli.RUN_FORMATS) == tuple(FORMATS)
+    from feeddrive.study.bootstrap import METHODS
+    assert tuple(cli.INTERVAL_METHODS) == tuple(METHODS)
     assert set(cli.FEEDFORWARD_CHOICES) == set(FEEDFORWARD)
     assert tuple(cli.MISMATCH_CHOICES) == tuple(MISMATCH)
     assert tuple(cli.SYSTEM_CASES) == tuple(systems())

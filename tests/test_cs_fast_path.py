@@ -139,6 +139,6 @@ def test_static_friction_reversal_error_at_default_tolerance() -> None:
     assert stuck_moves[1e-6] == 0.0 and stuck_moves[1e-10] == 0.0
     # the make run table's figure: the peak of a ~46 um error between two runs whose controller
     # gains come from scipy's pole placement and whose noise from numpy's generator; across their
-    # releases it moves by ~0.1 um (45.79 um with scipy 1.15, 45.88 um with 1.17), while the
+    # releases it moves by ~0.1 um (45.79 um and 45.88 um on two installs), while the
     # solver's own share (default vs rtol 1e-10, above) stays below 0.01 um
     assert abs(peaks[1e-6] - 45.8e-6) < 0.2e-6

@@ -36,9 +36,10 @@ SHARED_ENV = "FEEDDRIVE_SHARED"
 #: the choices the parser offers, named here so that ``--help`` imports no stage; a test
 #: checks them against the modules that define them (experiments.campaign.MAX_REPEATS,
 #: validation.circle_test.FEEDFORWARD, validation.xy_machine.MISMATCH, commands.system,
-#: experiments.campaign.FORMATS)
+#: experiments.campaign.FORMATS, study.bootstrap.METHODS)
 MAX_REPEATS = 100
 RUN_FORMATS = ("csv.gz", "csv")
+INTERVAL_METHODS = ("parametric", "runs")
 FEEDFORWARD_CHOICES = ("gms", "none", "static")
 MISMATCH_CHOICES = ("sec4", "none")
 SYSTEM_CASES = ("sec3", "sec4_gms", "sec4_static", "sec3_delay1")
@@ -463,7 +464,11 @@ def _register_identify(sub) -> None:
     _path(p, OUT_FILE, "--out", required=True, help="model file to write (JSON)")
     _path(p, FILE, "--truth", default=None, help="model file of the truth (virtual runs): print true vs identified")
     p.add_argument("--bootstrap", type=_REPLICATES, default=None, metavar="N",
-                   help="N replicates over runs resampled within cells of repeats: intervals in the model file")
+                   help="N replicates: intervals in the model file (see --interval-method)")
+    p.add_argument("--interval-method", choices=INTERVAL_METHODS, default=INTERVAL_METHODS[0],
+                   help="parametric: campaigns simulated on the identified model, bias-corrected "
+                        "intervals (N >= 10); runs: percentiles over whole runs resampled within "
+                        "cells of repeats (noise spread only, no bias)")
     p.add_argument("--level", type=_LEVEL, default=0.95, help="coverage of the bootstrap intervals (0..1)")
     p.add_argument("--seed", type=_SEED, default=0, help="bootstrap seed (>= 0)")
     p.add_argument("--workers", type=_STEPS, default=None, help="worker processes (default: one per core)")

@@ -21,7 +21,9 @@ Rules (checked by :func:`load_model`, every error names the file and the key):
 - optional ``uncertainty`` (written by ``feeddrive identify --bootstrap``):
   ``{name: {"lo", "hi", "level", "replicates"}}``, each name a parameter of the file, lo and
   hi finite with lo <= hi (the value need not lie between), 0 < level < 1, replicates an
-  integer >= 1.  Only the identification report reads it; other commands ignore it.
+  integer >= 1; optionally ``method`` ("parametric": bias-corrected, from simulated
+  campaigns; "runs": percentiles over resampled runs) and ``bias`` (the identification's
+  bias the interval corrects, a finite number).  Only the identification report reads it; other commands ignore it.
 
 - the parameters must pass the FMU's rules (m > 0, 0 <= F_c <= F_s, Ts > 0, sum(nu) = 1,
   ...): :func:`feeddrive.physics.compile` checks them with the messages of fmu_src/params.c,
@@ -51,6 +53,8 @@ INTEGER_PARAMETERS: frozenset[str] = frozenset({"friction.N", "friction_profile.
                                                 "compliance.sensor_side"})
 _TOP_KEYS = ("name", "description", "effects", "parameters", "uncertainty")
 _INTERVAL_KEYS = ("lo", "hi", "level", "replicates")
+_INTERVAL_OPTIONAL = ("method", "bias")     #: how the interval was made; the bias it corrects
+_METHODS = ("parametric", "runs")
 
 
 class ModelFileError(ValueError):
@@ -142,10 +146,17 @@ def _check_uncertainty(raw: Any, src: str) -> dict[str, dict[str, Any]]:
                                  + _suggest(name, PARAMETER_NAMES))
         if not isinstance(iv, dict):
             raise ModelFileError(src, key, f"must be an object, got {type(iv).__name__}")
-        bad = sorted(set(iv) ^ set(_INTERVAL_KEYS))
+        bad = sorted((set(iv) - set(_INTERVAL_OPTIONAL)) ^ set(_INTERVAL_KEYS))
         if bad:
             raise ModelFileError(src, f"{key}[{bad[0]!r}]", "unknown or missing key (needs "
-                                 + ", ".join(_INTERVAL_KEYS) + ")")
+                                 + ", ".join(_INTERVAL_KEYS) + "; may have "
+                                 + ", ".join(_INTERVAL_OPTIONAL) + ")")
+        if "method" in iv and iv["method"] not in _METHODS:
+            raise ModelFileError(src, f"{key}['method']", f"must be one of {', '.join(_METHODS)}, "
+                                 f"got {iv['method']!r}")
+        b = iv.get("bias", 0.0)
+        if isinstance(b, bool) or not isinstance(b, (int, float)) or not math.isfinite(b):
+            raise ModelFileError(src, f"{key}['bias']", f"must be a finite number, got {b!r}")
         for k in ("lo", "hi", "level"):
             v = iv[k]
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
@@ -159,6 +170,10 @@ def _check_uncertainty(raw: Any, src: str) -> dict[str, dict[str, Any]]:
             raise ModelFileError(src, f"{key}['replicates']", f"must be an integer >= 1, got {r!r}")
         out[name] = {"lo": float(iv["lo"]), "hi": float(iv["hi"]), "level": float(iv["level"]),
                      "replicates": r}
+        if "method" in iv:
+            out[name]["method"] = str(iv["method"])
+        if "bias" in iv:
+            out[name]["bias"] = float(iv["bias"])
     return {n: out[n] for n in PARAMETER_NAMES if n in out}
 
 

@@ -26,7 +26,7 @@ def main(a: argparse.Namespace) -> int:
     res, boot = bootstrap_folder(Path(a.runs), Path(a.out), a.bootstrap, seed=a.seed,
                                  level=a.level, truth=truth, scheduler=a.scheduler,
                                  workers=a.workers, parallel=not a.serial,
-                                 progress=progress_enabled(a))
+                                 progress=progress_enabled(a), method=a.interval_method)
     print(res.text())
     print(boot.text())
     return 0

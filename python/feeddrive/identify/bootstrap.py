@@ -147,6 +147,23 @@ def intervals(rows: Sequence[dict[str, Any]], names: Sequence[str], level: float
     return out
 
 
+def single_run_parameters(rows: Sequence[dict[str, Any]], names: Sequence[str],
+                          repeats: int) -> dict[str, str]:
+    """The parameters a single run per replicate feeds (the current loop from one PRBS run,
+    the mass from one force run, ...): over the replicates they take at most ``repeats``
+    values (the largest cell), so their percentiles are R whole runs' values, not an interval
+    of the stated level.  ``{name: why}``; a parameter with one value (fixed) is not one."""
+    ok = [r for r in rows if r["status"] == OK]
+    out: dict[str, str] = {}
+    for n in names:
+        k = len({r[n] for r in ok})
+        if 1 < k <= repeats:
+            out[n] = (f"takes only {k} values over {len(ok)} replicates: one run per replicate "
+                      f"feeds it (cells of {repeats} repeats), no interval from resampling whole "
+                      "runs (--interval-method parametric resamples within the run)")
+    return out
+
+
 @dataclass
 class Bootstrap:
     """A finished bootstrap: rows in replicate order, intervals, cost."""
@@ -157,6 +174,12 @@ class Bootstrap:
     single: list[str] = field(default_factory=list)   #: runs alone in their cell
     wall_s: float = 0.0
     workers: int = 1
+    method: str = "runs"       #: 'runs' (this module) or 'parametric' (:mod:`.parametric`)
+    refused: dict[str, str] = field(default_factory=dict)   #: parameter -> why no interval
+    noise: str = ""            #: the noise the parametric replicates were simulated with
+    #: parameter -> bias, spread, replicates behind its parametric interval
+    evidence: dict[str, dict[str, float]] = field(default_factory=dict)
+    fixed: list[str] = field(default_factory=list)   #: the same in every replicate
 
     @property
     def failed(self) -> int:
@@ -166,9 +189,31 @@ class Bootstrap:
         """One line of counts and cost, and the failures' first message."""
         ok = [r for r in self.rows if r["status"] == OK]
         cpu = float(np.mean([r["wall_s"] for r in ok])) if ok else math.nan
+        cost = (f"in {self.wall_s:.1f} s on {self.workers} worker(s) ({cpu:.2f} s per "
+                "replicate)")
+        if self.method != "runs" and not self.rows:
+            return ("parametric bootstrap: not run, no intervals: "
+                    + "; ".join(self.refused.values()))
+        if self.method != "runs":
+            line = (f"parametric bootstrap: {len(ok)}/{len(self.rows)} campaigns of "
+                    f"{self.n_cells} runs simulated on the identified model and identified "
+                    f"again {cost}; noise: {self.noise}; intervals bias-corrected")
+            if self.refused:
+                line += (f"\n  no interval for {len(self.refused)} parameters: " + "; ".join(
+                    f"{k}: {why}" for k, why in list(self.refused.items())[:3])
+                    + (" ..." if len(self.refused) > 3 else ""))
+            bad = [r for r in self.rows if r["status"] == FAILED]
+            if bad:
+                line += (f"\n  {len(bad)} failed, e.g. replicate {bad[0]['replicate']}: "
+                         f"{bad[0]['message']}")
+            return line
         line = (f"bootstrap: {len(ok)}/{len(self.rows)} replicates over {self.n_cells} cells "
-                f"of repeated runs in {self.wall_s:.1f} s on {self.workers} worker(s) "
-                f"({cpu:.2f} s per replicate)")
+                f"of repeated runs {cost}; percentile intervals of the noise spread, "
+                "without the method's bias")
+        if self.refused:
+            line += (f"\n  no interval for {len(self.refused)} parameters fed by one run per "
+                     "replicate: " + ", ".join(list(self.refused)[:6])
+                     + (" ..." if len(self.refused) > 6 else ""))
         if self.single:
             line += (f"; {len(self.single)} runs have no repeat (no spread from them): "
                      + ", ".join(self.single[:4]) + (" ..." if len(self.single) > 4 else ""))

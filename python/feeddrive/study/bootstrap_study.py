@@ -7,6 +7,7 @@ Format (schema ``feeddrive.study/1``, ``kind`` ``bootstrap``)::
      "replicates": 200,            # >= 2
      "level": 0.95,                # optional, in (0, 1)
      "seed": 0,                    # optional, >= 0
+     "method": "parametric",       # optional: "parametric" (default) or "runs"
      "truth": "truth.json"}        # optional: a model file to compare with (virtual runs)
 
 It runs :func:`feeddrive.study.bootstrap.bootstrap_folder` on the study executor (serial,
@@ -33,11 +34,12 @@ from ..identify.bootstrap import Bootstrap
 from ..identify.pipeline import IdentificationResult
 from ..model_file import load_model
 from ..outputs import Reads, output_dir
-from .bootstrap import bootstrap_folder
+from .bootstrap import METHODS, bootstrap_folder
 from .schema import KINDS, SCHEMA, Study, StudyError, parse_study, read_study_json
 
 KIND = "bootstrap"
-_KEYS = ("schema", "kind", "name", "description", "runs", "replicates", "level", "seed", "truth")
+_KEYS = ("schema", "kind", "name", "description", "runs", "replicates", "level", "seed", "truth",
+         "method")
 MODEL_NAME, CSV_NAME, PARQUET_NAME = "model.json", "replicates.csv", "replicates.parquet"
 
 
@@ -52,6 +54,7 @@ class BootstrapStudy:
     level: float = 0.95
     seed: int = 0
     truth: Path | None = None
+    method: str = "parametric"
 
 
 def _int(raw: dict[str, Any], key: str, src: str, low: int, default: int | None = None) -> int:
@@ -80,12 +83,15 @@ def parse_bootstrap_study(raw: dict[str, Any], src: str, base: Path) -> Bootstra
     truth = raw.get("truth")
     if truth is not None and (not isinstance(truth, str) or not (base / truth).is_file()):
         raise StudyError(src, "truth", f"must be the path of a model file, got {truth!r}")
+    method = raw.get("method", "parametric")
+    if method not in METHODS:
+        raise StudyError(src, "method", f"must be one of {', '.join(METHODS)}, got {method!r}")
     name = raw.get("name", Path(src).stem)
     if not isinstance(name, str):
         raise StudyError(src, "name", f"must be a string, got {name!r}")
     return BootstrapStudy(source=src, name=name, runs=runs_dir,
                           replicates=_int(raw, "replicates", src, 2), level=float(level),
-                          seed=_int(raw, "seed", src, 0, 0),
+                          seed=_int(raw, "seed", src, 0, 0), method=method,
                           truth=(base / truth).resolve() if truth is not None else None)
 
 
@@ -176,11 +182,12 @@ def run_bootstrap_study(study: BootstrapStudy, out: str | Path, scheduler: str |
                                      truth=load_model(study.truth).fmu_parameters()
                                      if study.truth else None,
                                      scheduler=scheduler, workers=workers, parallel=parallel,
-                                     progress=progress)
+                                     progress=progress, method=study.method)
         _write_rows(boot.rows, stage)
         (stage / "study.json").write_text(json.dumps(
             {"kind": KIND, "source": study.source, "runs": str(study.runs),
-             "replicates": study.replicates, "level": study.level, "seed": study.seed},
+             "replicates": study.replicates, "level": study.level, "seed": study.seed,
+             "method": study.method},
             indent=1) + "\n", encoding="utf-8")
     res.out_path = out / MODEL_NAME
     return BootstrapStudyResult(study=study, identification=res, bootstrap=boot, out=out)

@@ -82,7 +82,7 @@ void fmu_update_outputs(instance_t *c) {
     if (m->out_valid) return;
     params_inputs(m->val, &m->in);
     plant_outputs_memo(&m->p, &m->d, m->y, &m->in, &m->memo, &m->out);
-    plant_state_derivatives(&m->p, &m->d, m->y, &m->out, m->dydt);
+    plant_state_derivatives(&m->p, &m->d, m->y, &m->out, &m->memo, m->dydt);
     params_store_outputs(m->val, m->y, m->dydt, &m->out, &m->d);
     m->val[VR_stats_n_steps] = (double)m->solver.n_steps;
     m->val[VR_stats_n_rhs] = (double)m->solver.n_rhs;
@@ -135,7 +135,7 @@ int fmu_event_update(instance_t *c, const char *fn, double tau, double slack, fm
     params_inputs(m->val, &m->in);
     do {
         int due = fmu_sample_due(m, tau, slack);
-        n += plant_event_update(&m->p, &m->d, m->y, &m->in, due != 0, &changed);
+        n += plant_event_update(&m->p, &m->d, m->y, &m->in, due != 0, &m->memo, &changed);
         samples += due;
         if (due)
             fmu_log(c, fmi2OK, LOG_DEBUG, "t = %.9g s: current-loop sample %lld, i = %.9g A", m->time,
@@ -165,7 +165,7 @@ fmi2Status fmu_recompile(instance_t *c, const double *backup_val) {
         m->p = old;
         return fmi2Error;
     }
-    m->memo.valid = 0;
+    plant_memo_reset(&m->memo);
     m->carry.valid = 0;
     plant_retune(&old, &m->p, &m->d, m->y);
     m->params_ok = 1;
@@ -299,7 +299,7 @@ fmi2Status fmi2EnterInitializationMode(fmi2Component comp) {
 void fmu_solver_setup(model_t *m) {
     double atol[PLANT_NX];
     int j;
-    m->memo.valid = 0;   /* called after every compile of the parameters but fmu_recompile's */
+    plant_memo_reset(&m->memo);   /* called after every compile of the parameters but fmu_recompile's */
     m->carry.valid = 0;
     for (j = 0; j < PLANT_NX; j++) atol[j] = m->tol * MODEL_STATE_NOMINAL(j);   /* XML nominals */
     /* x, v and the forces of the N elements in use: the slots past N stay 0 (their derivative is 0);

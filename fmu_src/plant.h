@@ -91,10 +91,19 @@ typedef struct {
     int n_stuck;
 } plant_out_t;
 
-/* The last evaluation of both position maps (K_f, F_cg at a clamped position), owned by the caller:
- * a step's last stage, the outputs read there and the next step's first stage share the position.
- * The caller sets valid = 0 whenever the parameters are compiled again. */
-typedef struct { int valid; double x, K_f, F_cg; } plant_memo_t;
+/* The last evaluation of both position maps (K_f, F_cg at a clamped position) and of the scaled
+ * Stribeck level (friction_level_at at v, x, side), owned by the caller: a step's last stage, the
+ * outputs read there and the event update at the next step's start share the point, so each is
+ * computed once. The caller calls plant_memo_reset whenever the parameters are compiled again. */
+typedef struct {
+    int valid;
+    double x, K_f, F_cg;
+    int lv_valid, lv_side;
+    double lv_v, lv_x, lv_S;
+} plant_memo_t;
+void plant_memo_reset(plant_memo_t *memo);
+/* friction_level_at(p, v, x, side), from the memo (may be NULL) when it holds that very point */
+double friction_level_memo(const plant_params_t *p, plant_memo_t *memo, double v, double x, int side);
 
 /* position_maps.c */
 double posmap_eval(const posmap_t *m, double x);
@@ -111,11 +120,14 @@ double current_loop_output(const plant_params_t *p, const plant_disc_t *d, doubl
 /* friction_gms.c */
 double friction_level(const plant_params_t *p, double v, int side);  /* S(|v|) for side 0 (+) / 1 (-) */
 int friction_sign(double v);
-void gms_element_forces(const plant_params_t *p, const plant_disc_t *d, const double *y, double *Fe);
-void gms_derivatives(const plant_params_t *p, const plant_disc_t *d, const double *y, double *dF);
+/* memo (may be NULL): the Stribeck level's (plant_memo_t) */
+void gms_element_forces(const plant_params_t *p, const plant_disc_t *d, const double *y, plant_memo_t *memo,
+                        double *Fe);
+void gms_derivatives(const plant_params_t *p, const plant_disc_t *d, const double *y, plant_memo_t *memo,
+                     double *dF);
 void gms_indicators(const plant_params_t *p, const plant_disc_t *d, const double *y, double *z);
 void gms_init(const plant_params_t *p, plant_disc_t *d, const double *y);
-int gms_update(const plant_params_t *p, plant_disc_t *d, double *y, bool *y_changed);
+int gms_update(const plant_params_t *p, plant_disc_t *d, double *y, plant_memo_t *memo, bool *y_changed);
 int gms_n_stuck(const plant_params_t *p, const plant_disc_t *d);
 /* elements switched on or off by a parameter change (old -> p) start stuck at zero force */
 void gms_retune(const plant_params_t *old, const plant_params_t *p, plant_disc_t *d, double *y);
@@ -172,15 +184,16 @@ void plant_outputs_memo(const plant_params_t *p, const plant_disc_t *d, const do
                         const plant_in_t *in, plant_memo_t *memo, plant_out_t *o);
 void plant_derivatives_memo(const plant_params_t *p, const plant_disc_t *d, const double *y,
                             const plant_in_t *in, plant_memo_t *memo, double *dydt);
-/* the same derivatives from outputs o already computed at (d, y) (no second evaluation) */
+/* the same derivatives from outputs o already computed at (d, y) (no second evaluation; memo may
+ * be NULL) */
 void plant_state_derivatives(const plant_params_t *p, const plant_disc_t *d, const double *y,
-                             const plant_out_t *o, double *dydt);
+                             const plant_out_t *o, plant_memo_t *memo, double *dydt);
 void plant_indicators(const plant_params_t *p, const plant_disc_t *d, const double *y,
                       const plant_in_t *in, double *z);
 /* Event update at time t: processes the current-loop sample when sample_due, then every
  * stick/slip switch the state calls for. Returns the number of friction switches. */
 int plant_event_update(const plant_params_t *p, plant_disc_t *d, double *y, const plant_in_t *in,
-                       bool sample_due, bool *y_changed);
+                       bool sample_due, plant_memo_t *memo, bool *y_changed);
 /* friction elements stuck (GMS), or 1/0 for the static model stuck/sliding */
 int plant_n_stuck(const plant_params_t *p, const plant_disc_t *d);
 /* after tunable parameters changed from old to p: the discrete and continuous state to match */

@@ -112,8 +112,9 @@ static int states_in_range(instance_t *c) {
     char cause[320], vb[40];
     int j;
     for (j = 0; j < PLANT_NX; j++) {
-        const model_var_t *v = &MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]];
-        if (m->y[j] >= v->min && m->y[j] <= v->max) continue;
+        const model_var_t *v;
+        if (m->y[j] >= m->y_lo[j] && m->y[j] <= m->y_hi[j]) continue;
+        v = &MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]];
         snprintf(vb, sizeof vb, "%.9g", m->y[j]);
         m->out_valid = 0;
         fmu_update_outputs(c);
@@ -134,7 +135,7 @@ static int states_in_range(instance_t *c) {
  * (sample, switch, step end) */
 static fmi2Status integrate(instance_t *c, double tau, double tau_end, double h, double eps, int fresh) {
     model_t *m = &c->m;
-    int roots[PLANT_NZ], fast = m->val[VR_solver_fast] != 0.0 && fast_path_ok(&m->p);
+    int roots[PLANT_NZ], fast = m->val[VR_solver_fast] != 0.0 && m->fast_ok;
     fmi2Boolean changed;
     budget_t b;
     budget_start(m, h, &b);

@@ -3,6 +3,7 @@
  * (params.h). Get/set are in fmi2_values.c, FMU state snapshots in fmi2_state.c. */
 #include <math.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -75,7 +76,16 @@ int fmu_sample_due(const model_t *m, double tau, double slack) {
     return m->p.current_dynamics && tau >= (double)(m->d.k + 1) * m->p.Ts - eps;
 }
 
-double fmu_ulp_slack(double t) { return 16.0 * (nextafter(fabs(t), HUGE_VAL) - fabs(t)); }
+double fmu_ulp_slack(double t) {
+    /* nextafter(|t|, +inf) - |t| from the bits: the next double up is the one whose pattern is
+     * one more (+inf and NaN stay as they are, the difference is then NaN as nextafter's) */
+    double a = fabs(t), b;
+    uint64_t u;
+    memcpy(&u, &a, sizeof u);
+    if (u < 0x7FF0000000000000ull) u++;
+    memcpy(&b, &u, sizeof b);
+    return 16.0 * (b - a);
+}
 
 void fmu_update_outputs(instance_t *c) {
     model_t *m = &c->m;
@@ -167,6 +177,7 @@ fmi2Status fmu_recompile(instance_t *c, const double *backup_val) {
     }
     plant_memo_reset(&m->memo);
     m->carry.valid = 0;
+    m->fast_ok = fast_path_ok(&m->p);
     plant_retune(&old, &m->p, &m->d, m->y);
     m->params_ok = 1;
     m->out_valid = 0;
@@ -175,10 +186,15 @@ fmi2Status fmu_recompile(instance_t *c, const double *backup_val) {
 }
 
 void fmu_model_defaults(model_t *m) {
+    int j;
     memset(m, 0, sizeof *m);
     m->magic = MODEL_MAGIC;
     m->size = (unsigned)sizeof(model_t);
     m->fsm = ST_INSTANTIATED;
+    for (j = 0; j < PLANT_NX; j++) {
+        m->y_lo[j] = MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]].min;
+        m->y_hi[j] = MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]].max;
+    }
     params_defaults(m->val);
     m->tol = m->val[VR_solver_tol];
 }
@@ -301,6 +317,7 @@ void fmu_solver_setup(model_t *m) {
     int j;
     plant_memo_reset(&m->memo);   /* called after every compile of the parameters but fmu_recompile's */
     m->carry.valid = 0;
+    m->fast_ok = fast_path_ok(&m->p);
     for (j = 0; j < PLANT_NX; j++) atol[j] = m->tol * MODEL_STATE_NOMINAL(j);   /* XML nominals */
     /* x, v and the forces of the N elements in use: the slots past N stay 0 (their derivative is 0);
      * the error norm still counts the PLANT_NX_BASE states, so the steps are those of a 12-state

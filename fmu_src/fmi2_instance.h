@@ -43,6 +43,8 @@ typedef struct {
     int solver_restart;
     plant_memo_t memo;              /* the maps at the last position evaluated (valid = 0 after a compile) */
     fast_carry_t carry;             /* the per-sample scheme's last derivative (valid = 0 after a compile) */
+    int fast_ok;                    /* fast_path_ok(&p), renewed with every compile of p */
+    double y_lo[PLANT_NX], y_hi[PLANT_NX];   /* the states' declared min/max (modelDescription.xml) */
 } model_t;
 
 typedef struct {

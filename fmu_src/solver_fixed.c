@@ -47,8 +47,8 @@ typedef struct {
     int series;                      /* Stribeck level by the binomial series about |v0| */
     double inv_v0, w0, E0, bc[NBIN + 1];
     /* what the last evaluation computed: cos/sin at its position, w and exp(-w) at its speed */
-    double l_c1, l_s1, l_w, l_E;
-    int l_w_ok;
+    double l_c1, l_s1, l_w, l_E, l_S;
+    int l_w_ok, l_S_ok;              /* l_S_ok: the last right-hand side evaluated the level, l_S */
 } rctx_t;
 
 static double clamp(double x, double lo, double hi) { return x < lo ? lo : (x > hi ? hi : x); }
@@ -77,7 +77,7 @@ static void maps(rctx_t *c, double x, double *Kf, double *Fcg) {
 }
 
 /* S(|v|) on the side of the motion (friction_level's value) */
-static double level(rctx_t *c, double v) {
+static double level_eval(rctx_t *c, double v) {
     const plant_params_t *p = c->p;
     double Fs = p->Fs[c->side], Fc = p->Fc[c->side], av = fabs(v), w;
     c->l_w_ok = 0;
@@ -105,10 +105,18 @@ static double level(rctx_t *c, double v) {
     return Fc + (Fs - Fc) * exp(-pow(av / p->Vs, p->delta));
 }
 
+/* the same, kept as the last evaluation's level (the end point's, after the last stage) */
+static double level(rctx_t *c, double v) {
+    c->l_S = level_eval(c, v);
+    c->l_S_ok = 1;
+    return c->l_S;
+}
+
 /* dq = f(q); the maps' values there into *Kf, *Fcg */
 static void rhs(rctx_t *c, const double *q, double *dq, double *Kf_out, double *Fcg_out) {
     const plant_params_t *p = c->p;
     double Kf, Fcg, v = q[1], Ff, S = 1.0;
+    c->l_S_ok = 0;
     maps(c, q[0], &Kf, &Fcg);
     *Kf_out = Kf;
     *Fcg_out = Fcg;
@@ -170,8 +178,8 @@ static int setup(rctx_t *c, const plant_params_t *p, const plant_disc_t *d, cons
                  const double *y, double *q, const fast_carry_t *cr) {
     int j;
     c->p = p;
-    c->l_w_ok = 0;
-    c->l_c1 = c->l_s1 = c->l_w = c->l_E = 0.0;
+    c->l_w_ok = c->l_S_ok = 0;
+    c->l_c1 = c->l_s1 = c->l_w = c->l_E = c->l_S = 0.0;
     c->i = current_loop_output(p, d, in->u);
     c->F_const = -in->F_ext - p->F_off;
     c->gms = p->prerolling;
@@ -202,8 +210,9 @@ static int setup(rctx_t *c, const plant_params_t *p, const plant_disc_t *d, cons
     return 1;
 }
 
-/* the indicators at the end of the step (gms_indicators / static_indicator) still positive */
-static int end_ok(const plant_params_t *p, const plant_disc_t *d, const double *y) {
+/* the indicators at the end of the step (gms_indicators / static_indicator) still positive;
+ * S_end >= 0: the level there on side 1 (v < 0) when side_end, else side 0 (the last stage's) */
+static int end_ok(const plant_params_t *p, const plant_disc_t *d, const double *y, double S_end, int side_end) {
     double v = y[PLANT_IV];
     int j, sg;
     if (!p->prerolling) return d->st_dir * v + PLANT_V_HYS > 0.0;
@@ -213,7 +222,7 @@ static int end_ok(const plant_params_t *p, const plant_disc_t *d, const double *
         double S = -1.0;
         for (j = 0; j < PLANT_NE_MAX; j++) {
             if (!p->active[j] || !d->stuck[j]) continue;
-            if (S < 0.0) S = friction_level(p, v, sg < 0);
+            if (S < 0.0) S = S_end >= 0.0 && side_end == (sg < 0) ? S_end : friction_level(p, v, sg < 0);
             if (!(p->nu[j] * S - sg * y[PLANT_IF + j] > 0.0)) return 0;
         }
     }
@@ -326,7 +335,7 @@ int fixed_step(const plant_params_t *p, const plant_disc_t *d, const plant_in_t 
     if (!(full_state(&c, d, tol, y, q, qn, e, y1) <= 1.0)) return 0;   /* also NaN */
     for (j = 0; j < PLANT_NX; j++)
         if (!isfinite(y1[j])) return 0;
-    if (!end_ok(p, d, y1)) return 0;
+    if (!end_ok(p, d, y1, c.l_S_ok ? c.l_S : -1.0, c.side)) return 0;
     for (j = 0; j < PLANT_NX; j++) y[j] = y1[j];
     if (carry) carry_save(carry, &c, d, in, y1, k5, Kf, carried);
     if (memo) {
@@ -334,6 +343,13 @@ int fixed_step(const plant_params_t *p, const plant_disc_t *d, const plant_in_t 
         memo->x = clamp(y1[PLANT_IX], p->x_min, p->x_max);
         memo->K_f = Kf;
         memo->F_cg = Fcg;
+        if (c.l_S_ok) {   /* the level at the end point: the outputs and the event update take it */
+            memo->lv_valid = 1;
+            memo->lv_v = y1[PLANT_IV];
+            memo->lv_x = y1[PLANT_IX];
+            memo->lv_side = c.side;
+            memo->lv_S = c.l_S;
+        }
     }
     return 1;
 }

@@ -147,7 +147,7 @@ int fmu_event_update(instance_t *c, const char *fn, double tau, double slack, fm
         int due = fmu_sample_due(m, tau, slack);
         n += plant_event_update(&m->p, &m->d, m->y, &m->in, due != 0, &m->memo, &changed);
         samples += due;
-        if (due)
+        if (due && c->logging_on && (c->log_mask & LOG_DEBUG))   /* no argument list per sample */
             fmu_log(c, fmi2OK, LOG_DEBUG, "t = %.9g s: current-loop sample %lld, i = %.9g A", m->time,
                     m->d.k, m->d.i);
     } while (fmu_sample_due(m, tau, slack) && samples <= BUDGET_OVERDUE_SAMPLES);

@@ -215,6 +215,7 @@ static bool compile_asymmetry(const double *val, plant_params_t *p, bool viscous
 /* the sliding levels F_s, F_c, sigma2 per direction and the Stribeck curve (Eqs. 8, 10) */
 static bool compile_friction_levels(const double *val, plant_params_t *p, char *msg, size_t msglen) {
     bool e_str = val[VR_effects_stribeck] != 0.0, e_visc = val[VR_effects_viscous] != 0.0;
+    int j;
     p->prerolling = val[VR_effects_prerolling] != 0.0;
     p->lag = val[VR_effects_frictional_lag] != 0.0;
     if (val[VR_friction_F_c] > val[VR_friction_F_s])
@@ -231,6 +232,8 @@ static bool compile_friction_levels(const double *val, plant_params_t *p, char *
         return false;
     p->Vs = val[VR_friction_V_s];
     p->delta = val[VR_friction_delta];
+    p->delta_bc[0] = 1.0;
+    for (j = 1; j <= PLANT_NBIN; j++) p->delta_bc[j] = p->delta_bc[j - 1] * (p->delta - (j - 1)) * (1.0 / j);
     p->C = val[VR_friction_C];
     return true;
 }

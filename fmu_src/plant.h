@@ -11,6 +11,7 @@
 #define PLANT_NA_MAX 5       /* current loop: i[k-1..k-5] */
 #define PLANT_NB_MAX 6       /* current loop: u[k..k-5] */
 #define PLANT_NPF_MAX 16     /* knots of the friction-level profile (position_friction) */
+#define PLANT_NBIN 12        /* degree of the binomial series of (1 + eps)^delta (solver_fixed.c) */
 #define PLANT_NMULT 24       /* highest multiple of the fundamental evaluated by recurrence */
 #define PLANT_NX_BASE (2 + PLANT_NE_MAX)      /* x, v, F_1..F_10 */
 #define PLANT_NX (PLANT_NX_BASE + 2)          /* + the compliance's deflection and its rate */
@@ -48,6 +49,7 @@ typedef struct {
     bool prerolling, lag;
     double Fs[2], Fc[2], sigma2[2];   /* [0]: v > 0 (and v = 0), [1]: v < 0 */
     double Vs, delta, C;
+    double delta_bc[PLANT_NBIN + 1];  /* binomial coefficients C(delta, j), j = 0..PLANT_NBIN */
     int N;                            /* elements in use */
     double nu[PLANT_NE_MAX], k[PLANT_NE_MAX];
     bool active[PLANT_NE_MAX];        /* i < N and nu_i > 0 */

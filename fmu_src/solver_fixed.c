@@ -29,13 +29,10 @@
 #include "fast_path.h"
 
 #define NQ 4          /* x, v, F_sl, L */
-#define NBIN 12       /* binomial series degree */
+#define NBIN PLANT_NBIN   /* binomial series degree */
 #define ROT_MAX 0.0625
 #define EPS_MAX 0.0625
 #define DW_MAX 0.03125
-
-static const double INV[NBIN + 1] = {0.0, 1.0, 1.0 / 2, 1.0 / 3, 1.0 / 4, 1.0 / 5, 1.0 / 6, 1.0 / 7,
-                                     1.0 / 8, 1.0 / 9, 1.0 / 10, 1.0 / 11, 1.0 / 12};
 
 typedef struct {
     const plant_params_t *p;
@@ -45,7 +42,8 @@ typedef struct {
     int rot;                         /* maps by rotation from xc0 */
     double xc0, c0, s0;
     int series;                      /* Stribeck level by the binomial series about |v0| */
-    double inv_v0, w0, E0, bc[NBIN + 1];
+    double inv_v0, w0, E0;
+    const double *bc;                /* p->delta_bc */
     /* what the last evaluation computed: cos/sin at its position, w and exp(-w) at its speed */
     double l_c1, l_s1, l_w, l_E, l_S;
     int l_w_ok, l_S_ok;              /* l_S_ok: the last right-hand side evaluated the level, l_S */
@@ -144,7 +142,6 @@ static void rhs(rctx_t *c, const double *q, double *dq, double *Kf_out, double *
 /* the bases of the cheap maps and level at y: carried over from the last step (cr) or from libm */
 static void setup_bases(rctx_t *c, const plant_params_t *p, const double *y, const fast_carry_t *cr) {
     double av = fabs(y[PLANT_IV]);
-    int j;
     c->rot = p->rip.harmonic && p->cog.harmonic && p->rip.kw0 == p->cog.kw0 && p->rip.kmax >= 1 &&
              p->cog.kmax >= 1;
     if (c->rot) {
@@ -168,8 +165,7 @@ static void setup_bases(rctx_t *c, const plant_params_t *p, const double *y, con
             c->w0 = pow(av / p->Vs, p->delta);
             c->E0 = exp(-c->w0);
         }
-        c->bc[0] = 1.0;
-        for (j = 1; j <= NBIN; j++) c->bc[j] = c->bc[j - 1] * (p->delta - (j - 1)) * INV[j];
+        c->bc = p->delta_bc;
     }
 }
 

@@ -87,16 +87,31 @@ double fmu_ulp_slack(double t) {
     return 16.0 * (b - a);
 }
 
-void fmu_update_outputs(instance_t *c) {
+void fmu_update_values(instance_t *c) {
     model_t *m = &c->m;
     if (m->out_valid) return;
     params_inputs(m->val, &m->in);
     plant_outputs_memo(&m->p, &m->d, m->y, &m->in, &m->memo, &m->out);
-    plant_state_derivatives(&m->p, &m->d, m->y, &m->out, &m->memo, m->dydt);
-    params_store_outputs(m->val, m->y, m->dydt, &m->out, &m->d);
+    params_store_outputs(m->val, m->y, &m->out, &m->d);
     m->val[VR_stats_n_steps] = (double)m->solver.n_steps;
     m->val[VR_stats_n_rhs] = (double)m->solver.n_rhs;
-    m->out_valid = 1;
+    m->out_valid = OUT_VALUES;
+}
+
+void fmu_update_outputs(instance_t *c) {
+    model_t *m = &c->m;
+    if (m->out_valid == OUT_ALL) return;
+    fmu_update_values(c);
+    plant_state_derivatives(&m->p, &m->d, m->y, &m->out, &m->memo, m->dydt);
+    params_store_derivatives(m->val, m->y, m->dydt);
+    m->out_valid = OUT_ALL;
+}
+
+void fmu_der_vr_table(unsigned char *is_der) {
+    int j;
+    memset(is_der, 0, MODEL_NVR);
+    for (j = 0; j < MODEL_NX; j++) is_der[MODEL_DER_VR[j]] = 1;
+    for (j = 0; j < MODEL_NX; j++) is_der[MODEL_STATE_VR[j]] = 0;   /* a state's value is kept */
 }
 
 int fmu_finite_result(instance_t *c, const char *fn, const double *x, size_t n) {
@@ -191,6 +206,7 @@ void fmu_model_defaults(model_t *m) {
     m->magic = MODEL_MAGIC;
     m->size = (unsigned)sizeof(model_t);
     m->fsm = ST_INSTANTIATED;
+    fmu_der_vr_table(m->is_der);
     for (j = 0; j < PLANT_NX; j++) {
         m->y_lo[j] = MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]].min;
         m->y_hi[j] = MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]].max;

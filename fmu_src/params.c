@@ -314,13 +314,15 @@ void params_states(const double *val, double *y) {
     for (j = 0; j < MODEL_NX; j++) y[j] = val[MODEL_STATE_VR[j]];
 }
 
-void params_store_outputs(double *val, const double *y, const double *dydt, const plant_out_t *o,
-                          const plant_disc_t *d) {
+void params_store_derivatives(double *val, const double *y, const double *dydt) {
     int j;
-    for (j = 0; j < MODEL_NX; j++) {
-        val[MODEL_STATE_VR[j]] = y[j];
-        val[MODEL_DER_VR[j]] = dydt[j];
-    }
+    for (j = 0; j < MODEL_NX; j++) val[MODEL_DER_VR[j]] = dydt[j];
+    for (j = 0; j < MODEL_NX; j++) val[MODEL_STATE_VR[j]] = y[j];
+}
+
+void params_store_outputs(double *val, const double *y, const plant_out_t *o, const plant_disc_t *d) {
+    int j;
+    for (j = 0; j < MODEL_NX; j++) val[MODEL_STATE_VR[j]] = y[j];
     val[VR_i] = o->i;
     val[VR_F_motor] = o->F_motor;
     val[VR_F_cogging] = o->F_cg;

@@ -20,6 +20,7 @@ static int fast_interval(model_t *m, double h, int fresh) {
     tol.atol = m->solver.atol;
     tol.n_norm = m->solver.n_norm;
     if (!fast_step(&m->p, &m->d, &m->in, h, &tol, fresh, m->y, &m->solver.n_rhs, &m->carry, &m->memo)) return 0;
+    m->ind_positive = 1;   /* fast_step tests the indicators at the end (fast_path.h) */
     m->solver.n_steps++;
     dp45_restart(&m->solver);
     return 1;
@@ -159,6 +160,7 @@ static fmi2Status integrate(instance_t *c, double tau, double tau_end, double h,
             continue;
         }
         fresh = 0;
+        m->ind_positive = 0;
         m->solver.max_steps = budget_left(m, &b);
         r = dp45_advance(&m->solver, m, rhs, indicators, &tau, tau_target, m->y, roots);
         m->time = m->t0 + tau;

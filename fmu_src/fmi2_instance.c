@@ -157,10 +157,18 @@ int fmu_event_update(instance_t *c, const char *fn, double tau, double slack, fm
                 fn, m->time, floor(behind) + 1.0, fmu_next_sample(m), m->p.Ts, BUDGET_OVERDUE_SAMPLES);
         return -1;
     }
+    /* GMS indicators depend on (d, y) alone: positive there, no switch is due whatever the inputs
+     * and samples (the current-loop samples are all that is left to do) */
+    const int no_switch = m->ind_positive && m->p.prerolling;
+    m->ind_positive = 0;
     params_inputs(m->val, &m->in);
     do {
         int due = fmu_sample_due(m, tau, slack);
-        n += plant_event_update(&m->p, &m->d, m->y, &m->in, due != 0, &m->memo, &changed);
+        if (no_switch) {
+            if (due) plant_sample_update(&m->p, &m->d, &m->in);
+        } else {
+            n += plant_event_update(&m->p, &m->d, m->y, &m->in, due != 0, &m->memo, &changed);
+        }
         samples += due;
         if (due && c->logging_on && (c->log_mask & LOG_DEBUG))   /* no argument list per sample */
             fmu_log(c, fmi2OK, LOG_DEBUG, "t = %.9g s: current-loop sample %lld, i = %.9g A", m->time,
@@ -192,6 +200,7 @@ fmi2Status fmu_recompile(instance_t *c, const double *backup_val) {
     }
     plant_memo_reset(&m->memo);
     m->carry.valid = 0;
+    m->ind_positive = 0;
     m->fast_ok = fast_path_ok(&m->p);
     plant_retune(&old, &m->p, &m->d, m->y);
     m->params_ok = 1;
@@ -333,6 +342,7 @@ void fmu_solver_setup(model_t *m) {
     int j;
     plant_memo_reset(&m->memo);   /* called after every compile of the parameters but fmu_recompile's */
     m->carry.valid = 0;
+    m->ind_positive = 0;
     m->fast_ok = fast_path_ok(&m->p);
     for (j = 0; j < PLANT_NX; j++) atol[j] = m->tol * MODEL_STATE_NOMINAL(j);   /* XML nominals */
     /* x, v and the forces of the N elements in use: the slots past N stay 0 (their derivative is 0);

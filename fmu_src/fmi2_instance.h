@@ -44,6 +44,8 @@ typedef struct {
     plant_memo_t memo;              /* the maps at the last position evaluated (valid = 0 after a compile) */
     fast_carry_t carry;             /* the per-sample scheme's last derivative (valid = 0 after a compile) */
     int fast_ok;                    /* fast_path_ok(&p), renewed with every compile of p */
+    int ind_positive;               /* the per-sample scheme's last step found every event indicator > 0
+                                       at (d, y), and nothing has changed them since (fmi2_cs.c) */
     double y_lo[PLANT_NX], y_hi[PLANT_NX];   /* the states' declared min/max (modelDescription.xml) */
     unsigned char is_der[MODEL_NVR];         /* 1: the value reference is a derivative's only */
 } model_t;

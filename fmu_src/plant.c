@@ -148,6 +148,11 @@ int plant_event_update(const plant_params_t *p, plant_disc_t *d, double *y, cons
     return n;
 }
 
+void plant_sample_update(const plant_params_t *p, plant_disc_t *d, const plant_in_t *in) {
+    current_loop_sample(p, d, in->u);
+    d->n_time_events++;
+}
+
 int plant_n_stuck(const plant_params_t *p, const plant_disc_t *d) {
     return p->prerolling ? gms_n_stuck(p, d) : d->st_stuck;
 }

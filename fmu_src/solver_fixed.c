@@ -33,6 +33,11 @@
 #define ROT_MAX 0.0625
 #define EPS_MAX 0.0625
 #define DW_MAX 0.03125
+/* EPS_DEGREE[n] = 2^(-64/(n+1)): up to this |eps| the binomial series to degree n leaves out less
+ * than 2^-64 of w */
+static const double EPS_DEGREE[NBIN + 1] = {0.0, 0.0, 3.78465903274584e-07, 1.52587890625e-05, 0.00014022196716272393,
+    0.0006151958251439813, 0.0017689915317654432, 0.00390625, 0.0072333961897444584, 0.011841535675862483,
+    0.0177236331593041, 0.024803141437003122, 0.0625};
 
 typedef struct {
     const plant_params_t *p;
@@ -85,8 +90,12 @@ static double level_eval(rctx_t *c, double v) {
         if (fabs(eps) <= EPS_MAX) {
             double dw, x;
             int n;
-            w = c->bc[NBIN];
-            for (n = NBIN - 1; n >= 1; n--) w = w * eps + c->bc[n];
+            double ae = fabs(eps);
+            int top = NBIN;
+            /* the degree this |eps| needs: the terms left out below 2^-64 of w (|C(delta, j)| <= 1) */
+            while (top > 2 && ae <= EPS_DEGREE[top - 1]) top--;
+            w = c->bc[top];
+            for (n = top - 1; n >= 1; n--) w = w * eps + c->bc[n];
             dw = c->w0 * (w * eps);
             if (fabs(dw) <= DW_MAX) {
                 x = -dw;

@@ -49,6 +49,8 @@ static bool range_of(unsigned vr, range_t *r) {
     static const range_t POS = {0.0, 1, HUGE_VAL, 1}, NONNEG = {0.0, 0, HUGE_VAL, 1},
                          UNIT = {0.0, 0, 1.0, 0}, NEL = {1.0, 0, (double)PLANT_NE_MAX, 0};
     int j;
+    /* parameters only: an input (set every sample) has no range beyond its declared one */
+    if (vr >= MODEL_NVR || MODEL_VR_INDEX[vr] < 0 || MODEL_VARS[MODEL_VR_INDEX[vr]].causality != 'p') return false;
     if (vr == VR_m || vr == VR_Ts || vr == VR_friction_F_s || vr == VR_friction_V_s ||
         vr == VR_friction_delta || vr == VR_friction_C) { *r = POS; return true; }
     if (vr == VR_friction_F_c || vr == VR_friction_sigma2) { *r = NONNEG; return true; }

@@ -157,9 +157,9 @@ int fmu_event_update(instance_t *c, const char *fn, double tau, double slack, fm
                 fn, m->time, floor(behind) + 1.0, fmu_next_sample(m), m->p.Ts, BUDGET_OVERDUE_SAMPLES);
         return -1;
     }
-    /* GMS indicators depend on (d, y) alone: positive there, no switch is due whatever the inputs
-     * and samples (the current-loop samples are all that is left to do) */
-    const int no_switch = m->ind_positive && m->p.prerolling;
+    /* indicators of (d, y) alone, positive there: no switch is due whatever the inputs and samples
+     * (the current-loop samples are all that is left to do) */
+    const int no_switch = m->ind_positive && plant_indicators_of_state(&m->p);
     m->ind_positive = 0;
     params_inputs(m->val, &m->in);
     do {

@@ -148,6 +148,8 @@ int plant_event_update(const plant_params_t *p, plant_disc_t *d, double *y, cons
     return n;
 }
 
+bool plant_indicators_of_state(const plant_params_t *p) { return p->prerolling; }
+
 void plant_sample_update(const plant_params_t *p, plant_disc_t *d, const plant_in_t *in) {
     current_loop_sample(p, d, in->u);
     d->n_time_events++;

@@ -196,6 +196,9 @@ void plant_indicators(const plant_params_t *p, const plant_disc_t *d, const doub
  * stick/slip switch the state calls for. Returns the number of friction switches. */
 int plant_event_update(const plant_params_t *p, plant_disc_t *d, double *y, const plant_in_t *in,
                        bool sample_due, plant_memo_t *memo, bool *y_changed);
+/* the event indicators are functions of (d, y) alone, not of the inputs (GMS; the static model's
+ * depend on the applied force) */
+bool plant_indicators_of_state(const plant_params_t *p);
 /* the event update where every event indicator is known to be > 0 (no friction switch is due):
  * the current-loop sample alone */
 void plant_sample_update(const plant_params_t *p, plant_disc_t *d, const plant_in_t *in);

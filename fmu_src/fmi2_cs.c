@@ -20,6 +20,7 @@ static int fast_interval(model_t *m, double h, int fresh) {
     tol.atol = m->solver.atol;
     tol.n_norm = m->solver.n_norm;
     if (!fast_step(&m->p, &m->d, &m->in, h, &tol, fresh, m->y, &m->solver.n_rhs, &m->carry, &m->memo)) return 0;
+    m->ind_positive = 1;   /* fast_step tests the indicators at the end (fast_path.h) */
     m->solver.n_steps++;
     dp45_restart(&m->solver);
     return 1;
@@ -112,8 +113,9 @@ static int states_in_range(instance_t *c) {
     char cause[320], vb[40];
     int j;
     for (j = 0; j < PLANT_NX; j++) {
-        const model_var_t *v = &MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]];
-        if (m->y[j] >= v->min && m->y[j] <= v->max) continue;
+        const model_var_t *v;
+        if (m->y[j] >= m->y_lo[j] && m->y[j] <= m->y_hi[j]) continue;
+        v = &MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]];
         snprintf(vb, sizeof vb, "%.9g", m->y[j]);
         m->out_valid = 0;
         fmu_update_outputs(c);
@@ -134,7 +136,7 @@ static int states_in_range(instance_t *c) {
  * (sample, switch, step end) */
 static fmi2Status integrate(instance_t *c, double tau, double tau_end, double h, double eps, int fresh) {
     model_t *m = &c->m;
-    int roots[PLANT_NZ], fast = m->val[VR_solver_fast] != 0.0 && fast_path_ok(&m->p);
+    int roots[PLANT_NZ], fast = m->val[VR_solver_fast] != 0.0 && m->fast_ok;
     fmi2Boolean changed;
     budget_t b;
     budget_start(m, h, &b);
@@ -158,6 +160,7 @@ static fmi2Status integrate(instance_t *c, double tau, double tau_end, double h,
             continue;
         }
         fresh = 0;
+        m->ind_positive = 0;
         m->solver.max_steps = budget_left(m, &b);
         r = dp45_advance(&m->solver, m, rhs, indicators, &tau, tau_target, m->y, roots);
         m->time = m->t0 + tau;

@@ -3,6 +3,7 @@
  * (params.h). Get/set are in fmi2_values.c, FMU state snapshots in fmi2_state.c. */
 #include <math.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -75,18 +76,42 @@ int fmu_sample_due(const model_t *m, double tau, double slack) {
     return m->p.current_dynamics && tau >= (double)(m->d.k + 1) * m->p.Ts - eps;
 }
 
-double fmu_ulp_slack(double t) { return 16.0 * (nextafter(fabs(t), HUGE_VAL) - fabs(t)); }
+double fmu_ulp_slack(double t) {
+    /* nextafter(|t|, +inf) - |t| from the bits: the next double up is the one whose pattern is
+     * one more (+inf and NaN stay as they are, the difference is then NaN as nextafter's) */
+    double a = fabs(t), b;
+    uint64_t u;
+    memcpy(&u, &a, sizeof u);
+    if (u < 0x7FF0000000000000ull) u++;
+    memcpy(&b, &u, sizeof b);
+    return 16.0 * (b - a);
+}
 
-void fmu_update_outputs(instance_t *c) {
+void fmu_update_values(instance_t *c) {
     model_t *m = &c->m;
     if (m->out_valid) return;
     params_inputs(m->val, &m->in);
     plant_outputs_memo(&m->p, &m->d, m->y, &m->in, &m->memo, &m->out);
-    plant_state_derivatives(&m->p, &m->d, m->y, &m->out, m->dydt);
-    params_store_outputs(m->val, m->y, m->dydt, &m->out, &m->d);
+    params_store_outputs(m->val, m->y, &m->out, &m->d);
     m->val[VR_stats_n_steps] = (double)m->solver.n_steps;
     m->val[VR_stats_n_rhs] = (double)m->solver.n_rhs;
-    m->out_valid = 1;
+    m->out_valid = OUT_VALUES;
+}
+
+void fmu_update_outputs(instance_t *c) {
+    model_t *m = &c->m;
+    if (m->out_valid == OUT_ALL) return;
+    fmu_update_values(c);
+    plant_state_derivatives(&m->p, &m->d, m->y, &m->out, &m->memo, m->dydt);
+    params_store_derivatives(m->val, m->y, m->dydt);
+    m->out_valid = OUT_ALL;
+}
+
+void fmu_der_vr_table(unsigned char *is_der) {
+    int j;
+    memset(is_der, 0, MODEL_NVR);
+    for (j = 0; j < MODEL_NX; j++) is_der[MODEL_DER_VR[j]] = 1;
+    for (j = 0; j < MODEL_NX; j++) is_der[MODEL_STATE_VR[j]] = 0;   /* a state's value is kept */
 }
 
 int fmu_finite_result(instance_t *c, const char *fn, const double *x, size_t n) {
@@ -132,12 +157,20 @@ int fmu_event_update(instance_t *c, const char *fn, double tau, double slack, fm
                 fn, m->time, floor(behind) + 1.0, fmu_next_sample(m), m->p.Ts, BUDGET_OVERDUE_SAMPLES);
         return -1;
     }
+    /* indicators of (d, y) alone, positive there: no switch is due whatever the inputs and samples
+     * (the current-loop samples are all that is left to do) */
+    const int no_switch = m->ind_positive && plant_indicators_of_state(&m->p);
+    m->ind_positive = 0;
     params_inputs(m->val, &m->in);
     do {
         int due = fmu_sample_due(m, tau, slack);
-        n += plant_event_update(&m->p, &m->d, m->y, &m->in, due != 0, &changed);
+        if (no_switch) {
+            if (due) plant_sample_update(&m->p, &m->d, &m->in);
+        } else {
+            n += plant_event_update(&m->p, &m->d, m->y, &m->in, due != 0, &m->memo, &changed);
+        }
         samples += due;
-        if (due)
+        if (due && c->logging_on && (c->log_mask & LOG_DEBUG))   /* no argument list per sample */
             fmu_log(c, fmi2OK, LOG_DEBUG, "t = %.9g s: current-loop sample %lld, i = %.9g A", m->time,
                     m->d.k, m->d.i);
     } while (fmu_sample_due(m, tau, slack) && samples <= BUDGET_OVERDUE_SAMPLES);
@@ -165,8 +198,10 @@ fmi2Status fmu_recompile(instance_t *c, const double *backup_val) {
         m->p = old;
         return fmi2Error;
     }
-    m->memo.valid = 0;
+    plant_memo_reset(&m->memo);
     m->carry.valid = 0;
+    m->ind_positive = 0;
+    m->fast_ok = fast_path_ok(&m->p);
     plant_retune(&old, &m->p, &m->d, m->y);
     m->params_ok = 1;
     m->out_valid = 0;
@@ -175,10 +210,16 @@ fmi2Status fmu_recompile(instance_t *c, const double *backup_val) {
 }
 
 void fmu_model_defaults(model_t *m) {
+    int j;
     memset(m, 0, sizeof *m);
     m->magic = MODEL_MAGIC;
     m->size = (unsigned)sizeof(model_t);
     m->fsm = ST_INSTANTIATED;
+    fmu_der_vr_table(m->is_der);
+    for (j = 0; j < PLANT_NX; j++) {
+        m->y_lo[j] = MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]].min;
+        m->y_hi[j] = MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]].max;
+    }
     params_defaults(m->val);
     m->tol = m->val[VR_solver_tol];
 }
@@ -299,8 +340,10 @@ fmi2Status fmi2EnterInitializationMode(fmi2Component comp) {
 void fmu_solver_setup(model_t *m) {
     double atol[PLANT_NX];
     int j;
-    m->memo.valid = 0;   /* called after every compile of the parameters but fmu_recompile's */
+    plant_memo_reset(&m->memo);   /* called after every compile of the parameters but fmu_recompile's */
     m->carry.valid = 0;
+    m->ind_positive = 0;
+    m->fast_ok = fast_path_ok(&m->p);
     for (j = 0; j < PLANT_NX; j++) atol[j] = m->tol * MODEL_STATE_NOMINAL(j);   /* XML nominals */
     /* x, v and the forces of the N elements in use: the slots past N stay 0 (their derivative is 0);
      * the error norm still counts the PLANT_NX_BASE states, so the steps are those of a 12-state

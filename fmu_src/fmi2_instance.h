@@ -35,7 +35,7 @@ typedef struct {
     plant_disc_t d;
     plant_in_t in;
     int params_ok;                  /* p compiled from val */
-    int out_valid;
+    int out_valid;                  /* 0, OUT_VALUES or OUT_ALL (fmu_update_values / fmu_update_outputs) */
     plant_out_t out;
     double dydt[PLANT_NX];
     int stroke_warned;
@@ -43,7 +43,14 @@ typedef struct {
     int solver_restart;
     plant_memo_t memo;              /* the maps at the last position evaluated (valid = 0 after a compile) */
     fast_carry_t carry;             /* the per-sample scheme's last derivative (valid = 0 after a compile) */
+    int fast_ok;                    /* fast_path_ok(&p), renewed with every compile of p */
+    int ind_positive;               /* the per-sample scheme's last step found every event indicator > 0
+                                       at (d, y), and nothing has changed them since (fmi2_cs.c) */
+    double y_lo[PLANT_NX], y_hi[PLANT_NX];   /* the states' declared min/max (modelDescription.xml) */
+    unsigned char is_der[MODEL_NVR];         /* 1: the value reference is a derivative's only */
 } model_t;
+#define OUT_VALUES 1                /* val[] holds the states, outputs and statistics */
+#define OUT_ALL 2                   /* ... and the derivatives (m->dydt too) */
 
 typedef struct {
     model_t m;
@@ -79,6 +86,10 @@ void fmu_log(instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...)
 instance_t *fmu_enter(fmi2Component comp, const char *fn, int iface, int mask);
 /* outputs and derivatives up to date */
 void fmu_update_outputs(instance_t *c);
+/* the same without the derivatives (what a read of no derivative needs) */
+void fmu_update_values(instance_t *c);
+/* is_der[vr] (MODEL_NVR entries): 1 for the value references of derivatives that are not states */
+void fmu_der_vr_table(unsigned char *is_der);
 /* Work budget of one call (README "Co-simulation"): fmi2DoStep of length h may take
  *   BUDGET_STEPS_BASE + BUDGET_STEPS_PER_SAMPLE h/Ts + min(BUDGET_STEPS_RATE h, BUDGET_STEPS_EXTRA)
  * integrator step attempts and BUDGET_EVENTS_BASE + min(BUDGET_EVENTS_RATE h, BUDGET_EVENTS_EXTRA)

@@ -69,7 +69,13 @@ fmi2Status fmu_get_values(instance_t *c, const char *fn, const fmi2ValueReferenc
         }
         return fmi2OK;
     }
-    if (c->m.params_ok) fmu_update_outputs(c);
+    if (c->m.params_ok) {
+        /* the derivatives only when one is asked for */
+        int der = 0;
+        for (k = 0; k < nvr; k++) der |= vr[k] < MODEL_NVR && c->m.is_der[vr[k]];
+        if (der) fmu_update_outputs(c);
+        else fmu_update_values(c);
+    }
     for (k = 0; k < nvr; k++) {
         int row = lookup(c, fn, vr[k], type);
         double v;

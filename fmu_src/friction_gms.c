@@ -19,10 +19,11 @@ double friction_level(const plant_params_t *p, double v, int side) {
     return Fc + (Fs - Fc) * exp(-pow(fabs(v) / p->Vs, p->delta));
 }
 
-void gms_element_forces(const plant_params_t *p, const plant_disc_t *d, const double *y, double *Fe) {
+void gms_element_forces(const plant_params_t *p, const plant_disc_t *d, const double *y, plant_memo_t *memo,
+                        double *Fe) {
     int j;
     double S = 0.0;
-    if (d->dir != 0 && !p->lag) S = friction_level_at(p, y[PLANT_IV], y[PLANT_IX], d->dir < 0);
+    if (d->dir != 0 && !p->lag) S = friction_level_memo(p, memo, y[PLANT_IV], y[PLANT_IX], d->dir < 0);
     for (j = 0; j < PLANT_NE_MAX; j++) {
         if (!p->active[j]) Fe[j] = 0.0;
         else if (d->stuck[j] || p->lag) Fe[j] = y[PLANT_IF + j];
@@ -30,11 +31,12 @@ void gms_element_forces(const plant_params_t *p, const plant_disc_t *d, const do
     }
 }
 
-void gms_derivatives(const plant_params_t *p, const plant_disc_t *d, const double *y, double *dF) {
+void gms_derivatives(const plant_params_t *p, const plant_disc_t *d, const double *y, plant_memo_t *memo,
+                     double *dF) {
     int j;
     double v = y[PLANT_IV], S = 1.0, rate = 0.0;
     if (d->dir != 0 && p->lag) {
-        S = friction_level_at(p, v, y[PLANT_IX], d->dir < 0);
+        S = friction_level_memo(p, memo, v, y[PLANT_IX], d->dir < 0);
         rate = p->C / S;
     }
     for (j = 0; j < PLANT_NE_MAX; j++) {
@@ -63,12 +65,12 @@ void gms_init(const plant_params_t *p, plant_disc_t *d, const double *y) {
     d->dir = 0;
 }
 
-int gms_update(const plant_params_t *p, plant_disc_t *d, double *y, bool *y_changed) {
+int gms_update(const plant_params_t *p, plant_disc_t *d, double *y, plant_memo_t *memo, bool *y_changed) {
     int j, n = 0, sg;
     double v = y[PLANT_IV], S;
     if (d->dir != 0 && d->dir * v + PLANT_V_HYS <= 0.0) {
         /* the velocity crossed zero: every slipping element sticks */
-        S = friction_level_at(p, v, y[PLANT_IX], d->dir < 0);
+        S = friction_level_memo(p, memo, v, y[PLANT_IX], d->dir < 0);
         for (j = 0; j < PLANT_NE_MAX; j++) {
             if (!p->active[j] || d->stuck[j]) continue;
             d->stuck[j] = true;
@@ -80,7 +82,7 @@ int gms_update(const plant_params_t *p, plant_disc_t *d, double *y, bool *y_chan
     }
     sg = friction_sign(v);
     if (sg == 0) return n;
-    S = friction_level_at(p, v, y[PLANT_IX], sg < 0);
+    S = friction_level_memo(p, memo, v, y[PLANT_IX], sg < 0);
     for (j = 0; j < PLANT_NE_MAX; j++) {
         if (!p->active[j] || !d->stuck[j]) continue;
         if (p->nu[j] * S - sg * y[PLANT_IF + j] > 0.0) continue;

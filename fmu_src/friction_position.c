@@ -42,6 +42,24 @@ double friction_level_at(const plant_params_t *p, double v, double x, int side) 
     return friction_profile(p, x) * friction_level(p, v, side);
 }
 
+void plant_memo_reset(plant_memo_t *memo) {
+    memo->valid = 0;
+    memo->lv_valid = 0;
+}
+
+double friction_level_memo(const plant_params_t *p, plant_memo_t *memo, double v, double x, int side) {
+    double S;
+    if (!memo) return friction_level_at(p, v, x, side);
+    if (memo->lv_valid && memo->lv_v == v && memo->lv_x == x && memo->lv_side == side) return memo->lv_S;
+    S = friction_level_at(p, v, x, side);
+    memo->lv_valid = 1;
+    memo->lv_v = v;
+    memo->lv_x = x;
+    memo->lv_side = side;
+    memo->lv_S = S;
+    return S;
+}
+
 double friction_break_away(const plant_params_t *p, double x, int side) {
     return friction_profile(p, x) * p->Fs[side];
 }

@@ -49,6 +49,8 @@ static bool range_of(unsigned vr, range_t *r) {
     static const range_t POS = {0.0, 1, HUGE_VAL, 1}, NONNEG = {0.0, 0, HUGE_VAL, 1},
                          UNIT = {0.0, 0, 1.0, 0}, NEL = {1.0, 0, (double)PLANT_NE_MAX, 0};
     int j;
+    /* parameters only: an input (set every sample) has no range beyond its declared one */
+    if (vr >= MODEL_NVR || MODEL_VR_INDEX[vr] < 0 || MODEL_VARS[MODEL_VR_INDEX[vr]].causality != 'p') return false;
     if (vr == VR_m || vr == VR_Ts || vr == VR_friction_F_s || vr == VR_friction_V_s ||
         vr == VR_friction_delta || vr == VR_friction_C) { *r = POS; return true; }
     if (vr == VR_friction_F_c || vr == VR_friction_sigma2) { *r = NONNEG; return true; }
@@ -215,6 +217,7 @@ static bool compile_asymmetry(const double *val, plant_params_t *p, bool viscous
 /* the sliding levels F_s, F_c, sigma2 per direction and the Stribeck curve (Eqs. 8, 10) */
 static bool compile_friction_levels(const double *val, plant_params_t *p, char *msg, size_t msglen) {
     bool e_str = val[VR_effects_stribeck] != 0.0, e_visc = val[VR_effects_viscous] != 0.0;
+    int j;
     p->prerolling = val[VR_effects_prerolling] != 0.0;
     p->lag = val[VR_effects_frictional_lag] != 0.0;
     if (val[VR_friction_F_c] > val[VR_friction_F_s])
@@ -231,6 +234,8 @@ static bool compile_friction_levels(const double *val, plant_params_t *p, char *
         return false;
     p->Vs = val[VR_friction_V_s];
     p->delta = val[VR_friction_delta];
+    p->delta_bc[0] = 1.0;
+    for (j = 1; j <= PLANT_NBIN; j++) p->delta_bc[j] = p->delta_bc[j - 1] * (p->delta - (j - 1)) * (1.0 / j);
     p->C = val[VR_friction_C];
     return true;
 }
@@ -311,13 +316,15 @@ void params_states(const double *val, double *y) {
     for (j = 0; j < MODEL_NX; j++) y[j] = val[MODEL_STATE_VR[j]];
 }
 
-void params_store_outputs(double *val, const double *y, const double *dydt, const plant_out_t *o,
-                          const plant_disc_t *d) {
+void params_store_derivatives(double *val, const double *y, const double *dydt) {
     int j;
-    for (j = 0; j < MODEL_NX; j++) {
-        val[MODEL_STATE_VR[j]] = y[j];
-        val[MODEL_DER_VR[j]] = dydt[j];
-    }
+    for (j = 0; j < MODEL_NX; j++) val[MODEL_DER_VR[j]] = dydt[j];
+    for (j = 0; j < MODEL_NX; j++) val[MODEL_STATE_VR[j]] = y[j];
+}
+
+void params_store_outputs(double *val, const double *y, const plant_out_t *o, const plant_disc_t *d) {
+    int j;
+    for (j = 0; j < MODEL_NX; j++) val[MODEL_STATE_VR[j]] = y[j];
     val[VR_i] = o->i;
     val[VR_F_motor] = o->F_motor;
     val[VR_F_cogging] = o->F_cg;

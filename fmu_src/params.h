@@ -31,8 +31,10 @@ void params_state_cause(const plant_params_t *p, const double *y, const plant_in
 /* the inputs and the continuous states (start values) from the value table */
 void params_inputs(const double *val, plant_in_t *in);
 void params_states(const double *val, double *y);
-/* states, derivatives, outputs and the plant's event statistics into the value table */
-void params_store_outputs(double *val, const double *y, const double *dydt, const plant_out_t *o,
-                          const plant_disc_t *d);
+/* states, outputs and the plant's event statistics into the value table */
+void params_store_outputs(double *val, const double *y, const plant_out_t *o, const plant_disc_t *d);
+/* the states' derivatives into the value table (a variable that is both a state and another's
+ * derivative keeps the state's value, which is the same) */
+void params_store_derivatives(double *val, const double *y, const double *dydt);
 
 #endif

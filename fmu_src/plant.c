@@ -42,7 +42,7 @@ static void plant_forces(const plant_params_t *p, const plant_disc_t *d, const d
     o->F_load = compliance_force(p, y);
     F_app = applied_force(p, o, in);
     if (p->prerolling) {
-        gms_element_forces(p, d, y, o->F_elem);
+        gms_element_forces(p, d, y, memo, o->F_elem);
         o->F_fric = p->sigma2[v < 0.0] * v;
         for (j = 0; j < PLANT_NE_MAX; j++) o->F_fric += o->F_elem[j];
         o->a = (F_app - o->F_fric) / p->m;
@@ -68,11 +68,11 @@ void plant_outputs(const plant_params_t *p, const plant_disc_t *d, const double 
 }
 
 void plant_state_derivatives(const plant_params_t *p, const plant_disc_t *d, const double *y,
-                             const plant_out_t *o, double *dydt) {
+                             const plant_out_t *o, plant_memo_t *memo, double *dydt) {
     int j;
     dydt[PLANT_IX] = y[PLANT_IV];
     dydt[PLANT_IV] = o->a;
-    if (p->prerolling) gms_derivatives(p, d, y, dydt + PLANT_IF);
+    if (p->prerolling) gms_derivatives(p, d, y, memo, dydt + PLANT_IF);
     else for (j = 0; j < PLANT_NE_MAX; j++) dydt[PLANT_IF + j] = 0.0;
     compliance_derivatives(p, y, o->F_load, o->a, dydt);
 }
@@ -81,7 +81,7 @@ void plant_derivatives_memo(const plant_params_t *p, const plant_disc_t *d, cons
                             const plant_in_t *in, plant_memo_t *memo, double *dydt) {
     plant_out_t o;
     plant_forces(p, d, y, in, memo, &o);
-    plant_state_derivatives(p, d, y, &o, dydt);
+    plant_state_derivatives(p, d, y, &o, memo, dydt);
 }
 
 void plant_derivatives(const plant_params_t *p, const plant_disc_t *d, const double *y,
@@ -113,7 +113,7 @@ void plant_init(const plant_params_t *p, plant_disc_t *d, double *y, const plant
     if (!p->compliance) y[PLANT_IQ] = y[PLANT_IW] = 0.0;
     if (p->prerolling) {
         gms_init(p, d, y);
-        gms_update(p, d, y, &changed);
+        gms_update(p, d, y, NULL, &changed);
     } else {
         for (j = 0; j < PLANT_NE_MAX; j++) d->stuck[j] = false;
         d->dir = 0;
@@ -124,7 +124,7 @@ void plant_init(const plant_params_t *p, plant_disc_t *d, double *y, const plant
 }
 
 int plant_event_update(const plant_params_t *p, plant_disc_t *d, double *y, const plant_in_t *in,
-                       bool sample_due, bool *y_changed) {
+                       bool sample_due, plant_memo_t *memo, bool *y_changed) {
     int n = 0, pass;
     if (sample_due) {
         current_loop_sample(p, d, in->u);
@@ -134,7 +134,7 @@ int plant_event_update(const plant_params_t *p, plant_disc_t *d, double *y, cons
         int m;
         double v_old = y[PLANT_IV];
         if (p->prerolling) {
-            m = gms_update(p, d, y, y_changed);
+            m = gms_update(p, d, y, memo, y_changed);
         } else {
             plant_out_t o;
             plant_outputs(p, d, y, in, &o);
@@ -146,6 +146,13 @@ int plant_event_update(const plant_params_t *p, plant_disc_t *d, double *y, cons
     }
     if (n > 0) d->n_state_events++;
     return n;
+}
+
+bool plant_indicators_of_state(const plant_params_t *p) { return p->prerolling; }
+
+void plant_sample_update(const plant_params_t *p, plant_disc_t *d, const plant_in_t *in) {
+    current_loop_sample(p, d, in->u);
+    d->n_time_events++;
 }
 
 int plant_n_stuck(const plant_params_t *p, const plant_disc_t *d) {

@@ -11,6 +11,7 @@
 #define PLANT_NA_MAX 5       /* current loop: i[k-1..k-5] */
 #define PLANT_NB_MAX 6       /* current loop: u[k..k-5] */
 #define PLANT_NPF_MAX 16     /* knots of the friction-level profile (position_friction) */
+#define PLANT_NBIN 12        /* degree of the binomial series of (1 + eps)^delta (solver_fixed.c) */
 #define PLANT_NMULT 24       /* highest multiple of the fundamental evaluated by recurrence */
 #define PLANT_NX_BASE (2 + PLANT_NE_MAX)      /* x, v, F_1..F_10 */
 #define PLANT_NX (PLANT_NX_BASE + 2)          /* + the compliance's deflection and its rate */
@@ -48,6 +49,7 @@ typedef struct {
     bool prerolling, lag;
     double Fs[2], Fc[2], sigma2[2];   /* [0]: v > 0 (and v = 0), [1]: v < 0 */
     double Vs, delta, C;
+    double delta_bc[PLANT_NBIN + 1];  /* binomial coefficients C(delta, j), j = 0..PLANT_NBIN */
     int N;                            /* elements in use */
     double nu[PLANT_NE_MAX], k[PLANT_NE_MAX];
     bool active[PLANT_NE_MAX];        /* i < N and nu_i > 0 */
@@ -91,10 +93,19 @@ typedef struct {
     int n_stuck;
 } plant_out_t;
 
-/* The last evaluation of both position maps (K_f, F_cg at a clamped position), owned by the caller:
- * a step's last stage, the outputs read there and the next step's first stage share the position.
- * The caller sets valid = 0 whenever the parameters are compiled again. */
-typedef struct { int valid; double x, K_f, F_cg; } plant_memo_t;
+/* The last evaluation of both position maps (K_f, F_cg at a clamped position) and of the scaled
+ * Stribeck level (friction_level_at at v, x, side), owned by the caller: a step's last stage, the
+ * outputs read there and the event update at the next step's start share the point, so each is
+ * computed once. The caller calls plant_memo_reset whenever the parameters are compiled again. */
+typedef struct {
+    int valid;
+    double x, K_f, F_cg;
+    int lv_valid, lv_side;
+    double lv_v, lv_x, lv_S;
+} plant_memo_t;
+void plant_memo_reset(plant_memo_t *memo);
+/* friction_level_at(p, v, x, side), from the memo (may be NULL) when it holds that very point */
+double friction_level_memo(const plant_params_t *p, plant_memo_t *memo, double v, double x, int side);
 
 /* position_maps.c */
 double posmap_eval(const posmap_t *m, double x);
@@ -111,11 +122,14 @@ double current_loop_output(const plant_params_t *p, const plant_disc_t *d, doubl
 /* friction_gms.c */
 double friction_level(const plant_params_t *p, double v, int side);  /* S(|v|) for side 0 (+) / 1 (-) */
 int friction_sign(double v);
-void gms_element_forces(const plant_params_t *p, const plant_disc_t *d, const double *y, double *Fe);
-void gms_derivatives(const plant_params_t *p, const plant_disc_t *d, const double *y, double *dF);
+/* memo (may be NULL): the Stribeck level's (plant_memo_t) */
+void gms_element_forces(const plant_params_t *p, const plant_disc_t *d, const double *y, plant_memo_t *memo,
+                        double *Fe);
+void gms_derivatives(const plant_params_t *p, const plant_disc_t *d, const double *y, plant_memo_t *memo,
+                     double *dF);
 void gms_indicators(const plant_params_t *p, const plant_disc_t *d, const double *y, double *z);
 void gms_init(const plant_params_t *p, plant_disc_t *d, const double *y);
-int gms_update(const plant_params_t *p, plant_disc_t *d, double *y, bool *y_changed);
+int gms_update(const plant_params_t *p, plant_disc_t *d, double *y, plant_memo_t *memo, bool *y_changed);
 int gms_n_stuck(const plant_params_t *p, const plant_disc_t *d);
 /* elements switched on or off by a parameter change (old -> p) start stuck at zero force */
 void gms_retune(const plant_params_t *old, const plant_params_t *p, plant_disc_t *d, double *y);
@@ -172,15 +186,22 @@ void plant_outputs_memo(const plant_params_t *p, const plant_disc_t *d, const do
                         const plant_in_t *in, plant_memo_t *memo, plant_out_t *o);
 void plant_derivatives_memo(const plant_params_t *p, const plant_disc_t *d, const double *y,
                             const plant_in_t *in, plant_memo_t *memo, double *dydt);
-/* the same derivatives from outputs o already computed at (d, y) (no second evaluation) */
+/* the same derivatives from outputs o already computed at (d, y) (no second evaluation; memo may
+ * be NULL) */
 void plant_state_derivatives(const plant_params_t *p, const plant_disc_t *d, const double *y,
-                             const plant_out_t *o, double *dydt);
+                             const plant_out_t *o, plant_memo_t *memo, double *dydt);
 void plant_indicators(const plant_params_t *p, const plant_disc_t *d, const double *y,
                       const plant_in_t *in, double *z);
 /* Event update at time t: processes the current-loop sample when sample_due, then every
  * stick/slip switch the state calls for. Returns the number of friction switches. */
 int plant_event_update(const plant_params_t *p, plant_disc_t *d, double *y, const plant_in_t *in,
-                       bool sample_due, bool *y_changed);
+                       bool sample_due, plant_memo_t *memo, bool *y_changed);
+/* the event indicators are functions of (d, y) alone, not of the inputs (GMS; the static model's
+ * depend on the applied force) */
+bool plant_indicators_of_state(const plant_params_t *p);
+/* the event update where every event indicator is known to be > 0 (no friction switch is due):
+ * the current-loop sample alone */
+void plant_sample_update(const plant_params_t *p, plant_disc_t *d, const plant_in_t *in);
 /* friction elements stuck (GMS), or 1/0 for the static model stuck/sliding */
 int plant_n_stuck(const plant_params_t *p, const plant_disc_t *d);
 /* after tunable parameters changed from old to p: the discrete and continuous state to match */

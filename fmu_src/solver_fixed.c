@@ -29,13 +29,15 @@
 #include "fast_path.h"
 
 #define NQ 4          /* x, v, F_sl, L */
-#define NBIN 12       /* binomial series degree */
+#define NBIN PLANT_NBIN   /* binomial series degree */
 #define ROT_MAX 0.0625
 #define EPS_MAX 0.0625
 #define DW_MAX 0.03125
-
-static const double INV[NBIN + 1] = {0.0, 1.0, 1.0 / 2, 1.0 / 3, 1.0 / 4, 1.0 / 5, 1.0 / 6, 1.0 / 7,
-                                     1.0 / 8, 1.0 / 9, 1.0 / 10, 1.0 / 11, 1.0 / 12};
+/* EPS_DEGREE[n] = 2^(-64/(n+1)): up to this |eps| the binomial series to degree n leaves out less
+ * than 2^-64 of w */
+static const double EPS_DEGREE[NBIN + 1] = {0.0, 0.0, 3.78465903274584e-07, 1.52587890625e-05, 0.00014022196716272393,
+    0.0006151958251439813, 0.0017689915317654432, 0.00390625, 0.0072333961897444584, 0.011841535675862483,
+    0.0177236331593041, 0.024803141437003122, 0.0625};
 
 typedef struct {
     const plant_params_t *p;
@@ -45,10 +47,11 @@ typedef struct {
     int rot;                         /* maps by rotation from xc0 */
     double xc0, c0, s0;
     int series;                      /* Stribeck level by the binomial series about |v0| */
-    double inv_v0, w0, E0, bc[NBIN + 1];
+    double inv_v0, w0, E0;
+    const double *bc;                /* p->delta_bc */
     /* what the last evaluation computed: cos/sin at its position, w and exp(-w) at its speed */
-    double l_c1, l_s1, l_w, l_E;
-    int l_w_ok;
+    double l_c1, l_s1, l_w, l_E, l_S;
+    int l_w_ok, l_S_ok;              /* l_S_ok: the last right-hand side evaluated the level, l_S */
 } rctx_t;
 
 static double clamp(double x, double lo, double hi) { return x < lo ? lo : (x > hi ? hi : x); }
@@ -63,8 +66,8 @@ static void maps(rctx_t *c, double x, double *Kf, double *Fcg) {
     d = m1->kw0 * (xc - c->xc0);
     if (fabs(d) <= ROT_MAX) {
         d2 = d * d;
-        cd = 1.0 - d2 / 2.0 * (1.0 - d2 / 12.0 * (1.0 - d2 / 30.0 * (1.0 - d2 / 56.0)));
-        sd = d * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0 * (1.0 - d2 / 42.0 * (1.0 - d2 / 72.0))));
+        cd = 1.0 - d2 * 0.5 * (1.0 - d2 * (1.0 / 12.0) * (1.0 - d2 * (1.0 / 30.0) * (1.0 - d2 * (1.0 / 56.0))));
+        sd = d * (1.0 - d2 * (1.0 / 6.0) * (1.0 - d2 * (1.0 / 20.0) * (1.0 - d2 * (1.0 / 42.0) * (1.0 - d2 * (1.0 / 72.0)))));
     } else {
         cd = cos(d);
         sd = sin(d);
@@ -77,7 +80,7 @@ static void maps(rctx_t *c, double x, double *Kf, double *Fcg) {
 }
 
 /* S(|v|) on the side of the motion (friction_level's value) */
-static double level(rctx_t *c, double v) {
+static double level_eval(rctx_t *c, double v) {
     const plant_params_t *p = c->p;
     double Fs = p->Fs[c->side], Fc = p->Fc[c->side], av = fabs(v), w;
     c->l_w_ok = 0;
@@ -87,13 +90,17 @@ static double level(rctx_t *c, double v) {
         if (fabs(eps) <= EPS_MAX) {
             double dw, x;
             int n;
-            w = c->bc[NBIN];
-            for (n = NBIN - 1; n >= 1; n--) w = w * eps + c->bc[n];
+            double ae = fabs(eps);
+            int top = NBIN;
+            /* the degree this |eps| needs: the terms left out below 2^-64 of w (|C(delta, j)| <= 1) */
+            while (top > 2 && ae <= EPS_DEGREE[top - 1]) top--;
+            w = c->bc[top];
+            for (n = top - 1; n >= 1; n--) w = w * eps + c->bc[n];
             dw = c->w0 * (w * eps);
             if (fabs(dw) <= DW_MAX) {
                 x = -dw;
-                x = 1.0 + x * (1.0 + x / 2 * (1.0 + x / 3 * (1.0 + x / 4 * (1.0 + x / 5 * (1.0 + x / 6 *
-                    (1.0 + x / 7 * (1.0 + x / 8)))))));
+                x = 1.0 + x * (1.0 + x * 0.5 * (1.0 + x * (1.0 / 3) * (1.0 + x * 0.25 * (1.0 + x * (1.0 / 5) *
+                    (1.0 + x * (1.0 / 6) * (1.0 + x * (1.0 / 7) * (1.0 + x * 0.125)))))));
                 c->l_w_ok = 1;
                 c->l_w = c->w0 + dw;
                 c->l_E = c->E0 * x;
@@ -105,10 +112,18 @@ static double level(rctx_t *c, double v) {
     return Fc + (Fs - Fc) * exp(-pow(av / p->Vs, p->delta));
 }
 
+/* the same, kept as the last evaluation's level (the end point's, after the last stage) */
+static double level(rctx_t *c, double v) {
+    c->l_S = level_eval(c, v);
+    c->l_S_ok = 1;
+    return c->l_S;
+}
+
 /* dq = f(q); the maps' values there into *Kf, *Fcg */
 static void rhs(rctx_t *c, const double *q, double *dq, double *Kf_out, double *Fcg_out) {
     const plant_params_t *p = c->p;
     double Kf, Fcg, v = q[1], Ff, S = 1.0;
+    c->l_S_ok = 0;
     maps(c, q[0], &Kf, &Fcg);
     *Kf_out = Kf;
     *Fcg_out = Fcg;
@@ -136,7 +151,6 @@ static void rhs(rctx_t *c, const double *q, double *dq, double *Kf_out, double *
 /* the bases of the cheap maps and level at y: carried over from the last step (cr) or from libm */
 static void setup_bases(rctx_t *c, const plant_params_t *p, const double *y, const fast_carry_t *cr) {
     double av = fabs(y[PLANT_IV]);
-    int j;
     c->rot = p->rip.harmonic && p->cog.harmonic && p->rip.kw0 == p->cog.kw0 && p->rip.kmax >= 1 &&
              p->cog.kmax >= 1;
     if (c->rot) {
@@ -160,8 +174,7 @@ static void setup_bases(rctx_t *c, const plant_params_t *p, const double *y, con
             c->w0 = pow(av / p->Vs, p->delta);
             c->E0 = exp(-c->w0);
         }
-        c->bc[0] = 1.0;
-        for (j = 1; j <= NBIN; j++) c->bc[j] = c->bc[j - 1] * (p->delta - (j - 1)) * INV[j];
+        c->bc = p->delta_bc;
     }
 }
 
@@ -170,8 +183,8 @@ static int setup(rctx_t *c, const plant_params_t *p, const plant_disc_t *d, cons
                  const double *y, double *q, const fast_carry_t *cr) {
     int j;
     c->p = p;
-    c->l_w_ok = 0;
-    c->l_c1 = c->l_s1 = c->l_w = c->l_E = 0.0;
+    c->l_w_ok = c->l_S_ok = 0;
+    c->l_c1 = c->l_s1 = c->l_w = c->l_E = c->l_S = 0.0;
     c->i = current_loop_output(p, d, in->u);
     c->F_const = -in->F_ext - p->F_off;
     c->gms = p->prerolling;
@@ -202,8 +215,9 @@ static int setup(rctx_t *c, const plant_params_t *p, const plant_disc_t *d, cons
     return 1;
 }
 
-/* the indicators at the end of the step (gms_indicators / static_indicator) still positive */
-static int end_ok(const plant_params_t *p, const plant_disc_t *d, const double *y) {
+/* the indicators at the end of the step (gms_indicators / static_indicator) still positive;
+ * S_end >= 0: the level there on side 1 (v < 0) when side_end, else side 0 (the last stage's) */
+static int end_ok(const plant_params_t *p, const plant_disc_t *d, const double *y, double S_end, int side_end) {
     double v = y[PLANT_IV];
     int j, sg;
     if (!p->prerolling) return d->st_dir * v + PLANT_V_HYS > 0.0;
@@ -213,7 +227,7 @@ static int end_ok(const plant_params_t *p, const plant_disc_t *d, const double *
         double S = -1.0;
         for (j = 0; j < PLANT_NE_MAX; j++) {
             if (!p->active[j] || !d->stuck[j]) continue;
-            if (S < 0.0) S = friction_level(p, v, sg < 0);
+            if (S < 0.0) S = S_end >= 0.0 && side_end == (sg < 0) ? S_end : friction_level(p, v, sg < 0);
             if (!(p->nu[j] * S - sg * y[PLANT_IF + j] > 0.0)) return 0;
         }
     }
@@ -326,7 +340,7 @@ int fixed_step(const plant_params_t *p, const plant_disc_t *d, const plant_in_t 
     if (!(full_state(&c, d, tol, y, q, qn, e, y1) <= 1.0)) return 0;   /* also NaN */
     for (j = 0; j < PLANT_NX; j++)
         if (!isfinite(y1[j])) return 0;
-    if (!end_ok(p, d, y1)) return 0;
+    if (!end_ok(p, d, y1, c.l_S_ok ? c.l_S : -1.0, c.side)) return 0;
     for (j = 0; j < PLANT_NX; j++) y[j] = y1[j];
     if (carry) carry_save(carry, &c, d, in, y1, k5, Kf, carried);
     if (memo) {
@@ -334,6 +348,13 @@ int fixed_step(const plant_params_t *p, const plant_disc_t *d, const plant_in_t 
         memo->x = clamp(y1[PLANT_IX], p->x_min, p->x_max);
         memo->K_f = Kf;
         memo->F_cg = Fcg;
+        if (c.l_S_ok) {   /* the level at the end point: the outputs and the event update take it */
+            memo->lv_valid = 1;
+            memo->lv_v = y1[PLANT_IV];
+            memo->lv_x = y1[PLANT_IX];
+            memo->lv_side = c.side;
+            memo->lv_S = c.l_S;
+        }
     }
     return 1;
 }

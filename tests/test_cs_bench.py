@@ -31,6 +31,8 @@ def test_bench_cs_figures(bench_cs: Path):
     assert fig["dostep_us_p99"] < 100
     assert fig["state_events"] > 0 and fig["dostep_calls"] == 2 * 12000
     assert fig["max_tracking_error_m"] < 50e-6
+    # the floor sums each chunk's fastest repetition: never above the fastest whole run
+    assert 0.0 < fig["wall_s_floor"] <= fig["wall_s_best"] * (1 + 1e-5)   # both printed to 6 digits
 
 
 def test_bench_cs_missing_host_is_named(tmp_path: Path):

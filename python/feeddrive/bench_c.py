@@ -3,7 +3,9 @@
 ``run_bench_cs(exe, library)`` runs ``bench_cs`` on the FMU's shared library and returns the
 figures of the 30 mm / 6 s closed-loop sinusoid (2 kHz PID, 100 nm scale, one 0.5 ms
 ``fmi2DoStep`` per sample): real-time factor, friction events per simulated and per
-wall-clock second, and the wall time of one ``fmi2DoStep`` (median, 99th percentile, max) in µs.
+wall-clock second, the wall time of one ``fmi2DoStep`` (median, 99th percentile, max) in µs, and
+``wall_s_floor``: the loop's wall time with each 50-sample chunk at its fastest repetition (what a
+loaded machine's preemptions do not touch).
 ``run_cycles(exe, library)`` runs ``cycles``: bytes one instance holds and memory growth over
 many instantiate/simulate/free cycles.  ``run_two_fmus`` runs ``two_fmus``: the closed loop
 as controller FMU + plant FMU stepped from C.  All take the paths of the built executables; nothing

@@ -98,10 +98,13 @@ def campaign(params: Mapping[str, Any], sensors: Sensors, quick: bool = False,
     ----------
     params : FMU parameters; sensors : noise model and campaign seed; quick : short runs.
     repeats : runs of every job, with independent noise (1 .. :data:`MAX_REPEATS`).
+    progress : a bar over the runs on stderr (None: unless ``quick``, on a terminal).
 
-    Returns runs by group (:data:`GROUPS`); each run's ``meta['name']`` is its file stem
-    (suffixed ``_r1`` ... when ``repeats > 1``, and ``meta['repeat']`` the repeat's number).
-    ``progress``: a bar over the runs on stderr (None: unless ``quick``, on a terminal).
+    Returns
+    -------
+    dict
+        Runs by group (:data:`GROUPS`); each run's ``meta['name']`` is its file stem,
+        suffixed ``_r1`` ... when ``repeats > 1``, and ``meta['repeat']`` the repeat's number.
     """
     _check_repeats(repeats)
     out: dict[str, list[Run]] = {g: [] for g in GROUPS}

@@ -26,11 +26,21 @@ holds still), and a run cut just after a long hold loses its start; estimating u
 samples and costs N bounded unknowns per run, about what the residual's first samples can
 pin down.  The estimate (:func:`initial_elements`): a coarse search over the states a
 history can leave (every element at the same fraction of its bound, and the states a
-monotone travel d leaves after a full slip the other way), then bounded least squares
-(scipy ``least_squares``, trust-region reflective) on the residual up to the sample where
-the memory is wiped (plus the kernel's half width).  Only the sum of the F_i is
-determined while everything sticks; the split between elements is determined by when each
-one slips.  The estimate absorbs at most N bounded forces over the first samples: an effect
+monotone travel d leaves after a full slip the other way), each of these one-parameter
+families refined between the grid points around its best (bounded scalar search), then
+bounded least squares (scipy ``least_squares``, trust-region reflective) from the three
+best starts, on the residual up to the sample where the memory is wiped (plus the kernel's
+half width).  The refinement matters where a run starts holding a load close to break-away
+(272.7 N leaves 25.1 N of friction against F_s = 26.1 N): the stage there dithers by a few
+tenths of a micrometre (the current noise acts on it), and an element started at its bound
+slips at the first outward step, after which its force no longer depends on its start.
+The residual is flat in the start forces around the bound, so a local solver started on
+the grid's bound stays there (0.1-0.2 N too much friction over the whole hold), while the
+held total the first samples show (25.1 N, elements just below their levels) lies between
+two grid points.  Several local solves, because the problem is piecewise and not convex:
+on the campaign's ``variable_speed`` run the solver from the best refined start alone ends
+at 0.28 N rms, from the grid's best at 0.005 N.  Only the sum of the F_i is determined
+while everything sticks; the split between elements is determined by when each one slips.  The estimate absorbs at most N bounded forces over the first samples: an effect
 that acts after the memory is wiped is untouched by it.
 """
 from __future__ import annotations

@@ -63,6 +63,9 @@ FRACTIONS = tuple(np.linspace(-1.0, 1.0, 9).tolist())
 TRAVELS = (0.0, 0.05, 0.1, 0.2, 0.35, 0.5, 0.75, 1.0, 1.5, 2.0)
 #: The best starts (after the grid's refinement) the bounded least squares starts from.
 REFINE_STARTS = 3
+#: Share of the grid start's residual energy over the first samples the wider search must
+#: remove to replace it.
+REFINE_GAIN = 0.2
 
 
 @dataclass(frozen=True)
@@ -284,18 +287,29 @@ def initial_elements(x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters
     def cost(F0: np.ndarray) -> float:
         return float(np.sum(fun(F0) ** 2))
 
-    starts = _history_starts(prm, lo, hi)
-    starts += _refined_starts(cost, starts, prm, lo, hi)
-    costs = [cost(F) for F in starts]
     span = np.maximum(hi - lo, 1e-12)
-    best, best_cost = np.clip(starts[int(np.argmin(costs))], lo, hi), min(costs)
-    for j in np.argsort(costs)[:REFINE_STARTS]:
-        sol = least_squares(fun, np.clip(starts[j], lo, hi), jac=jac,
-                            bounds=(lo, hi + 1e-15 * span), method="trf", x_scale=span,
-                            max_nfev=50)
+
+    def local(F_start: np.ndarray) -> tuple[np.ndarray, float]:
+        """Bounded least squares from F_start; F_start itself when that is no better."""
+        F_start = np.clip(F_start, lo, hi)
+        sol = least_squares(fun, F_start, jac=jac, bounds=(lo, hi + 1e-15 * span),
+                            method="trf", x_scale=span, max_nfev=50)
         F = np.clip(sol.x, lo, hi)
-        c = cost(F)
-        if c < best_cost:
+        c, c0 = cost(F), cost(F_start)
+        return (F, c) if c < c0 else (F_start, c0)
+
+    grid = _history_starts(prm, lo, hi)
+    grid_costs = [cost(F) for F in grid]
+    best, best_cost = local(grid[int(np.argmin(grid_costs))])
+    # the wider search (refined families, several local solves) replaces the grid's start
+    # only when it explains clearly more of the first samples: a plateau left behind, not
+    # a few per cent of some other effect's residual fitted into the start forces
+    wide = grid + _refined_starts(cost, grid, prm, lo, hi)
+    wide_costs = grid_costs + [cost(F) for F in wide[len(grid):]]
+    bar = (1.0 - REFINE_GAIN) * best_cost
+    for k in np.argsort(wide_costs)[:REFINE_STARTS]:
+        F, c = local(wide[k])
+        if c < min(bar, best_cost):
             best, best_cost = F, c
     return GMSStart(best, lo, hi, wiped, int(ok.sum()), basis=sensitivity(best))
 

@@ -4,9 +4,8 @@ Data: the GMS along a made-up motion from a known start state (unit tests), and 
 campaign ``feeddrive experiments`` writes (short runs, the paper's model) diagnosed with
 the model that made it, whole and cut to start mid-motion, after a reversal and at a
 standstill that holds a load.  The model that made the data must name nothing, be
-``explained`` and leave at most 1.5 x the noise floor (2.5 x on three short runs where a
-stop or reversal weighs heavily, see ``RATIO``); with the virgin start the same runs leave
-many times the floor (the start transient the estimate removes).
+``explained`` and leave at most 1.5 x the noise floor; with the virgin start the same runs
+leave many times the floor (the start transient the estimate removes).
 """
 from __future__ import annotations
 
@@ -24,7 +23,7 @@ from feeddrive.harness.sensors import Sensors
 from feeddrive.identify.compliance import rigid_residual
 from feeddrive.model_file import paper_model
 from feeddrive.physics import compile, gms_force, initial_elements, memory_wiped
-from feeddrive.physics.gms_start import element_bounds
+from feeddrive.physics.gms_start import _Tracks, element_bounds
 from feeddrive.signals import apply_kernel, matched_acceleration
 
 PAPER = paper_model()
@@ -87,6 +86,48 @@ def test_initial_element_forces_are_recovered_from_the_first_samples(state):
     assert np.max(np.abs(err[ok])) < 0.05
 
 
+def test_a_hold_close_to_break_away_is_recovered_between_the_search_grid_points():
+    # a stage holding 96 % of break-away while it dithers by 0.2 um at 50 Hz (the current
+    # noise acting on it): an element started at its bound slips at the first outward step
+    # and forgets its start, so a solver started on the grid's bound finds no slope and
+    # stays (1 N too much friction); the refined search must land within 0.05 N of the held
+    # total and leave the filtered friction within 0.01 N of the truth's
+    x, v = _hold_then_move()
+    t = np.arange(len(x)) * DT
+    A, f = 0.2e-6, 50.0
+    hold = t < 0.3
+    x = x + np.where(hold, A * np.sin(2 * np.pi * f * t), 0.0)
+    v = v + np.where(hold, A * 2 * np.pi * f * np.cos(2 * np.pi * f * t), 0.0)
+    _, hi = element_bounds(PRM, float(x[0]))
+    F_true0 = 0.96 * hi
+    F_true = gms_force(x, v, DT, PRM, F0=F_true0)
+    K = _kernel()
+    rng = np.random.default_rng(7)
+    r_virgin = (apply_kernel(F_true - gms_force(x, v, DT, PRM), K)
+                + 0.01 * rng.standard_normal(len(x)))
+    ok = np.isfinite(r_virgin)
+    start = initial_elements(x, v, DT, PRM, r_virgin, K)
+    assert np.sum(start.F0) == pytest.approx(np.sum(F_true0), abs=0.05)
+    err = apply_kernel(gms_force(x, v, DT, PRM, F0=start.F0) - F_true, K)
+    assert np.max(np.abs(err[ok])) < 0.01
+
+
+def test_the_start_search_tracks_are_the_gms_from_the_same_start():
+    # the search reuses an element's track after its first slip; every start must still give
+    # the GMS's own element forces (to rounding)
+    t = np.arange(0.0, 1.0, DT)
+    x = np.round((0.15 + 60e-6 * np.sin(2 * np.pi * 1.5 * t)
+                  + 20e-6 * np.sin(2 * np.pi * 7 * t)) / 1e-7) * 1e-7
+    v = np.gradient(x, DT) + 1e-5 * np.random.default_rng(3).standard_normal(len(t))
+    tracks = _Tracks(x, v, DT, PRM)
+    lo, hi = element_bounds(PRM, float(x[0]))
+    rng = np.random.default_rng(4)
+    for _ in range(10):
+        F0 = lo + (hi - lo) * rng.random(len(hi))
+        _, Fe = gms_force(x, v, DT, PRM, F0=F0, return_elements=True)
+        assert np.max(np.abs(tracks.all(F0) - Fe)) < 1e-9
+
+
 @functools.lru_cache(maxsize=None)
 def _campaign() -> dict[str, Run]:
     runs = campaign(PAPER.fmu_parameters(), Sensors(seed=1), quick=True)
@@ -119,11 +160,8 @@ SETS = {
 }
 
 
-#: Gap / floor allowed: 1.5; 2.5 where a stop or a reversal at a few mm/s is a large share
-#: of a short run: the 5 ms velocity places the sign change of the stop's small overshoot
-#: within a millisecond or two, and the held force that follows is off by up to 0.1-0.3 N
-#: (measured 2.0-2.3 x on these runs; the virgin start leaves 10-100 x).
-RATIO = {"loaded_272N": 2.5, "cut_after_reversal": 2.5, "cut_standstill_under_load": 2.5}
+#: Gap / floor allowed on every set (measured 0.37-1.46 x; the virgin start leaves 10-100 x).
+RATIO = 1.5
 
 
 @pytest.mark.parametrize("kind", list(SETS))
@@ -133,8 +171,7 @@ def test_the_model_that_made_the_data_is_explained_on_every_run_kind(kind):
     v = diag.verdict
     assert diag.steps == [], [(s.effect, s.evidence["explained_force_N"]) for s in diag.steps]
     assert v["verdict"] == "explained", v["sentence"]
-    assert v["gap_N"] <= RATIO.get(kind, 1.5) * v["noise_floor_N"], (v["gap_N"],
-                                                                      v["noise_floor_N"])
+    assert v["gap_N"] <= RATIO * v["noise_floor_N"], (v["gap_N"], v["noise_floor_N"])
 
 
 def test_a_virgin_start_leaves_the_transient_the_estimate_removes():

@@ -123,7 +123,7 @@ def test_the_commands_of_the_examples_page(tmp_path):
         assert p.returncode == 0, p.stdout + p.stderr
         out[args[0]] = p.stdout
     # the paper's model replays the recording it made: the gap is the scale's and the noise's
-    rms = float(re.search(r"rms ([\d.]+) um", out["validate"]).group(1))
+    rms = float(re.search(r"rms: ([\d.]+) µm", out["validate"]).group(1))
     assert rms < 1.0, out["validate"]
     assert (tmp_path / "build" / "study" / "results.csv").exists()
     rows = (tmp_path / "build" / "study" / "results.csv").read_text().splitlines()

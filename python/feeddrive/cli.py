@@ -291,7 +291,7 @@ def _register_run(sub) -> None:
                        "with --shared, DIR/realdata/odrive-cogging (the ODrive cogging maps)",
                  writes="OUT/index.html with its figures (PNG) and sec3_measured.csv; the tables on\n"
                         "stdout (tracking errors in µm)",
-                 example="feeddrive run --out build/report --shared ../shared --force")
+                 example="feeddrive run --out build/report --shared /data/feeddrive-shared --force")
     _path(p, OUT_DIR, "--out", default=str(BUILD / "report"),
           help="output folder (default build/report)")
     _path(p, RUNS, "--runs", default=None,

@@ -1,4 +1,4 @@
-"""A drive that plays a plan: every planned run simulated on the FMU, recorded as DATA.md runs.
+"""A drive that plays a plan: every planned run simulated on the FMU, recorded as runs in the recording format.
 
 What a user does with ``feeddrive plan``'s folder, with the FMU (at a truth's parameters) as
 the machine: each reference of ``DIR/reference`` is played (closed loop under the sidecar's

@@ -6,7 +6,7 @@ from .recording import HOLD
 
 REFERENCE_DIR, SIDECAR_DIR = "reference", "sidecar"
 
-#: DATA.md's columns, as a recording of a planned run must hold them
+#: the recording format's columns, as a recording of a planned run must hold them
 RECORD_COLUMNS: tuple[tuple[str, str, str], ...] = (
     ("time", "s", "sample time, every controller sample Ts, strictly increasing"),
     ("u", "V", "current-amplifier reference: the controller's output (plus u_add in the "

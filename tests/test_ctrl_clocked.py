@@ -12,9 +12,10 @@ import numpy as np
 import pytest
 from fmpy import extract, read_model_description
 from fmpy.fmi1 import FMICallException
-from fmpy.fmi3 import FMU3Slave
+from fmpy.fmi3 import FMU3Slave, fmi3Float64, fmi3IntervalQualifier, fmi3ValueReference
+from fmpy.validation import validate_fmu
 
-from feeddrive.fmu import Plant
+from feeddrive.fmu import FMUError, Plant
 from feeddrive.harness import make_controller, pid_lti_spec, simulate_closed_loop, sinusoid, state_space_spec
 from feeddrive.harness.clocked_controller import ClockedController, simulate_clocked
 from feeddrive.harness.controller_fmu import controller_fmu_parameters, sinusoid_source
@@ -61,7 +62,6 @@ def test_zero_delay_differs_from_the_delayed_loop(fmu_path) -> None:
 def test_clock_in_the_description(fmu_path) -> None:
     """``tick``: an input Clock, periodic with the interval the parameter Ts (fixed), the
     inputs and outputs clocked by it, Event Mode offered; fmpy's validation is clean."""
-    from fmpy.validation import validate_fmu
     assert validate_fmu(str(CTRL3)) == []
     md = read_model_description(str(CTRL3))
     var = {v.name: v for v in md.modelVariables}
@@ -108,7 +108,6 @@ def test_clock_refusals(fmu_path) -> None:
     assert "fmi3UpdateDiscreteStates first" in log[-1]
     fmu.updateDiscreteStates()
     fmu.enterStepMode()
-    from fmpy.fmi3 import fmi3Float64, fmi3IntervalQualifier, fmi3ValueReference
     vrs, iv, q = (fmi3ValueReference * 1)(vr["tick"]), (fmi3Float64 * 1)(), (fmi3IntervalQualifier * 1)()
     fmu.getIntervalDecimal(vrs, iv, q)
     assert iv[0] == 5e-4
@@ -125,7 +124,6 @@ def test_clock_refusals(fmu_path) -> None:
 def test_controller_object_names_the_failure(fmu_path) -> None:
     """A tick the FMU refuses (x_meas not finite) raises FMUError with the FMU's message, not
     fmpy's bare status."""
-    from feeddrive.fmu import FMUError
     values = controller_fmu_parameters(state_space_spec(), reference=sinusoid_source(A, P, C, 0.1), quantum=1e-7)
     with ClockedController(values, CTRL3) as c:
         c.start(0.15)

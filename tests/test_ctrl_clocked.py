@@ -16,6 +16,7 @@ from fmpy.fmi3 import FMU3Slave, fmi3Float64, fmi3IntervalQualifier, fmi3ValueRe
 from fmpy.validation import validate_fmu
 
 from feeddrive.fmu import FMUError, Plant
+from feeddrive.fmu3 import set_values
 from feeddrive.harness import make_controller, pid_lti_spec, simulate_closed_loop, sinusoid, state_space_spec
 from feeddrive.harness.clocked_controller import ClockedController, simulate_clocked
 from feeddrive.harness.controller_fmu import controller_fmu_parameters, sinusoid_source
@@ -129,3 +130,44 @@ def test_controller_object_names_the_failure(fmu_path) -> None:
         c.start(0.15)
         with pytest.raises(FMUError, match="controller tick at sample 1: fmi3SetFloat64: .*x_meas"):
             c.tick(float("nan"))
+
+
+def test_the_tick_sample_in_any_order_of_the_event_mode(fmu_path) -> None:
+    """The sample of a tick comes from the inputs set at the tick, whatever the order inside
+    the Event Mode: u read before fmi3UpdateDiscreteStates (clock active), u read after it, or
+    a u read before the clock was set (from the old x_meas) then dropped -- 20 ticks with x_meas
+    moving 1 um per tick give the same u to the bit, and u moves."""
+    values = controller_fmu_parameters(state_space_spec(), reference=sinusoid_source(A, P, C, 0.1), quantum=0.0)
+    x0 = float(sinusoid(A, P, C, 0.1).x[0])
+    runs = []
+    for order in ("get_then_update", "update_then_get", "early_get"):
+        log: list[str] = []
+        md = read_model_description(str(CTRL3))
+        fmu = FMU3Slave(guid=md.guid, unzipDirectory=extract(str(CTRL3)),
+                        modelIdentifier=md.coSimulation.modelIdentifier, instanceName=order)
+        fmu.instantiate(eventModeUsed=True, logMessage=lambda env, st, cat, msg: log.append(msg.decode()))
+        vr = {v.name: v.valueReference for v in md.modelVariables}
+        set_values(fmu, md, values)
+        fmu.enterInitializationMode(startTime=0.0)
+        fmu.exitInitializationMode()
+        us = []
+        for k in range(20):
+            if k > 0:
+                fmu.doStep((k - 1) * 5e-4, 5e-4)
+                fmu.enterEventMode()
+            if order == "early_get":
+                fmu.getFloat64([vr["u"]])
+            fmu.setClock([vr["tick"]], [True])
+            fmu.setFloat64([vr["x_meas"]], [x0 - 1e-6 * k])
+            if order == "get_then_update":
+                us.append(fmu.getFloat64([vr["u"]])[0])
+                fmu.updateDiscreteStates()
+            else:
+                fmu.updateDiscreteStates()
+                us.append(fmu.getFloat64([vr["u"]])[0])
+            fmu.enterStepMode()
+        fmu.terminate()
+        fmu.freeInstance()
+        runs.append(us)
+    assert runs[0] == runs[1] == runs[2], runs
+    assert runs[0][19] != runs[0][1] and max(abs(u) for u in runs[0]) < 10.0    # moving, not clamped

@@ -576,9 +576,16 @@ double ctrl_sample_period(fmi2Component comp) {
     return ctrl_is_instance(comp) ? ((ctrl_instance_t *)comp)->val[CVR_Ts] : 0.0;
 }
 
-/* A tick of the input clock at the instance's time: the sample due at this instant from the
- * inputs as they stand, committed (the outputs are its outputs until the next tick). 0, logged
- * as fn's error, when the instant is no sample instant or the sample is not finite. */
+/* The input clock set active: a sample computed before (an output read before the tick) is
+ * dropped; the tick's sample comes from the inputs set at the tick. */
+void ctrl_drop_pending(fmi2Component comp) {
+    if (ctrl_is_instance(comp)) ((ctrl_instance_t *)comp)->pending_ok = ((ctrl_instance_t *)comp)->pending_read = 0;
+}
+
+/* A tick of the input clock at the instance's time: the sample due at this instant -- the one
+ * an output read at the tick computed, else one from the inputs as they stand -- committed (the
+ * outputs are its outputs until the next tick). 0, logged as fn's error, when the instant is no
+ * sample instant or the sample is not finite. */
 int ctrl_tick(fmi2Component comp, const char *fn) {
     ctrl_instance_t *c = (ctrl_instance_t *)comp;
     double tk;
@@ -590,7 +597,6 @@ int ctrl_tick(fmi2Component comp, const char *fn) {
                  c->p.Ts);
         return 0;
     }
-    c->pending_ok = 0;
     if (!evaluate(c, fn)) return 0;
     c->s = c->pending;
     c->pending_ok = c->pending_read = 0;

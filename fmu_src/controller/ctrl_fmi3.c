@@ -3,9 +3,10 @@
  * call sequence and messages (fmi3_log.h renames the functions), calloc/free for memory.
  * Event Mode with a periodic input clock `tick` (interval Ts, the parameter): an instance made
  * with eventModeUsed takes its samples at the ticks only -- at t_k the importer enters Event
- * Mode, sets the inputs of t_k, activates the clock (fmi3SetClock), fmi3UpdateDiscreteStates
- * computes the sample from them, the outputs read then are u_k (no delay but ctrl.delay's), and
- * fmi3EnterStepMode returns to the steps, each ending at the latest at the next tick. Without
+ * Mode, activates the clock (fmi3SetClock), sets the inputs of t_k, reads u_k (computed from
+ * them: no delay but ctrl.delay's), fmi3UpdateDiscreteStates commits the sample (outputs read
+ * after it are the same), and fmi3EnterStepMode returns to the steps, each ending at the latest
+ * at the next tick. Without
  * eventModeUsed the instance samples as the FMI 2.0 FMU does (inside fmi3DoStep). No early
  * return, no FMU state, no model exchange; the functions neither FMU provides are in
  * fmu_src/fmi3_stubs.c. */
@@ -23,6 +24,7 @@ void ctrl_refuse_message(fmi2Component comp, const char *fn, const char *why);
 int ctrl_stepping(fmi2Component comp);
 double ctrl_sample_period(fmi2Component comp);
 int ctrl_tick(fmi2Component comp, const char *fn);
+void ctrl_drop_pending(fmi2Component comp);
 int ctrl_step_within_tick(fmi2Component comp, double t, double h);
 
 /* the value reference of the input clock `tick` (fmu_src/gen_fmi3.py's CTRL_VR_TICK) */
@@ -296,6 +298,7 @@ fmi3Status fmi3SetClock(fmi3Instance i, const fmi3ValueReference vr[], size_t nv
     if (!e->in_event) return fmi3_refuse(i, "fmi3SetClock", "tick can be set in Event Mode only (fmi3EnterEventMode "
                                                              "at the tick's instant first)");
     for (k = 0; k < nvr; k++) e->ticked = v[k] != fmi3ClockInactive;
+    if (e->ticked) ctrl_drop_pending(i);
     return fmi3OK;
 }
 

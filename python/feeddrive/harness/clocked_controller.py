@@ -3,9 +3,9 @@ given at every sample: the zero-delay loop as FMI 3.0 co-simulation allows it.
 
 At t_k the master steps the plant (FMI 2.0, the harness's) over [t_k-1, t_k] holding u_k-1,
 reads x(t_k), steps the controller to t_k (it takes no sample inside a step), enters its Event
-Mode, sets x(t_k) as its ``x_meas``, activates ``tick`` (fmi3SetClock), and
-fmi3UpdateDiscreteStates takes the sample of t_k from it; the master reads u_k and returns the
-controller to Step Mode.  u_k acts on the plant over [t_k, t_k+1): no delay but the controller's
+Mode, activates ``tick`` (fmi3SetClock), sets x(t_k) as its ``x_meas`` and reads u_k (the
+sample of t_k, computed from it) while the clock is active, fmi3UpdateDiscreteStates commits
+the sample, and the master returns the controller to Step Mode.  u_k acts on the plant over [t_k, t_k+1): no delay but the controller's
 own ``ctrl.delay``, the harness's run (:func:`~.simulate.simulate_closed_loop`) to the bit.
 The first tick is at t_0, in the Event Mode the controller enters after initialisation.
 """
@@ -59,10 +59,10 @@ class ClockedController:
 
     def _sample(self, x_meas: float) -> float:
         try:
-            self.fmu.setFloat64([self.vr["x_meas"]], [x_meas])
             self.fmu.setClock([self.vr["tick"]], [True])
+            self.fmu.setFloat64([self.vr["x_meas"]], [x_meas])
+            u = self.fmu.getFloat64([self.vr["u"]])[0]    # with the clock active (FMI 3.0 clocked variables)
             self.fmu.updateDiscreteStates()
-            u = self.fmu.getFloat64([self.vr["u"]])[0]
             self.fmu.enterStepMode()
         except Exception:
             raise self._fail("tick") from None

@@ -2,7 +2,8 @@
 Event Mode, its periodic input clock ``tick`` given at every sample (enter Event Mode, set
 x_meas, fmi3SetClock, fmi3UpdateDiscreteStates, read u, enter Step Mode), the plant stepped
 first.  It is the harness's run to the bit (Sec. 3 sinusoid, 100 nm scale) for the state-space
-controller with ``delay`` 0 and 1 and for an lti controller; the clock's description and its
+controller with ``delay`` 0 and 1 (and with the plant FMU as FMI 3.0 too) and for an lti
+controller; the clock's description and its
 refusals are those of the FMI 3.0 standard."""
 from __future__ import annotations
 
@@ -27,12 +28,13 @@ CTRL3 = ROOT / "build" / "DriveController3.fmu"
 A, P, C = 0.030, 6.0, 0.150          #: the Sec. 3 sinusoid [m], [s], [m]
 
 
-def _both(spec: dict, duration: float) -> tuple[dict, dict]:
+def _both(spec: dict, duration: float, plant_path: Path | None = None) -> tuple[dict, dict]:
     ref = sinusoid(A, P, C, duration)
     with Plant(paper_parameters(), interface="cs") as plant:
         h = simulate_closed_loop(plant, make_controller(spec, ref), ref.n, float(ref.x[0]), quantum=1e-7)
     values = controller_fmu_parameters(spec, reference=sinusoid_source(A, P, C, duration), quantum=1e-7)
-    clocked = simulate_clocked(paper_parameters(), values, ref.n, float(ref.x[0]), controller_path=CTRL3)
+    clocked = simulate_clocked(paper_parameters(), values, ref.n, float(ref.x[0]), controller_path=CTRL3,
+                               plant_path=plant_path)
     return h, clocked
 
 
@@ -40,6 +42,13 @@ def _both(spec: dict, duration: float) -> tuple[dict, dict]:
 def test_clocked_state_space_loop_is_the_harness_bit_for_bit(fmu_path, delay: int) -> None:
     """The 6 s loop, state-space controller, ``delay`` 0 (zero delay) and 1: x and u to the bit."""
     h, c = _both({**state_space_spec(), "delay": delay}, P)
+    assert np.array_equal(c["x"], h["x_measured"])
+    assert np.array_equal(c["u"], h["u"])
+
+
+def test_both_fmus_fmi3_is_the_harness_bit_for_bit(fmu_path, fmu3_path) -> None:
+    """The plant FMU as FMI 3.0 too (both FMUs FMI 3.0), 6 s, ``delay`` 0: x and u to the bit."""
+    h, c = _both(state_space_spec(), P, plant_path=fmu3_path)
     assert np.array_equal(c["x"], h["x_measured"])
     assert np.array_equal(c["u"], h["u"])
 

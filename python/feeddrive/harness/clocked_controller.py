@@ -98,7 +98,8 @@ def simulate_clocked(plant_params: Mapping[str, Any], ctrl_params: Mapping[str, 
     ``x_measured``, rows k = 0..n), u and ``wall`` [s], as
     :func:`~.two_fmus.simulate_two_fmus`.
 
-    ``ctrl_params``: :func:`~.controller_fmu.controller_fmu_parameters` (with ``Ts``).
+    ``ctrl_params``: :func:`~.controller_fmu.controller_fmu_parameters` (with ``Ts``);
+    ``plant_path``: the plant FMU, FMI 2.0 or 3.0 (default: the package's FMI 2.0 one).
     """
     xs = np.empty(n + 1)
     us = np.empty(n + 1)

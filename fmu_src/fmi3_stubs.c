@@ -1,10 +1,10 @@
-/* The FMI 3.0 functions that neither the plant nor the controller FMU provides, shared by
+/* The FMI 3.0 functions that neither the plant nor the controller FMU provides (the clock
+ * functions: fmi3_no_clocks.c for the plant, controller/ctrl_fmi3.c for the controller), shared by
  * both FMI 3.0 libraries: each answers through the glue's fmi3_refuse (fmi3_log.h), fmi3Error
  * with a message naming the function (fmi3OK for a get/set of nothing). */
 #include "fmi3_log.h"
 
 #define NO_TYPE "this FMU has variables of types Float64, Int32 and Boolean only"
-#define NO_CLOCKS "this FMU has no clocks"
 
 fmi3Status fmi3GetFloat32(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, fmi3Float32 v[], size_t nv) {
     (void)vr; (void)v; (void)nv;
@@ -88,14 +88,6 @@ fmi3Status fmi3SetBinary(fmi3Instance i, const fmi3ValueReference vr[], size_t n
     (void)vr; (void)sizes; (void)v; (void)nv;
     return fmi3_refuse(i, "fmi3SetBinary", nvr ? NO_TYPE : NULL);
 }
-fmi3Status fmi3GetClock(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, fmi3Clock v[]) {
-    (void)vr; (void)v;
-    return fmi3_refuse(i, "fmi3GetClock", nvr ? NO_CLOCKS : NULL);
-}
-fmi3Status fmi3SetClock(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, const fmi3Clock v[]) {
-    (void)vr; (void)v;
-    return fmi3_refuse(i, "fmi3SetClock", nvr ? NO_CLOCKS : NULL);
-}
 
 fmi3Status fmi3GetDirectionalDerivative(fmi3Instance instance, const fmi3ValueReference unknowns[], size_t nUnknowns,
                                         const fmi3ValueReference knowns[], size_t nKnowns, const fmi3Float64 seed[],
@@ -146,37 +138,4 @@ fmi3Instance fmi3InstantiateScheduledExecution(fmi3String instanceName, fmi3Stri
         logMessage(instanceEnvironment, fmi3Error, "logStatusError",
                    "fmi3InstantiateScheduledExecution: this FMU has no scheduled execution");
     return NULL;
-}
-
-fmi3Status fmi3GetIntervalDecimal(fmi3Instance instance, const fmi3ValueReference vr[], size_t n, fmi3Float64 a[], fmi3IntervalQualifier b[]) {
-    (void)vr; (void)n; (void)a; (void)b;
-    return fmi3_refuse(instance, "fmi3GetIntervalDecimal", NO_CLOCKS);
-}
-fmi3Status fmi3GetIntervalFraction(fmi3Instance instance, const fmi3ValueReference vr[], size_t n, fmi3UInt64 a[], fmi3UInt64 b[], fmi3IntervalQualifier q[]) {
-    (void)vr; (void)n; (void)a; (void)b; (void)q;
-    return fmi3_refuse(instance, "fmi3GetIntervalFraction", NO_CLOCKS);
-}
-fmi3Status fmi3GetShiftDecimal(fmi3Instance instance, const fmi3ValueReference vr[], size_t n, fmi3Float64 a[]) {
-    (void)vr; (void)n; (void)a;
-    return fmi3_refuse(instance, "fmi3GetShiftDecimal", NO_CLOCKS);
-}
-fmi3Status fmi3GetShiftFraction(fmi3Instance instance, const fmi3ValueReference vr[], size_t n, fmi3UInt64 a[], fmi3UInt64 b[]) {
-    (void)vr; (void)n; (void)a; (void)b;
-    return fmi3_refuse(instance, "fmi3GetShiftFraction", NO_CLOCKS);
-}
-fmi3Status fmi3SetIntervalDecimal(fmi3Instance instance, const fmi3ValueReference vr[], size_t n, const fmi3Float64 a[]) {
-    (void)vr; (void)n; (void)a;
-    return fmi3_refuse(instance, "fmi3SetIntervalDecimal", NO_CLOCKS);
-}
-fmi3Status fmi3SetIntervalFraction(fmi3Instance instance, const fmi3ValueReference vr[], size_t n, const fmi3UInt64 a[], const fmi3UInt64 b[]) {
-    (void)vr; (void)n; (void)a; (void)b;
-    return fmi3_refuse(instance, "fmi3SetIntervalFraction", NO_CLOCKS);
-}
-fmi3Status fmi3SetShiftDecimal(fmi3Instance instance, const fmi3ValueReference vr[], size_t n, const fmi3Float64 a[]) {
-    (void)vr; (void)n; (void)a;
-    return fmi3_refuse(instance, "fmi3SetShiftDecimal", NO_CLOCKS);
-}
-fmi3Status fmi3SetShiftFraction(fmi3Instance instance, const fmi3ValueReference vr[], size_t n, const fmi3UInt64 a[], const fmi3UInt64 b[]) {
-    (void)vr; (void)n; (void)a; (void)b;
-    return fmi3_refuse(instance, "fmi3SetShiftFraction", NO_CLOCKS);
 }

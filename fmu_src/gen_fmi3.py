@@ -5,7 +5,10 @@ Usage: gen_fmi3.py modelDescription.xml OUTDIR
        gen_fmi3.py --controller build/gen/controller/modelDescription.xml OUTDIR
 
 (``--controller``: the controller FMU's merged FMI 2.0 description, co-simulation only, no
-arrays, no C table; its FMI 3.0 glue is controller/ctrl_fmi3.c.)
+arrays, no C table; its FMI 3.0 glue is controller/ctrl_fmi3.c. It adds the input clock
+``tick``: periodic, its interval the parameter Ts (``intervalVariability="fixed"``), the inputs
+and outputs clocked by it (``clocks``), and Event Mode (``hasEventMode``): an importer that
+instantiates with eventModeUsed gives every sample as a tick in Event Mode.)
 
 modelDescription.xml (FMI 2.0) stays the one list of variables. From it this writes
 OUTDIR/modelDescription.xml (FMI 3.0), OUTDIR/buildDescription.xml (for sources/) and
@@ -32,6 +35,7 @@ N_NAME = "friction.N"
 N_ARRAYS = ("friction.F", "der(friction.F)", "friction.nu", "friction.k", "friction.stuck")
 TYPES = {"Real": "Float64", "Integer": "Int32", "Boolean": "Boolean"}
 VR_TIME, VR_INDICATORS = 0, 80
+CTRL_VR_TICK = 9          # the controller's input clock (controller/ctrl_fmi3.c's VR_TICK)
 
 
 def array_of(name: str) -> tuple[str, int] | None:
@@ -129,11 +133,31 @@ def structure(root2: ET.Element, vars3: list[dict]) -> ET.Element:
         ET.SubElement(ms, "Output", valueReference=str(vr))
     for vr in unique("Derivatives"):
         ET.SubElement(ms, "ContinuousStateDerivative", valueReference=str(vr))
+    clocked = {v["vr"] for v in vars3 if "clocks" in v["typed"]}   # computed at the ticks, not initially
     for vr in unique("InitialUnknowns"):
-        ET.SubElement(ms, "InitialUnknown", valueReference=str(vr))
+        if vr not in clocked:
+            ET.SubElement(ms, "InitialUnknown", valueReference=str(vr))
     if any(v["name"] == "eventIndicators" for v in vars3):
         ET.SubElement(ms, "EventIndicator", valueReference=str(VR_INDICATORS))
     return ms
+
+
+def clock_controller(vars3: list[dict]) -> list[dict]:
+    """The controller's variables with the input clock ``tick`` (after ``time``) and its inputs
+    and outputs clocked by it (discrete: they change at the ticks only)."""
+    names = {v["name"]: v for v in vars3}
+    assert "Ts" in names and CTRL_VR_TICK not in {v["vr"] for v in vars3}
+    out = [vars3[0], {"name": "tick", "vr": CTRL_VR_TICK, "type": "Clock", "elems": [], "dim": False,
+                      "attrs": {"causality": "input", "variability": "discrete",
+                                "description": "Sample clock: ticks at t0 + k Ts (interval the parameter Ts); "
+                                               "with Event Mode every sample is taken at a tick"},
+                      "typed": {"intervalVariability": "fixed"}}]
+    for v in vars3[1:]:
+        if v["attrs"].get("causality") in ("input", "output"):
+            v["attrs"]["variability"] = "discrete"
+            v["typed"]["clocks"] = str(CTRL_VR_TICK)
+        out.append(v)
+    return out
 
 
 def model_description(root2: ET.Element, vars3: list[dict]) -> ET.ElementTree:
@@ -148,11 +172,13 @@ def model_description(root2: ET.Element, vars3: list[dict]) -> ET.ElementTree:
               "canSerializeFMUState": cs2.get("canSerializeFMUstate", "false")}
     if root2.find("ModelExchange") is not None:
         ET.SubElement(r, "ModelExchange", {**common, "needsCompletedIntegratorStep": "false"})
-    events = "true" if root2.find("ModelExchange") is not None else "false"   # the plant: friction switches
+    # the plant: friction switches; the controller: its clock
+    events = "true" if root2.find("ModelExchange") is not None or any(v["type"] == "Clock" for v in vars3) else "false"
+    early = "true" if root2.find("ModelExchange") is not None else "false"
     ET.SubElement(r, "CoSimulation", {**common, "canHandleVariableCommunicationStepSize": "true",
                                       **({"maxOutputDerivativeOrder": cs2.get("maxOutputDerivativeOrder")}
                                          if cs2.get("maxOutputDerivativeOrder") else {}),
-                                      "hasEventMode": events, "mightReturnEarlyFromDoStep": events,
+                                      "hasEventMode": events, "mightReturnEarlyFromDoStep": early,
                                       "providesIntermediateUpdate": "false"})
     for element in ("UnitDefinitions", "LogCategories", "DefaultExperiment"):
         if root2.find(element) is not None:
@@ -219,6 +245,8 @@ def build_description(root2: ET.Element, glue: list[str]) -> ET.ElementTree:
 def main(xml_path: str, outdir: str, controller: bool = False) -> None:
     root2 = ET.parse(xml_path).getroot()
     vars3 = fmi3_variables(root2)
+    if controller:
+        vars3 = clock_controller(vars3)
     vrs = [v["vr"] for v in vars3]
     assert len(set(vrs)) == len(vrs), "duplicate FMI 3.0 value reference"
     out = Path(outdir)

@@ -565,3 +565,56 @@ void *ctrl_environment(fmi2Component comp) {
 void ctrl_refuse_message(fmi2Component comp, const char *fn, const char *why) {
     if (ctrl_is_instance(comp)) ctrl_log((ctrl_instance_t *)comp, fmi2Error, LOG_ERROR, "%s: %s", fn, why);
 }
+
+/* ---------------------------------------------------------------- for the clocked FMI 3.0 glue */
+/* Step Mode after initialisation (the FMI 3.0 glue's Event Mode keeps this state underneath) */
+int ctrl_stepping(fmi2Component comp) {
+    return ctrl_is_instance(comp) && ((ctrl_instance_t *)comp)->fsm == ST_STEP_COMPLETE;
+}
+/* the sample time as set (the clock's interval, before and after initialisation) */
+double ctrl_sample_period(fmi2Component comp) {
+    return ctrl_is_instance(comp) ? ((ctrl_instance_t *)comp)->val[CVR_Ts] : 0.0;
+}
+
+/* The input clock set active: a sample computed before (an output read before the tick) is
+ * dropped; the tick's sample comes from the inputs set at the tick. */
+void ctrl_drop_pending(fmi2Component comp) {
+    if (ctrl_is_instance(comp)) ((ctrl_instance_t *)comp)->pending_ok = ((ctrl_instance_t *)comp)->pending_read = 0;
+}
+
+/* A tick of the input clock at the instance's time: the sample due at this instant -- the one
+ * an output read at the tick computed, else one from the inputs as they stand -- committed (the
+ * outputs are its outputs until the next tick). 0, logged as fn's error, when the instant is no
+ * sample instant or the sample is not finite. */
+int ctrl_tick(fmi2Component comp, const char *fn) {
+    ctrl_instance_t *c = (ctrl_instance_t *)comp;
+    double tk;
+    if (!ctrl_stepping(comp) || !c->params_ok) return 0;
+    tk = sample_time(c, c->s.k);
+    if (fabs(tk - c->time) > time_eps(c, c->time)) {
+        ctrl_log(c, fmi2Error, LOG_ERROR, "%s: clock tick at t = %.17g s: the next sample instant is t = %.17g s "
+                 "(t0 + %lld Ts, Ts = %g s): the clock ticks at the sample instants only", fn, c->time, tk, c->s.k,
+                 c->p.Ts);
+        return 0;
+    }
+    if (!evaluate(c, fn)) return 0;
+    c->s = c->pending;
+    c->pending_ok = c->pending_read = 0;
+    return 1;
+}
+
+/* A step of a clocked instance ends at the latest at the next sample instant, whose tick the
+ * importer gives in Event Mode: 0, logged, when [t, t + h) holds a sample instant not ticked. */
+int ctrl_step_within_tick(fmi2Component comp, double t, double h) {
+    ctrl_instance_t *c = (ctrl_instance_t *)comp;
+    double tk;
+    if (!ctrl_stepping(comp) || !c->params_ok || !isfinite(t) || !isfinite(h)) return 1;   /* fmi2DoStep answers */
+    tk = sample_time(c, c->s.k);
+    if (tk < t + h - time_eps(c, t + h)) {
+        ctrl_log(c, fmi2Error, LOG_ERROR, "fmi3DoStep: currentCommunicationPoint = %.17g, communicationStepSize = "
+                 "%.17g: the step passes the clock tick at t = %.17g s (sample %lld) without it; allowed a step "
+                 "that ends at or before the next tick, the tick given in Event Mode", t, h, tk, c->s.k);
+        return 0;
+    }
+    return 1;
+}

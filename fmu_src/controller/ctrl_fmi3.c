@@ -1,8 +1,15 @@
 /* FMI 3.0 co-simulation glue of the controller FMU over its FMI 2.0 glue (ctrl_fmi2.c, in the
  * same library; only the fmi3 functions are exported, fmu_src/fmi3.map): the same instance,
  * call sequence and messages (fmi3_log.h renames the functions), calloc/free for memory.
- * No event mode, no early return, no FMU state, no model exchange (as the FMI 2.0 FMU); the
- * functions neither FMU provides are in fmu_src/fmi3_stubs.c. */
+ * Event Mode with a periodic input clock `tick` (interval Ts, the parameter): an instance made
+ * with eventModeUsed takes its samples at the ticks only -- at t_k the importer enters Event
+ * Mode, activates the clock (fmi3SetClock), sets the inputs of t_k, reads u_k (computed from
+ * them: no delay but ctrl.delay's), fmi3UpdateDiscreteStates commits the sample (outputs read
+ * after it are the same), and fmi3EnterStepMode returns to the steps, each ending at the latest
+ * at the next tick. Without
+ * eventModeUsed the instance samples as the FMI 2.0 FMU does (inside fmi3DoStep). No early
+ * return, no FMU state, no model exchange; the functions neither FMU provides are in
+ * fmu_src/fmi3_stubs.c. */
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -14,6 +21,25 @@
 int ctrl_is_instance(fmi2Component comp);
 void *ctrl_environment(fmi2Component comp);
 void ctrl_refuse_message(fmi2Component comp, const char *fn, const char *why);
+int ctrl_stepping(fmi2Component comp);
+double ctrl_sample_period(fmi2Component comp);
+int ctrl_tick(fmi2Component comp, const char *fn);
+void ctrl_drop_pending(fmi2Component comp);
+int ctrl_step_within_tick(fmi2Component comp, double t, double h);
+
+/* the value reference of the input clock `tick` (fmu_src/gen_fmi3.py's CTRL_VR_TICK) */
+#define VR_TICK 9u
+
+/* the instance environment of the FMI 2.0 glue underneath: the logger first (fmi3_log.h), then
+ * the FMI 3.0 modes it does not know */
+typedef struct {
+    fmi3_logger_t lg;
+    int event_mode_used;
+    int in_event;          /* Event Mode (after initialisation with eventModeUsed, or entered) */
+    int ticked;            /* the clock set active in this Event Mode, its sample not yet taken */
+} ctrl3_env_t;
+
+static ctrl3_env_t *env3(fmi3Instance instance) { return (ctrl3_env_t *)ctrl_environment(instance); }
 
 fmi3Status fmi3_refuse(fmi3Instance instance, const char *fn, const char *why) {
     if (!ctrl_is_instance(instance)) return fmi3Error;
@@ -36,25 +62,21 @@ fmi3Instance fmi3InstantiateCoSimulation(fmi3String instanceName, fmi3String ins
                                          fmi3InstanceEnvironment instanceEnvironment,
                                          fmi3LogMessageCallback logMessage,
                                          fmi3IntermediateUpdateCallback intermediateUpdate) {
-    fmi3_logger_t *lg;
+    ctrl3_env_t *lg;
     fmi2CallbackFunctions cb;
     fmi2Component c;
     (void)resourcePath; (void)visible; (void)earlyReturnAllowed;   /* never returns early */
     (void)requiredIntermediateVariables; (void)intermediateUpdate;
-    if (eventModeUsed) {
-        early_error(instanceEnvironment, logMessage, "fmi3InstantiateCoSimulation: eventModeUsed = true, this FMU "
-                    "has no event mode (hasEventMode is false)");
-        return NULL;
-    }
     if (nRequiredIntermediateVariables > 0) {
         early_error(instanceEnvironment, logMessage, "fmi3InstantiateCoSimulation: required intermediate variables "
                     "given; this FMU provides no intermediate update");
         return NULL;
     }
-    if (!(lg = (fmi3_logger_t *)calloc(1, sizeof *lg))) return NULL;
-    lg->env = instanceEnvironment;
-    lg->log_message = logMessage;
-    cb = fmi3_callbacks(lg);
+    if (!(lg = (ctrl3_env_t *)calloc(1, sizeof *lg))) return NULL;
+    lg->lg.env = instanceEnvironment;
+    lg->lg.log_message = logMessage;
+    lg->event_mode_used = eventModeUsed != fmi3False;
+    cb = fmi3_callbacks(&lg->lg);
     c = fmi2Instantiate(instanceName, fmi2CoSimulation, instantiationToken, NULL, &cb, fmi2False,
                         loggingOn ? fmi2True : fmi2False);
     if (!c) free(lg);
@@ -89,9 +111,22 @@ fmi3Status fmi3EnterInitializationMode(fmi3Instance instance, fmi3Boolean tolera
         return fmi3Error;
     return (fmi3Status)fmi2EnterInitializationMode(instance);
 }
-fmi3Status fmi3ExitInitializationMode(fmi3Instance instance) { return (fmi3Status)fmi2ExitInitializationMode(instance); }
-fmi3Status fmi3Terminate(fmi3Instance instance) { return (fmi3Status)fmi2Terminate(instance); }
-fmi3Status fmi3Reset(fmi3Instance instance) { return (fmi3Status)fmi2Reset(instance); }
+/* with eventModeUsed the instance leaves Initialization Mode into Event Mode (FMI 3.0) */
+fmi3Status fmi3ExitInitializationMode(fmi3Instance instance) {
+    fmi3Status st = (fmi3Status)fmi2ExitInitializationMode(instance);
+    if (st == fmi3OK && env3(instance)->event_mode_used) env3(instance)->in_event = 1;
+    return st;
+}
+fmi3Status fmi3Terminate(fmi3Instance instance) {
+    fmi3Status st = (fmi3Status)fmi2Terminate(instance);
+    if (st == fmi3OK) env3(instance)->in_event = env3(instance)->ticked = 0;
+    return st;
+}
+fmi3Status fmi3Reset(fmi3Instance instance) {
+    fmi3Status st = (fmi3Status)fmi2Reset(instance);
+    if (st == fmi3OK) env3(instance)->in_event = env3(instance)->ticked = 0;
+    return st;
+}
 
 /* ---------------------------------------------------------------- values: scalars only */
 
@@ -188,24 +223,163 @@ fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoi
         return fmi3Error;
     }
     *eventHandlingNeeded = *terminateSimulation = *earlyReturn = fmi3False;
+    *lastSuccessfulTime = currentCommunicationPoint;
+    if (env3(instance) && env3(instance)->in_event) {
+        ctrl_refuse_message(instance, "fmi3DoStep", "illegal call in Event Mode (fmi3EnterStepMode first)");
+        return fmi3Error;
+    }
+    if (env3(instance) && env3(instance)->event_mode_used &&
+        !ctrl_step_within_tick(instance, currentCommunicationPoint, communicationStepSize))
+        return fmi3Error;
     st = (fmi3Status)fmi2DoStep(instance, currentCommunicationPoint, communicationStepSize,
                                 noSetFMUStatePriorToCurrentPoint ? fmi2True : fmi2False);
     *lastSuccessfulTime = st == fmi3OK ? currentCommunicationPoint + communicationStepSize : currentCommunicationPoint;
     return st;
 }
 
+/* ---------------------------------------------------------------- Event Mode and the input clock */
+
+/* the instance's FMI 3.0 modes, NULL (fn's error logged) when it was not made with eventModeUsed */
+static ctrl3_env_t *clocked(fmi3Instance i, const char *fn) {
+    ctrl3_env_t *e = env3(i);
+    if (!e) return NULL;
+    if (e->event_mode_used) return e;
+    ctrl_refuse_message(i, fn, "the instance was made with eventModeUsed = false: it samples inside fmi3DoStep");
+    return NULL;
+}
+
+fmi3Status fmi3EnterEventMode(fmi3Instance i) {
+    ctrl3_env_t *e = clocked(i, "fmi3EnterEventMode");
+    if (!e) return fmi3Error;
+    if (e->in_event) return fmi3_refuse(i, "fmi3EnterEventMode", "illegal call in Event Mode (already in it)");
+    if (!ctrl_stepping(i)) return fmi3_refuse(i, "fmi3EnterEventMode", "allowed in Step Mode only");
+    e->in_event = 1;
+    e->ticked = 0;
+    return fmi3OK;
+}
+
+fmi3Status fmi3EnterStepMode(fmi3Instance i) {
+    ctrl3_env_t *e = clocked(i, "fmi3EnterStepMode");
+    if (!e) return fmi3Error;
+    if (!e->in_event) return fmi3_refuse(i, "fmi3EnterStepMode", "allowed in Event Mode only");
+    if (e->ticked)
+        return fmi3_refuse(i, "fmi3EnterStepMode", "the clock tick was set active and its sample not taken: "
+                                                  "fmi3UpdateDiscreteStates first");
+    e->in_event = 0;
+    return fmi3OK;
+}
+
+/* one input clock, `tick` (value reference VR_TICK): the arrays checked, every reference it */
+static int clock_refs(fmi3Instance i, const char *fn, const fmi3ValueReference vr[], size_t nvr, const void *v) {
+    char why[160];
+    size_t k;
+    if (nvr > 0 && (!vr || !v)) {
+        snprintf(why, sizeof why, "NULL array with nValueReferences = %zu", nvr);
+        ctrl_refuse_message(i, fn, why);
+        return 0;
+    }
+    for (k = 0; k < nvr; k++)
+        if (vr[k] != VR_TICK) {
+            snprintf(why, sizeof why, "value reference %u is no clock: the one clock is tick (value reference %u)",
+                     (unsigned)vr[k], VR_TICK);
+            ctrl_refuse_message(i, fn, why);
+            return 0;
+        }
+    return 1;
+}
+
+fmi3Status fmi3SetClock(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, const fmi3Clock v[]) {
+    ctrl3_env_t *e = env3(i);
+    size_t k;
+    if (!e) return fmi3Error;
+    if (!clock_refs(i, "fmi3SetClock", vr, nvr, v)) return fmi3Error;
+    if (nvr == 0) return fmi3OK;
+    if (!clocked(i, "fmi3SetClock")) return fmi3Error;
+    if (!e->in_event) return fmi3_refuse(i, "fmi3SetClock", "tick can be set in Event Mode only (fmi3EnterEventMode "
+                                                             "at the tick's instant first)");
+    for (k = 0; k < nvr; k++) e->ticked = v[k] != fmi3ClockInactive;
+    if (e->ticked) ctrl_drop_pending(i);
+    return fmi3OK;
+}
+
+fmi3Status fmi3GetClock(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, fmi3Clock v[]) {
+    if (!env3(i) || !clock_refs(i, "fmi3GetClock", vr, nvr, v)) return fmi3Error;
+    return fmi3_refuse(i, "fmi3GetClock", nvr ? "tick is an input clock: the importer sets it (fmi3SetClock)" : NULL);
+}
+
+/* the clock's interval: Ts as set (intervalVariability fixed: known from Initialization Mode on) */
+fmi3Status fmi3GetIntervalDecimal(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, fmi3Float64 intervals[],
+                                  fmi3IntervalQualifier qualifiers[]) {
+    size_t k;
+    if (!env3(i) || !clock_refs(i, "fmi3GetIntervalDecimal", vr, nvr, intervals)) return fmi3Error;
+    if (nvr > 0 && !qualifiers) return fmi3_refuse(i, "fmi3GetIntervalDecimal", "NULL array qualifiers");
+    for (k = 0; k < nvr; k++) {
+        intervals[k] = ctrl_sample_period(i);
+        qualifiers[k] = fmi3IntervalChanged;
+    }
+    return fmi3OK;
+}
+fmi3Status fmi3GetShiftDecimal(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, fmi3Float64 shifts[]) {
+    size_t k;
+    if (!env3(i) || !clock_refs(i, "fmi3GetShiftDecimal", vr, nvr, shifts)) return fmi3Error;
+    for (k = 0; k < nvr; k++) shifts[k] = 0.0;
+    return fmi3OK;
+}
+#define NO_FRACTION "tick has no fraction (supportsFraction is false)"
+#define NO_SET_INTERVAL "the interval of tick is the parameter Ts (intervalVariability fixed)"
+fmi3Status fmi3GetIntervalFraction(fmi3Instance i, const fmi3ValueReference vr[], size_t n, fmi3UInt64 a[],
+                                   fmi3UInt64 b[], fmi3IntervalQualifier q[]) {
+    (void)vr; (void)a; (void)b; (void)q;
+    return fmi3_refuse(i, "fmi3GetIntervalFraction", n ? NO_FRACTION : NULL);
+}
+fmi3Status fmi3GetShiftFraction(fmi3Instance i, const fmi3ValueReference vr[], size_t n, fmi3UInt64 a[], fmi3UInt64 b[]) {
+    (void)vr; (void)a; (void)b;
+    return fmi3_refuse(i, "fmi3GetShiftFraction", n ? NO_FRACTION : NULL);
+}
+fmi3Status fmi3SetIntervalDecimal(fmi3Instance i, const fmi3ValueReference vr[], size_t n, const fmi3Float64 a[]) {
+    (void)vr; (void)a;
+    return fmi3_refuse(i, "fmi3SetIntervalDecimal", n ? NO_SET_INTERVAL : NULL);
+}
+fmi3Status fmi3SetIntervalFraction(fmi3Instance i, const fmi3ValueReference vr[], size_t n, const fmi3UInt64 a[],
+                                   const fmi3UInt64 b[]) {
+    (void)vr; (void)a; (void)b;
+    return fmi3_refuse(i, "fmi3SetIntervalFraction", n ? NO_SET_INTERVAL : NULL);
+}
+fmi3Status fmi3SetShiftDecimal(fmi3Instance i, const fmi3ValueReference vr[], size_t n, const fmi3Float64 a[]) {
+    (void)vr; (void)a;
+    return fmi3_refuse(i, "fmi3SetShiftDecimal", n ? "the shift of tick is 0" : NULL);
+}
+fmi3Status fmi3SetShiftFraction(fmi3Instance i, const fmi3ValueReference vr[], size_t n, const fmi3UInt64 a[],
+                                const fmi3UInt64 b[]) {
+    (void)vr; (void)a; (void)b;
+    return fmi3_refuse(i, "fmi3SetShiftFraction", n ? NO_FRACTION : NULL);
+}
+
+/* at a tick (the clock set active): the sample of this instant; the rest of an Event Mode
+ * (no tick) changes nothing. No discrete state needs a further update; the next event is the
+ * importer's next tick. */
+fmi3Status fmi3UpdateDiscreteStates(fmi3Instance i, fmi3Boolean *discreteStatesNeedUpdate,
+                                    fmi3Boolean *terminateSimulation, fmi3Boolean *nominalsChanged,
+                                    fmi3Boolean *valuesChanged, fmi3Boolean *nextEventTimeDefined,
+                                    fmi3Float64 *nextEventTime) {
+    ctrl3_env_t *e = clocked(i, "fmi3UpdateDiscreteStates");
+    if (!e) return fmi3Error;
+    if (!e->in_event) return fmi3_refuse(i, "fmi3UpdateDiscreteStates", "allowed in Event Mode only");
+    if (!discreteStatesNeedUpdate || !terminateSimulation || !nominalsChanged || !valuesChanged ||
+        !nextEventTimeDefined || !nextEventTime)
+        return fmi3_refuse(i, "fmi3UpdateDiscreteStates", "NULL output argument");
+    *discreteStatesNeedUpdate = *terminateSimulation = *nominalsChanged = *valuesChanged = fmi3False;
+    *nextEventTimeDefined = fmi3False;
+    *nextEventTime = 0.0;
+    if (e->ticked && !ctrl_tick(i, "fmi3UpdateDiscreteStates")) return fmi3Error;
+    e->ticked = 0;
+    return fmi3OK;
+}
+
 /* ---------------------------------------------------------------- not offered (as in FMI 2.0) */
 
-#define NO_EVENTS "this FMU has no event mode"
 #define NO_STATE "canGetAndSetFMUState is false"
 #define NO_ME "this FMU is co-simulation only"
-fmi3Status fmi3EnterEventMode(fmi3Instance i) { return fmi3_refuse(i, "fmi3EnterEventMode", NO_EVENTS); }
-fmi3Status fmi3EnterStepMode(fmi3Instance i) { return fmi3_refuse(i, "fmi3EnterStepMode", NO_EVENTS); }
-fmi3Status fmi3UpdateDiscreteStates(fmi3Instance i, fmi3Boolean *a, fmi3Boolean *b, fmi3Boolean *c, fmi3Boolean *d,
-                                    fmi3Boolean *e, fmi3Float64 *f) {
-    (void)a; (void)b; (void)c; (void)d; (void)e; (void)f;
-    return fmi3_refuse(i, "fmi3UpdateDiscreteStates", NO_EVENTS);
-}
 fmi3Status fmi3EnterConfigurationMode(fmi3Instance i) {
     return fmi3_refuse(i, "fmi3EnterConfigurationMode", "this FMU has no structural parameters");
 }

@@ -17,7 +17,7 @@ from feeddrive import cli
 from feeddrive.experiments.plan import (MAP_SPAN, PlanError, default_limits, force_per_volt,
                                         make_plan)
 from feeddrive.experiments.plan_files import reference_csv, time_decimals
-from feeddrive.harness.controllers import pid_lead_spec
+from feeddrive.harness.controllers import pid_lti_spec
 from feeddrive.harness.sidecar import read_sidecar
 from feeddrive.identify.pipeline import identify_folder
 from feeddrive.model_file import ModelFile, paper_model, save_model
@@ -49,11 +49,13 @@ def truth_model() -> ModelFile:
 
 
 def _controllers() -> list:
-    """The drive's controller written into the plan's sidecars (the plan's --controller).
-    A controller of the registry's general discrete LTI form goes in this list as well."""
+    """The drive's controller written into the plan's sidecars (the plan's --controller), in
+    the registry's general discrete LTI form: a PID with lead (40/120 Hz) as transfer functions
+    in z, with back-calculation anti-windup (the tight-limits plan plays the default
+    ``pid_lead`` type)."""
     fpv = force_per_volt(paper_model().fmu_parameters())
-    return [pytest.param(pid_lead_spec(Kp=3e5, Kv=3.5e3, Ki=6e6, force_per_volt=fpv, u_limit=10.0,
-                                       anti_windup=True), id="pid_lead")]
+    return [pytest.param(pid_lti_spec(Kp=3e5, Kv=3.5e3, Ki=6e6, force_per_volt=fpv, lead=(40.0, 120.0),
+                                      u_limit=10.0, anti_windup={"pole": 0.5}), id="lti")]
 
 
 def _plan(tmp: Path, *options: str, controller: dict | None | str = "default") -> Path:

@@ -36,6 +36,7 @@ from feeddrive.identify.truth_table import c_factor
 from feeddrive.model_file import ModelFile, load_model, paper_model
 from feeddrive.report.page import Page
 from feeddrive.validation import sec4
+from feeddrive.study.coverage import coverage_truth
 
 MAP_SPEED = 20e-3
 STRIBECK_SPEEDS = (0.3e-3, 0.6e-3, 1e-3, 2e-3, 4e-3, 8e-3, 15e-3, 30e-3, 60e-3, 120e-3)
@@ -43,16 +44,9 @@ SEED = 11
 
 
 def truth_model():
-    """The paper's model with every identified quantity changed (physically plausible)."""
-    p = dict(paper_model().parameters)
-    p["m"] *= 1.07
-    p["current.b[2]"] *= 1.05
-    p["current.b[3]"] *= 1.05
-    p["friction.F_s"] *= 1.10
-    p["friction.F_c"] *= 1.08
-    p["friction.V_s"] *= 1.3
-    p["friction.delta"] = 0.7
-    p["friction.sigma2"] *= 0.9
+    """The paper's model with every identified quantity changed (physically plausible): the
+    interval-coverage truth (mass, current-loop gain, Stribeck curve) and the rest moved too."""
+    p = dict(coverage_truth().parameters)
     p["friction.C"] = 8.0e3
     for j in range(1, 6):
         p[f"friction.k[{j}]"] *= 0.9

@@ -26,36 +26,41 @@ TESTS_C    := $(CURDIR)/$(BUILD)/tests_c
 SO         := $(BUILD)/binaries/linux64/$(MODEL).so
 CC         ?= cc
 FMU_CFLAGS := -std=c99 -O3 -fno-math-errno -fPIC -Wall -Wextra -Werror -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE
-SRC_C      := $(filter-out fmu_src/fmi3_%.c,$(wildcard fmu_src/*.c))
-SRC_H      := $(wildcard fmu_src/*.h)
+# fmu_src/ by concept: fmi/ (the FMI glue), models/plant/ and models/controller/ (the two models),
+# physics/ (the plant's equations), solvers/ (integrators and the per-sample scheme),
+# generators/ (the XML to C tables)
+SRC_DIRS   := fmu_src/fmi fmu_src/models/plant fmu_src/physics fmu_src/solvers
+SRC_INC    := $(addprefix -I ,$(SRC_DIRS))
+SRC_C      := $(filter-out fmu_src/fmi/fmi3_%.c,$(wildcard $(addsuffix /*.c,$(SRC_DIRS))))
+SRC_H      := $(wildcard $(addsuffix /*.h,$(SRC_DIRS)))
 STAMP      := $(VENV)/.installed
-# the controller FMU: its own sources and XML (fmu_src/controller/), the plant's parameters
+# the controller FMU: its own sources and XML (fmu_src/models/controller/), the plant's parameters
 # imported as plant.* (value reference + 1000), the plant's physics files compiled in
 CTRL       := DriveController
 CTRL_FMU   := $(BUILD)/$(CTRL).fmu
 PKG_CTRL_FMU := python/feeddrive/$(CTRL).fmu
 CTRL_GEN   := $(GEN)/controller
 CTRL_SO    := $(BUILD)/controller/binaries/linux64/$(CTRL).so
-CTRL_SHARED := fmu_src/params.c fmu_src/current_loop.c fmu_src/position_maps.c fmu_src/friction_gms.c \
-               fmu_src/friction_position.c
-CTRL_SRC_C := $(filter-out %/ctrl_fmi3.c,$(wildcard fmu_src/controller/*.c)) $(CTRL_SHARED)
-CTRL_SHARED_H := fmu_src/params.h fmu_src/plant.h fmu_src/fmi2_allowed.h fmu_src/fmi2_log.h
-CTRL_SRC_H := $(wildcard fmu_src/controller/*.h) $(CTRL_SHARED_H)
+CTRL_SHARED := fmu_src/models/plant/params.c fmu_src/physics/current_loop.c fmu_src/physics/position_maps.c \
+               fmu_src/physics/friction_gms.c fmu_src/physics/friction_position.c
+CTRL_SRC_C := $(filter-out %/ctrl_fmi3.c,$(wildcard fmu_src/models/controller/*.c)) $(CTRL_SHARED)
+CTRL_SHARED_H := fmu_src/models/plant/params.h fmu_src/physics/plant.h fmu_src/fmi/fmi2_allowed.h fmu_src/fmi/fmi2_log.h
+CTRL_SRC_H := $(wildcard fmu_src/models/controller/*.h) $(CTRL_SHARED_H)
 # the plant as FMI 3.0: modelDescription and value table generated from the FMI 2.0 XML
-# (fmu_src/gen_fmi3.py), the fmi3 glue over the shared fmi2 one; only fmi3* exported
+# (fmu_src/generators/gen_fmi3.py), the fmi3 glue over the shared fmi2 one; only fmi3* exported
 MODEL3     := $(MODEL)3
 GEN3       := $(BUILD)/gen3
 FMU3       := $(BUILD)/$(MODEL3).fmu
 PKG_FMU3   := python/feeddrive/$(MODEL3).fmu
 SO3        := $(BUILD)/fmi3/binaries/x86_64-linux/$(MODEL3).so
-SRC3_C     := $(wildcard fmu_src/*.c)
+SRC3_C     := $(wildcard $(addsuffix /*.c,$(SRC_DIRS)))
 # the controller as FMI 3.0: its FMI 3.0 glue over its FMI 2.0 one, the shared FMI 3.0 stubs
 CTRL3      := $(CTRL)3
 CTRL3_GEN  := $(GEN)/controller3
 CTRL3_FMU  := $(BUILD)/$(CTRL3).fmu
 PKG_CTRL3_FMU := python/feeddrive/$(CTRL3).fmu
 CTRL3_SO   := $(BUILD)/controller3/binaries/x86_64-linux/$(CTRL3).so
-CTRL3_SRC_C := $(CTRL_SRC_C) fmu_src/controller/ctrl_fmi3.c fmu_src/fmi3_stubs.c
+CTRL3_SRC_C := $(CTRL_SRC_C) fmu_src/models/controller/ctrl_fmi3.c fmu_src/fmi/fmi3_stubs.c
 
 # the Windows x86-64 DLLs: mingw-w64 (Debian gcc-mingw-w64-x86-64), the flags of the Linux build
 # less -fPIC and the POSIX feature macros (the product code is plain C99), MinGW's C99 printf
@@ -112,19 +117,19 @@ $(BUILD)/fmi_include: $(STAMP)
 	mkdir -p $(BUILD)
 	$(PY) -c "import fmpy, os; print(os.path.join(os.path.dirname(fmpy.__file__), 'c-code'))" > $@
 
-$(GEN)/model_vars.h $(GEN)/model_vars.c: modelDescription.xml fmu_src/gen_vars.py $(STAMP)
-	$(PY) fmu_src/gen_vars.py modelDescription.xml $(GEN)
+$(GEN)/model_vars.h $(GEN)/model_vars.c: modelDescription.xml fmu_src/generators/gen_vars.py $(STAMP)
+	$(PY) fmu_src/generators/gen_vars.py modelDescription.xml $(GEN)
 
 $(SO): $(SRC_C) $(SRC_H) $(GEN)/model_vars.h $(GEN)/model_vars.c $(BUILD)/fmi_include
 	mkdir -p $(dir $@)
-	$(CC) $(FMU_CFLAGS) $(CFLAGS) -shared -fvisibility=default -I fmu_src -I $(GEN) -I "$$(cat $(BUILD)/fmi_include)" \
+	$(CC) $(FMU_CFLAGS) $(CFLAGS) -shared -fvisibility=default $(SRC_INC) -I $(GEN) -I "$$(cat $(BUILD)/fmi_include)" \
 	    -o $@ $(SRC_C) $(GEN)/model_vars.c -lm
 	@! (ldd $@ | grep -v -E 'linux-vdso|libc\.so|libm\.so|ld-linux|not a dynamic' | grep -q .) || \
 	    (echo "error: $@ links more than libc/libm:"; ldd $@; exit 1)
 
 $(FMU): $(SO) $(DLL).made modelDescription.xml
 	$(PY) tools/package_fmu.py --xml modelDescription.xml --so $(SO) $(call win_binary,win64,$(DLL)) \
-	    --sources fmu_src $(GEN) --out $@
+	    --sources $(SRC_DIRS) $(GEN) --out $@
 
 $(WIN_TOOLCHAIN): FORCE
 	@mkdir -p $(dir $@)
@@ -139,7 +144,7 @@ $(WIN_TOOLCHAIN): FORCE
 
 $(DLL).made: $(SRC_C) $(SRC_H) $(GEN)/model_vars.h $(GEN)/model_vars.c $(BUILD)/fmi_include $(WIN_TOOLCHAIN) tools/win_dll.py
 	@rm -f $(DLL); mkdir -p $(dir $@)
-	@! grep -q '^ok' $(WIN_TOOLCHAIN) || $(WIN_DLL) --out $(DLL) --exports fmi2 -- $(WIN_CFLAGS) -I fmu_src -I $(GEN) \
+	@! grep -q '^ok' $(WIN_TOOLCHAIN) || $(WIN_DLL) --out $(DLL) --exports fmi2 -- $(WIN_CFLAGS) $(SRC_INC) -I $(GEN) \
 	    -I "$$(cat $(BUILD)/fmi_include)" $(SRC_C) $(GEN)/model_vars.c
 	@touch $@
 
@@ -147,14 +152,14 @@ $(PKG_FMU): $(FMU)
 	cp $< $@
 
 $(GEN3)/modelDescription.xml $(GEN3)/buildDescription.xml $(GEN3)/model_vars3.h $(GEN3)/model_vars3.c: \
-    modelDescription.xml fmu_src/gen_fmi3.py $(STAMP)
-	$(PY) fmu_src/gen_fmi3.py modelDescription.xml $(GEN3)
+    modelDescription.xml fmu_src/generators/gen_fmi3.py $(STAMP)
+	$(PY) fmu_src/generators/gen_fmi3.py modelDescription.xml $(GEN3)
 
-$(SO3): $(SRC3_C) $(SRC_H) fmu_src/fmi3.map $(GEN)/model_vars.h $(GEN)/model_vars.c $(GEN3)/model_vars3.h \
+$(SO3): $(SRC3_C) $(SRC_H) fmu_src/fmi/fmi3.map $(GEN)/model_vars.h $(GEN)/model_vars.c $(GEN3)/model_vars3.h \
     $(GEN3)/model_vars3.c $(BUILD)/fmi_include
 	mkdir -p $(dir $@)
-	$(CC) $(FMU_CFLAGS) $(CFLAGS) -shared -fvisibility=default -Wl,--no-undefined -Wl,--version-script=fmu_src/fmi3.map \
-	    -I fmu_src -I $(GEN) -I $(GEN3) -I "$$(cat $(BUILD)/fmi_include)" \
+	$(CC) $(FMU_CFLAGS) $(CFLAGS) -shared -fvisibility=default -Wl,--no-undefined -Wl,--version-script=fmu_src/fmi/fmi3.map \
+	    $(SRC_INC) -I $(GEN) -I $(GEN3) -I "$$(cat $(BUILD)/fmi_include)" \
 	    -o $@ $(SRC3_C) $(GEN)/model_vars.c $(GEN3)/model_vars3.c -lm
 	@! (ldd $@ | grep -v -E 'linux-vdso|libc\.so|libm\.so|ld-linux|not a dynamic' | grep -q .) || \
 	    (echo "error: $@ links more than libc/libm:"; ldd $@; exit 1)
@@ -162,27 +167,27 @@ $(SO3): $(SRC3_C) $(SRC_H) fmu_src/fmi3.map $(GEN)/model_vars.h $(GEN)/model_var
 $(DLL3).made: $(SRC3_C) $(SRC_H) $(GEN)/model_vars.h $(GEN)/model_vars.c $(GEN3)/model_vars3.h $(GEN3)/model_vars3.c \
     $(BUILD)/fmi_include $(WIN_TOOLCHAIN) tools/win_dll.py
 	@rm -f $(DLL3); mkdir -p $(dir $@)
-	@! grep -q '^ok' $(WIN_TOOLCHAIN) || $(WIN_DLL) --out $(DLL3) --exports fmi3 -- $(WIN_CFLAGS) -I fmu_src -I $(GEN) \
+	@! grep -q '^ok' $(WIN_TOOLCHAIN) || $(WIN_DLL) --out $(DLL3) --exports fmi3 -- $(WIN_CFLAGS) $(SRC_INC) -I $(GEN) \
 	    -I $(GEN3) -I "$$(cat $(BUILD)/fmi_include)" $(SRC3_C) $(GEN)/model_vars.c $(GEN3)/model_vars3.c
 	@touch $@
 
 $(FMU3): $(SO3) $(DLL3).made $(GEN3)/modelDescription.xml $(GEN3)/buildDescription.xml
 	$(PY) tools/package_fmu.py --xml $(GEN3)/modelDescription.xml --so $(SO3) $(call win_binary,x86_64-windows,$(DLL3)) \
-	    --sources fmu_src $(GEN) $(GEN3) $(GEN3)/buildDescription.xml --platform x86_64-linux --out $@
+	    --sources $(SRC_DIRS) $(GEN) $(GEN3) $(GEN3)/buildDescription.xml --platform x86_64-linux --out $@
 
 $(PKG_FMU3): $(FMU3)
 	cp $< $@
 
 $(CTRL_GEN)/ctrl_vars.h $(CTRL_GEN)/ctrl_vars.c $(CTRL_GEN)/modelDescription.xml: \
-    fmu_src/controller/modelDescription.xml modelDescription.xml fmu_src/gen_vars.py $(STAMP)
-	$(PY) fmu_src/gen_vars.py --prefix CTRL --import modelDescription.xml plant. 1000 \
-	    fmu_src/controller/modelDescription.xml $(CTRL_GEN)
+    fmu_src/models/controller/modelDescription.xml modelDescription.xml fmu_src/generators/gen_vars.py $(STAMP)
+	$(PY) fmu_src/generators/gen_vars.py --prefix CTRL --import modelDescription.xml plant. 1000 \
+	    fmu_src/models/controller/modelDescription.xml $(CTRL_GEN)
 
 $(CTRL_SO): $(CTRL_SRC_C) $(CTRL_SRC_H) $(GEN)/model_vars.h $(GEN)/model_vars.c $(CTRL_GEN)/ctrl_vars.h \
     $(CTRL_GEN)/ctrl_vars.c $(BUILD)/fmi_include
 	mkdir -p $(dir $@)
 	$(CC) $(FMU_CFLAGS) -ffp-contract=off $(CFLAGS) -shared -fvisibility=default -Wl,--no-undefined \
-	    -I fmu_src/controller -I fmu_src -I $(CTRL_GEN) -I $(GEN) -I "$$(cat $(BUILD)/fmi_include)" \
+	    -I fmu_src/models/controller $(SRC_INC) -I $(CTRL_GEN) -I $(GEN) -I "$$(cat $(BUILD)/fmi_include)" \
 	    -o $@ $(CTRL_SRC_C) $(GEN)/model_vars.c $(CTRL_GEN)/ctrl_vars.c -lm
 	@! (ldd $@ | grep -v -E 'linux-vdso|libc\.so|libm\.so|ld-linux|not a dynamic' | grep -q .) || \
 	    (echo "error: $@ links more than libc/libm:"; ldd $@; exit 1)
@@ -191,42 +196,42 @@ $(CTRL_DLL).made: $(CTRL_SRC_C) $(CTRL_SRC_H) $(GEN)/model_vars.h $(GEN)/model_v
     $(CTRL_GEN)/ctrl_vars.c $(BUILD)/fmi_include $(WIN_TOOLCHAIN) tools/win_dll.py
 	@rm -f $(CTRL_DLL); mkdir -p $(dir $@)
 	@! grep -q '^ok' $(WIN_TOOLCHAIN) || $(WIN_DLL) --out $(CTRL_DLL) --exports fmi2 -- $(WIN_CFLAGS) -ffp-contract=off \
-	    -I fmu_src/controller -I fmu_src -I $(CTRL_GEN) -I $(GEN) -I "$$(cat $(BUILD)/fmi_include)" \
+	    -I fmu_src/models/controller $(SRC_INC) -I $(CTRL_GEN) -I $(GEN) -I "$$(cat $(BUILD)/fmi_include)" \
 	    $(CTRL_SRC_C) $(GEN)/model_vars.c $(CTRL_GEN)/ctrl_vars.c
 	@touch $@
 
 $(CTRL_FMU): $(CTRL_SO) $(CTRL_DLL).made $(CTRL_GEN)/modelDescription.xml
 	$(PY) tools/package_fmu.py --xml $(CTRL_GEN)/modelDescription.xml --so $(CTRL_SO) $(call win_binary,win64,$(CTRL_DLL)) \
-	    --sources fmu_src/controller $(CTRL_GEN) $(CTRL_SHARED) $(CTRL_SHARED_H) \
+	    --sources fmu_src/models/controller $(CTRL_GEN) $(CTRL_SHARED) $(CTRL_SHARED_H) \
 	    $(GEN)/model_vars.h $(GEN)/model_vars.c --out $@
 
 $(PKG_CTRL_FMU): $(CTRL_FMU)
 	cp $< $@
 
-$(CTRL3_GEN)/modelDescription.xml $(CTRL3_GEN)/buildDescription.xml: $(CTRL_GEN)/modelDescription.xml fmu_src/gen_fmi3.py
-	$(PY) fmu_src/gen_fmi3.py --controller $(CTRL_GEN)/modelDescription.xml $(CTRL3_GEN)
+$(CTRL3_GEN)/modelDescription.xml $(CTRL3_GEN)/buildDescription.xml: $(CTRL_GEN)/modelDescription.xml fmu_src/generators/gen_fmi3.py
+	$(PY) fmu_src/generators/gen_fmi3.py --controller $(CTRL_GEN)/modelDescription.xml $(CTRL3_GEN)
 
-$(CTRL3_SO): $(CTRL3_SRC_C) $(CTRL_SRC_H) fmu_src/fmi3_log.h fmu_src/fmi3.map $(GEN)/model_vars.h $(GEN)/model_vars.c \
+$(CTRL3_SO): $(CTRL3_SRC_C) $(CTRL_SRC_H) fmu_src/fmi/fmi3_log.h fmu_src/fmi/fmi3.map $(GEN)/model_vars.h $(GEN)/model_vars.c \
     $(CTRL_GEN)/ctrl_vars.h $(CTRL_GEN)/ctrl_vars.c $(BUILD)/fmi_include
 	mkdir -p $(dir $@)
 	$(CC) $(FMU_CFLAGS) -ffp-contract=off $(CFLAGS) -shared -fvisibility=default -Wl,--no-undefined \
-	    -Wl,--version-script=fmu_src/fmi3.map -I fmu_src/controller -I fmu_src -I $(CTRL_GEN) -I $(GEN) \
+	    -Wl,--version-script=fmu_src/fmi/fmi3.map -I fmu_src/models/controller $(SRC_INC) -I $(CTRL_GEN) -I $(GEN) \
 	    -I "$$(cat $(BUILD)/fmi_include)" -o $@ $(CTRL3_SRC_C) $(GEN)/model_vars.c $(CTRL_GEN)/ctrl_vars.c -lm
 	@! (ldd $@ | grep -v -E 'linux-vdso|libc\.so|libm\.so|ld-linux|not a dynamic' | grep -q .) || \
 	    (echo "error: $@ links more than libc/libm:"; ldd $@; exit 1)
 
-$(CTRL3_DLL).made: $(CTRL3_SRC_C) $(CTRL_SRC_H) fmu_src/fmi3_log.h $(GEN)/model_vars.h $(GEN)/model_vars.c \
+$(CTRL3_DLL).made: $(CTRL3_SRC_C) $(CTRL_SRC_H) fmu_src/fmi/fmi3_log.h $(GEN)/model_vars.h $(GEN)/model_vars.c \
     $(CTRL_GEN)/ctrl_vars.h $(CTRL_GEN)/ctrl_vars.c $(BUILD)/fmi_include $(WIN_TOOLCHAIN) tools/win_dll.py
 	@rm -f $(CTRL3_DLL); mkdir -p $(dir $@)
 	@! grep -q '^ok' $(WIN_TOOLCHAIN) || $(WIN_DLL) --out $(CTRL3_DLL) --exports fmi3 -- $(WIN_CFLAGS) -ffp-contract=off \
-	    -I fmu_src/controller -I fmu_src -I $(CTRL_GEN) -I $(GEN) -I "$$(cat $(BUILD)/fmi_include)" \
+	    -I fmu_src/models/controller $(SRC_INC) -I $(CTRL_GEN) -I $(GEN) -I "$$(cat $(BUILD)/fmi_include)" \
 	    $(CTRL3_SRC_C) $(GEN)/model_vars.c $(CTRL_GEN)/ctrl_vars.c
 	@touch $@
 
 $(CTRL3_FMU): $(CTRL3_SO) $(CTRL3_DLL).made $(CTRL3_GEN)/modelDescription.xml $(CTRL3_GEN)/buildDescription.xml
 	$(PY) tools/package_fmu.py --xml $(CTRL3_GEN)/modelDescription.xml --so $(CTRL3_SO) $(call win_binary,x86_64-windows,$(CTRL3_DLL)) \
-	    --sources fmu_src/controller $(CTRL_GEN) $(CTRL_SHARED) $(CTRL_SHARED_H) fmu_src/fmi3_stubs.c \
-	    fmu_src/fmi3_log.h $(GEN)/model_vars.h $(GEN)/model_vars.c $(CTRL3_GEN)/buildDescription.xml \
+	    --sources fmu_src/models/controller $(CTRL_GEN) $(CTRL_SHARED) $(CTRL_SHARED_H) fmu_src/fmi/fmi3_stubs.c \
+	    fmu_src/fmi/fmi3_log.h $(GEN)/model_vars.h $(GEN)/model_vars.c $(CTRL3_GEN)/buildDescription.xml \
 	    --platform x86_64-linux --out $@
 
 $(PKG_CTRL3_FMU): $(CTRL3_FMU)

@@ -1,4 +1,4 @@
-"""The compile-time checks of fmu_src/params.c: the plant's counts of continuous states and event
+"""The compile-time checks of fmu_src/models/plant/params.c: the plant's counts of continuous states and event
 indicators must equal those of the header generated from modelDescription.xml (gen_vars.py), or
 the FMU does not build, and the failure names the check."""
 from __future__ import annotations
@@ -13,6 +13,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 SRC = ROOT / "fmu_src"
+PLANT_DIRS = ("fmi", "models/plant", "physics", "solvers")
 XML = ROOT / "modelDescription.xml"
 FLAGS = ["-std=c99", "-Wall", "-Wextra", "-Werror", "-fsyntax-only"]
 
@@ -24,8 +25,8 @@ def _compile_params(tmp_path: Path, xml_text: str) -> subprocess.CompletedProces
     xml = tmp_path / "modelDescription.xml"
     xml.write_text(xml_text, encoding="utf-8")
     gen = tmp_path / "gen"
-    subprocess.run([sys.executable, str(SRC / "gen_vars.py"), str(xml), str(gen)], check=True, timeout=60)
-    return subprocess.run([cc, *FLAGS, f"-I{SRC}", f"-I{gen}", str(SRC / "params.c")],
+    subprocess.run([sys.executable, str(SRC / "generators" / "gen_vars.py"), str(xml), str(gen)], check=True, timeout=60)
+    return subprocess.run([cc, *FLAGS, *(f"-I{SRC / d}" for d in PLANT_DIRS), f"-I{gen}", str(SRC / "models" / "plant" / "params.c")],
                           capture_output=True, text=True, timeout=120)
 
 

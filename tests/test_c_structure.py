@@ -7,7 +7,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 SRC = ROOT / "fmu_src"
-GLUE = sorted(SRC.glob("fmi[23]_*.c")) + sorted(SRC.glob("fmi[23]_*.h"))
+FMI = SRC / "fmi"
+GLUE = sorted(FMI.glob("fmi[23]_*.c")) + sorted(FMI.glob("fmi[23]_*.h"))
 MAX_LINES = 60
 # identifiers of the friction models (plant.h, friction_gms.c, friction_static.c)
 FRICTION = re.compile(r"\b(stuck|st_stuck|st_dir|active|prerolling|lag|nu|sigma2|Fs|Fc|Vs|"
@@ -36,9 +37,9 @@ def _functions(text: str):
 
 
 def test_every_fmi_entry_point_enters_through_the_table() -> None:
-    table = set(re.findall(r"#define ALLOW_(fmi2\w+)\s", (SRC / "fmi2_allowed.h").read_text()))
+    table = set(re.findall(r"#define ALLOW_(fmi2\w+)\s", (FMI / "fmi2_allowed.h").read_text()))
     defined = set()
-    for path in SRC.glob("fmi2_*.c"):
+    for path in FMI.glob("fmi2_*.c"):
         text = _code(path)
         for m in ENTRY.finditer(text):
             name, comp = m.group(1), m.group(3)
@@ -57,6 +58,6 @@ def test_fmi_glue_knows_nothing_of_friction() -> None:
 
 
 def test_no_function_longer_than_sixty_lines() -> None:
-    long = [f"{p.name}:{line} {name} ({n} lines)" for p in sorted(SRC.glob("*.c"))
+    long = [f"{p.name}:{line} {name} ({n} lines)" for p in sorted(SRC.rglob("*.c"))
             for name, line, n in _functions(p.read_text(encoding="utf-8")) if n > MAX_LINES]
     assert not long, long

@@ -309,9 +309,9 @@ def test_sources_listed_shipped_and_rebuildable(ctrl_fmu, tmp_path) -> None:
     generated tables; each is in sources/, and `fmpy compile` rebuilds a binary that gives
     the same u."""
     import xml.etree.ElementTree as ET
-    listed = {f.get("name") for f in ET.parse(REPO / "fmu_src" / "controller" / "modelDescription.xml")
+    listed = {f.get("name") for f in ET.parse(REPO / "fmu_src" / "models" / "controller" / "modelDescription.xml")
               .getroot().find("CoSimulation").find("SourceFiles")}
-    expected = ({p.name for p in (REPO / "fmu_src" / "controller").glob("*.c") if p.name != "ctrl_fmi3.c"}
+    expected = ({p.name for p in (REPO / "fmu_src" / "models" / "controller").glob("*.c") if p.name != "ctrl_fmi3.c"}
                 | {"params.c", "current_loop.c", "position_maps.c", "friction_gms.c", "friction_position.c",
                    "ctrl_vars.c", "model_vars.c"})
     assert listed == expected

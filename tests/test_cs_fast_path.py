@@ -1,4 +1,4 @@
-"""The co-simulation's per-sample scheme (``solver.fast``, fmu_src/fast_path.h): its accuracy
+"""The co-simulation's per-sample scheme (``solver.fast``, fmu_src/solvers/fast_path.h): its accuracy
 against model exchange and against the adaptive DP45, that it is taken (fewer right-hand sides),
 that the stiffness guard falls back to the adaptive solver, that the exact stick update is exact,
 that a stick/slip switch inside a sample is located as the adaptive solver locates it, and the

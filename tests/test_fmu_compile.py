@@ -31,6 +31,11 @@ def test_fmpy_compile_rebuilds_from_sources(fmu_version, tmp_path):
     assert np.allclose(a["F_friction"], b["F_friction"], rtol=0, atol=1e-9)
 
 
+def _plant_sources(root_dir: Path) -> list[Path]:
+    """The plant's C files: fmu_src/ less the controller's."""
+    return [p for p in (root_dir / "fmu_src").rglob("*.c") if "controller" not in p.parts]
+
+
 def test_source_files_listed_in_the_model_description_are_the_sources(fmu_path):
     """modelDescription.xml's <SourceFiles> (ME and CS) name exactly the C files of fmu_src/
     but the FMI 3.0 glue (fmi3_*.c) plus the generated model_vars.c, and the FMU ships each of
@@ -38,7 +43,7 @@ def test_source_files_listed_in_the_model_description_are_the_sources(fmu_path):
     import xml.etree.ElementTree as ET
     root_dir = Path(__file__).resolve().parents[1]
     md = ET.parse(root_dir / "modelDescription.xml").getroot()
-    expected = ({p.name for p in (root_dir / "fmu_src").glob("*.c") if not p.name.startswith("fmi3_")}
+    expected = ({p.name for p in _plant_sources(root_dir) if not p.name.startswith("fmi3_")}
                 | {"model_vars.c"})
     shipped = set(zipfile.ZipFile(fmu_path).namelist())
     for kind in ("ModelExchange", "CoSimulation"):
@@ -55,5 +60,5 @@ def test_fmi3_build_description_lists_every_source(fmu3_path):
     z = zipfile.ZipFile(fmu3_path)
     bd = ET.fromstring(z.read("sources/buildDescription.xml"))
     listed = {f.get("name") for f in bd.iter("SourceFile")}
-    assert listed == {p.name for p in (root_dir / "fmu_src").glob("*.c")} | {"model_vars.c", "model_vars3.c"}
+    assert listed == {p.name for p in _plant_sources(root_dir)} | {"model_vars.c", "model_vars3.c"}
     assert {f"sources/{n}" for n in listed} <= set(z.namelist())

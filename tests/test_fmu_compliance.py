@@ -1,4 +1,4 @@
-"""Effect ``compliance`` in the FMU (fmu_src/compliance.c) and its Python twin
+"""Effect ``compliance`` in the FMU (fmu_src/physics/compliance.c) and its Python twin
 (feeddrive.physics.compliance): a load m2 on a spring-damper on the slide.
 
 - switched off, the load follows the slide exactly and the encoder reads x;

@@ -202,7 +202,7 @@ def test_direct_construction_fills_defaults():
     assert "m" not in m.defaulted and "Ts" in m.defaulted
 
 
-INVALID = [  # parameters, the FMU's message (fmu_src/params.c)
+INVALID = [  # parameters, the FMU's message (fmu_src/models/plant/params.c)
     ({"m": -16.1}, "m = -16.1 is out of range: allowed (0, inf) kg"),
     ({"friction.F_c": 30.0}, "friction.F_c = 30 exceeds friction.F_s = 26.100000000000001: "
                              "allowed friction.F_c in [0, friction.F_s] N"),

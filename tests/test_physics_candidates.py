@@ -1,5 +1,5 @@
 """The diagnosis never accepts a model the FMU refuses: a candidate whose identified model
-breaks a rule of fmu_src/params.c is scored as not significant (unchecked, it would write
+breaks a rule of fmu_src/models/plant/params.c is scored as not significant (unchecked, it would write
 friction.sigma2 = -7135 into a model file)."""
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Every rule of fmu_src/params.c fed to the FMU and to feeddrive.physics.compile: the same
+"""Every rule of fmu_src/models/plant/params.c fed to the FMU and to feeddrive.physics.compile: the same
 verdict and the same message (single-value rules are logged by fmi2Set* with its name in
 front; rules on the compiled set when initialisation ends)."""
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """Effect position_friction: the friction level along the stroke, p(x).
 
 - p(x) itself: C1 with zero slope at the ends, constant outside, within the convex hull of
-  its knot values, linear in them (fmu_src/friction_position.c, physics.friction_position);
+  its knot values, linear in them (fmu_src/physics/friction_position.c, physics.friction_position);
 - the FMU and the Python physics in the same state agree to 1e-9 N (friction, m a) and to
   1e-12 relative on the element rates, at states along a trajectory across the profile, for
   the GMS with and without frictional lag and for the static model (whose break-away level

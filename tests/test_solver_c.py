@@ -1,4 +1,4 @@
-"""Build and run the C tests of the DP45 integrator (fmu_src/solver_dp45.c).
+"""Build and run the C tests of the DP45 integrator (fmu_src/solvers/solver_dp45.c).
 
 Two C programs under tests/c/: test_solver_dp45.c (accuracy against closed-form
 solutions, step bookkeeping, error paths, cost) and test_solver_dp45_events.c
@@ -18,7 +18,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-SRC = ROOT / "fmu_src"
+SRC = ROOT / "fmu_src" / "solvers"
 SOLVER = SRC / "solver_dp45.c"
 TEST_DIR = ROOT / "tests" / "c"
 # program -> number of checks it makes (fewer means checks were lost)

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Print the Markdown tables of the FMU's variables, generated from modelDescription.xml: the FMI 2.0
 variables and the FMI 3.0 variables that differ from them (arrays of dimension friction.N, the
-structural parameter, time, eventIndicators; from the FMI 3.0 description fmu_src/gen_fmi3.py
+structural parameter, time, eventIndicators; from the FMI 3.0 description fmu_src/generators/gen_fmi3.py
 derives from the same file) for docs/variables.md, and every parameter with its unit, default
 and allowed range for docs/parameters.md.
 
@@ -67,7 +67,7 @@ def params_table(xml_path: Path) -> str:
 
 
 def _gen_fmi3():
-    spec = importlib.util.spec_from_file_location("gen_fmi3", ROOT / "fmu_src" / "gen_fmi3.py")
+    spec = importlib.util.spec_from_file_location("gen_fmi3", ROOT / "fmu_src" / "generators" / "gen_fmi3.py")
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     return mod

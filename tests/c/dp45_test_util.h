@@ -1,4 +1,4 @@
-/* Shared by the C tests of fmu_src/solver_dp45.c: a check printer, a clock and the
+/* Shared by the C tests of fmu_src/solvers/solver_dp45.c: a check printer, a clock and the
  * closed-form test problems used by both programs. Header-only (static inline). */
 #ifndef DP45_TEST_UTIL_H
 #define DP45_TEST_UTIL_H

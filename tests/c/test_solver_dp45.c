@@ -1,8 +1,8 @@
-/* Tests of fmu_src/solver_dp45.c, integration: accuracy against closed-form
+/* Tests of fmu_src/solvers/solver_dp45.c, integration: accuracy against closed-form
  * solutions, step-size bookkeeping (FSAL, h_max, h kept across calls, inputs
  * changing per call), error paths, and the cost per step. Prints one line per
  * check and "N passed, M failed"; exits 0 only if every check passed.
- * Build: cc -std=c99 -I fmu_src -I tests/c tests/c/test_solver_dp45.c fmu_src/solver_dp45.c -lm
+ * Build: cc -std=c99 -I fmu_src -I tests/c tests/c/test_solver_dp45.c fmu_src/solvers/solver_dp45.c -lm
  * Events and dense output: test_solver_dp45_events.c. */
 #define _POSIX_C_SOURCE 199309L
 #include "solver_dp45.h"

@@ -1,9 +1,9 @@
-/* Tests of fmu_src/solver_dp45.c, events and dense output: bouncing ball against
+/* Tests of fmu_src/solvers/solver_dp45.c, events and dense output: bouncing ball against
  * the analytic impact times, several indicators in one step, indicators exactly
  * zero at a step start or end, indicator bookkeeping across calls, accuracy and
  * order of the continuous extension. Prints one line per check and
  * "N passed, M failed"; exits 0 only if every check passed.
- * Build: cc -std=c99 -I fmu_src -I tests/c tests/c/test_solver_dp45_events.c fmu_src/solver_dp45.c -lm */
+ * Build: cc -std=c99 -I fmu_src -I tests/c tests/c/test_solver_dp45_events.c fmu_src/solvers/solver_dp45.c -lm */
 #define _POSIX_C_SOURCE 199309L
 #include "solver_dp45.h"
 #include "dp45_test_util.h"

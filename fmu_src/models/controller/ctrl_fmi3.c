@@ -1,5 +1,5 @@
 /* FMI 3.0 co-simulation glue of the controller FMU over its FMI 2.0 glue (ctrl_fmi2.c, in the
- * same library; only the fmi3 functions are exported, fmu_src/fmi3.map): the same instance,
+ * same library; only the fmi3 functions are exported, fmu_src/fmi/fmi3.map): the same instance,
  * call sequence and messages (fmi3_log.h renames the functions), calloc/free for memory.
  * Event Mode with a periodic input clock `tick` (interval Ts, the parameter): an instance made
  * with eventModeUsed takes its samples at the ticks only -- at t_k the importer enters Event
@@ -9,7 +9,7 @@
  * at the next tick. Without
  * eventModeUsed the instance samples as the FMI 2.0 FMU does (inside fmi3DoStep). No early
  * return, no FMU state, no model exchange; the functions neither FMU provides are in
- * fmu_src/fmi3_stubs.c. */
+ * fmu_src/fmi/fmi3_stubs.c. */
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -27,7 +27,7 @@ int ctrl_tick(fmi2Component comp, const char *fn);
 void ctrl_drop_pending(fmi2Component comp);
 int ctrl_step_within_tick(fmi2Component comp, double t, double h);
 
-/* the value reference of the input clock `tick` (fmu_src/gen_fmi3.py's CTRL_VR_TICK) */
+/* the value reference of the input clock `tick` (fmu_src/generators/gen_fmi3.py's CTRL_VR_TICK) */
 #define VR_TICK 9u
 
 /* the instance environment of the FMI 2.0 glue underneath: the logger first (fmi3_log.h), then

@@ -12,7 +12,7 @@ instantiates with eventModeUsed gives every sample as a tick in Event Mode.)
 
 modelDescription.xml (FMI 2.0) stays the one list of variables. From it this writes
 OUTDIR/modelDescription.xml (FMI 3.0), OUTDIR/buildDescription.xml (for sources/) and
-OUTDIR/model_vars3.h/.c (the FMI 3.0 value references of the glue, fmu_src/fmi3_values.c):
+OUTDIR/model_vars3.h/.c (the FMI 3.0 value references of the glue, fmu_src/fmi/fmi3_values.c):
 
 - every scalar keeps its name, value reference, unit, start, min, max and nominal; Real becomes
   Float64, Integer Int32, Boolean Boolean;
@@ -252,9 +252,9 @@ def main(xml_path: str, outdir: str, controller: bool = False) -> None:
     out = Path(outdir)
     out.mkdir(parents=True, exist_ok=True)
     model_description(root2, vars3).write(out / "modelDescription.xml", encoding="UTF-8", xml_declaration=True)
-    here = Path(__file__).resolve().parent
+    fmi_glue = Path(__file__).resolve().parents[1] / "fmi"
     glue = (["ctrl_fmi3.c", "fmi3_stubs.c"] if controller
-            else sorted(p.name for p in here.glob("fmi3_*.c")) + ["model_vars3.c"])
+            else sorted(p.name for p in fmi_glue.glob("fmi3_*.c")) + ["model_vars3.c"])
     build_description(root2, glue).write(out / "buildDescription.xml", encoding="UTF-8", xml_declaration=True)
     if controller:
         return

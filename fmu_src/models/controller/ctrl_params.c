@@ -1,4 +1,4 @@
-/* The controller's value table (ctrl_vars.h, generated from fmu_src/controller/modelDescription.xml
+/* The controller's value table (ctrl_vars.h, generated from fmu_src/models/controller/modelDescription.xml
  * with the plant's parameters imported as plant.*) compiled into ctrl_params_t: the rules of single
  * values and of their combination, each refusal a message naming the variable, its value and the
  * allowed range. The nominal plant is compiled by the plant FMU's own params.c. */

@@ -32,7 +32,8 @@ FMU_CFLAGS := -std=c99 -O3 -fno-math-errno -fPIC -Wall -Wextra -Werror -D_POSIX_
 SRC_DIRS   := fmu_src/fmi fmu_src/models/plant fmu_src/physics fmu_src/solvers
 SRC_INC    := $(addprefix -I ,$(SRC_DIRS))
 SRC_C      := $(filter-out fmu_src/fmi/fmi3_%.c,$(wildcard $(addsuffix /*.c,$(SRC_DIRS))))
-SRC_H      := $(wildcard $(addsuffix /*.h,$(SRC_DIRS)))
+# the effect table's list of effects is generated from the XML with the value table (gen_vars.py)
+SRC_H      := $(wildcard $(addsuffix /*.h,$(SRC_DIRS))) $(GEN)/model_effects.h
 STAMP      := $(VENV)/.installed
 # the controller FMU: its own sources and XML (fmu_src/models/controller/), the plant's parameters
 # imported as plant.* (value reference + 1000), the plant's physics files compiled in
@@ -41,10 +42,13 @@ CTRL_FMU   := $(BUILD)/$(CTRL).fmu
 PKG_CTRL_FMU := python/feeddrive/$(CTRL).fmu
 CTRL_GEN   := $(GEN)/controller
 CTRL_SO    := $(BUILD)/controller/binaries/linux64/$(CTRL).so
-CTRL_SHARED := fmu_src/models/plant/params.c fmu_src/physics/current_loop.c fmu_src/physics/position_maps.c \
-               fmu_src/physics/friction_gms.c fmu_src/physics/friction_position.c
+# (params.c compiles every effect through the effect table: every effect's file is compiled in)
+CTRL_SHARED := fmu_src/models/plant/params.c fmu_src/physics/effects.c fmu_src/physics/current_loop.c \
+               fmu_src/physics/position_maps.c fmu_src/physics/friction_levels.c fmu_src/physics/friction_gms.c \
+               fmu_src/physics/friction_position.c fmu_src/physics/offset_force.c fmu_src/physics/compliance.c
 CTRL_SRC_C := $(filter-out %/ctrl_fmi3.c,$(wildcard fmu_src/models/controller/*.c)) $(CTRL_SHARED)
-CTRL_SHARED_H := fmu_src/models/plant/params.h fmu_src/physics/plant.h fmu_src/fmi/fmi2_allowed.h fmu_src/fmi/fmi2_log.h
+CTRL_SHARED_H := fmu_src/models/plant/params.h fmu_src/physics/plant.h fmu_src/physics/effect.h \
+                 $(GEN)/model_effects.h fmu_src/fmi/fmi2_allowed.h fmu_src/fmi/fmi2_log.h
 CTRL_SRC_H := $(wildcard fmu_src/models/controller/*.h) $(CTRL_SHARED_H)
 # the plant as FMI 3.0: modelDescription and value table generated from the FMI 2.0 XML
 # (fmu_src/generators/gen_fmi3.py), the fmi3 glue over the shared fmi2 one; only fmi3* exported
@@ -117,7 +121,7 @@ $(BUILD)/fmi_include: $(STAMP)
 	mkdir -p $(BUILD)
 	$(PY) -c "import fmpy, os; print(os.path.join(os.path.dirname(fmpy.__file__), 'c-code'))" > $@
 
-$(GEN)/model_vars.h $(GEN)/model_vars.c: modelDescription.xml fmu_src/generators/gen_vars.py $(STAMP)
+$(GEN)/model_vars.h $(GEN)/model_vars.c $(GEN)/model_effects.h: modelDescription.xml fmu_src/generators/gen_vars.py $(STAMP)
 	$(PY) fmu_src/generators/gen_vars.py modelDescription.xml $(GEN)
 
 $(SO): $(SRC_C) $(SRC_H) $(GEN)/model_vars.h $(GEN)/model_vars.c $(BUILD)/fmi_include

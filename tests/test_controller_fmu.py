@@ -312,7 +312,8 @@ def test_sources_listed_shipped_and_rebuildable(ctrl_fmu, tmp_path) -> None:
     listed = {f.get("name") for f in ET.parse(REPO / "fmu_src" / "models" / "controller" / "modelDescription.xml")
               .getroot().find("CoSimulation").find("SourceFiles")}
     expected = ({p.name for p in (REPO / "fmu_src" / "models" / "controller").glob("*.c") if p.name != "ctrl_fmi3.c"}
-                | {"params.c", "current_loop.c", "position_maps.c", "friction_gms.c", "friction_position.c",
+                | {"params.c", "effects.c", "current_loop.c", "position_maps.c", "friction_levels.c",
+                   "friction_gms.c", "friction_position.c", "offset_force.c", "compliance.c",
                    "ctrl_vars.c", "model_vars.c"})
     assert listed == expected
     shipped = {Path(n).name for n in zipfile.ZipFile(ctrl_fmu).namelist() if n.startswith("sources/")}

@@ -5,7 +5,10 @@ Usage: gen_vars.py modelDescription.xml OUTDIR
        gen_vars.py --prefix CTRL [--import PLANT_XML PREFIX OFFSET] modelDescription.xml OUTDIR
 
 The C code never spells a value reference, a default or a variable name itself: it uses
-VR_<name> macros, VRA_<group>[index] arrays and the MODEL_VARS table written here.
+VR_<name> macros, VRA_<group>[index] arrays and the MODEL_VARS table written here.  The plant's
+effects are its ``effects.<id>`` switches: model_effects.h lists them, in the XML's order, as the
+X-macro MODEL_EFFECTS(X) = X(<id>) ..., from which physics/effects.c builds the effect table of
+``&effect_<id>`` entries (each defined in the effect's own C file).
 
 With ``--prefix CTRL`` (the controller FMU) the files are ctrl_vars.h/.c and the names
 CVR_<name>, CVRA_<group>, CVRA2_<group>[i][j] (names like ``ss.Ac[1,2]``), CTRL_VARS, ...,
@@ -130,6 +133,25 @@ def main(xml_path: str, outdir: str, prefix: str = "MODEL",
           "const unsigned MODEL_STATE_VR[MODEL_NX] = {" + ", ".join(f"{v}u" for v in states) + "};",
           "const unsigned MODEL_DER_VR[MODEL_NX] = {" + ", ".join(f"{v}u" for v in der_vrs) + "};", ""]
     (out / "model_vars.c").write_text("\n".join(c))
+    _write_effects([r[1] for r in rows], Path(xml_path).name, out)
+
+
+def effect_ids(names: list[str]) -> list[str]:
+    """The ids of the effect switches ``effects.<id>``, in the order of ``names``."""
+    return [n.split(".", 1)[1] for n in names if re.fullmatch(r"effects\.[a-z][a-z0-9_]*", n)]
+
+
+def _write_effects(names: list[str], src: str, out: Path) -> None:
+    """model_effects.h: MODEL_NEFFECTS and the X-macro MODEL_EFFECTS(X) of the effect ids."""
+    ids = effect_ids(names)
+    h = [f"/* Generated from {src} by gen_vars.py: do not edit. */",
+         "#ifndef MODEL_EFFECTS_H", "#define MODEL_EFFECTS_H", "",
+         f"#define MODEL_NEFFECTS {len(ids)}",
+         "/* X(id) for every effect switch effects.<id>, in the XML's order */",
+         "#define MODEL_EFFECTS(X) \\"]
+    h += [f"    X({i}) \\" for i in ids]
+    h += ["", "#endif", ""]
+    (out / "model_effects.h").write_text("\n".join(h))
 
 
 def _write(root: ET.Element, src: str, outdir: str, prefix: str) -> None:

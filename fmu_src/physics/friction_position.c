@@ -10,8 +10,9 @@
  * indicators, which use the scaled level, need no new event.  Python twin:
  * feeddrive.physics.friction_position. */
 #include <math.h>
+#include <stdio.h>
 
-#include "plant.h"
+#include "effect.h"
 
 /* mirrored control value: index i of 0..n-1, i = -1 -> 1, i = n -> n - 2 */
 static double ctrl(const plant_params_t *p, int i) {
@@ -63,3 +64,37 @@ double friction_level_memo(const plant_params_t *p, plant_memo_t *memo, double v
 double friction_break_away(const plant_params_t *p, double x, int side) {
     return friction_profile(p, x) * p->Fs[side];
 }
+
+/* ---- effect position_friction: the knots and their spacing (friction_profile.*); its rules are
+ * checked whether it is on or off, like the stroke's, so a model's profile is valid either way */
+static bool compile_position_friction(const double *val, plant_params_t *p, char *msg, size_t msglen) {
+    double x0 = val[VR_friction_profile_x_start], x1 = val[VR_friction_profile_x_end];
+    int j;
+    (void)msg; (void)msglen;
+    p->posfric = val[VR_effects_position_friction] != 0.0;
+    p->pf_n = (int)val[VR_friction_profile_n];
+    p->pf_x0 = x0;
+    p->pf_h = (x1 - x0) / (double)(p->pf_n - 1);
+    for (j = 0; j < PLANT_NPF_MAX; j++) p->pf_c[j] = j < p->pf_n ? val[VRA_friction_profile_c[j + 1]] : 0.0;
+    return true;
+}
+
+static bool check_position_friction(const double *val, const plant_params_t *p, char *msg, size_t msglen) {
+    double x0 = val[VR_friction_profile_x_start], x1 = val[VR_friction_profile_x_end];
+    double n = val[VR_friction_profile_n];
+    (void)p;
+    if (!(x1 > x0)) {
+        snprintf(msg, msglen, "friction_profile.x_end = %.17g must exceed friction_profile.x_start = %.17g: "
+                 "allowed friction_profile.x_end in (%.17g, inf) m", x1, x0, x0);
+        return false;
+    }
+    if ((double)(int)n != n) {
+        snprintf(msg, msglen, "friction_profile.n = %.17g is not an integer: allowed 2..%d", n, PLANT_NPF_MAX);
+        return false;
+    }
+    return true;
+}
+
+const effect_t effect_position_friction = {
+    "position_friction", VR_effects_position_friction, NULL, compile_position_friction, check_position_friction,
+    NULL, NULL, NULL};

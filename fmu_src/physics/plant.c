@@ -1,10 +1,12 @@
 /* Eq. 1 assembled:  m a = K_f(x) i - F_cg(x) - F_f - F_e - F_offset (+ the compliance's
  * spring-damper force when that effect is on, compliance.c).
  * The maps are evaluated at x clamped to [stroke.x_min, stroke.x_max] (the cubic of Eq. 6
- * extrapolates badly); the motion itself is not limited. */
+ * extrapolates badly); the motion itself is not limited. The effects' terms are called directly
+ * (each is 0 or the identity where its effect is off, from the compiled parameters); the effect
+ * table (effect.h) sets the states the effects own at initialisation and after a retune. */
 #include <math.h>
 
-#include "plant.h"
+#include "effect.h"
 
 static double clamp(double x, double lo, double hi) { return x < lo ? lo : (x > hi ? hi : x); }
 
@@ -109,8 +111,7 @@ void plant_init(const plant_params_t *p, plant_disc_t *d, double *y, const plant
     d->n_stick = d->n_slip = d->n_time_events = d->n_state_events = 0;
     d->st_stuck = false;
     d->st_dir = 0;
-    for (j = 0; j < PLANT_NE_MAX; j++) if (!p->active[j]) y[PLANT_IF + j] = 0.0;
-    if (!p->compliance) y[PLANT_IQ] = y[PLANT_IW] = 0.0;
+    for (j = 0; j < MODEL_NEFFECTS; j++) if (PLANT_EFFECTS[j]->init) PLANT_EFFECTS[j]->init(p, y);
     if (p->prerolling) {
         gms_init(p, d, y);
         gms_update(p, d, y, NULL, &changed);
@@ -160,5 +161,6 @@ int plant_n_stuck(const plant_params_t *p, const plant_disc_t *d) {
 }
 
 void plant_retune(const plant_params_t *old, const plant_params_t *p, plant_disc_t *d, double *y) {
-    gms_retune(old, p, d, y);
+    int j;
+    for (j = 0; j < MODEL_NEFFECTS; j++) if (PLANT_EFFECTS[j]->retune) PLANT_EFFECTS[j]->retune(old, p, d, y);
 }

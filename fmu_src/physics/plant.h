@@ -119,8 +119,10 @@ void current_loop_init(const plant_params_t *p, plant_disc_t *d, double u0);
 void current_loop_sample(const plant_params_t *p, plant_disc_t *d, double u);
 double current_loop_output(const plant_params_t *p, const plant_disc_t *d, double u);
 
+/* friction_levels.c: the Stribeck level S(|v|) for side 0 (+) / 1 (-) */
+double friction_level(const plant_params_t *p, double v, int side);
+
 /* friction_gms.c */
-double friction_level(const plant_params_t *p, double v, int side);  /* S(|v|) for side 0 (+) / 1 (-) */
 int friction_sign(double v);
 /* memo (may be NULL): the Stribeck level's (plant_memo_t) */
 void gms_element_forces(const plant_params_t *p, const plant_disc_t *d, const double *y, plant_memo_t *memo,

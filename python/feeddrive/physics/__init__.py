@@ -3,7 +3,7 @@
 - :mod:`.params` (params.c): :func:`compile` -> :class:`PlantParameters`, the rules and
   messages of the FMU (:class:`ParameterError`);
 - :mod:`.position_maps` (position_maps.c): K_f(x), F_cg(x) (Eqs. 6-7);
-- :mod:`.friction_curves` (``friction_level`` of friction_gms.c): Stribeck curve, Eq. 12;
+- :mod:`.friction_curves` (``friction_level`` of friction_levels.c): Stribeck curve, Eq. 12;
 - :mod:`.friction_gms` (friction_gms.c): the GMS along a motion (Eqs. 8-11);
 - :mod:`.gms_start`: the GMS element forces at a recording's first sample, estimated from
   Eq. 1's residual over the samples before every element has slipped;

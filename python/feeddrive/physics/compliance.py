@@ -34,7 +34,7 @@ F_RANGE = (20.0, 200.0)
 
 @dataclass(frozen=True)
 class Compliance:
-    """The compiled compliance (params.c ``compile_compliance``); ``on`` False: no load."""
+    """The compiled compliance (compliance.c ``compile_compliance``); ``on`` False: no load."""
 
     on: bool
     m2: float          #: [kg]

@@ -2,7 +2,7 @@
 
 The one Python statement of S(|v|); the GMS (:mod:`.friction_gms`), the static friction
 (:mod:`.friction_static`), identification, diagnosis and feedforward all call it.
-C twin: ``friction_level`` in fmu_src/friction_gms.c.
+C twin: ``friction_level`` in fmu_src/physics/friction_levels.c.
 """
 from __future__ import annotations
 

@@ -70,7 +70,7 @@ class GMSParameters:
         """From FMU-named parameters (``friction.*``, ``asymmetry.*``); the friction part of
         :func:`feeddrive.physics.params.compile`, which validates them first.
 
-        The elements are those fmu_src/params.c makes active: i <= friction.N with nu_i > 0.
+        The elements are those fmu_src/physics/friction_gms.c makes active: i <= friction.N with nu_i > 0.
         With ``apply_effects`` the ``effects.<id>`` switches act once, here: ``stribeck`` off
         sets F_s = F_c (the Coulomb level, as the effect catalogue says), ``viscous`` off sets sigma2 =
         dsigma2 = 0, ``frictional_lag`` off sets C = inf, ``asymmetric_friction`` off sets

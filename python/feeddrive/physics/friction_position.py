@@ -10,7 +10,7 @@ The whole Stribeck level of either side is scaled by a smooth profile,
 (c_0 = c_2, c_{n+1} = c_{n-1}), so p' = 0 at both ends, and p is constant outside
 [x_start, x_end]: p is C1 (C2 inside), linear in c (identification is linear least squares
 on :meth:`FrictionProfile.basis`), and stays within [1 + min c, 1 + max c] (convex hull).
-C twin: fmu_src/friction_position.c (same arithmetic, so both agree to rounding).
+C twin: fmu_src/physics/friction_position.c (same arithmetic, so both agree to rounding).
 """
 from __future__ import annotations
 

@@ -1,10 +1,11 @@
 """Compile FMU-named parameters into typed, frozen plant parameters, with the rules and
-messages of fmu_src/params.c.
+messages of the FMU (fmu_src/models/plant/params.c and the effect
+entries of fmu_src/physics/, in the effect table's order).
 
 :func:`compile` takes a model (anything with ``fmu_parameters()``, e.g. a
 :class:`feeddrive.model_file.ModelFile`) or a mapping of FMU parameter names to values
 (missing names keep the FMU's defaults, the paper's values, as an FMU instance does), checks
-every rule of params.c in its order and applies the effect switches once:
+every rule of the FMU in its order and applies the effect switches once:
 
 - single values (``params_check_value``; the FMU checks them on fmi2Set*, logging
   ``"fmi2SetReal: " + message``): every parameter finite; m, Ts, F_s, V_s, delta, C, k_i,
@@ -39,7 +40,7 @@ from .friction_gms import GMSParameters
 from .friction_position import N_KNOTS_MAX
 from .position_maps import MAP_EFFECTS, PositionMap
 
-#: |sum(nu_i) - 1| allowed (params.c SUM_NU_TOL).
+#: |sum(nu_i) - 1| allowed (friction_gms.c SUM_NU_TOL).
 SUM_NU_TOL = 1e-3
 #: FMU parameters of the integrator, not of the plant (checked for finiteness only).
 SOLVER_PARAMETERS = ("solver.tol", "solver.fast")
@@ -61,7 +62,7 @@ def _unit(name: str) -> str:
     return v.unit if v is not None else ""
 
 
-# range rules: (lo, lo_open, hi, hi_open), as params.c range_of
+# range rules: (lo, lo_open, hi, hi_open), as params.c range_of and the effects' range entries
 _POS = (0.0, True, math.inf, True)
 _NONNEG = (0.0, False, math.inf, True)
 _UNIT = (0.0, False, 1.0, False)
@@ -84,7 +85,7 @@ def _range_of(name: str) -> tuple[float, bool, float, bool] | None:
 
 
 def _num(v: float) -> str:
-    """params.c num(): %.15g when it reads back exactly, else %.17g."""
+    """effects.c effect_num(): %.15g when it reads back exactly, else %.17g."""
     s = "%.15g" % v
     return s if float(s) == v else "%.17g" % v
 
@@ -176,7 +177,7 @@ def _check_compiled(val: Mapping[str, Any]) -> None:
                              "allowed friction.F_c in [0, friction.F_s] N")
     if val["effects.asymmetric_friction"]:
         Fc0 = Fc
-        Fs0 = Fs if val["effects.stribeck"] else Fc      # params.c's compiled Fs[0]
+        Fs0 = Fs if val["effects.stribeck"] else Fc      # friction_levels.c's compiled Fs[0]
         s0 = float(val["friction.sigma2"]) if val["effects.viscous"] else 0.0
         dF, ds = float(val["asymmetry.dF"]), float(val["asymmetry.dsigma2"])
         if Fc0 + dF < 0.0 or Fs0 + dF <= 0.0:

@@ -25,7 +25,10 @@ static void set_range(param_range_t *r, double lo, int lo_open) {
 
 /* ---- effect stribeck: F_s, F_c, V_s, delta (F_c is the level whether or not the drop is on) */
 static bool range_stribeck(unsigned vr, param_range_t *r) {
-    if (vr == VR_friction_F_s || vr == VR_friction_V_s || vr == VR_friction_delta) { set_range(r, 0.0, 1); return true; }
+    if (vr == VR_friction_F_s || vr == VR_friction_V_s || vr == VR_friction_delta) {
+        set_range(r, 0.0, 1);
+        return true;
+    }
     if (vr == VR_friction_F_c) { set_range(r, 0.0, 0); return true; }
     return false;
 }
@@ -82,8 +85,8 @@ static bool compile_asymmetric_friction(const double *val, plant_params_t *p, ch
     double dF = val[VR_asymmetry_dF], ds = val[VR_asymmetry_dsigma2];
     if (val[VR_effects_asymmetric_friction] == 0.0) return true;
     if (p->Fc[0] + dF < 0.0 || p->Fs[0] + dF <= 0.0) {
-        snprintf(msg, msglen, "asymmetry.dF = %.17g makes the friction level for v < 0 negative: allowed [%.17g, inf) N",
-                 dF, -p->Fc[0]);
+        snprintf(msg, msglen, "asymmetry.dF = %.17g makes the friction level for v < 0 negative: "
+                 "allowed [%.17g, inf) N", dF, -p->Fc[0]);
         return false;
     }
     if (p->sigma2[0] + ds < 0.0) {

@@ -122,8 +122,8 @@ static void map_aperiodic(const double *val, posmap_t *m, const unsigned *vc, in
 
 static bool stroke_ok(const plant_params_t *p, char *msg, size_t msglen) {
     if (p->x_max > p->x_min) return true;
-    snprintf(msg, msglen, "stroke.x_max = %.17g must exceed stroke.x_min = %.17g: allowed stroke.x_max in (%.17g, inf) m",
-             p->x_max, p->x_min, p->x_min);
+    snprintf(msg, msglen, "stroke.x_max = %.17g must exceed stroke.x_min = %.17g: "
+             "allowed stroke.x_max in (%.17g, inf) m", p->x_max, p->x_min, p->x_min);
     return false;
 }
 

@@ -168,8 +168,8 @@ void params_fastest_rate(const double *val, const plant_params_t *p, char *buf, 
     for (j = 0; j < MODEL_NEFFECTS; j++)
         if (PLANT_EFFECTS[j]->rate && PLANT_EFFECTS[j]->rate(val, p, &best, buf, n)) return;
     if (best.rate < 1.0 / p->Ts) { best.rate = 1.0 / p->Ts; best.vr = VR_Ts; }
-    snprintf(buf, n, "%s = %s (rate %.3g 1/s with m = %s kg)", var_name(best.vr), effect_num(vb, sizeof vb, val[best.vr]),
-             best.rate, effect_num(mb, sizeof mb, p->m));
+    snprintf(buf, n, "%s = %s (rate %.3g 1/s with m = %s kg)", var_name(best.vr),
+             effect_num(vb, sizeof vb, val[best.vr]), best.rate, effect_num(mb, sizeof mb, p->m));
 }
 
 void params_state_cause(const plant_params_t *p, const double *y, const plant_in_t *in, const plant_out_t *o,

@@ -13,7 +13,7 @@ from ..harness.references import Reference, sinusoid
 from ..harness.runs import run_closed_loop
 from ..paper import paper_parameters
 from ..realdata.odrive import analyse, findings_text
-from ..validation import sec3, sec4
+from ..experiments import sec3, sec4
 from . import closed_loop_figures as figs
 from .identification import identification_section
 from .page import Page

@@ -140,6 +140,9 @@ class Result(Mapping):
 class Plant:
     """One FMU instance of the feed drive.
 
+    The calls that differ between FMI 2.0 and FMI 3.0 are made by one adapter chosen here
+    from the file's ``fmiVersion`` (:class:`_FMI2`, :class:`feeddrive.fmu3.FMI3`).
+
     Parameters
     ----------
     parameters : FMU parameter values by name (SI), e.g. from
@@ -153,9 +156,6 @@ class Plant:
         An FMI 3.0 file is instantiated with ``friction.N`` from ``parameters`` (Configuration
         Mode); an FMI 2.0 slot past N (``friction.F[7]`` at N = 5) is dropped when set and
         reads 0 (the FMI 2.0 FMU's unused slots hold 0 too).
-
-    The calls that differ between FMI 2.0 and FMI 3.0 are made by one adapter chosen here
-    from the file's ``fmiVersion`` (:class:`_FMI2`, :class:`feeddrive.fmu3.FMI3`).
     """
 
     def __init__(self, parameters: Mapping[str, float | int | bool] | None = None,

@@ -154,18 +154,18 @@ def test_no_function_local_package_import() -> None:
     assert not bad, "function-local imports of the package:\n" + "\n".join(bad)
 
 
+def _package_imports() -> list[tuple[str, str, str]]:
+    """(file:line, importing module, imported module) for every import of the package."""
+    return [(f"{p.relative_to(PKG.parent)}:{line}", _module_name(p), t)
+            for p in sorted(PKG.rglob("*.py")) for t, line, _ in _imports(p)]
+
+
 def test_imports_point_down_the_flow() -> None:
     bad = []
-    for p in sorted(PKG.rglob("*.py")):
-        mod = _module_name(p)
-        own = _layer(mod)
-        if own is None:
-            continue
-        for t, line, _ in _imports(p):
-            other = _layer(t)
-            if other is not None and other > own:
-                bad.append(f"{p.relative_to(PKG.parent)}:{line} ({mod.split('.')[1]}, layer {own}) "
-                           f"imports {t} (layer {other})")
+    for where, mod, t in _package_imports():
+        own, other = _layer(mod), _layer(t)
+        if own is not None and other is not None and other > own:
+            bad.append(f"{where} ({mod.split('.')[1]}, layer {own}) imports {t} (layer {other})")
     assert not bad, "imports against the flow:\n" + "\n".join(bad)
 
 
@@ -193,22 +193,16 @@ def _stage(mod: str) -> str | None:
 def test_peer_stages_do_not_import_each_other() -> None:
     bad = []
     used = set()
-    for p in sorted(PKG.rglob("*.py")):
-        mod = _module_name(p)
-        own = _stage(mod)
-        if own is None:
+    for where, mod, t in _package_imports():
+        own, other = _stage(mod), _stage(t)
+        if own is None or other is None or other == own or _layer(t) != _layer(mod):
             continue
-        for t, line, _ in _imports(p):
-            other = _stage(t)
-            if other is None or other == own or _layer(t) != _layer(mod):
-                continue
-            edge = next(((a, b) for a, b in PENDING_EFFECT_EDGES
-                         if a == mod and (t == b or t.startswith(b + "."))), None)
-            if edge is not None:
-                used.add(edge)
-                continue
-            bad.append(f"{p.relative_to(PKG.parent)}:{line} ({own}) imports {t} "
-                       f"(its peer {other}, layer {_layer(mod)})")
+        edge = next(((a, b) for a, b in PENDING_EFFECT_EDGES
+                     if a == mod and (t == b or t.startswith(b + "."))), None)
+        if edge is not None:
+            used.add(edge)
+            continue
+        bad.append(f"{where} ({own}) imports {t} (its peer {other}, layer {_layer(mod)})")
     assert not bad, "imports between peer stages:\n" + "\n".join(bad)
     stale = sorted(set(PENDING_EFFECT_EDGES) - used)
     assert not stale, f"allowed peer imports that no longer occur (remove them): {stale}"

@@ -180,7 +180,12 @@ class Plant:
                 raise KeyError(f"parameter {name!r} is not a variable of {self.path.name}")
         self._dir = shared.directory
         self._log = log
-        self.fmu = self._fmi.wrapper(interface)
+        self.fmu = self._fmi.wrapper_class(interface)(
+            guid=self.md.guid, unzipDirectory=self._dir,
+            modelIdentifier=self.md.coSimulation.modelIdentifier if interface == "cs"
+            else self.md.modelExchange.modelIdentifier,
+            instanceName="feeddrive")
+        self._fmi.fmu = self.fmu
         self._instantiated = False
         self.generation = 0     #: counts instances: +1 at every start() and close()
 
@@ -323,8 +328,10 @@ class _Version(Protocol):
     def vars(self) -> Mapping[str, ScalarVariable]:
         """The variables of :attr:`md` by name."""
 
-    def wrapper(self, interface: str) -> Any:
-        """Make fmpy's wrapper of the library for ``interface`` (``"cs"``, ``"me"``)."""
+    fmu: Any     #: fmpy's wrapper of the library, given by the Plant that made it
+
+    def wrapper_class(self, interface: str) -> Any:
+        """fmpy's wrapper class for ``interface`` (``"cs"``, ``"me"``)."""
 
     def element(self, name: str) -> tuple[ScalarVariable, int] | None:
         """(array variable, 1-based index) an FMI 2.0 element name stands for (FMI 3.0)."""
@@ -386,16 +393,10 @@ class _FMI2:
         self.md = shared.md
         self.vars = shared.vars
         self.messages = messages
-        self._dir = shared.directory
         self.fmu: Any = None
 
-    def wrapper(self, interface: str) -> Any:
-        cls = FMU2Slave if interface == "cs" else FMU2Model
-        self.fmu = cls(guid=self.md.guid, unzipDirectory=self._dir,
-                       modelIdentifier=self.md.coSimulation.modelIdentifier if interface == "cs"
-                       else self.md.modelExchange.modelIdentifier,
-                       instanceName="feeddrive")
-        return self.fmu
+    def wrapper_class(self, interface: str) -> Any:
+        return FMU2Slave if interface == "cs" else FMU2Model
 
     def _logger(self, env: object, name: object, status: object, category: object,
                 message: object) -> None:  # fmpy callback

@@ -171,10 +171,6 @@ class Extraction(Protocol):
     """What the FMI 3.0 calls need of an ``.fmu``'s extraction (:class:`feeddrive.fmu.Unpacked`)."""
 
     @property
-    def directory(self) -> str:
-        """The folder the ``.fmu`` was extracted to."""
-
-    @property
     def vars(self) -> Mapping[str, ModelVariable]:
         """The variables of the model description as the file has it, by name."""
 
@@ -191,7 +187,6 @@ class FMI3:
                  parameters: Mapping[str, float | int | bool], messages: list[str]) -> None:
         self.path = path
         self.messages = messages
-        self._dir = shared.directory
         self._default_n = int(shared.vars[N_NAME].start)
         n = parameters.get(N_NAME, shared.vars[N_NAME].start)
         try:
@@ -203,13 +198,8 @@ class FMI3:
         self._arrays: dict[str, list[Any]] = {}   # array values set so far (before initialisation)
         self._initialised = False
 
-    def wrapper(self, interface: str) -> Any:
-        cls = _Slave3 if interface == "cs" else _Model3
-        self.fmu = cls(guid=self.md.guid, unzipDirectory=self._dir,
-                       modelIdentifier=self.md.coSimulation.modelIdentifier if interface == "cs"
-                       else self.md.modelExchange.modelIdentifier,
-                       instanceName="feeddrive")
-        return self.fmu
+    def wrapper_class(self, interface: str) -> Any:
+        return _Slave3 if interface == "cs" else _Model3
 
     def _logger(self, env: object, status: object, category: object,
                 message: object) -> None:  # fmpy's FMI 3.0 callback

@@ -8,7 +8,7 @@ the reference already moves at feed, so the first revolution is the start transi
 ``x_controller``, ``x_plant``, ``y_controller``, ``y_plant``; connections per axis plant
 ``x`` -> controller ``x_meas``, controller ``u`` -> plant ``u``; libcosim's fixed-step
 (Jacobi) algorithm at Ts / ``jacobi_substeps`` (the controller's u lags x by one such step,
-see :mod:`.engines`).  :func:`master_run` runs the same system on
+see :mod:`feeddrive.systems.engines`).  :func:`master_run` runs the same system on
 :func:`feeddrive.xy.table.simulate_axes` (the harness's convention) for comparison.
 """
 from __future__ import annotations

@@ -16,7 +16,7 @@ from diagnosis_runs import simulate_run, sinusoid_reference
 from feeddrive.cli import main
 from feeddrive.data import load_run, write_run
 from feeddrive.identify.pipeline import classify_why
-from feeddrive.validation.replay import check_run
+from feeddrive.harness.checked_runs import check_run
 from feeddrive.model_file import paper_model, save_model
 
 #: (case, commands that may accept it): not a broken file for that command's purpose

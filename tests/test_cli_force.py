@@ -18,7 +18,7 @@ from feeddrive import cli
 from feeddrive.data import Run, write_run
 from feeddrive.model_file import paper_model, save_model
 from feeddrive.systems import sec3_system
-from feeddrive.validation.metrics import ErrorSummary
+from feeddrive.experiments.tracking_error import ErrorSummary
 from feeddrive.validation.replay import ValidationReport
 
 #: a tiny sweep (two runs of 0.2 s) on a model file beside the study

@@ -115,8 +115,8 @@ def test_one_option_vocabulary():
 
 def test_choices_are_the_modules_own():
     from feeddrive.experiments.campaign import FORMATS, MAX_REPEATS
-    from feeddrive.validation.circle_test import FEEDFORWARD
-    from feeddrive.validation.xy_machine import MISMATCH
+    from feeddrive.xy.circle_test import FEEDFORWARD
+    from feeddrive.xy.machine import MISMATCH
     from feeddrive.commands.system import systems
     assert cli.MAX_REPEATS == MAX_REPEATS
     assert tuple(cli.RUN_FORMATS) == tuple(FORMATS)

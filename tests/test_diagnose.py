@@ -9,7 +9,7 @@ import pytest
 from feeddrive.data import write_run
 from feeddrive.cli import main as feeddrive_cli
 from feeddrive.diagnose.localise import displacement_since_reversal, spatial_spectrum
-from feeddrive.diagnose.residual import force_residual
+from feeddrive.residual import force_residual
 from feeddrive.diagnose.workflow import diagnose
 from feeddrive.harness import controller_spec, make_controller, pid_spec
 from feeddrive.model_file import load_model, paper_model, save_model
@@ -34,7 +34,7 @@ def test_displacement_since_reversal():
 
 
 def test_spatial_spectrum_finds_a_planted_wavelength():
-    from feeddrive.diagnose.residual import RunResidual
+    from feeddrive.residual import RunResidual
     n = 20000
     x = np.linspace(0.12, 0.18, n)
     r = 0.8 * np.sin(2 * np.pi * x / 0.0125) + 0.05 * np.random.default_rng(0).standard_normal(n)

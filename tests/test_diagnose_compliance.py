@@ -23,7 +23,7 @@ import functools
 import numpy as np
 import pytest
 
-from feeddrive.diagnose.residual import residuals
+from feeddrive.residual import residuals
 from feeddrive.diagnose.workflow import diagnose
 from feeddrive.identify.compliance import fit_compliance, identify_compliance
 from feeddrive.harness import back_and_forth, state_space_spec

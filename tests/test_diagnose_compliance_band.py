@@ -20,7 +20,7 @@ from scipy import signal
 from feeddrive.diagnose import candidates
 from feeddrive.diagnose.band import kernel_band_hz
 from feeddrive.diagnose.context import Context
-from feeddrive.diagnose.residual import residuals
+from feeddrive.residual import residuals
 from feeddrive.diagnose.scoring import I_MIN, T_MIN, score
 from feeddrive.diagnose.significance import beyond
 from feeddrive.diagnose.workflow import diagnose

@@ -14,7 +14,7 @@ import pytest
 
 from feeddrive.data import load_run
 from feeddrive.diagnose.emps import EMPS_FORCE_GAIN, emps_baseline_model
-from feeddrive.diagnose.residual import force_residual
+from feeddrive.residual import force_residual
 from feeddrive.diagnose.workflow import diagnose
 from feeddrive.report.diagnosis import write_diagnosis
 

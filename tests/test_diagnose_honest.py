@@ -19,7 +19,7 @@ import pytest
 from feeddrive.cli import main as feeddrive_cli
 from feeddrive.data import Run, write_run
 from feeddrive.diagnose.hints import hints, play_position
-from feeddrive.diagnose.residual import residuals
+from feeddrive.residual import residuals
 from feeddrive.diagnose.workflow import diagnose
 from feeddrive.model_file import load_model, paper_model, save_model
 from diagnosis_runs import make_runs

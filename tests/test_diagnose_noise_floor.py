@@ -17,7 +17,7 @@ import pytest
 
 from feeddrive.data import Run
 from feeddrive.diagnose.noise_floor import force_noise, motor_force_noise, noise_floor
-from feeddrive.diagnose.residual import force_residual
+from feeddrive.residual import force_residual
 from feeddrive.diagnose.workflow import diagnose
 from feeddrive.experiments import campaign as experiments
 from feeddrive.experiments.prbs import prbs_runs

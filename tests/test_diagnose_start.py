@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from feeddrive.data import Run
-from feeddrive.diagnose.residual import force_residual
+from feeddrive.residual import force_residual
 from feeddrive.diagnose.workflow import diagnose
 from feeddrive.experiments.campaign import campaign
 from feeddrive.harness.sensors import Sensors

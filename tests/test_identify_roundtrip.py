@@ -35,7 +35,7 @@ from feeddrive.identify.sec4_check import compare_sec4
 from feeddrive.identify.truth_table import c_factor
 from feeddrive.model_file import ModelFile, load_model, paper_model
 from feeddrive.report.page import Page
-from feeddrive.validation import sec4
+from feeddrive.experiments import sec4
 from feeddrive.study.coverage import coverage_truth
 
 MAP_SPEED = 20e-3

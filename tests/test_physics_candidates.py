@@ -9,7 +9,7 @@ import pytest
 from feeddrive.data import Run
 from feeddrive.diagnose.candidates import viscous
 from feeddrive.diagnose.context import Context
-from feeddrive.diagnose.residual import residuals
+from feeddrive.residual import residuals
 from feeddrive.diagnose.scoring import score
 from feeddrive.diagnose.workflow import diagnose
 from feeddrive.model_file import load_model, paper_model

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Write docs/img/sec3_reversal.png, the picture of the README and the docs' home page: the
 report's Fig. 14 analogue (feeddrive.report.closed_loop_figures.fig14) of the Sec. 3
-reproduction (feeddrive.validation.sec3.reproduce), at a size for a web page.
+reproduction (feeddrive.experiments.sec3.reproduce), at a size for a web page.
 
 Usage: readme_figure.py [OUT.png]
 """
@@ -15,7 +15,7 @@ import matplotlib
 matplotlib.use("Agg")
 
 from feeddrive.report.closed_loop_figures import fig14  # noqa: E402
-from feeddrive.validation.sec3 import reproduce  # noqa: E402
+from feeddrive.experiments.sec3 import reproduce  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 

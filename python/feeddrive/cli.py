@@ -35,7 +35,7 @@ SHARED_ENV = "FEEDDRIVE_SHARED"
 
 #: the choices the parser offers, named here so that ``--help`` imports no stage; a test
 #: checks them against the modules that define them (experiments.campaign.MAX_REPEATS,
-#: validation.circle_test.FEEDFORWARD, validation.xy_machine.MISMATCH, commands.system,
+#: xy.circle_test.FEEDFORWARD, xy.machine.MISMATCH, commands.system,
 #: experiments.campaign.FORMATS, study.bootstrap.METHODS)
 MAX_REPEATS = 100
 RUN_FORMATS = ("csv.gz", "csv")

@@ -8,9 +8,10 @@ Two interfaces of the same ``.fmu``:
 * ``"me"``: model exchange integrated by fmpy's CVode (SUNDIALS) between samples, with the
   state events and time events handled here as FMI 2.0 prescribes.  The reference path.
 
-The FMU file's ``fmiVersion`` picks the FMI version: an FMI 3.0 build
-(``LinearMotorFeedDrive3.fmu``) runs behind the same API (fmpy's FMU3Slave / FMU3Model),
-FMI 2.0 names included: ``friction.F[3]`` is element 3 of the FMI 3.0 array ``friction.F``,
+The FMU file's ``fmiVersion`` picks the FMI version once, when a :class:`Plant` is made: the
+calls that differ go through one adapter (:class:`_FMI2` here, :class:`feeddrive.fmu3.FMI3`),
+so an FMI 3.0 build (``LinearMotorFeedDrive3.fmu``) runs behind the same API (fmpy's
+FMU3Slave / FMU3Model), FMI 2.0 names included: ``friction.F[3]`` is element 3 of the FMI 3.0 array ``friction.F``,
 ``friction.N`` is set in Configuration Mode (:mod:`feeddrive.fmu3`), and :meth:`Plant.raw_calls`
 gives fmi3DoStep / fmi3GetFloat64 / fmi3SetFloat64 in the FMI 2.0 call shapes.
 
@@ -32,6 +33,7 @@ import threading
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any, Protocol
 
 import numpy as np
 from fmpy import extract, read_model_description, sharedLibraryExtension
@@ -40,17 +42,13 @@ from fmpy import platform_tuple
 from fmpy.model_description import ModelDescription, ScalarVariable
 from fmpy.fmi2 import (FMU2Model, FMU2Slave, defaultCallbacks, fmi2CallbackFunctions,
                        fmi2CallbackLoggerTYPE, fmi2Real, fmi2ValueReference)
-from fmpy.fmi3 import FMU3Model, FMU3Slave
 
 from . import fmu3
-from .model_description import DEFAULT_FMU, FMU_ENV, FMUNotFoundError, fmu_path  # noqa: F401
+from .model_description import (DEFAULT_FMU, FMU_ENV, FMUError, FMUNotFoundError,  # noqa: F401
+                                fmu_path)
 from .model_description import fmi_version
 
 OUTPUTS = ("x", "v", "a", "i", "F_motor", "F_cogging", "F_friction", "K_f")
-
-
-class FMUError(RuntimeError):
-    """An FMI call failed; the message carries what the FMU logged."""
 
 
 @dataclass(frozen=True)
@@ -142,6 +140,9 @@ class Result(Mapping):
 class Plant:
     """One FMU instance of the feed drive.
 
+    The calls that differ between FMI 2.0 and FMI 3.0 are made by one adapter chosen here
+    from the file's ``fmiVersion`` (:class:`_FMI2`, :class:`feeddrive.fmu3.FMI3`).
+
     Parameters
     ----------
     parameters : FMU parameter values by name (SI), e.g. from
@@ -168,33 +169,23 @@ class Plant:
         self.tolerance = float(self.parameters.get("solver.tol", tolerance))
         shared = unpacked(self.path)
         self.fmi_version = fmi_version(self.path)
-        self.fmi3 = self.fmi_version.startswith("3")
-        if self.fmi3:
-            n = self.parameters.get(fmu3.N_NAME, shared.vars[fmu3.N_NAME].start)
-            try:
-                self.md = shared.with_n(int(n) if not isinstance(n, bool) else n)
-            except (TypeError, ValueError) as e:
-                raise ValueError(f"{self.path.name}: {e}") from None
-            self.vars = {v.name: v for v in self.md.modelVariables}
-        else:
-            self.md = shared.md
-            self.vars = shared.vars
+        self.messages: list[str] = []
+        self._fmi: _Version = (fmu3.FMI3(self.path, shared, self.parameters, self.messages)
+                               if self.fmi_version.startswith("3")
+                               else _FMI2(self.path, shared, self.messages))
+        self.md = self._fmi.md
+        self.vars = self._fmi.vars
         for name in self.parameters:
-            if name not in self.vars and self._element(name) is None:
+            if name not in self.vars and self._fmi.element(name) is None:
                 raise KeyError(f"parameter {name!r} is not a variable of {self.path.name}")
         self._dir = shared.directory
-        self.messages: list[str] = []
         self._log = log
-        self._arrays: dict[str, list] = {}      # FMI 3.0: array values set so far (before init)
-        self._initialised = False
-        if self.fmi3:
-            cls = _Slave3 if interface == "cs" else _Model3
-        else:
-            cls = FMU2Slave if interface == "cs" else FMU2Model
-        self.fmu = cls(guid=self.md.guid, unzipDirectory=self._dir,
-                       modelIdentifier=self.md.coSimulation.modelIdentifier if interface == "cs"
-                       else self.md.modelExchange.modelIdentifier,
-                       instanceName="feeddrive")
+        self.fmu = self._fmi.wrapper_class(interface)(
+            guid=self.md.guid, unzipDirectory=self._dir,
+            modelIdentifier=self.md.coSimulation.modelIdentifier if interface == "cs"
+            else self.md.modelExchange.modelIdentifier,
+            instanceName="feeddrive")
+        self._fmi.fmu = self.fmu
         self._instantiated = False
         self.generation = 0     #: counts instances: +1 at every start() and close()
 
@@ -202,23 +193,12 @@ class Plant:
     def vr(self, name: str) -> int:
         """Value reference of variable ``name`` (FMI 3.0: a scalar variable, not an element)."""
         try:
-            return self.vars[name].valueReference
+            return int(self.vars[name].valueReference)
         except KeyError:
-            if self._element(name) is not None:
+            if self._fmi.element(name) is not None:
                 raise KeyError(f"{name!r} is an element of an FMI 3.0 array of {self.path.name}: "
                                "use get()/set()") from None
             raise KeyError(f"{name!r} is not a variable of {self.path.name}") from None
-
-    def _element(self, name: str) -> tuple[ScalarVariable, int] | None:
-        """FMI 3.0: (array variable, 1-based index) an FMI 2.0 element name stands for."""
-        return fmu3.element(self.md, name) if self.fmi3 else None
-
-    def _logger3(self, env, status, category, message):  # fmpy's FMI 3.0 callback
-        self._logger(env, None, status, category, message)
-
-    def _logger(self, env, name, status, category, message):  # fmpy callback
-        text = message.decode() if isinstance(message, bytes) else str(message)
-        self.messages.append(text)
 
     def _check(self, ok: bool, what: str) -> None:
         if not ok:
@@ -226,207 +206,70 @@ class Plant:
 
     def set(self, values: Mapping[str, float | int | bool]) -> None:
         """Set variables by name (parameters before initialisation, tunables and inputs later)."""
-        if self.fmi3:
-            self._set3(values)
-            return
-        for name, value in values.items():
-            v = self.vars.get(name)
-            if v is None:
-                raise KeyError(f"{name!r} is not a variable of {self.path.name}")
-            try:
-                if v.type == "Real":
-                    self.fmu.setReal([v.valueReference], [float(value)])
-                elif v.type == "Integer":
-                    self.fmu.setInteger([v.valueReference], [int(value)])
-                elif v.type == "Boolean":
-                    self.fmu.setBoolean([v.valueReference], [bool(value)])
-            except Exception as e:  # fmpy raises on fmi2Error
-                raise FMUError(f"setting {name} = {value!r}: "
-                               + (self.messages[-1] if self.messages else str(e))) from None
-
-    def _array3(self, var: ScalarVariable) -> list:
-        """FMI 3.0: the current values of array ``var``: the FMU's (before initialisation
-        the values set so far, else its defaults: the model description lists start values for
-        the default N only; the FMU has defaults for all ten slots, as the FMI 2.0 one)."""
-        n = int(np.prod(var.shape))
-        get = getattr(self.fmu, "get" + var.type)
-        if self._initialised:
-            return list(get([var.valueReference], nValues=n))
-        if var.name not in self._arrays:
-            start = [var._python_type(x) for x in str(var.start).split()] if var.start is not None else []
-            if len(start) < n:
-                try:
-                    start = list(get([var.valueReference], nValues=n))
-                except Exception:
-                    raise FMUError(f"{var.name}: no start values for friction.N = {n} elements "
-                                   "(set all of them)") from None
-            self._arrays[var.name] = start[:n]
-        return self._arrays[var.name]
-
-    def _set3(self, values: Mapping[str, float | int | bool]) -> None:
-        for name, value in values.items():
-            var = self.vars.get(name)
-            index = None
-            if var is None:
-                hit = self._element(name)
-                if hit is None:
-                    raise KeyError(f"{name!r} is not a variable of {self.path.name}")
-                var, index = hit
-            if name == fmu3.N_NAME:
-                if int(value) != int(var.start):
-                    raise FMUError(f"setting {name} = {value!r}: the FMI 3.0 instance was configured "
-                                   f"with {var.start} (a structural parameter: pass it to Plant)")
-                continue
-            if index is None:
-                vals = list(value) if isinstance(value, (list, tuple, np.ndarray)) else [value]
-            else:
-                vals = self._array3(var)
-                if index > len(vals):
-                    continue              # an FMI 2.0 slot past friction.N: no element here
-                vals[index - 1] = var._python_type(value)
-            try:
-                getattr(self.fmu, "set" + var.type)([var.valueReference],
-                                                    [var._python_type(x) for x in vals])
-            except Exception as e:  # fmpy raises on fmi3Error
-                raise FMUError(f"setting {name} = {value!r}: "
-                               + (self.messages[-1] if self.messages else str(e))) from None
-
-    def _get3(self, names: Sequence[str]) -> dict[str, float]:
-        out = {}
-        for name in names:
-            var = self.vars.get(name)
-            if var is not None and not var.dimensions:
-                out[name] = getattr(self.fmu, "get" + var.type)([var.valueReference])[0]
-                continue
-            hit = self._element(name)
-            if hit is None:
-                raise KeyError(f"{name!r} is not a variable of {self.path.name}")
-            var, index = hit
-            n = int(np.prod(var.shape))
-            out[name] = (getattr(self.fmu, "get" + var.type)([var.valueReference], nValues=n)[index - 1]
-                         if index <= n else var._python_type(0))
-        return out
+        self._fmi.set(values)
 
     def get(self, names: Sequence[str]) -> dict[str, float]:
         """Current values of variables by name."""
-        if self.fmi3:
-            return self._get3(names)
-        out = {}
-        for name in names:
-            v = self.vars[name]
-            if v.type == "Real":
-                out[name] = self.fmu.getReal([v.valueReference])[0]
-            elif v.type == "Integer":
-                out[name] = self.fmu.getInteger([v.valueReference])[0]
-            else:
-                out[name] = self.fmu.getBoolean([v.valueReference])[0]
-        return out
+        return self._fmi.get(names)
 
     def start(self, start_values: Mapping[str, float] | None = None, t0: float = 0.0,
               stop_time: float | None = None) -> None:
         """Instantiate, set parameters and start values, initialise (time ``t0``)."""
-        if self.fmi3:
-            self._start3(start_values, t0, stop_time)
-            return
         if self._instantiated:
-            self.fmu.fmi2FreeInstance(self.fmu.component)
+            self._fmi.free()
         self.messages.clear()
-        cb = fmi2CallbackFunctions()
-        self._logger_c = fmi2CallbackLoggerTYPE(self._logger)   # kept alive with the instance
-        cb.logger = self._logger_c
-        cb.allocateMemory = defaultCallbacks.allocateMemory
-        cb.freeMemory = defaultCallbacks.freeMemory
-        self._callbacks = cb
-        self.fmu.instantiate(loggingOn=self._log, callbacks=cb)
+        self._fmi.instantiate(self._log)
         self._instantiated = True
         self.generation += 1
-        self.fmu.setupExperiment(tolerance=self.tolerance, startTime=t0, stopTime=stop_time)
+        self._fmi.prepare(self.tolerance, t0, stop_time)
         self.set(self.parameters)
         if start_values:
             self.set(start_values)
-        self.fmu.enterInitializationMode()
-        try:
-            self.fmu.exitInitializationMode()
-        except Exception:
-            raise FMUError("initialisation failed: " + (self.messages[-1] if self.messages else "")) from None
+        self._fmi.initialise(self.tolerance, t0, stop_time)
         self.time = t0
 
-    def _start3(self, start_values: Mapping[str, float] | None, t0: float,
-                stop_time: float | None) -> None:
-        if self._instantiated:
-            self.fmu.fmi3FreeInstance(self.fmu.component)
-        self.messages.clear()
-        self._initialised = False
-        self._arrays = {}
-        self.fmu.instantiate(loggingOn=self._log, logMessage=self._logger3)
-        self._instantiated = True
-        self.generation += 1
-        nvar = self.vars[fmu3.N_NAME]
-        if int(nvar.start) != int(unpacked(self.path).vars[fmu3.N_NAME].start):
-            self.fmu.enterConfigurationMode()
-            self.fmu.setInt32([nvar.valueReference], [int(nvar.start)])
-            self.fmu.exitConfigurationMode()
-        self.set(self.parameters)
-        if start_values:
-            self.set(start_values)
-        try:
-            self.fmu.enterInitializationMode(tolerance=self.tolerance, startTime=t0, stopTime=stop_time)
-            self.fmu.exitInitializationMode()
-        except Exception:
-            raise FMUError("initialisation failed: " + (self.messages[-1] if self.messages else "")) from None
-        self._initialised = True
-        self._arrays = {}
-        self.time = t0
-
-    # ------------------------------------------------------------------ either version
     def do_step(self, t: float, h: float) -> bool:
         """Co-simulation: one step [t, t + h] (fmi2DoStep / fmi3DoStep); True when the FMU
         asks for event handling (FMI 3.0 with event mode only; never here)."""
         try:
-            if self.fmi3:
-                return bool(self.fmu.doStep(t, h)[0])
-            self.fmu.doStep(currentCommunicationPoint=t, communicationStepSize=h)
+            return self._fmi.do_step(t, h)
         except Exception as e:
             raise FMUError(f"doStep at t = {t}: " + (self.messages[-1] if self.messages else str(e))) from None
-        return False
 
-    def update_discrete_states(self) -> tuple:
+    def update_discrete_states(self) -> tuple[Any, ...]:
         """Model exchange, event mode: fmi2NewDiscreteStates / fmi3UpdateDiscreteStates as
         (update needed, terminate, nominals changed, states changed, next time defined, next time)."""
-        return self.fmu.updateDiscreteStates() if self.fmi3 else self.fmu.newDiscreteStates()
+        return self._fmi.update_discrete_states()
+
+    def derivatives(self) -> Callable[..., Any]:
+        """Model exchange: fmpy's call that writes the state derivatives, ``f(dx, nx)``
+        (fmi2GetDerivatives / fmi3GetContinuousStateDerivatives)."""
+        return self._fmi.derivatives()
 
     def get_derivatives(self, dx: object, nx: int) -> None:
         """Model exchange: the state derivatives into ``dx`` (fmi2GetDerivatives / fmi3GetContinuousStateDerivatives)."""
-        if self.fmi3:
-            self.fmu.getContinuousStateDerivatives(dx, nx)
-        else:
-            self.fmu.getDerivatives(dx, nx)
+        self._fmi.derivatives()(dx, nx)
 
     def get_state(self) -> object:
         """A copy of the instance's state (fmi2GetFMUstate / fmi3GetFMUState)."""
-        return self.fmu.getFMUState() if self.fmi3 else self.fmu.getFMUstate()
+        return self._fmi.get_state()
 
     def set_state(self, state: object) -> None:
         """Restore a state of :meth:`get_state` or :meth:`deserialize_state`."""
-        if self.fmi3:
-            self.fmu.setFMUState(state)
-        else:
-            self.fmu.setFMUstate(state)
+        self._fmi.set_state(state)
 
     def serialize_state(self, state: object) -> bytes:
         """The FMU's serialised form of ``state`` (the same safe format in both versions)."""
-        return self.fmu.serializeFMUState(state) if self.fmi3 else self.fmu.serializeFMUstate(state)
+        return self._fmi.serialize_state(state)
 
     def deserialize_state(self, blob: bytes) -> object:
         """A state from :meth:`serialize_state`'s bytes."""
-        return self.fmu.deserializeFMUState(blob) if self.fmi3 else self.fmu.deSerializeFMUstate(blob)
+        return self._fmi.deserialize_state(blob)
 
     def reset(self) -> None:
         """fmi2Reset / fmi3Reset: back to the instantiated state (parameters must be set
         again: call :meth:`start` to run again)."""
-        self.fmu.reset()
-        self._initialised = False
-        self._arrays = {}
+        self._fmi.reset()
 
     def close(self) -> None:
         """Free the instance and this Plant's hold on the library (fmpy's ``freeInstance``;
@@ -464,7 +307,7 @@ class Plant:
             raise FMUError("raw_calls: the FMU instance is not started (call start() first)")
         handles = self.__dict__.get("_raw_handles")
         if handles is None:
-            handles = fmu3.raw_handles3(self.fmu.dll) if self.fmi3 else _load_raw_handles(self.fmu.dll)
+            handles = self._fmi.raw_handles()
             self._raw_handles = handles
         return RawCalls(self.fmu.component, *handles)
 
@@ -473,31 +316,179 @@ class Plant:
         return RawIO(self, names)
 
 
-#: fmpy's FMI 3.0 function table of each library, shared by the Plants that load it (fmpy
-#: makes ~80 ctypes functions per instance otherwise: ~60 KiB a Plant).  The library stays
-#: loaded for the process (:class:`Unpacked` holds a reference), so the pointers stay valid.
-_FMI3_FUNCTIONS: dict[tuple[str, str], dict] = {}
+class _Version(Protocol):
+    """The FMI calls of a :class:`Plant` that differ between FMI 2.0 and FMI 3.0, chosen once
+    when the Plant is made (:class:`_FMI2`; :class:`feeddrive.fmu3.FMI3`)."""
+
+    @property
+    def md(self) -> ModelDescription:
+        """The model description (FMI 3.0: at the Plant's ``friction.N``)."""
+
+    @property
+    def vars(self) -> Mapping[str, ScalarVariable]:
+        """The variables of :attr:`md` by name."""
+
+    fmu: Any     #: fmpy's wrapper of the library, given by the Plant that made it
+
+    def wrapper_class(self, interface: str) -> Any:
+        """fmpy's wrapper class for ``interface`` (``"cs"``, ``"me"``)."""
+
+    def element(self, name: str) -> tuple[ScalarVariable, int] | None:
+        """(array variable, 1-based index) an FMI 2.0 element name stands for (FMI 3.0)."""
+
+    def set(self, values: Mapping[str, float | int | bool]) -> None:
+        """Set variables by name."""
+
+    def get(self, names: Sequence[str]) -> dict[str, float]:
+        """Current values of variables by name."""
+
+    def free(self) -> None:
+        """Free the instance (the library stays loaded)."""
+
+    def instantiate(self, log: bool) -> None:
+        """Make a new instance whose messages go to the Plant's list."""
+
+    def prepare(self, tolerance: float, t0: float, stop_time: float | None) -> None:
+        """What comes between instantiation and setting the parameters."""
+
+    def initialise(self, tolerance: float, t0: float, stop_time: float | None) -> None:
+        """Enter and leave Initialization Mode."""
+
+    def do_step(self, t: float, h: float) -> bool:
+        """One co-simulation step; True when the FMU asks for event handling."""
+
+    def update_discrete_states(self) -> tuple[Any, ...]:
+        """fmi2NewDiscreteStates / fmi3UpdateDiscreteStates."""
+
+    def derivatives(self) -> Callable[..., Any]:
+        """fmpy's call that writes the state derivatives (``f(dx, nx)``)."""
+
+    def get_state(self) -> object:
+        """fmi2GetFMUstate / fmi3GetFMUState."""
+
+    def set_state(self, state: object) -> None:
+        """fmi2SetFMUstate / fmi3SetFMUState."""
+
+    def serialize_state(self, state: object) -> bytes:
+        """fmi2SerializeFMUstate / fmi3SerializeFMUState."""
+
+    def deserialize_state(self, blob: bytes) -> object:
+        """fmi2DeSerializeFMUstate / fmi3DeserializeFMUState."""
+
+    def reset(self) -> None:
+        """fmi2Reset / fmi3Reset."""
+
+    def raw_handles(self) -> tuple[Callable[..., int], ...]:
+        """do_step, get_real, set_real on the library in the FMI 2.0 call shapes."""
+
+    def check_raw(self, names: Sequence[str]) -> None:
+        """KeyError naming a variable the raw calls cannot reach."""
 
 
-class _SharedFunctions:
-    """Mixin: one fmpy function table per (interface, library) instead of one per instance."""
+class _FMI2:
+    """FMI 2.0 behind :class:`Plant`: fmpy's FMU2Slave / FMU2Model, every name a scalar."""
 
-    def _loadFunctions(self) -> None:
-        key = (type(self).__mro__[2].__name__, self.dll._name)
-        table = _FMI3_FUNCTIONS.get(key)
-        if table is None:
-            super()._loadFunctions()
-            _FMI3_FUNCTIONS[key] = self._functions
-        else:
-            self._functions = table
+    def __init__(self, path: Path, shared: Unpacked, messages: list[str]) -> None:
+        self.path = path
+        self.md = shared.md
+        self.vars = shared.vars
+        self.messages = messages
+        self.fmu: Any = None
 
+    def wrapper_class(self, interface: str) -> Any:
+        return FMU2Slave if interface == "cs" else FMU2Model
 
-class _Slave3(_SharedFunctions, FMU3Slave):
-    """fmpy's FMU3Slave on the shared function table."""
+    def _logger(self, env: object, name: object, status: object, category: object,
+                message: object) -> None:  # fmpy callback
+        self.messages.append(message.decode() if isinstance(message, bytes) else str(message))
 
+    def element(self, name: str) -> tuple[ScalarVariable, int] | None:
+        return None
 
-class _Model3(_SharedFunctions, FMU3Model):
-    """fmpy's FMU3Model on the shared function table."""
+    def set(self, values: Mapping[str, float | int | bool]) -> None:
+        for name, value in values.items():
+            v = self.vars.get(name)
+            if v is None:
+                raise KeyError(f"{name!r} is not a variable of {self.path.name}")
+            try:
+                if v.type == "Real":
+                    self.fmu.setReal([v.valueReference], [float(value)])
+                elif v.type == "Integer":
+                    self.fmu.setInteger([v.valueReference], [int(value)])
+                elif v.type == "Boolean":
+                    self.fmu.setBoolean([v.valueReference], [bool(value)])
+            except Exception as e:  # fmpy raises on fmi2Error
+                raise FMUError(f"setting {name} = {value!r}: "
+                               + (self.messages[-1] if self.messages else str(e))) from None
+
+    def get(self, names: Sequence[str]) -> dict[str, float]:
+        out = {}
+        for name in names:
+            v = self.vars[name]
+            if v.type == "Real":
+                out[name] = self.fmu.getReal([v.valueReference])[0]
+            elif v.type == "Integer":
+                out[name] = self.fmu.getInteger([v.valueReference])[0]
+            else:
+                out[name] = self.fmu.getBoolean([v.valueReference])[0]
+        return out
+
+    def free(self) -> None:
+        self.fmu.fmi2FreeInstance(self.fmu.component)
+
+    def instantiate(self, log: bool) -> None:
+        cb = fmi2CallbackFunctions()
+        self._logger_c = fmi2CallbackLoggerTYPE(self._logger)   # kept alive with the instance
+        cb.logger = self._logger_c
+        cb.allocateMemory = defaultCallbacks.allocateMemory
+        cb.freeMemory = defaultCallbacks.freeMemory
+        self._callbacks = cb
+        self.fmu.instantiate(loggingOn=log, callbacks=cb)
+
+    def prepare(self, tolerance: float, t0: float, stop_time: float | None) -> None:
+        self.fmu.setupExperiment(tolerance=tolerance, startTime=t0, stopTime=stop_time)
+
+    def initialise(self, tolerance: float, t0: float, stop_time: float | None) -> None:
+        self.fmu.enterInitializationMode()
+        try:
+            self.fmu.exitInitializationMode()
+        except Exception:
+            raise FMUError("initialisation failed: "
+                           + (self.messages[-1] if self.messages else "")) from None
+
+    def do_step(self, t: float, h: float) -> bool:
+        self.fmu.doStep(currentCommunicationPoint=t, communicationStepSize=h)
+        return False
+
+    def update_discrete_states(self) -> tuple[Any, ...]:
+        out: tuple[Any, ...] = self.fmu.newDiscreteStates()
+        return out
+
+    def derivatives(self) -> Callable[..., Any]:
+        f: Callable[..., Any] = self.fmu.getDerivatives
+        return f
+
+    def get_state(self) -> object:
+        return self.fmu.getFMUstate()
+
+    def set_state(self, state: object) -> None:
+        self.fmu.setFMUstate(state)
+
+    def serialize_state(self, state: object) -> bytes:
+        blob: bytes = self.fmu.serializeFMUstate(state)
+        return blob
+
+    def deserialize_state(self, blob: bytes) -> object:
+        return self.fmu.deSerializeFMUstate(blob)
+
+    def reset(self) -> None:
+        self.fmu.reset()
+
+    def raw_handles(self) -> tuple[Callable[..., int], ...]:
+        return _load_raw_handles(self.fmu.dll)
+
+    def check_raw(self, names: Sequence[str]) -> None:
+        return None
 
 
 def _load_raw_handles(dll: ctypes.CDLL) -> tuple[Callable[..., int], ...]:
@@ -543,10 +534,7 @@ class RawIO:
         self.plant = plant
         self.names = list(names)
         self.n = n
-        if plant.fmi3:
-            for s in names:
-                if plant.vars.get(s) is None or plant.vars[s].type != "Float64" or plant.vars[s].dimensions:
-                    raise KeyError(f"raw: {s!r} is not a scalar Float64 variable of {plant.path.name}")
+        plant._fmi.check_raw(names)
         self.vr = (fmi2ValueReference * n)(*[plant.vr(s) for s in names])
         self.vr_address = ctypes.addressof(self.vr)
         self.buf = (fmi2Real * n)()

@@ -14,14 +14,17 @@ from __future__ import annotations
 import copy
 import ctypes
 import re
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
 from importlib import resources
 from pathlib import Path
+from typing import Any, Protocol
 
 import numpy as np
 from fmpy import extract, read_model_description
 from fmpy.fmi3 import FMU3Model, FMU3Slave
 from fmpy.model_description import ModelDescription, ModelVariable
+
+from .model_description import FMUError
 
 DEFAULT_FMU3 = Path(str(resources.files(__package__) / "LinearMotorFeedDrive3.fmu"))
 N_NAME = "friction.N"
@@ -162,3 +165,202 @@ def raw_handles3(dll: ctypes.CDLL) -> tuple[Callable[..., int], ...]:
         return set_(c, vr, k, values, k)
 
     return do_step, get_real, set_real
+
+
+class Extraction(Protocol):
+    """What the FMI 3.0 calls need of an ``.fmu``'s extraction (:class:`feeddrive.fmu.Unpacked`)."""
+
+    @property
+    def vars(self) -> Mapping[str, ModelVariable]:
+        """The variables of the model description as the file has it, by name."""
+
+    def with_n(self, n: int) -> ModelDescription:
+        """The model description with arrays of ``friction.N = n`` elements."""
+
+
+class FMI3:
+    """FMI 3.0 behind :class:`feeddrive.fmu.Plant`: fmpy's FMU3Slave / FMU3Model, the instance
+    configured with the Plant's ``friction.N``; FMI 2.0 element names (``friction.F[3]``)
+    reach the elements of the FMI 3.0 arrays."""
+
+    def __init__(self, path: Path, shared: Extraction,
+                 parameters: Mapping[str, float | int | bool], messages: list[str]) -> None:
+        self.path = path
+        self.messages = messages
+        self._default_n = int(shared.vars[N_NAME].start)
+        n = parameters.get(N_NAME, shared.vars[N_NAME].start)
+        try:
+            self.md = shared.with_n(int(n) if not isinstance(n, bool) else n)
+        except (TypeError, ValueError) as e:
+            raise ValueError(f"{path.name}: {e}") from None
+        self.vars = {v.name: v for v in self.md.modelVariables}
+        self.fmu: Any = None
+        self._arrays: dict[str, list[Any]] = {}   # array values set so far (before initialisation)
+        self._initialised = False
+
+    def wrapper_class(self, interface: str) -> Any:
+        return _Slave3 if interface == "cs" else _Model3
+
+    def _logger(self, env: object, status: object, category: object,
+                message: object) -> None:  # fmpy's FMI 3.0 callback
+        self.messages.append(message.decode() if isinstance(message, bytes) else str(message))
+
+    def element(self, name: str) -> tuple[ModelVariable, int] | None:
+        return element(self.md, name)
+
+    def _array(self, var: ModelVariable) -> list[Any]:
+        """The current values of array ``var``: the FMU's (before initialisation the values
+        set so far, else its defaults: the model description lists start values for the
+        default N only; the FMU has defaults for all ten slots, as the FMI 2.0 one)."""
+        n = int(np.prod(var.shape))
+        get = getattr(self.fmu, "get" + var.type)
+        if self._initialised:
+            return list(get([var.valueReference], nValues=n))
+        if var.name not in self._arrays:
+            start = [var._python_type(x) for x in str(var.start).split()] if var.start is not None else []
+            if len(start) < n:
+                try:
+                    start = list(get([var.valueReference], nValues=n))
+                except Exception:
+                    raise FMUError(f"{var.name}: no start values for friction.N = {n} elements "
+                                   "(set all of them)") from None
+            self._arrays[var.name] = start[:n]
+        return self._arrays[var.name]
+
+    def set(self, values: Mapping[str, float | int | bool]) -> None:
+        for name, value in values.items():
+            var = self.vars.get(name)
+            index = None
+            if var is None:
+                hit = self.element(name)
+                if hit is None:
+                    raise KeyError(f"{name!r} is not a variable of {self.path.name}")
+                var, index = hit
+            if name == N_NAME:
+                if int(value) != int(var.start):
+                    raise FMUError(f"setting {name} = {value!r}: the FMI 3.0 instance was configured "
+                                   f"with {var.start} (a structural parameter: pass it to Plant)")
+                continue
+            if index is None:
+                vals = list(value) if isinstance(value, (list, tuple, np.ndarray)) else [value]
+            else:
+                vals = self._array(var)
+                if index > len(vals):
+                    continue              # an FMI 2.0 slot past friction.N: no element here
+                vals[index - 1] = var._python_type(value)
+            try:
+                getattr(self.fmu, "set" + var.type)([var.valueReference],
+                                                    [var._python_type(x) for x in vals])
+            except Exception as e:  # fmpy raises on fmi3Error
+                raise FMUError(f"setting {name} = {value!r}: "
+                               + (self.messages[-1] if self.messages else str(e))) from None
+
+    def get(self, names: Sequence[str]) -> dict[str, float]:
+        out = {}
+        for name in names:
+            var = self.vars.get(name)
+            if var is not None and not var.dimensions:
+                out[name] = getattr(self.fmu, "get" + var.type)([var.valueReference])[0]
+                continue
+            hit = self.element(name)
+            if hit is None:
+                raise KeyError(f"{name!r} is not a variable of {self.path.name}")
+            var, index = hit
+            n = int(np.prod(var.shape))
+            out[name] = (getattr(self.fmu, "get" + var.type)([var.valueReference], nValues=n)[index - 1]
+                         if index <= n else var._python_type(0))
+        return out
+
+    def free(self) -> None:
+        self.fmu.fmi3FreeInstance(self.fmu.component)
+
+    def instantiate(self, log: bool) -> None:
+        self._initialised = False
+        self._arrays = {}
+        self.fmu.instantiate(loggingOn=log, logMessage=self._logger)
+
+    def prepare(self, tolerance: float, t0: float, stop_time: float | None) -> None:
+        nvar = self.vars[N_NAME]
+        if int(nvar.start) != self._default_n:
+            self.fmu.enterConfigurationMode()
+            self.fmu.setInt32([nvar.valueReference], [int(nvar.start)])
+            self.fmu.exitConfigurationMode()
+
+    def initialise(self, tolerance: float, t0: float, stop_time: float | None) -> None:
+        try:
+            self.fmu.enterInitializationMode(tolerance=tolerance, startTime=t0, stopTime=stop_time)
+            self.fmu.exitInitializationMode()
+        except Exception:
+            raise FMUError("initialisation failed: "
+                           + (self.messages[-1] if self.messages else "")) from None
+        self._initialised = True
+        self._arrays = {}
+
+    def do_step(self, t: float, h: float) -> bool:
+        return bool(self.fmu.doStep(t, h)[0])
+
+    def update_discrete_states(self) -> tuple[Any, ...]:
+        out: tuple[Any, ...] = self.fmu.updateDiscreteStates()
+        return out
+
+    def derivatives(self) -> Callable[..., Any]:
+        f: Callable[..., Any] = self.fmu.getContinuousStateDerivatives
+        return f
+
+    def get_state(self) -> object:
+        return self.fmu.getFMUState()
+
+    def set_state(self, state: object) -> None:
+        self.fmu.setFMUState(state)
+
+    def serialize_state(self, state: object) -> bytes:
+        blob: bytes = self.fmu.serializeFMUState(state)
+        return blob
+
+    def deserialize_state(self, blob: bytes) -> object:
+        return self.fmu.deserializeFMUState(blob)
+
+    def reset(self) -> None:
+        self.fmu.reset()
+        self._initialised = False
+        self._arrays = {}
+
+    def raw_handles(self) -> tuple[Callable[..., int], ...]:
+        return raw_handles3(self.fmu.dll)
+
+    def check_raw(self, names: Sequence[str]) -> None:
+        for s in names:
+            var = self.vars.get(s)
+            if var is None or var.type != "Float64" or var.dimensions:
+                raise KeyError(f"raw: {s!r} is not a scalar Float64 variable of {self.path.name}")
+
+
+#: fmpy's FMI 3.0 function table of each library, shared by the Plants that load it (fmpy
+#: makes ~80 ctypes functions per instance otherwise: ~60 KiB a Plant).  The library stays
+#: loaded for the process (:class:`feeddrive.fmu.Unpacked` holds a reference), so the
+#: pointers stay valid.
+_FMI3_FUNCTIONS: dict[tuple[str, str], dict[str, Any]] = {}
+
+
+class _SharedFunctions:
+    """Mixin: one fmpy function table per (interface, library) instead of one per instance."""
+
+    _functions: dict[str, Any]
+    dll: ctypes.CDLL
+
+    def _loadFunctions(self) -> None:
+        key = (type(self).__mro__[2].__name__, self.dll._name)
+        table = _FMI3_FUNCTIONS.get(key)
+        if table is None:
+            super()._loadFunctions()       # type: ignore[misc]
+            _FMI3_FUNCTIONS[key] = self._functions
+        else:
+            self._functions = table
+
+
+class _Slave3(_SharedFunctions, FMU3Slave):
+    """fmpy's FMU3Slave on the shared function table."""
+
+
+class _Model3(_SharedFunctions, FMU3Model):
+    """fmpy's FMU3Model on the shared function table."""

@@ -20,6 +20,10 @@ FMU_ENV = "FEEDDRIVE_FMU"
 DEFAULT_FMU = Path(str(resources.files(__package__) / "LinearMotorFeedDrive.fmu"))
 
 
+class FMUError(RuntimeError):
+    """An FMI call failed; the message carries what the FMU logged."""
+
+
 class FMUNotFoundError(FileNotFoundError):
     """No ``.fmu`` where :func:`fmu_path` looked; the message names every place it looked."""
 

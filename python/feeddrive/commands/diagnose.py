@@ -8,7 +8,7 @@ from ..diagnose.workflow import diagnose
 from ..model_file import load_model
 from ..outputs import check_dir
 from ..report.diagnosis import write_diagnosis
-from ..validation.replay import check_run
+from ..harness.checked_runs import check_run
 from .common import stages
 
 

@@ -8,7 +8,7 @@ from ..data import load_runs
 from ..fmu import fmu_path
 from ..outputs import check_dir
 from ..report.main_job import main_job
-from ..validation.replay import check_run
+from ..harness.checked_runs import check_run
 from .common import progress_enabled
 
 

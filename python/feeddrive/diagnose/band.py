@@ -30,7 +30,7 @@ from ..physics import compile
 from .candidates import compliance, mass
 from .context import Context
 from .noise_floor import noise_floor
-from .residual import RunResidual, residuals
+from ..residual import RunResidual, residuals
 from .scoring import T_MIN, Score, score
 from .significance import Gate, beyond, make_gate, nested_separable, passes
 

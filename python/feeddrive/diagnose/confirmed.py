@@ -24,7 +24,7 @@ import numpy as np
 from ..data import Run
 from ..model_file import ModelFile
 from .localise import regime_masks
-from .residual import RunResidual, gap, residuals
+from ..residual import RunResidual, gap, residuals
 from .significance import Gate
 
 #: The rule, as diagnosis.json states it.

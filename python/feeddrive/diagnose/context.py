@@ -16,7 +16,7 @@ import numpy as np
 
 from ..model_file import ModelFile
 from ..physics import PlantParameters, compile
-from .residual import RunResidual
+from ..residual import RunResidual
 
 #: Held-out blocks over all runs (contiguous pieces of each run).
 DEFAULT_BLOCKS = 10

@@ -44,7 +44,7 @@ from scipy.signal import welch
 
 from ..data import Run
 from ..model_file import ModelFile
-from .residual import RunResidual, residuals
+from ..residual import RunResidual, residuals
 from .significance import Gate
 
 #: Play grid [m] (the best point is refined on log b).

@@ -12,7 +12,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .residual import RunResidual
+from ..residual import RunResidual
 
 #: Bins of displacement since reversal [m].
 REVERSAL_BINS = (0.0, 20e-6, 100e-6, 500e-6, 5e-3, np.inf)

@@ -55,7 +55,7 @@ from ..physics import (DEFAULT_V_STICK, PlantParameters, force_residual as eq1_r
                        measured_motion)
 from ..signals import odd_window
 from .localise import regime_masks
-from .residual import DEFAULT_POLYORDER, RunResidual, run_force_gain
+from ..residual import DEFAULT_POLYORDER, RunResidual, run_force_gain
 
 #: Consistency constant of the median absolute deviation for a normal distribution.
 MAD_NORMAL = 1.4826

@@ -34,7 +34,7 @@ import numpy as np
 
 from ..physics import compile
 from ..model_file import ModelFile
-from .residual import RunResidual
+from ..residual import RunResidual
 from .scoring import I_MIN, T_MIN, Score
 
 #: The force a candidate explains must exceed the noise floor's rms by this factor.

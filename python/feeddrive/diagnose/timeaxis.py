@@ -13,7 +13,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .residual import RunResidual
+from ..residual import RunResidual
 
 #: Time blocks per run.
 N_TIME_BLOCKS = 8

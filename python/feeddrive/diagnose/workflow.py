@@ -41,7 +41,7 @@ from .hints import add_hint, hints as fit_hints
 from .localise import (displacement_since_reversal, excess_location, localise, spatial_spectrum,
                        spectral_peaks, where)
 from .noise_floor import NoiseFloor, floor_table, noise_floor
-from .residual import RunResidual, gap, residuals
+from ..residual import RunResidual, gap, residuals
 from .scoring import AMBIGUITY, I_MIN, T_MIN, Score, score, separable
 from .significance import (NOISE_FACTOR, PRACTICAL_SHARE, Gate, excess, explained_force,
                            make_gate, nested_separable, passes)

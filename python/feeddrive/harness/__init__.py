@@ -1,5 +1,5 @@
 """The closed-loop harness below every stage: references, the sensor model, the controller
-registry, the FMU loop, the run maker and the sidecar schema.
+registry, the FMU loop, the run maker, the sidecar schema and the checks of a measured run.
 
 - :mod:`.references`: :class:`Reference` and its profiles, :func:`prbs`, :func:`reversals`;
 - :mod:`.sensors`: :class:`Sensors` (scale quantum, current noise, seed);
@@ -9,6 +9,8 @@ registry, the FMU loop, the run maker and the sidecar schema.
 - :mod:`.runs`: :func:`run_closed_loop` from a spec, :func:`to_run`, :func:`closed_loop_run`;
 - :mod:`.sidecar`: :func:`build_sidecar`, :func:`read_sidecar`, :func:`read_run_sidecar`
   (schema ``feeddrive.run/1``; any program's sidecar read for what it says);
+- :mod:`.checked_runs`: :func:`~.checked_runs.check_run` (the refusals every command applies
+  to a measured run), :func:`~.checked_runs.load_checked_runs` (a folder of runs, each checked);
 - :mod:`.controller_fmu`: a spec -> the controller FMU's parameter set, :class:`ControllerFMU`;
 - :mod:`.two_fmus`: the closed loop as controller FMU + plant FMU.
 """

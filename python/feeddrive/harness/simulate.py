@@ -67,7 +67,7 @@ class Stepper:
         self.solver = CVodeSolver(
             nx=md.numberOfContinuousStates, nz=md.numberOfEventIndicators,
             get_x=fmu.getContinuousStates, set_x=fmu.setContinuousStates,
-            get_dx=fmu.getContinuousStateDerivatives if self.p.fmi3 else fmu.getDerivatives,
+            get_dx=self.p.derivatives(),
             get_z=fmu.getEventIndicators,
             get_nominals=fmu.getNominalsOfContinuousStates, set_time=fmu.setTime,
             input=_NoInput(), startTime=self.t0, maxStep=self.dt,

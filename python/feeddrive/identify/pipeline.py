@@ -35,10 +35,9 @@ from typing import Any
 
 import numpy as np
 
-from ..data import Run, load_runs, run_stem, sidecar_path
+from ..data import Run, run_stem
+from ..harness.checked_runs import load_checked_runs
 from ..model_file import ModelFile, load_model, paper_model, save_model
-from ..outputs import Reads, check_file
-from ..validation.replay import check_run
 from ..paper import PAPER_EFFECTS
 from ..physics import CurrentLoop, run_load_mean
 from ..signals import run_label, sample_time
@@ -467,25 +466,6 @@ def _position_friction_step(res: IdentificationResult, groups: dict, acc: _Colle
                                   current_timing=current_timing)
     acc.take(res.position_friction.parameters)
     return True
-
-
-def load_checked_runs(runs_dir: str | Path, out: str | Path | None = None,
-                      truth: Any = None, notes: list[str] | None = None) -> list[Run]:
-    """The runs of ``runs_dir``, each checked (:func:`check_run`), after checking that ``out``
-    may be written (writable, not an input such as a ``truth`` file); ValueError if none.
-    With ``notes`` a list, one line per run whose sidecar says something the tools do not
-    use (the keys ignored, the replay that cannot be done) is appended to it."""
-    inputs = (truth,) if isinstance(truth, (str, Path)) else ()
-    if out is not None:
-        check_file(out, Reads.of(files=inputs, run_folders=[runs_dir]))
-    runs = load_runs(runs_dir)
-    if not runs:
-        raise ValueError(f"identify: {runs_dir} holds no run (*.csv or *.csv.gz)")
-    for run in runs:
-        line = check_run(run).note_line(str(sidecar_path(run.path)) if run.path else run.name)
-        if line and notes is not None:
-            notes.append(line)
-    return runs
 
 
 def identify_folder(runs_dir: str | Path, out: str | Path | None = None,

@@ -15,8 +15,8 @@ from typing import Any
 import numpy as np
 
 from ..harness.references import sinusoid
-from ..validation import sec4
-from ..validation.metrics import reversal_mask, summarise
+from ..experiments import sec4
+from ..experiments.tracking_error import reversal_mask, summarise
 
 REVERSAL_TOL = 2e-6     #: m
 

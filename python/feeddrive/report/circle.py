@@ -11,7 +11,7 @@ from typing import Any
 import matplotlib.pyplot as plt
 import numpy as np
 
-from ..validation.circle_test import MIN_PER_M_S, CircleCase, circle_table
+from ..xy.circle_test import MIN_PER_M_S, CircleCase, circle_table
 from .page import Page
 
 DIVISIONS = 4           #: grid rings either side of the nominal circle

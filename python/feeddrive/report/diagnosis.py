@@ -20,7 +20,7 @@ import numpy as np
 
 from ..diagnose.localise import displacement_since_reversal, spatial_spectrum
 from ..diagnose.output import write_files
-from ..diagnose.residual import RunResidual
+from ..residual import RunResidual
 from ..diagnose.significance import NOISE_FACTOR
 from ..diagnose.workflow import Diagnosis
 from ..outputs import output_dir

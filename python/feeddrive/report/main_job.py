@@ -1,5 +1,6 @@
-"""The main job (`make run`, `feeddrive run` / `feeddrive report`): both reproductions,
-the controller design, and the HTML report with its figures and tables."""
+"""The main job (`make run`, `feeddrive run` / `feeddrive report`): the paper's reproductions
+and the controller design (:func:`feeddrive.experiments.reproduction.reproduce_paper`) written
+as the HTML report with its figures and tables."""
 from __future__ import annotations
 
 import time
@@ -7,13 +8,9 @@ from pathlib import Path
 
 from tqdm import tqdm
 
+from ..experiments.reproduction import reproduce_paper
 from ..outputs import output_dir
-from ..harness.controllers import make_controller, state_space_spec
-from ..harness.references import Reference, sinusoid
-from ..harness.runs import run_closed_loop
-from ..paper import paper_parameters
 from ..realdata.odrive import analyse, findings_text
-from ..validation import sec3, sec4
 from . import closed_loop_figures as figs
 from .identification import identification_section
 from .page import Page
@@ -47,19 +44,8 @@ def _main_job(out_dir: Path, final_dir: Path, print_tables: bool, runs_dir: Path
     t0 = time.perf_counter()
     steps = tqdm(total=3, desc="feeddrive run", unit="stage",
                  disable=(None if print_tables else True) if progress is None else not progress)
-    ctrl = make_controller(state_space_spec(), Reference(5e-4, [0.15, 0.15], [0.0, 0.0], [0.0, 0.0]))
-    design = ctrl.format_report()
-    steps.update(1)
-    ref = sinusoid(sec3.AMPLITUDE, sec3.PERIOD, sec3.CENTRE, sec3.PERIOD)
-    one = run_closed_loop(paper_parameters(), state_space_spec(), ref)
-    run_line = (f"30 mm / 6 s closed-loop sinusoid (co-simulation, Python controller at 2 kHz): "
-                f"wall {float(one['wall']) * 1e3:.0f} ms ({6.0 / float(one['wall']):.0f}x real time), "
-                f"{int(one['state_events'])} friction events ({int(one['stats.n_stick'])} element sticks, "
-                f"{int(one['stats.n_slip'])} slips), {int(one['stats.n_steps'])} integrator steps")
-    r3 = sec3.reproduce(out_dir)
-    steps.update(1)
-    r4 = sec4.reproduce()
-    steps.update(1)
+    rep = reproduce_paper(out_dir, lambda: steps.update(1))
+    design, run_line, r3, r4 = rep.design, rep.run_line, rep.sec3, rep.sec4
     steps.close()
     page.pre(run_line)
     page.heading("Controller (state feedback, integral action, current estimator; ZPETC pre-filter)")

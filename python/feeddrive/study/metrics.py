@@ -2,11 +2,11 @@
 residual of the run's model against a measured run.
 
 - ``reversal_error`` [m]: the peak |x_ref - x| within ``half_width`` of a reference reversal
-  (:func:`feeddrive.validation.metrics.summarise`; NaN when the reference has none after
+  (:func:`feeddrive.experiments.tracking_error.summarise`; NaN when the reference has none after
   ``skip_start``);
 - ``rms_error``, ``max_error`` [m]: rms and max of |x_ref - x| after ``skip_start``;
 - ``force_residual`` [N]: rms of Eq. 1's residual of the run's model along the measured run
-  (:func:`feeddrive.diagnose.residual.force_residual`).
+  (:func:`feeddrive.residual.force_residual`).
 
 x is the true stage position (not the scale's reading).
 """
@@ -17,9 +17,9 @@ from collections.abc import Mapping
 import numpy as np
 
 from ..data import Run
-from ..diagnose.residual import force_residual
+from ..residual import force_residual
 from ..model_file import ModelFile
-from ..validation.metrics import summarise
+from ..experiments.tracking_error import summarise
 from .schema import METRICS, Experiment
 
 

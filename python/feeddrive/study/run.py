@@ -21,8 +21,8 @@ from ..harness.controllers import Controller, make_controller
 from ..harness.references import Reference, back_and_forth, point_to_point, sinusoid
 from ..harness.simulate import simulate_closed_loop
 from ..model_file import ModelFile
-from ..validation.circle_test import circular_case, controller_values
-from ..validation.xy_machine import AxisModel, y_axis_parameters
+from ..xy.circle_test import circular_case, controller_values
+from ..xy.machine import AxisModel, y_axis_parameters
 from .metrics import residual_metric, select, tracking_metrics
 from .samplers import Case
 from .schema import CIRCLE_METRICS, METRICS, Experiment, Study

@@ -31,7 +31,7 @@ place of ``reference`` and ``controller``::
      "metrics": ["circular_deviation", "hysteresis", "max_glitch"]
 
 The run's model (the base model with the case's values) is the X axis's plant; the Y axis's
-plant is derived from it (:func:`feeddrive.validation.xy_machine.y_axis_parameters`: 40 kg,
+plant is derived from it (:func:`feeddrive.xy.machine.y_axis_parameters`: 40 kg,
 friction x1.5, magnets a quarter pitch on) or, with ``"same"``, a copy.  Both controllers
 (the Sec. 4 state-space controller with ZPETC and the named feedforward) are designed on the
 *base* model (the Y one on its derived or copied base): a varied parameter is the machine
@@ -58,7 +58,7 @@ from ..harness.controllers import CONTROLLERS
 from ..harness.sensors import Sensors
 from ..inputs import InputFileError, read_text
 from ..model_file import PARAMETER_NAMES, ModelFile, load_model, paper_model
-from ..validation.circle_test import FEEDFORWARD
+from ..xy.circle_test import FEEDFORWARD
 
 SCHEMA = "feeddrive.study/1"
 #: Reference profiles a study may name, and their required / optional keys.

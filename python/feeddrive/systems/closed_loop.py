@@ -27,7 +27,7 @@ from ..harness.controller_fmu import (controller_fmu_parameters, controller_fmu_
                                       sinusoid_source)
 from ..harness.controllers import state_space_spec
 from ..paper import paper_parameters
-from ..validation import sec3, sec4
+from ..experiments import sec3, sec4
 
 Values = dict[str, float | int | bool]
 #: (start component, start connector, end component, end connector)

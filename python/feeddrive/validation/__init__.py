@@ -1,1 +1,2 @@
-"""Closed-loop validation: the paper's Secs. 3 and 4 reproduced, and measured runs replayed."""
+"""Closed-loop validation of a model against a measured run: the run's reference replayed
+through the model and its controller (:mod:`.replay`)."""

@@ -10,14 +10,13 @@ from pathlib import Path
 
 import numpy as np
 
-from ..data import DataError, Run, check_plausible, load_run, sidecar_path
-from ..diagnose.residual import force_residual
+from ..data import DataError, Run, load_run
+from ..experiments.tracking_error import ErrorSummary, reversal_mask, summarise
+from ..harness.checked_runs import check_run
 from ..harness.runs import replay
-from ..harness.sidecar import Sidecar, read_run_sidecar, read_sidecar
+from ..harness.sidecar import Sidecar, read_sidecar
 from ..model_file import ModelFile, load_model, paper_model
-from ..paper import STROKE
-from ..plausibility import check_units
-from .metrics import ErrorSummary, reversal_mask, summarise
+from ..residual import force_residual
 
 
 @dataclass
@@ -53,32 +52,6 @@ def _um(value: float, missing: str) -> str:
     return f"{value * 1e6:.2f} µm" if math.isfinite(value) else f"not computed: {missing}"
 
 
-def model_stroke(model: ModelFile | None) -> tuple[float, float]:
-    """The stroke ``stroke.x_min``, ``stroke.x_max`` of a model [m] (the paper's without one)."""
-    if model is None:
-        return STROKE
-    p = model.parameters
-    return float(p.get("stroke.x_min", STROKE[0])), float(p.get("stroke.x_max", STROKE[1]))
-
-
-def check_run(run: Run, model: ModelFile | None = None) -> Sidecar:
-    """The refusals every command that reads a measured run applies before any work.
-
-    :func:`feeddrive.data.check_plausible` (rows, magnitudes, sampling, a run that carries
-    something), :func:`feeddrive.plausibility.check_units` (positions, speeds,
-    accelerations and currents a feed drive can have, against the stroke of ``model``, the
-    paper's without one: the likely unit mistake), then the sidecar
-    (:func:`~feeddrive.harness.sidecar.read_run_sidecar`): refused only where it
-    contradicts the CSV; what it says that the tools do not understand (unknown keys, a
-    controller the registry cannot build) is left out of ``run.meta`` and named in the
-    returned sidecar's ``note_line()``.  Raises ValueError naming the CSV or the JSON file
-    and the field.
-    """
-    check_plausible(run)
-    check_units(run, model_stroke(model))
-    return read_run_sidecar(run)
-
-
 def force_residual_summary(run: Run, model: ModelFile) -> tuple[dict[str, float], list[str]]:
     """rms/peak of the force residual along the measured trajectory, near reversals and elsewhere."""
     fr = force_residual(run, model)
@@ -111,8 +84,9 @@ def validate(run: Run, model: ModelFile, side: Sidecar | None = None,
 
     The replay (:func:`feeddrive.harness.runs.replay`) reads the position as the run's
     scale did (``sensors.quantum`` of the sidecar) without noise: the model's prediction.
-    ``side`` is the run's sidecar as :func:`check_run` read it (default: read here); what it
-    ignored and what could not be done without it are in the report's notes.
+    ``side`` is the run's sidecar as :func:`~feeddrive.harness.checked_runs.check_run` read
+    it (default: read here); what it ignored and what could not be done without it are in
+    the report's notes.
     ``progress`` is called with each stage's name as it starts (a progress bar).
     """
     stage = progress or (lambda name: None)

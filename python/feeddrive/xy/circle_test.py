@@ -1,6 +1,6 @@
 """The ISO 230-4 circular test on the X-Y table: each case (radius, feed, feedforward) run in
 the requested directions on four FMUs (two controller FMUs, two plant FMUs,
-:func:`feeddrive.harness.xy_table.simulate_axes`) and evaluated (:mod:`.circular`).
+:func:`feeddrive.xy.table.simulate_axes`) and evaluated (:mod:`.circular`).
 
 Controllers: the Sec. 4 state-space controller with ZPETC, designed on each axis's nominal
 model; feedforward cases as Sec. 4: ``none`` (no feedforward), ``static`` (Tustin friction)
@@ -17,13 +17,13 @@ from typing import Any
 import numpy as np
 
 from ..control.feedforward import FeedforwardOptions
-from ..harness.circle_path import DIRECTIONS, CirclePath, circle_path
+from .path import DIRECTIONS, CirclePath, circle_path
 from ..harness.controller_fmu import controller_fmu_parameters
 from ..harness.controllers import state_space_spec
-from ..harness.xy_table import AxisLoop, simulate_axes
+from .table import AxisLoop, simulate_axes
 from .circular import (Glitch, Trace, bidirectional_deviation, glitch_window, glitches,
                        hysteresis, trace)
-from .xy_machine import AxisModel
+from .machine import AxisModel
 
 FEEDFORWARD = {"none": None, "static": "static", "gms": "gms"}
 QUANTUM = 1e-7

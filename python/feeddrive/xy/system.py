@@ -8,8 +8,8 @@ the reference already moves at feed, so the first revolution is the start transi
 ``x_controller``, ``x_plant``, ``y_controller``, ``y_plant``; connections per axis plant
 ``x`` -> controller ``x_meas``, controller ``u`` -> plant ``u``; libcosim's fixed-step
 (Jacobi) algorithm at Ts / ``jacobi_substeps`` (the controller's u lags x by one such step,
-see :mod:`.engines`).  :func:`master_run` runs the same system on
-:func:`feeddrive.harness.xy_table.simulate_axes` (the harness's convention) for comparison.
+see :mod:`feeddrive.systems.engines`).  :func:`master_run` runs the same system on
+:func:`feeddrive.xy.table.simulate_axes` (the harness's convention) for comparison.
 """
 from __future__ import annotations
 
@@ -23,14 +23,14 @@ import numpy as np
 from fmpy import read_model_description
 
 from ..fmu import fmu_path
-from ..harness.circle_path import DIRECTIONS
+from .path import DIRECTIONS
 from ..harness.controller_fmu import controller_fmu_path, sinusoid_source
 from ..harness.references import Reference
-from ..harness.xy_table import AxisLoop, simulate_axes
-from ..validation.circle_test import centre_of, check_fits, controller_values
-from ..validation.xy_machine import AxisModel
-from .engines import quiet_libcosim
-from .files import osp_structure
+from .table import AxisLoop, simulate_axes
+from .circle_test import centre_of, check_fits, controller_values
+from .machine import AxisModel
+from ..systems.engines import quiet_libcosim
+from ..systems.files import osp_structure
 
 START_DEG = 45.0
 

@@ -16,7 +16,7 @@ from ..harness.controllers import state_space_spec
 from ..harness.references import reversals, sinusoid
 from ..harness.runs import run_closed_loop
 from ..paper import paper_parameters
-from .metrics import summarise
+from .tracking_error import summarise
 
 AMPLITUDE, PERIOD, CENTRE, DURATION = 0.005, 6.0, 0.150, 12.5
 #: half-width [s] of the window around each reversal; the rest of the run is "elsewhere"

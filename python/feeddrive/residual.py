@@ -42,14 +42,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..data import Run
-from ..model_file import ModelFile
-from ..physics import (DEFAULT_V_STICK, PlantParameters, applied_force, compile,
+from .data import Run
+from .model_file import ModelFile
+from .physics import (DEFAULT_V_STICK, PlantParameters, applied_force, compile,
                        force_residual as eq1_residual, friction_velocity, gms_force,
                        held_current, karnopp_friction, load_acceleration, load_free_response,
                        measured_motion, run_load)
-from ..physics import GMSStart, started_friction
-from ..signals import apply_kernel, odd_window, run_label, sample_time
+from .physics import GMSStart, started_friction
+from .signals import apply_kernel, odd_window, run_label, sample_time
 
 #: Default Savitzky-Golay window [s] (41 samples at 0.5 ms) and polynomial order.
 DEFAULT_WINDOW_S = 0.02

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .references import Reference
+from ..harness.references import Reference
 
 DIRECTIONS = {"ccw": 1.0, "cw": -1.0}
 #: peak tangential acceleration of the default ramp [m/s^2] (the ramp lasts >= 0.2 s)

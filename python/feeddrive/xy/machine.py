@@ -13,7 +13,7 @@ Defaults (the Y axis carries the X axis):
 An axis's **model file** (``feeddrive model`` format) replaces its default: it is the
 axis's *nominal* model, on which its controller is designed and its feedforward runs.  The
 simulated **plant** of an axis is its nominal model times the Sec. 4 mismatch
-(:data:`feeddrive.validation.sec4.PERTURBATION`: a real machine is never its model), or the
+(:data:`feeddrive.experiments.sec4.PERTURBATION`: a real machine is never its model), or the
 nominal model itself with ``mismatch="none"``.
 """
 from __future__ import annotations
@@ -27,7 +27,7 @@ import numpy as np
 
 from ..model_file import load_model
 from ..paper import paper_parameters
-from .sec4 import PERTURBATION
+from ..experiments.sec4 import PERTURBATION
 
 Y_MASS = 40.0
 Y_FRICTION = 1.5

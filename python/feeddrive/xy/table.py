@@ -25,8 +25,8 @@ from typing import Any
 import numpy as np
 
 from ..fmu import FMUError, Plant, Result
-from .controller_fmu import ControllerFMU, preview_inputs
-from .references import Reference
+from ..harness.controller_fmu import ControllerFMU, preview_inputs
+from ..harness.references import Reference
 
 
 @dataclass(frozen=True)

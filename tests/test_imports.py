@@ -5,7 +5,8 @@
 
 Layers (lower may be imported by higher, never the reverse)::
 
-    paper, data, data_csv, signals, model_description, inputs, outputs  <- physics, plausibility <- model_file
+    effects <- paper, data, data_csv, signals, model_description, inputs, outputs
+    <- physics, plausibility <- model_file
     <- fmu <- control <- harness <- experiments
     <- identify, validation, diagnose <- report <- cli, commands, bench
 """
@@ -20,6 +21,7 @@ PKG = Path(feeddrive.__file__).resolve().parent
 
 #: rank of each top-level module or subpackage of feeddrive (imports only to rank <= own)
 LAYERS: dict[str, int] = {
+    "effects": -1,
     "paper": 0, "data": 0, "data_csv": 0, "signals": 0, "model_description": 0, "outputs": 0, "inputs": 0,
     "physics": 1, "plausibility": 1,
     "model_file": 2,

@@ -40,10 +40,13 @@ from typing import Any
 
 from feeddrive.inputs import InputFileError, read_text
 from feeddrive.outputs import write_text
-from feeddrive.paper import EFFECT_IDS, PAPER_EFFECTS, SWITCHABLE_EFFECTS, paper_parameters
+from feeddrive.effects import EFFECTS
+from feeddrive.paper import EFFECT_IDS, SWITCHABLE_EFFECTS, paper_parameters
 from feeddrive.physics import ParameterError, compile
 
 Value = float | int | bool
+#: The effects without a switch: always on in a model file.
+ALWAYS_ON: tuple[str, ...] = tuple(e.id for e in EFFECTS if not e.switchable)
 
 _PAPER = paper_parameters()
 #: Every FMU parameter a model file may set (effect switches excluded), in FMU order.
@@ -88,8 +91,10 @@ def _check_effects(raw: Any, src: str) -> dict[str, bool]:
         raise ModelFileError(src, f"effects[{missing[0]!r}]",
                              f"missing effect id(s) {', '.join(missing)}: every id of "
                              "the effect catalogue must be listed")
-    if raw["mass"] is not True:
-        raise ModelFileError(src, "effects['mass']", "must be true (the mass is always on)")
+    for e in ALWAYS_ON:
+        if raw[e] is not True:
+            raise ModelFileError(src, f"effects[{e!r}]",
+                                 f"must be true (the {e} is always on)")
     return {e: raw[e] for e in EFFECT_IDS}
 
 
@@ -251,7 +256,7 @@ class ModelFile:
 def paper_model() -> ModelFile:
     """The paper's model (Villegas et al. 2014): its effects on, offset and asymmetry off,
     every parameter from ``feeddrive.paper.paper_parameters()``."""
-    effects = {e: (True if e == "mass" else PAPER_EFFECTS[e]) for e in EFFECT_IDS}
+    effects = {e.id: e.in_paper for e in EFFECTS}
     return ModelFile(name="paper", effects=effects, parameters=paper_parameters(),
                      description="Villegas et al. 2014, Tables 1-3 and Eq. 2, in SI "
                                  "(nu_5 from Eq. 18, C = 1.08e4 N/s, see docs/model.md)")

@@ -31,6 +31,7 @@ from typing import Any, Protocol
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..effects import switchable
 from ..model_description import variables
 from ..paper import N_ELEMENTS_MAX, paper_parameters
 from .compliance import Compliance
@@ -221,8 +222,7 @@ def compile(model: HasFmuParameters | Mapping[str, Any]) -> PlantParameters:
     for name, v in val.items():
         check_value(name, v)
     _check_compiled(val)
-    on = {e: bool(val[f"effects.{e}"]) for e in
-          ("prerolling", "offset_force") + sum(MAP_EFFECTS.values(), ())}
+    on = {e.id: bool(val[e.switch]) for e in switchable()}
     maps = {name: PositionMap.from_parameters(name, val, on[per], on[aper])
             for name, (per, aper) in MAP_EFFECTS.items()}
     return PlantParameters(

@@ -6,7 +6,7 @@
 Layers (lower may be imported by higher, never the reverse)::
 
     effects <- paper, data, data_csv, signals, model_description, inputs, outputs
-    <- physics, plausibility <- model_file
+    <- physics, plausibility <- model_file, fits
     <- fmu <- control <- harness <- experiments
     <- identify, validation, diagnose <- report <- cli, commands, bench
 """
@@ -24,7 +24,7 @@ LAYERS: dict[str, int] = {
     "effects": -1,
     "paper": 0, "data": 0, "data_csv": 0, "signals": 0, "model_description": 0, "outputs": 0, "inputs": 0,
     "physics": 1, "plausibility": 1,
-    "model_file": 2,
+    "model_file": 2, "fits": 2,
     "fmu": 3, "fmu3": 3, "export_fmu": 3,
     "control": 4,
     "harness": 5,

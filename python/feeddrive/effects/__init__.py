@@ -5,9 +5,22 @@ from it; docs/adding-an-effect.md gives the recipe for a new one.
 """
 from __future__ import annotations
 
-from . import (asymmetric_friction, cogging_aperiodic, cogging_periodic, compliance,
-               current_dynamics, frictional_lag, mass, offset_force, position_friction,
-               prerolling, ripple_aperiodic, ripple_periodic, stribeck, viscous)
+from . import (
+    asymmetric_friction,
+    cogging_aperiodic,
+    cogging_periodic,
+    compliance,
+    current_dynamics,
+    frictional_lag,
+    mass,
+    offset_force,
+    position_friction,
+    prerolling,
+    ripple_aperiodic,
+    ripple_periodic,
+    stribeck,
+    viscous,
+)
 from .effect import Candidate, Effect, Identification, Parameter, resolve
 
 #: Every effect of the catalogue, in catalogue order (the first nine are the paper's model).

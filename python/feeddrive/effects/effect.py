@@ -26,8 +26,10 @@ class Parameter:
 class Identification:
     """How the identification (``feeddrive identify``) finds the effect.
 
-    ``step``: the pipeline's step (an attribute of ``IdentificationResult``) that fits it, or
-    "" when no step does; ``fit``: a reference to the function that fits it, or "";
+    ``step``: the pipeline step that fits it (an attribute of ``IdentificationResult``), or
+    "" when the pipeline has no step for it (``fit`` then says which function fits it, e.g.
+    within another effect's step, or the diagnosis does); ``fit``: a reference to the
+    function that fits it, or "";
     ``how``: one line for the docs and the report.
     """
 

@@ -9,8 +9,9 @@ EFFECT = Effect(
     parameters=(Parameter("friction.sigma2", "N.s/m"),),
     physics="feeddrive.physics.friction_gms:GMSParameters.viscous",
     identification=Identification(
-        "stribeck", "feeddrive.identify.stribeck:identify_stribeck",
-        "the slope of Eq. 12 fitted to the constant-speed runs' friction points"),
+        "", "feeddrive.identify.stribeck:identify_stribeck",
+        "the slope of Eq. 12, fitted with the Stribeck curve to the constant-speed runs' "
+        "friction points"),
     candidate=Candidate("feeddrive.diagnose.candidates:viscous", ("friction.sigma2",), "v"),
     report=("truth table row friction.sigma2",),
 )

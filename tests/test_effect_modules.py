@@ -11,13 +11,16 @@ import ast
 import importlib
 import sys
 from pathlib import Path
+from typing import Any
 from xml.etree import ElementTree
 
+import numpy as np
 import pytest
 
 from feeddrive import paper
 from feeddrive.diagnose.candidates import CANDIDATES
-from feeddrive.effects import EFFECTS, Effect, effect, effect_ids, resolve
+from feeddrive.effects import EFFECTS, Effect, effect, effect_ids, resolve, switched_off
+from feeddrive.physics import GMSParameters, compile
 from feeddrive.physics.position_maps import MAP_EFFECTS
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -44,10 +47,8 @@ C_ALLOWANCE: dict[str, frozenset[str]] = {
 #: ``feeddrive/effects/<id>.py`` still to do; the test fails when one is no longer needed.
 PYTHON_ALLOWANCE: dict[str, frozenset[str]] = {
     "python/feeddrive/diagnose/candidates.py": frozenset(effect_ids()),
-    "python/feeddrive/physics/params.py": frozenset(
-        {"stribeck", "viscous", "prerolling", "offset_force", "asymmetric_friction"}),
-    "python/feeddrive/physics/friction_gms.py": frozenset(
-        {"stribeck", "viscous", "frictional_lag", "asymmetric_friction", "position_friction"}),
+    "python/feeddrive/physics/params.py": frozenset({"prerolling", "asymmetric_friction"}),
+    "python/feeddrive/physics/friction_gms.py": frozenset({"position_friction"}),
     "python/feeddrive/physics/current_loop.py": frozenset({"current_dynamics"}),
     "python/feeddrive/physics/compliance.py": frozenset({"compliance"}),
     "python/feeddrive/control/feedforward.py": frozenset({"offset_force"}),
@@ -183,3 +184,22 @@ def test_effect_modules_import_only_the_effect_type() -> None:
         imported = [n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)
                     and n.module != "__future__"]
         assert imported == ["effect"], f"{f.name} imports {imported}"
+
+
+@pytest.mark.parametrize("e", [e for e in EFFECTS if e.off], ids=lambda e: e.id)
+def test_off_rules_are_the_physics_of_the_switch(e: Effect) -> None:
+    """An effect switched off compiles to the plant its ``off`` rule's values make with it on."""
+    v: dict[str, Any] = {**paper.paper_parameters(), "asymmetry.dF": 1.5,
+                         "asymmetry.dsigma2": 20.0, "offset.F": 3.0}
+    v.update({s.switch: True for s in EFFECTS if s.switch and s.switch != "effects.position_friction"})
+    assert e.switch is not None
+    off_v = {**v, e.switch: False}
+    ruled_v = {**switched_off(off_v, [e]), e.switch: True}
+    assert GMSParameters.from_params(off_v) == GMSParameters.from_params(ruled_v)
+    if not all(np.isfinite(float(x)) for x in ruled_v.values()):
+        return          # C = inf: no FMU value, the GMS says all
+    off, ruled = compile(off_v), compile(ruled_v)
+    assert off.friction == ruled.friction and off.F_offset == ruled.F_offset
+    x = np.linspace(-0.01, 0.31, 97)
+    np.testing.assert_array_equal(off.K_f(x), ruled.K_f(x))
+    np.testing.assert_array_equal(off.F_cg(x), ruled.F_cg(x))

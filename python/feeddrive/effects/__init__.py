@@ -5,6 +5,9 @@ from it; docs/adding-an-effect.md gives the recipe for a new one.
 """
 from __future__ import annotations
 
+from collections.abc import Mapping
+from typing import Any
+
 from . import (
     asymmetric_friction,
     cogging_aperiodic,
@@ -21,7 +24,7 @@ from . import (
     stribeck,
     viscous,
 )
-from .effect import Candidate, Effect, Identification, Parameter, resolve
+from .effect import Candidate, Effect, Identification, Parameter, resolve, switched_off
 
 #: Every effect of the catalogue, in catalogue order (the first nine are the paper's model).
 EFFECTS: tuple[Effect, ...] = (
@@ -58,6 +61,12 @@ def switchable() -> list[Effect]:
     return [e for e in EFFECTS if e.switchable]
 
 
+def apply_switches(values: Mapping[str, Any]) -> dict[str, Any]:
+    """FMU-named ``values`` with every switched-off effect's :attr:`Effect.off` rules applied
+    (catalogue order; a missing switch counts as on): the values the plant's physics uses."""
+    return switched_off(values, EFFECTS)
+
+
 def position_map_effects() -> dict[str, tuple[str, str]]:
     """The ids of the (periodic, aperiodic) parts of each position map (Eqs. 6-7)."""
     parts: dict[str, dict[str, str]] = {}
@@ -68,5 +77,6 @@ def position_map_effects() -> dict[str, tuple[str, str]]:
     return {name: (p["periodic"], p["aperiodic"]) for name, p in parts.items()}
 
 
-__all__ = ["BY_ID", "Candidate", "EFFECTS", "Effect", "Identification", "Parameter", "effect",
-           "effect_ids", "position_map_effects", "resolve", "switchable"]
+__all__ = ["BY_ID", "Candidate", "EFFECTS", "Effect", "Identification", "Parameter",
+           "apply_switches", "effect", "effect_ids", "position_map_effects", "resolve",
+           "switchable", "switched_off"]

@@ -15,4 +15,5 @@ EFFECT = Effect(
     candidate=Candidate("feeddrive.diagnose.candidates:asymmetric_friction",
                         ("asymmetry.dF", "asymmetry.dsigma2"), "indicator(v<0), v*(v<0)"),
     report=(),
+    off=(("asymmetry.dF", 0.0), ("asymmetry.dsigma2", 0.0)),
 )

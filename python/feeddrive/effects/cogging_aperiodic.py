@@ -15,4 +15,5 @@ EFFECT = Effect(
                         "cubic in x"),
     report=("figure: sampled and fitted F_cg(x)",),
     position_map=("cogging", "aperiodic"),
+    off=(("cogging.c[j]", 0.0),),
 )

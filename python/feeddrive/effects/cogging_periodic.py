@@ -17,4 +17,5 @@ EFFECT = Effect(
                         "harmonics at <wavelengths> mm (extra: <new wavelengths> mm)"),
     report=("figures: DSTFT of F_cg(x), its components, sampled and fitted F_cg(x)",),
     position_map=("cogging", "periodic"),
+    off=(("cogging.a[j]", 0.0), ("cogging.b[j]", 0.0)),
 )

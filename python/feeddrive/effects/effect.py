@@ -9,7 +9,9 @@ resolves every reference of the registry, so none can go stale.
 from __future__ import annotations
 
 import importlib
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
+from typing import Any
 
 
 @dataclass(frozen=True)
@@ -69,6 +71,9 @@ class Effect:
     report : the lines of the identification report that show it.
     position_map : ("cogging" | "ripple", "periodic" | "aperiodic") for a part of a
         position map (Eqs. 6-7), else None.
+    off : what switching the effect off does to the parameters, (name, value) pairs: a
+        number, or the name of the parameter whose value it takes (``name[j]``: every slot);
+        empty when off changes the model's structure instead (no values express it).
     """
 
     id: str
@@ -81,6 +86,7 @@ class Effect:
     candidate: Candidate
     report: tuple[str, ...]
     position_map: tuple[str, str] | None = None
+    off: tuple[tuple[str, float | str], ...] = ()
 
     def __post_init__(self) -> None:
         if self.switch is not None and self.switch != f"effects.{self.id}":
@@ -101,6 +107,27 @@ class Effect:
     def parameter_names(self) -> tuple[str, ...]:
         """The names of :attr:`parameters`."""
         return tuple(p.name for p in self.parameters)
+
+
+def _slots(name: str, values: Mapping[str, object]) -> list[str]:
+    """The names ``name`` stands for among ``values`` (every slot of ``name[j]``)."""
+    if not name.endswith("[j]"):
+        return [name]
+    stem = name[:-2]
+    return [k for k in values if k.startswith(stem) and k.endswith("]") and k[len(stem):-1].isdigit()]
+
+
+def switched_off(values: Mapping[str, Any], effects: Iterable[Effect]) -> dict[str, Any]:
+    """``values`` (FMU-named) with the :attr:`Effect.off` rules of every effect of ``effects``
+    whose switch is false applied, in the order given (a missing switch counts as on)."""
+    out = dict(values)
+    for e in effects:
+        if e.switch is None or bool(values.get(e.switch, True)):
+            continue
+        for name, value in e.off:
+            for slot in _slots(name, out):
+                out[slot] = out[value] if isinstance(value, str) else value
+    return out
 
 
 def resolve(reference: str) -> object:

@@ -15,4 +15,5 @@ EFFECT = Effect(
     candidate=Candidate("feeddrive.diagnose.candidates:frictional_lag", ("friction.C",),
                         "C=<N/s>"),
     report=("figure: frictional lag of the variable-speed run and Eq. 14 with the fitted C",),
+    off=(("friction.C", float("inf")),),
 )

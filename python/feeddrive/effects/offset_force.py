@@ -12,4 +12,5 @@ EFFECT = Effect(
         "", "", "no identification step (F_cg(x) absorbs a constant); diagnosis fits offset.F"),
     candidate=Candidate("feeddrive.diagnose.candidates:offset_force", ("offset.F",), "constant"),
     report=(),
+    off=(("offset.F", 0.0),),
 )

@@ -15,4 +15,5 @@ EFFECT = Effect(
                         "i * (1, x, x^2)"),
     report=("figure: sampled and fitted K_f(x)",),
     position_map=("ripple", "aperiodic"),
+    off=(("ripple.c[1]", 0.0), ("ripple.c[2]", 0.0)),
 )

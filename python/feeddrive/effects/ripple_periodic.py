@@ -17,4 +17,5 @@ EFFECT = Effect(
                         "harmonics at <wavelengths> mm (extra: <new wavelengths> mm)"),
     report=("figures: DSTFT of K_f(x), its components, sampled and fitted K_f(x)",),
     position_map=("ripple", "periodic"),
+    off=(("ripple.a[j]", 0.0), ("ripple.b[j]", 0.0)),
 )

@@ -18,4 +18,5 @@ EFFECT = Effect(
                         "V_s=<mm/s>, delta=<exponent>"),
     report=("figure: Eq. 13 points and the fitted Stribeck curve (Fig. 12)",
             "truth table rows friction.F_s, friction.F_c, friction.V_s, friction.delta"),
+    off=(("friction.F_s", "friction.F_c"),),
 )

@@ -14,4 +14,5 @@ EFFECT = Effect(
         "friction points"),
     candidate=Candidate("feeddrive.diagnose.candidates:viscous", ("friction.sigma2",), "v"),
     report=("truth table row friction.sigma2",),
+    off=(("friction.sigma2", 0.0), ("asymmetry.dsigma2", 0.0)),
 )

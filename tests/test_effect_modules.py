@@ -20,8 +20,11 @@ import pytest
 from feeddrive import paper
 from feeddrive.diagnose.candidates import CANDIDATES
 from feeddrive.effects import EFFECTS, Effect, effect, effect_ids, resolve, switched_off
+from feeddrive.identify.pipeline import IdentificationResult
+from feeddrive.model_file import paper_model
 from feeddrive.physics import GMSParameters, compile
 from feeddrive.physics.position_maps import MAP_EFFECTS
+from feeddrive.report.identification import effect_rows
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tools"))
@@ -203,3 +206,20 @@ def test_off_rules_are_the_physics_of_the_switch(e: Effect) -> None:
     x = np.linspace(-0.01, 0.31, 97)
     np.testing.assert_array_equal(off.K_f(x), ruled.K_f(x))
     np.testing.assert_array_equal(off.F_cg(x), ruled.F_cg(x))
+
+
+def test_the_catalogue_page_lists_the_registry() -> None:
+    """docs/effects.md's table has one row per effect of the registry, in its order."""
+    rows = [line.split("|")[1].strip().strip("`")
+            for line in (ROOT / "docs/effects.md").read_text().splitlines()
+            if line.startswith("| `")]
+    assert rows == effect_ids()
+
+
+def test_the_identification_report_has_a_row_per_effect() -> None:
+    res = IdentificationResult(model=paper_model(), groups={})
+    res.mass = object()
+    rows = {r["effect"]: r for r in effect_rows(res)}
+    assert list(rows) == effect_ids()
+    assert rows["mass"]["step"] == "mass: fitted" and rows["stribeck"]["step"] == "stribeck: not fitted"
+    assert rows["offset_force"]["on"] == "no" and rows["viscous"]["step"] == "no step of its own"

@@ -8,8 +8,9 @@ Format::
 
 Rules (checked by :func:`load_model`, every error names the file and the key):
 
-- ``effects`` must list every id of the effect catalogue (``feeddrive.paper.EFFECT_IDS``) as a JSON
-  boolean, and nothing else; ``mass`` must be true (the mass is always in the model).
+- ``effects`` must list every id of the effect catalogue (the registry
+  ``feeddrive.effects.EFFECTS``) as a JSON boolean, and nothing else; ``mass`` must be true
+  (the mass is always in the model).
 - ``parameters`` keys are FMU parameter names (those of ``paper_parameters()``); an unknown
   name is an error.  **Parameters left out are filled from the paper's defaults**
   (``paper_parameters()``); the names so filled are kept in ``ModelFile.defaulted``.

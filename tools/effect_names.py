@@ -45,48 +45,56 @@ def _text_patterns(effect_id: str, literal: bool) -> re.Pattern[str]:
     return re.compile("|".join(parts))
 
 
-def _python_names(tree: ast.AST, module: str, is_pkg: bool, effect_id: str) -> bool:
-    """A string constant equal to the id, or an import of ``feeddrive.effects.<id>``."""
-    target_mod = f"feeddrive.effects.{effect_id}"
+def _module_name(path: Path, root: Path) -> tuple[str, bool]:
+    parts = list(path.relative_to(root).with_suffix("").parts)
+    if parts[0] == "python":
+        parts = parts[1:]
+    is_pkg = parts[-1] == "__init__"
+    return ".".join(parts[:-1] if is_pkg else parts), is_pkg
+
+
+def _python_names(tree: ast.AST, module: str, is_pkg: bool) -> set[str]:
+    """The string constants of ``tree`` and the ids of the effect modules it imports."""
+    out: set[str] = set()
     for node in ast.walk(tree):
-        if isinstance(node, ast.Constant) and node.value == effect_id:
-            return True
-        if isinstance(node, ast.Import) and any(a.name == target_mod for a in node.names):
-            return True
-        if isinstance(node, ast.ImportFrom):
+        if isinstance(node, ast.Constant) and isinstance(node.value, str):
+            out.add(node.value)
+        elif isinstance(node, ast.Import):
+            out.update(a.name.removeprefix("feeddrive.effects.") for a in node.names
+                       if a.name.startswith("feeddrive.effects."))
+        elif isinstance(node, ast.ImportFrom):
             if node.level:
                 base = module.split(".") if is_pkg else module.split(".")[:-1]
                 base = base[: len(base) - (node.level - 1)]
                 src = ".".join(base + ([node.module] if node.module else []))
             else:
                 src = node.module or ""
-            if src == target_mod or (src == "feeddrive.effects"
-                                     and any(a.name == effect_id for a in node.names)):
-                return True
-    return False
+            if src == "feeddrive.effects":
+                out.update(a.name for a in node.names)
+            elif src.startswith("feeddrive.effects."):
+                out.add(src.removeprefix("feeddrive.effects."))
+    return out
 
 
-def names_effect(path: Path, root: Path, effect_id: str) -> bool:
-    """Whether the product file ``path`` names ``effect_id`` (module docstring)."""
+def named_effects(path: Path, root: Path, effect_ids: Iterable[str]) -> set[str]:
+    """The ids of ``effect_ids`` the product file ``path`` names (module docstring)."""
     text = path.read_text(encoding="utf-8", errors="replace")
-    if path.suffix == ".py":
-        if _text_patterns(effect_id, literal=False).search(text):
-            return True
-        rel = path.relative_to(root)
-        parts = list(rel.with_suffix("").parts)
-        if parts[0] == "python":
-            parts = parts[1:]
-        is_pkg = parts[-1] == "__init__"
-        module = ".".join(parts[:-1] if is_pkg else parts)
-        return _python_names(ast.parse(text, str(path)), module, is_pkg, effect_id)
-    return _text_patterns(effect_id, literal=True).search(text) is not None
+    python = path.suffix == ".py"
+    found = {e for e in effect_ids if _text_patterns(e, literal=not python).search(text)}
+    if python:
+        module, is_pkg = _module_name(path, root)
+        found |= set(effect_ids) & _python_names(ast.parse(text, str(path)), module, is_pkg)
+    return found
 
 
 def naming_files(root: Path, effect_ids: Iterable[str]) -> dict[str, list[str]]:
     """For each effect id, the product files (paths relative to ``root``) that name it."""
-    files = product_files(root)
-    return {e: [str(f.relative_to(root)) for f in files if names_effect(f, root, e)]
-            for e in effect_ids}
+    ids = list(effect_ids)
+    out: dict[str, list[str]] = {e: [] for e in ids}
+    for f in product_files(root):
+        for e in named_effects(f, root, ids):
+            out[e].append(str(f.relative_to(root)))
+    return {e: sorted(files) for e, files in out.items()}
 
 
 def main(argv: list[str]) -> int:

@@ -7,8 +7,10 @@ its rank).
 Layers (lower may be imported by higher, never the reverse; peers on one line do not import
 each other)::
 
-    paper, data, data_csv, signals, model_description, inputs, outputs  <- physics, plausibility
-    <- model_file <- fmu (fmu3: its FMI 3.0 adapter), export_fmu <- control
+    effects (the effect registry)
+    <- paper, data, data_csv, signals, model_description, inputs, outputs  <- physics, plausibility
+    <- model_file, fits (fits identification and diagnosis share)
+    <- fmu (fmu3: its FMI 3.0 adapter), export_fmu <- control
     <- harness (closed loop, sidecar, checked runs) <- experiments (the campaign, Secs. 3 and 4)
     <- residual (the force residual), systems (SSP, OSP, container)
     <- identify, validation, diagnose, realdata, xy (the X-Y table and its circular test)
@@ -25,9 +27,10 @@ PKG = Path(feeddrive.__file__).resolve().parent
 
 #: rank of each top-level module or subpackage of feeddrive (imports only to rank <= own)
 LAYERS: dict[str, int] = {
+    "effects": -1,
     "paper": 0, "data": 0, "data_csv": 0, "signals": 0, "model_description": 0, "outputs": 0, "inputs": 0,
     "physics": 1, "plausibility": 1,
-    "model_file": 2,
+    "model_file": 2, "fits": 2,
     "fmu": 3, "fmu3": 3, "export_fmu": 3,
     "control": 4,
     "harness": 5,

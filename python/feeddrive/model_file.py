@@ -8,8 +8,9 @@ Format::
 
 Rules (checked by :func:`load_model`, every error names the file and the key):
 
-- ``effects`` must list every id of the effect catalogue (``feeddrive.paper.EFFECT_IDS``) as a JSON
-  boolean, and nothing else; ``mass`` must be true (the mass is always in the model).
+- ``effects`` must list every id of the effect catalogue (the registry
+  ``feeddrive.effects.EFFECTS``) as a JSON boolean, and nothing else; ``mass`` must be true
+  (the mass is always in the model).
 - ``parameters`` keys are FMU parameter names (those of ``paper_parameters()``); an unknown
   name is an error.  **Parameters left out are filled from the paper's defaults**
   (``paper_parameters()``); the names so filled are kept in ``ModelFile.defaulted``.
@@ -40,10 +41,13 @@ from typing import Any
 
 from feeddrive.inputs import InputFileError, read_text
 from feeddrive.outputs import write_text
-from feeddrive.paper import EFFECT_IDS, PAPER_EFFECTS, SWITCHABLE_EFFECTS, paper_parameters
+from feeddrive.effects import EFFECTS
+from feeddrive.paper import EFFECT_IDS, SWITCHABLE_EFFECTS, paper_parameters
 from feeddrive.physics import ParameterError, compile
 
 Value = float | int | bool
+#: The effects without a switch: always on in a model file.
+ALWAYS_ON: tuple[str, ...] = tuple(e.id for e in EFFECTS if not e.switchable)
 
 _PAPER = paper_parameters()
 #: Every FMU parameter a model file may set (effect switches excluded), in FMU order.
@@ -88,8 +92,10 @@ def _check_effects(raw: Any, src: str) -> dict[str, bool]:
         raise ModelFileError(src, f"effects[{missing[0]!r}]",
                              f"missing effect id(s) {', '.join(missing)}: every id of "
                              "the effect catalogue must be listed")
-    if raw["mass"] is not True:
-        raise ModelFileError(src, "effects['mass']", "must be true (the mass is always on)")
+    for e in ALWAYS_ON:
+        if raw[e] is not True:
+            raise ModelFileError(src, f"effects[{e!r}]",
+                                 f"must be true (the {e} is always on)")
     return {e: raw[e] for e in EFFECT_IDS}
 
 
@@ -251,7 +257,7 @@ class ModelFile:
 def paper_model() -> ModelFile:
     """The paper's model (Villegas et al. 2014): its effects on, offset and asymmetry off,
     every parameter from ``feeddrive.paper.paper_parameters()``."""
-    effects = {e: (True if e == "mass" else PAPER_EFFECTS[e]) for e in EFFECT_IDS}
+    effects = {e.id: e.in_paper for e in EFFECTS}
     return ModelFile(name="paper", effects=effects, parameters=paper_parameters(),
                      description="Villegas et al. 2014, Tables 1-3 and Eq. 2, in SI "
                                  "(nu_5 from Eq. 18, C = 1.08e4 N/s, see docs/model.md)")

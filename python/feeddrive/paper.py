@@ -7,6 +7,8 @@ parameter names such as ``friction.F_s`` or ``cogging.a[1]``.
 """
 from __future__ import annotations
 
+from .effects import EFFECTS, effect_ids, switchable
+
 MM = 1e-3  #: metres per millimetre
 
 #: Table 1 as printed (x in mm): polynomial c_k and Fourier a_k, b_k (k = 1..3, lambda = 37.5 mm).
@@ -34,16 +36,14 @@ STROKE = (0.0, 0.300)       #: m
 N_HARMONICS = 8             #: Fourier slots per map in the FMU
 N_ELEMENTS_MAX = 10         #: GMS element slots in the FMU
 
-EFFECT_IDS = ["current_dynamics", "cogging_periodic", "cogging_aperiodic",
-              "ripple_periodic", "ripple_aperiodic", "stribeck", "viscous",
-              "prerolling", "frictional_lag", "mass", "offset_force",
-              "asymmetric_friction", "position_friction", "compliance"]
+#: Every id of the effect catalogue, in catalogue order (from the registry :mod:`feeddrive.effects`).
+EFFECT_IDS = effect_ids()
 #: Effects that exist as FMU switches (``mass`` is always on: its value is fitted).
-SWITCHABLE_EFFECTS = [e for e in EFFECT_IDS if e != "mass"]
+SWITCHABLE_EFFECTS = [e.id for e in switchable()]
 #: Effects beyond the paper (the catalogue's "common effects of real drives" and the project's
 #: own ``position_friction`` and ``compliance``): off in its model.
-BEYOND_PAPER = ("offset_force", "asymmetric_friction", "position_friction", "compliance")
-PAPER_EFFECTS = {e: e not in BEYOND_PAPER for e in SWITCHABLE_EFFECTS}
+BEYOND_PAPER = tuple(e.id for e in EFFECTS if not e.in_paper)
+PAPER_EFFECTS = {e.id: e.in_paper for e in switchable()}
 #: Knot slots of the friction-level profile (effect position_friction).
 N_PROFILE_KNOTS = 16
 #: Compliance defaults (off): a 2 kg load on a 40 Hz spring, 5 % damping, encoder on the slide.
@@ -88,11 +88,8 @@ def paper_parameters() -> dict[str, float | int | bool]:
     p["asymmetry.dsigma2"] = 0.0
     p["stroke.x_min"], p["stroke.x_max"] = STROKE
     p.update(COMPLIANCE_DEFAULTS)
-    for e, on in PAPER_EFFECTS.items():
-        if e != "position_friction":
-            p[f"effects.{e}"] = on
-    # position_friction (not in the paper; FMU order: after solver.tol): p(x) = 1
-    p["effects.position_friction"] = PAPER_EFFECTS["position_friction"]
+    for e in switchable():
+        p[f"effects.{e.id}"] = e.in_paper
     p["friction_profile.x_start"], p["friction_profile.x_end"] = STROKE
     p["friction_profile.n"] = N_PROFILE_KNOTS
     for j in range(1, N_PROFILE_KNOTS + 1):

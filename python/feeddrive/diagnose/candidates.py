@@ -20,7 +20,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.optimize import minimize, minimize_scalar
 
-from ..identify.compliance import fit_compliance
+from ..effects import EFFECTS, Effect
+from ..fits.compliance import fit_compliance
 from ..model_file import ModelFile
 from ..paper import N_ELEMENTS_MAX, N_HARMONICS
 from ..physics import (FrictionProfile, gms_force, held_current, load_acceleration,
@@ -471,7 +472,7 @@ def ripple_periodic(ctx: Context) -> list[Variant]:
 def compliance(ctx: Context) -> list[Variant]:
     """A load m2 on a spring-damper: the residual gains m2 H(s) a (the load's inertial force,
     ``feeddrive.physics.compliance``), a = the (already filtered) measured acceleration.
-    (f, zeta) by the grid + Nelder-Mead of :func:`feeddrive.identify.compliance.fit_compliance`;
+    (f, zeta) by the grid + Nelder-Mead of :func:`feeddrive.fits.compliance.fit_compliance`;
     variants: m2 alone, and m2 with a change of the slide's mass; both carry the load's free
     responses from each run's first valid sample (its state there is unknown) as nuisance
     columns.  The residual's GMS start forces were estimated without the load: the search
@@ -550,13 +551,15 @@ def current_dynamics(ctx: Context) -> list[Variant]:
                     ["scale"], to_model=lambda th: m.with_effect("current_dynamics", True))]
 
 
-#: Every candidate family, by catalogue id.
-CANDIDATES: dict[str, Callable[[Context], list[Variant]]] = {
-    "offset_force": offset_force, "mass": mass, "viscous": viscous,
-    "asymmetric_friction": asymmetric_friction, "stribeck": stribeck,
-    "prerolling": prerolling, "frictional_lag": frictional_lag,
-    "cogging_aperiodic": cogging_aperiodic, "cogging_periodic": cogging_periodic,
-    "ripple_aperiodic": ripple_aperiodic, "ripple_periodic": ripple_periodic,
-    "current_dynamics": current_dynamics, "position_friction": position_friction,
-    "compliance": compliance,
-}
+def _builder(e: Effect) -> Callable[[Context], list[Variant]]:
+    """The candidate family of effect ``e`` (its registry reference names a function here)."""
+    module, _, name = e.candidate.builder.partition(":")
+    make = globals().get(name) if module == __name__ else None
+    if not callable(make):
+        raise ImportError(f"effect {e.id}: candidate {e.candidate.builder!r} is not a "
+                          f"function of {__name__}")
+    return make
+
+
+#: Every candidate family, by catalogue id (the registry's order: feeddrive.effects.EFFECTS).
+CANDIDATES: dict[str, Callable[[Context], list[Variant]]] = {e.id: _builder(e) for e in EFFECTS}

@@ -36,9 +36,9 @@ from typing import Any
 import numpy as np
 
 from ..data import Run, run_stem
+from ..effects import EFFECTS
 from ..harness.checked_runs import load_checked_runs
 from ..model_file import ModelFile, load_model, paper_model, save_model
-from ..paper import PAPER_EFFECTS
 from ..physics import CurrentLoop, run_load_mean
 from ..signals import run_label, sample_time
 from ._signals import steady_segment
@@ -282,8 +282,8 @@ def _as_model(truth: ModelFile | Mapping[str, Any] | str | Path | None) -> Model
     if isinstance(truth, (str, Path)):
         return load_model(truth)
     params = {k: v for k, v in truth.items() if not k.startswith("effects.")}
-    effects = {"mass": True}
-    effects.update({e: bool(truth.get(f"effects.{e}", on)) for e, on in PAPER_EFFECTS.items()})
+    effects = {e.id: True for e in EFFECTS if e.switch is None}
+    effects.update({e.id: bool(truth.get(e.switch, e.in_paper)) for e in EFFECTS if e.switch})
     return ModelFile(name="truth", effects=effects, parameters=params)
 
 

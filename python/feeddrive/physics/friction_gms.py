@@ -35,6 +35,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..effects import apply_switches
 from .friction_curves import FrictionCurve
 from .friction_position import FrictionProfile
 
@@ -71,10 +72,12 @@ class GMSParameters:
         :func:`feeddrive.physics.params.compile`, which validates them first.
 
         The elements are those fmu_src/physics/friction_gms.c makes active: i <= friction.N with nu_i > 0.
-        With ``apply_effects`` the ``effects.<id>`` switches act once, here: ``stribeck`` off
-        sets F_s = F_c (the Coulomb level, as the effect catalogue says), ``viscous`` off sets sigma2 =
-        dsigma2 = 0, ``frictional_lag`` off sets C = inf, ``asymmetric_friction`` off sets
-        dF = dsigma2 = 0, ``position_friction`` on adds the profile p(x) of ``friction_profile.*``.
+        With ``apply_effects`` the ``effects.<id>`` switches act once, here, by each effect's
+        ``off`` rule (:func:`feeddrive.effects.apply_switches`): ``stribeck`` off sets
+        F_s = F_c (the Coulomb level, as the effect catalogue says), ``viscous`` off sets
+        sigma2 = dsigma2 = 0, ``frictional_lag`` off sets C = inf, ``asymmetric_friction`` off
+        sets dF = dsigma2 = 0; ``position_friction`` on adds the profile p(x) of
+        ``friction_profile.*``.
         """
         try:
             N = int(params["friction.N"])
@@ -93,16 +96,10 @@ class GMSParameters:
             raise KeyError(f"friction_gms.py: parameter {e.args[0]!r} missing") from None
         if not apply_effects:
             return p
-        on = lambda e: bool(params.get(f"effects.{e}", True))  # noqa: E731
-        if not on("asymmetric_friction"):
-            p = replace(p, dF=0.0, dsigma2=0.0)
-        if not on("stribeck"):
-            p = replace(p, F_s=p.F_c)
-        if not on("viscous"):
-            p = replace(p, sigma2=0.0, dsigma2=0.0)
-        if not on("frictional_lag"):
-            p = replace(p, C=np.inf)
-        return p
+        val = apply_switches(params)
+        return replace(p, F_s=float(val["friction.F_s"]), sigma2=float(val["friction.sigma2"]),
+                       C=float(val["friction.C"]), dF=float(val.get("asymmetry.dF", 0.0)),
+                       dsigma2=float(val.get("asymmetry.dsigma2", 0.0)))
 
     def scale(self, x: ArrayLike | None) -> np.ndarray | float:
         """p(x) of ``position_friction`` [-]; 1 without a profile or without x."""

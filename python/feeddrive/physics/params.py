@@ -32,6 +32,7 @@ from typing import Any, Protocol
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..effects import apply_switches, switchable
 from ..model_description import variables
 from ..paper import N_ELEMENTS_MAX, paper_parameters
 from .compliance import Compliance
@@ -176,9 +177,10 @@ def _check_compiled(val: Mapping[str, Any]) -> None:
         raise ParameterError(f"friction.F_c = {Fc:.17g} exceeds friction.F_s = {Fs:.17g}: "
                              "allowed friction.F_c in [0, friction.F_s] N")
     if val["effects.asymmetric_friction"]:
+        eff = apply_switches(val)                        # friction_levels.c's compiled Fs[0], sigma2
         Fc0 = Fc
-        Fs0 = Fs if val["effects.stribeck"] else Fc      # friction_levels.c's compiled Fs[0]
-        s0 = float(val["friction.sigma2"]) if val["effects.viscous"] else 0.0
+        Fs0 = float(eff["friction.F_s"])
+        s0 = float(eff["friction.sigma2"])
         dF, ds = float(val["asymmetry.dF"]), float(val["asymmetry.dsigma2"])
         if Fc0 + dF < 0.0 or Fs0 + dF <= 0.0:
             raise ParameterError(f"asymmetry.dF = {dF:.17g} makes the friction level for v < 0 "
@@ -222,8 +224,7 @@ def compile(model: HasFmuParameters | Mapping[str, Any]) -> PlantParameters:
     for name, v in val.items():
         check_value(name, v)
     _check_compiled(val)
-    on = {e: bool(val[f"effects.{e}"]) for e in
-          ("prerolling", "offset_force") + sum(MAP_EFFECTS.values(), ())}
+    on = {e.id: bool(val[e.switch]) for e in switchable()}
     maps = {name: PositionMap.from_parameters(name, val, on[per], on[aper])
             for name, (per, aper) in MAP_EFFECTS.items()}
     return PlantParameters(
@@ -231,6 +232,6 @@ def compile(model: HasFmuParameters | Mapping[str, Any]) -> PlantParameters:
         cogging=maps["cogging"], ripple=maps["ripple"],
         x_min=float(val["stroke.x_min"]), x_max=float(val["stroke.x_max"]),
         friction=GMSParameters.from_params(val), prerolling=on["prerolling"],
-        F_offset=float(val["offset.F"]) if on["offset_force"] else 0.0,
+        F_offset=float(apply_switches(val)["offset.F"]),
         values=types.MappingProxyType(val), compliance=Compliance.from_parameters(val))
 

@@ -16,13 +16,13 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..effects import position_map_effects
 from ..paper import N_HARMONICS, STROKE
 
 #: Highest polynomial power per map in the FMU.
 POLY_ORDER = {"cogging": 3, "ripple": 2}
 #: The effect switch of each map's (periodic, aperiodic) part.
-MAP_EFFECTS = {"cogging": ("cogging_periodic", "cogging_aperiodic"),
-               "ripple": ("ripple_periodic", "ripple_aperiodic")}
+MAP_EFFECTS: dict[str, tuple[str, str]] = position_map_effects()
 
 
 @dataclass(frozen=True)

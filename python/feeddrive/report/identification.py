@@ -33,6 +33,7 @@ import numpy as np
 from matplotlib.ticker import NullFormatter, ScalarFormatter
 
 from ..data import Run
+from ..effects import EFFECTS
 from ..identify.attraction import _level, simulate_lag
 from ..identify.dstft import DSTFT, dstft
 from ..identify.pipeline import IdentificationResult, identify_folder, identify_runs
@@ -336,8 +337,26 @@ def uncertainty_rows(res: IdentificationResult) -> list[dict[str, Any]]:
     return rows
 
 
+def effect_rows(res: IdentificationResult) -> list[dict[str, Any]]:
+    """One row per effect of the catalogue (the registry :data:`feeddrive.effects.EFFECTS`):
+    on in the identified model, the pipeline step that fits it and whether it ran, how it is
+    identified, and what of this report shows it."""
+    rows = []
+    for e in EFFECTS:
+        step = e.identification.step
+        if not step:
+            done = "no step of its own"
+        else:
+            done = f"{step}: " + ("fitted" if getattr(res, step) is not None else "not fitted")
+        rows.append({"effect": e.id, "on": "yes" if res.model.effects[e.id] else "no",
+                     "step": done, "identified by": e.identification.how,
+                     "shown by": "; ".join(e.report) or "-"})
+    return rows
+
+
 def add_to_page(page: Page, results: IdentificationResult, level: int = 2) -> list[Path]:
-    """Add the identification (summary text, truth table, every figure) to a report Page.
+    """Add the identification (summary text, truth table, the effects' table, every figure)
+    to a report Page.
 
     Figures of steps that did not run are left out (the text says why).  Returns the PNGs.
     """
@@ -351,6 +370,8 @@ def add_to_page(page: Page, results: IdentificationResult, level: int = 2) -> li
         methods = {iv.get("method", "runs") for iv in results.model.uncertainty.values()}
         page.table(uncertainty_rows(results), "bootstrap intervals of the identified parameters: "
                    + " ".join(INTERVAL_EVIDENCE[m] for m in sorted(methods)), digits=6)
+    page.table(effect_rows(results), "the effects of the catalogue in the identified model "
+               "(steps that did not run: the summary above says why)")
     paths = []
     for fn, stem, caption, attr in FIGURES:
         if getattr(results, attr) is None:

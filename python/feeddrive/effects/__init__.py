@@ -1,0 +1,82 @@
+"""The effect catalogue (docs/effects.md) as a registry: one module per effect, each
+exporting one :class:`~feeddrive.effects.effect.Effect` named ``EFFECT``, and the one list
+:data:`EFFECTS` in catalogue order.  Every other list of effects in the package is derived
+from it; docs/adding-an-effect.md gives the recipe for a new one.
+"""
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+from . import (
+    asymmetric_friction,
+    cogging_aperiodic,
+    cogging_periodic,
+    compliance,
+    current_dynamics,
+    frictional_lag,
+    mass,
+    offset_force,
+    position_friction,
+    prerolling,
+    ripple_aperiodic,
+    ripple_periodic,
+    stribeck,
+    viscous,
+)
+from .effect import Candidate, Effect, Identification, Parameter, resolve, switched_off
+
+#: Every effect of the catalogue, in catalogue order (the first nine are the paper's model).
+EFFECTS: tuple[Effect, ...] = (
+    current_dynamics.EFFECT, cogging_periodic.EFFECT, cogging_aperiodic.EFFECT,
+    ripple_periodic.EFFECT, ripple_aperiodic.EFFECT, stribeck.EFFECT, viscous.EFFECT,
+    prerolling.EFFECT, frictional_lag.EFFECT, mass.EFFECT, offset_force.EFFECT,
+    asymmetric_friction.EFFECT, position_friction.EFFECT, compliance.EFFECT,
+)
+#: Effect by id.
+BY_ID: dict[str, Effect] = {e.id: e for e in EFFECTS}
+
+
+def effect(effect_id: str) -> Effect:
+    """The effect ``effect_id`` of the catalogue.
+
+    Raises
+    ------
+    KeyError : not an id of the catalogue (the message lists the ids).
+    """
+    try:
+        return BY_ID[effect_id]
+    except KeyError:
+        raise KeyError(f"{effect_id!r} is not an effect of the catalogue: allowed "
+                       + ", ".join(BY_ID)) from None
+
+
+def effect_ids() -> list[str]:
+    """Every id of the catalogue, in catalogue order."""
+    return [e.id for e in EFFECTS]
+
+
+def switchable() -> list[Effect]:
+    """The effects with an FMU switch ``effects.<id>`` (all but the always-on mass)."""
+    return [e for e in EFFECTS if e.switchable]
+
+
+def apply_switches(values: Mapping[str, Any]) -> dict[str, Any]:
+    """FMU-named ``values`` with every switched-off effect's :attr:`Effect.off` rules applied
+    (catalogue order; a missing switch counts as on): the values the plant's physics uses."""
+    return switched_off(values, EFFECTS)
+
+
+def position_map_effects() -> dict[str, tuple[str, str]]:
+    """The ids of the (periodic, aperiodic) parts of each position map (Eqs. 6-7)."""
+    parts: dict[str, dict[str, str]] = {}
+    for e in EFFECTS:
+        if e.position_map is not None:
+            name, part = e.position_map
+            parts.setdefault(name, {})[part] = e.id
+    return {name: (p["periodic"], p["aperiodic"]) for name, p in parts.items()}
+
+
+__all__ = ["BY_ID", "Candidate", "EFFECTS", "Effect", "Identification", "Parameter",
+           "apply_switches", "effect", "effect_ids", "position_map_effects", "resolve",
+           "switchable", "switched_off"]

@@ -1,0 +1,147 @@
+"""What the project knows of one effect of the catalogue, as data: :class:`Effect`.
+
+Every effect module of :mod:`feeddrive.effects` exports one ``EFFECT``; the package's
+``EFFECTS`` lists them in catalogue order.  Code elsewhere refers to the effect's Python
+parts (its physics term, its identification, its diagnosis candidate) by a reference
+``"module:attribute"`` (dotted attributes allowed) that :func:`resolve` imports; a test
+resolves every reference of the registry, so none can go stale.
+"""
+from __future__ import annotations
+
+import importlib
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One FMU parameter of an effect: its name (``name[j]`` for a slot array), SI unit and
+    the rule the FMU and the Python twin check on it ("" when only the declared range)."""
+
+    name: str
+    unit: str
+    rule: str = ""
+
+
+@dataclass(frozen=True)
+class Identification:
+    """How the identification (``feeddrive identify``) finds the effect.
+
+    ``step``: the pipeline step that fits it (an attribute of ``IdentificationResult``), or
+    "" when the pipeline has no step for it (``fit`` then says which function fits it, e.g.
+    within another effect's step, or the diagnosis does); ``fit``: a reference to the
+    function that fits it, or "";
+    ``how``: one line for the docs and the report.
+    """
+
+    step: str
+    fit: str
+    how: str
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """The effect as a diagnosis candidate (``feeddrive diagnose``).
+
+    ``builder``: a reference to the function that builds its variants from a diagnosis
+    context; ``perturbs``: the parameters it adds or corrects; ``label``: how its variants
+    are named (the variant's label follows the effect id in the verdict).
+    """
+
+    builder: str
+    perturbs: tuple[str, ...]
+    label: str
+
+
+@dataclass(frozen=True)
+class Effect:
+    """One effect of the catalogue (docs/effects.md).
+
+    Attributes
+    ----------
+    id : the catalogue id, the key of a model file's ``effects``.
+    switch : its FMU switch (``effects.<id>``), None when the effect is always on (mass).
+    in_paper : on in the paper's model (Villegas et al. 2014).
+    description : one line, as the switch's description in ``modelDescription.xml``.
+    parameters : the FMU parameters it owns.
+    physics : reference to the Python twin of its force or state term.
+    identification : how identification fits it.
+    candidate : how diagnosis tries it.
+    report : the lines of the identification report that show it.
+    position_map : ("cogging" | "ripple", "periodic" | "aperiodic") for a part of a
+        position map (Eqs. 6-7), else None.
+    off : what switching the effect off does to the parameters, (name, value) pairs: a
+        number, or the name of the parameter whose value it takes (``name[j]``: every slot);
+        empty when off changes the model's structure instead (no values express it).
+    """
+
+    id: str
+    switch: str | None
+    in_paper: bool
+    description: str
+    parameters: tuple[Parameter, ...]
+    physics: str
+    identification: Identification
+    candidate: Candidate
+    report: tuple[str, ...]
+    position_map: tuple[str, str] | None = None
+    off: tuple[tuple[str, float | str], ...] = ()
+
+    def __post_init__(self) -> None:
+        if self.switch is not None and self.switch != f"effects.{self.id}":
+            raise ValueError(f"effect {self.id}: switch {self.switch!r}, allowed "
+                             f"'effects.{self.id}' or None")
+        if self.position_map is not None and (
+                self.position_map[0] not in ("cogging", "ripple")
+                or self.position_map[1] not in ("periodic", "aperiodic")):
+            raise ValueError(f"effect {self.id}: position_map {self.position_map!r}, allowed "
+                             "(cogging|ripple, periodic|aperiodic)")
+
+    @property
+    def switchable(self) -> bool:
+        """The effect has an FMU switch."""
+        return self.switch is not None
+
+    @property
+    def parameter_names(self) -> tuple[str, ...]:
+        """The names of :attr:`parameters`."""
+        return tuple(p.name for p in self.parameters)
+
+
+def _slots(name: str, values: Mapping[str, object]) -> list[str]:
+    """The names ``name`` stands for among ``values`` (every slot of ``name[j]``)."""
+    if not name.endswith("[j]"):
+        return [name]
+    stem = name[:-2]
+    return [k for k in values if k.startswith(stem) and k.endswith("]") and k[len(stem):-1].isdigit()]
+
+
+def switched_off(values: Mapping[str, Any], effects: Iterable[Effect]) -> dict[str, Any]:
+    """``values`` (FMU-named) with the :attr:`Effect.off` rules of every effect of ``effects``
+    whose switch is false applied, in the order given (a missing switch counts as on)."""
+    out = dict(values)
+    for e in effects:
+        if e.switch is None or bool(values.get(e.switch, True)):
+            continue
+        for name, value in e.off:
+            for slot in _slots(name, out):
+                out[slot] = out[value] if isinstance(value, str) else value
+    return out
+
+
+def resolve(reference: str) -> object:
+    """The object a reference ``"package.module:attr.attr"`` names (imports the module).
+
+    Raises
+    ------
+    ValueError : the reference is not of that form.
+    ImportError, AttributeError : the module or attribute does not exist.
+    """
+    module, sep, attr = reference.partition(":")
+    if not sep or not module or not attr:
+        raise ValueError(f"effect reference {reference!r}: allowed 'package.module:attribute'")
+    obj: object = importlib.import_module(module)
+    for part in attr.split("."):
+        obj = getattr(obj, part)
+    return obj

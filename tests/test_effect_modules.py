@@ -1,0 +1,225 @@
+"""Each effect of the catalogue is one Python module registered in one list
+(:mod:`feeddrive.effects`), and few product files name it (docs/adding-an-effect.md).
+
+The count is :func:`tools.effect_names.naming_files`: a file names effect ``<id>`` when it
+holds ``effects.<id>``, the id as a string literal, ``effect_<id>`` / ``EFFECT_<ID>``, or
+imports ``feeddrive.effects.<id>``.
+"""
+from __future__ import annotations
+
+import ast
+import importlib
+import sys
+from pathlib import Path
+from typing import Any
+from xml.etree import ElementTree
+
+import numpy as np
+import pytest
+
+from feeddrive import paper
+from feeddrive.diagnose.candidates import CANDIDATES
+from feeddrive.effects import EFFECTS, Effect, effect, effect_ids, resolve, switched_off
+from feeddrive.identify.pipeline import IdentificationResult
+from feeddrive.model_file import paper_model
+from feeddrive.physics import GMSParameters, compile
+from feeddrive.physics.position_maps import MAP_EFFECTS
+from feeddrive.report.identification import effect_rows
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "tools"))
+from effect_names import naming_files, product_files  # noqa: E402
+
+#: Most product files that may name one effect: its XML block, its C file, its Python module
+#: and the registry list (an effect without a switch, the mass, has no XML block or C file).
+MAX_FILES = 4
+NO_SWITCH_FILES = 2
+
+#: fmu_src/ files that name an effect, left out of the count while the plant's C effects move
+#: to one file each with the C effect table; meanwhile one file per effect is kept for its C
+#: file (``C_FILE_RESERVED``).  Both go once the C effects are files of their own.
+C_FILE_RESERVED = 1
+C_ALLOWANCE: dict[str, frozenset[str]] = {
+    "fmu_src/params.c": frozenset({"current_dynamics", "frictional_lag"}),
+    "fmu_src/controller/modelDescription.xml": frozenset({"offset_force"}),
+}
+
+#: Python files that still hold code for an effect outside its module: the physics' switch
+#: handling, the diagnosis candidate builders, identification steps, experiment groups and
+#: run kinds spelled like the effect, scenarios that switch it.  Each entry is a move into
+#: ``feeddrive/effects/<id>.py`` still to do; the test fails when one is no longer needed.
+PYTHON_ALLOWANCE: dict[str, frozenset[str]] = {
+    "python/feeddrive/diagnose/candidates.py": frozenset(effect_ids()),
+    "python/feeddrive/physics/params.py": frozenset({"prerolling", "asymmetric_friction"}),
+    "python/feeddrive/physics/friction_gms.py": frozenset({"position_friction"}),
+    "python/feeddrive/physics/current_loop.py": frozenset({"current_dynamics"}),
+    "python/feeddrive/physics/compliance.py": frozenset({"compliance"}),
+    "python/feeddrive/control/feedforward.py": frozenset({"offset_force"}),
+    "python/feeddrive/diagnose/emps.py": frozenset({"mass", "viscous", "offset_force"}),
+    "python/feeddrive/diagnose/workflow.py": frozenset({"mass", "compliance"}),
+    "python/feeddrive/validation/sec3.py": frozenset({"cogging_aperiodic", "prerolling"}),
+    "python/feeddrive/bench.py": frozenset({"prerolling"}),
+    "python/feeddrive/identify/pipeline.py": frozenset({"prerolling", "mass", "position_friction"}),
+    "python/feeddrive/identify/bootstrap.py": frozenset({"prerolling"}),
+    "python/feeddrive/identify/position_friction.py": frozenset(
+        {"asymmetric_friction", "position_friction"}),
+    "python/feeddrive/identify/truth_table.py": frozenset({"position_friction"}),
+    "python/feeddrive/experiments/plan.py": frozenset({"stribeck", "prerolling", "mass"}),
+    "python/feeddrive/experiments/campaign.py": frozenset({"stribeck", "prerolling"}),
+    "python/feeddrive/experiments/constant_speed.py": frozenset({"stribeck"}),
+    "python/feeddrive/experiments/prerolling_excitation.py": frozenset({"prerolling"}),
+    "python/feeddrive/report/identification.py": frozenset({"stribeck", "prerolling"}),
+    "python/feeddrive/study/coverage.py": frozenset({"stribeck"}),
+}
+
+
+def _allowed(allowance: dict[str, frozenset[str]], eid: str) -> set[str]:
+    return {f for f, ids in allowance.items() if eid in ids}
+
+
+@pytest.fixture(scope="module")
+def named() -> dict[str, list[str]]:
+    return naming_files(ROOT, effect_ids())
+
+
+@pytest.mark.parametrize("eid", effect_ids())
+def test_few_product_files_name_each_effect(named: dict[str, list[str]], eid: str) -> None:
+    files = set(named[eid]) - _allowed(C_ALLOWANCE, eid) - _allowed(PYTHON_ALLOWANCE, eid)
+    most = MAX_FILES - C_FILE_RESERVED if effect(eid).switchable else NO_SWITCH_FILES
+    assert len(files) <= most, f"{eid} is named in {len(files)} product files " \
+        f"(allowed {most}): {sorted(files)}"
+    module = f"python/feeddrive/effects/{eid}.py"
+    assert module in files and "python/feeddrive/effects/__init__.py" in files
+
+
+def test_allowances_are_still_needed(named: dict[str, list[str]]) -> None:
+    stale = [f"{f}: {eid}" for allowance in (C_ALLOWANCE, PYTHON_ALLOWANCE)
+             for f, ids in allowance.items() for eid in sorted(ids) if f not in named[eid]]
+    assert not stale, "allowances no longer needed (remove them): " + ", ".join(stale)
+
+
+def test_the_count_sees_every_way_of_naming(tmp_path: Path) -> None:
+    (tmp_path / "python/feeddrive/effects").mkdir(parents=True)
+    (tmp_path / "fmu_src").mkdir()
+    files = {
+        "modelDescription.xml": '<ScalarVariable name="effects.stribeck"/>',
+        "fmu_src/friction.c": 'static const char *n = "stribeck";',
+        "fmu_src/table.h": "EFFECT_STRIBECK,",
+        "python/feeddrive/a.py": 'IDS = ["viscous", "stribeck"]\n',
+        "python/feeddrive/b.py": "from feeddrive.effects import stribeck\n",
+        "python/feeddrive/effects/c.py": "from . import stribeck as s\n",
+        "python/feeddrive/d.py": "effect_stribeck = 1\n",
+        "python/feeddrive/e.py": '"""The Stribeck curve; "stribeck" in a docstring."""\n'
+                                 'name = f"stribeck_{1}"\n',
+        "python/feeddrive/f.py": 'x = {"effects.stribeck": True}\n',
+    }
+    for rel, text in files.items():
+        (tmp_path / rel).write_text(text)
+    assert len(product_files(tmp_path)) == len(files)
+    got = naming_files(tmp_path, ["stribeck", "viscous"])
+    assert sorted(got["stribeck"]) == sorted(set(files) - {"python/feeddrive/e.py"})
+    assert got["viscous"] == ["python/feeddrive/a.py"]
+
+
+def test_every_effect_has_its_module_and_registers_once() -> None:
+    assert len({e.id for e in EFFECTS}) == len(EFFECTS)
+    for e in EFFECTS:
+        mod = importlib.import_module(f"feeddrive.effects.{e.id}")
+        assert mod.EFFECT is e and effect(e.id) is e
+    with pytest.raises(KeyError, match="not an effect of the catalogue"):
+        effect("backlash")
+
+
+def _xml_variables() -> dict[str, ElementTree.Element]:
+    root = ElementTree.parse(ROOT / "modelDescription.xml").getroot()
+    return {v.attrib["name"]: v for v in root.iter("ScalarVariable")}
+
+
+def test_registry_and_model_description_agree() -> None:
+    xml = _xml_variables()
+    declared = {n: v for n, v in xml.items() if n.startswith("effects.")}
+    assert set(declared) == {e.switch for e in EFFECTS if e.switch is not None}
+    for e in EFFECTS:
+        if e.switch is None:
+            assert not any(p.name in declared for p in e.parameters)
+            continue
+        v = declared[e.switch]
+        boolean = v.find("Boolean")
+        assert v.attrib["causality"] == "parameter" and boolean is not None, e.id
+        assert (boolean.attrib["start"] == "true") == e.in_paper, e.id
+        assert e.description in v.attrib["description"], (e.id, v.attrib["description"])
+    for e in EFFECTS:
+        for p in e.parameters:
+            name = p.name.replace("[j]", "[1]")
+            assert name in xml and xml[name].attrib["causality"] == "parameter", \
+                f"{e.id}: parameter {p.name} is no FMU parameter"
+
+
+def test_every_reference_of_the_registry_resolves() -> None:
+    for e in EFFECTS:
+        for ref in (e.physics, e.identification.fit, e.candidate.builder):
+            if ref:
+                assert resolve(ref) is not None, (e.id, ref)
+        assert CANDIDATES[e.id] is resolve(e.candidate.builder)
+    with pytest.raises(ValueError, match="allowed 'package.module:attribute'"):
+        resolve("feeddrive.physics")
+
+
+def test_lists_of_effects_come_from_the_registry() -> None:
+    assert paper.EFFECT_IDS == [e.id for e in EFFECTS] == list(CANDIDATES)
+    assert paper.SWITCHABLE_EFFECTS == [e.id for e in EFFECTS if e.switch]
+    assert paper.BEYOND_PAPER == tuple(e.id for e in EFFECTS if not e.in_paper)
+    assert set(MAP_EFFECTS) == {"cogging", "ripple"}
+    assert {e.id for e in EFFECTS if e.position_map} == set(sum(MAP_EFFECTS.values(), ()))
+    with pytest.raises(ValueError, match="allowed 'effects.x' or None"):
+        Effect("x", "effects.y", False, "", (), "", EFFECTS[0].identification,
+               EFFECTS[0].candidate, ())
+
+
+def test_effect_modules_import_only_the_effect_type() -> None:
+    """The registry sits below every other module: an effect module imports nothing of the
+    package but :mod:`feeddrive.effects.effect`."""
+    pkg = ROOT / "python/feeddrive/effects"
+    for f in sorted(pkg.glob("*.py")):
+        if f.name in ("__init__.py", "effect.py"):
+            continue
+        tree = ast.parse(f.read_text())
+        imported = [n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)
+                    and n.module != "__future__"]
+        assert imported == ["effect"], f"{f.name} imports {imported}"
+
+
+@pytest.mark.parametrize("e", [e for e in EFFECTS if e.off], ids=lambda e: e.id)
+def test_off_rules_are_the_physics_of_the_switch(e: Effect) -> None:
+    """An effect switched off compiles to the plant its ``off`` rule's values make with it on."""
+    v: dict[str, Any] = {**paper.paper_parameters(), "asymmetry.dF": 1.5,
+                         "asymmetry.dsigma2": 20.0, "offset.F": 3.0}
+    v.update({s.switch: True for s in EFFECTS if s.switch and s.switch != "effects.position_friction"})
+    assert e.switch is not None
+    off_v = {**v, e.switch: False}
+    ruled_v = {**switched_off(off_v, [e]), e.switch: True}
+    assert GMSParameters.from_params(off_v) == GMSParameters.from_params(ruled_v)
+    if not all(np.isfinite(float(x)) for x in ruled_v.values()):
+        return          # C = inf: no FMU value, the GMS says all
+    off, ruled = compile(off_v), compile(ruled_v)
+    assert off.friction == ruled.friction and off.F_offset == ruled.F_offset
+    x = np.linspace(-0.01, 0.31, 97)
+    np.testing.assert_array_equal(off.K_f(x), ruled.K_f(x))
+    np.testing.assert_array_equal(off.F_cg(x), ruled.F_cg(x))
+
+
+def test_the_catalogue_page_lists_the_registry() -> None:
+    """docs/effects.md's table has one row per effect of the registry, in its order."""
+    rows = [line.split("|")[1].strip().strip("`")
+            for line in (ROOT / "docs/effects.md").read_text().splitlines()
+            if line.startswith("| `")]
+    assert rows == effect_ids()
+
+
+def test_the_identification_report_has_a_row_per_effect() -> None:
+    res = IdentificationResult(model=paper_model(), groups={})
+    res.mass = object()
+    rows = {r["effect"]: r for r in effect_rows(res)}
+    assert list(rows) == effect_ids()
+    assert rows["mass"]["step"] == "mass: fitted" and rows["stribeck"]["step"] == "stribeck: not fitted"
+    assert rows["offset_force"]["on"] == "no" and rows["viscous"]["step"] == "no step of its own"

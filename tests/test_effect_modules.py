@@ -35,15 +35,6 @@ from effect_names import naming_files, product_files  # noqa: E402
 MAX_FILES = 4
 NO_SWITCH_FILES = 2
 
-#: fmu_src/ files that name an effect, left out of the count while the plant's C effects move
-#: to one file each with the C effect table; meanwhile one file per effect is kept for its C
-#: file (``C_FILE_RESERVED``).  Both go once the C effects are files of their own.
-C_FILE_RESERVED = 1
-C_ALLOWANCE: dict[str, frozenset[str]] = {
-    "fmu_src/params.c": frozenset({"current_dynamics", "frictional_lag"}),
-    "fmu_src/controller/modelDescription.xml": frozenset({"offset_force"}),
-}
-
 #: Python files that still hold code for an effect outside its module: the physics' switch
 #: handling, the diagnosis candidate builders, identification steps, experiment groups and
 #: run kinds spelled like the effect, scenarios that switch it.  Each entry is a move into
@@ -57,7 +48,7 @@ PYTHON_ALLOWANCE: dict[str, frozenset[str]] = {
     "python/feeddrive/control/feedforward.py": frozenset({"offset_force"}),
     "python/feeddrive/diagnose/emps.py": frozenset({"mass", "viscous", "offset_force"}),
     "python/feeddrive/diagnose/workflow.py": frozenset({"mass", "compliance"}),
-    "python/feeddrive/validation/sec3.py": frozenset({"cogging_aperiodic", "prerolling"}),
+    "python/feeddrive/experiments/sec3.py": frozenset({"cogging_aperiodic", "prerolling"}),
     "python/feeddrive/bench.py": frozenset({"prerolling"}),
     "python/feeddrive/identify/pipeline.py": frozenset({"prerolling", "mass", "position_friction"}),
     "python/feeddrive/identify/bootstrap.py": frozenset({"prerolling"}),
@@ -84,8 +75,8 @@ def named() -> dict[str, list[str]]:
 
 @pytest.mark.parametrize("eid", effect_ids())
 def test_few_product_files_name_each_effect(named: dict[str, list[str]], eid: str) -> None:
-    files = set(named[eid]) - _allowed(C_ALLOWANCE, eid) - _allowed(PYTHON_ALLOWANCE, eid)
-    most = MAX_FILES - C_FILE_RESERVED if effect(eid).switchable else NO_SWITCH_FILES
+    files = set(named[eid]) - _allowed(PYTHON_ALLOWANCE, eid)
+    most = MAX_FILES if effect(eid).switchable else NO_SWITCH_FILES
     assert len(files) <= most, f"{eid} is named in {len(files)} product files " \
         f"(allowed {most}): {sorted(files)}"
     module = f"python/feeddrive/effects/{eid}.py"
@@ -93,7 +84,7 @@ def test_few_product_files_name_each_effect(named: dict[str, list[str]], eid: st
 
 
 def test_allowances_are_still_needed(named: dict[str, list[str]]) -> None:
-    stale = [f"{f}: {eid}" for allowance in (C_ALLOWANCE, PYTHON_ALLOWANCE)
+    stale = [f"{f}: {eid}" for allowance in (PYTHON_ALLOWANCE,)
              for f, ids in allowance.items() for eid in sorted(ids) if f not in named[eid]]
     assert not stale, "allowances no longer needed (remove them): " + ", ".join(stale)
 

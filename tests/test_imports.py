@@ -178,13 +178,6 @@ def test_every_module_has_a_layer() -> None:
     assert not missing, f"modules with no layer in LAYERS: {missing}"
 
 
-#: Imports between peer stages still allowed, each ``(importing module, imported module)``
-#: with its reason: effect-specific code that belongs in the effect's own module
-#: (``feeddrive/effects/``); the list empties when those modules exist.
-PENDING_EFFECT_EDGES: dict[tuple[str, str], str] = {
-    ("feeddrive.diagnose.candidates", "feeddrive.identify.compliance"):
-        "the compliance candidate fits the load's H(s) with the identification's fit",
-}
 
 
 def _stage(mod: str) -> str | None:
@@ -195,17 +188,9 @@ def _stage(mod: str) -> str | None:
 
 def test_peer_stages_do_not_import_each_other() -> None:
     bad = []
-    used = set()
     for where, mod, t in _package_imports():
         own, other = _stage(mod), _stage(t)
         if own is None or other is None or other == own or _layer(t) != _layer(mod):
             continue
-        edge = next(((a, b) for a, b in PENDING_EFFECT_EDGES
-                     if a == mod and (t == b or t.startswith(b + "."))), None)
-        if edge is not None:
-            used.add(edge)
-            continue
         bad.append(f"{where} ({own}) imports {t} (its peer {other}, layer {_layer(mod)})")
     assert not bad, "imports between peer stages:\n" + "\n".join(bad)
-    stale = sorted(set(PENDING_EFFECT_EDGES) - used)
-    assert not stale, f"allowed peer imports that no longer occur (remove them): {stale}"

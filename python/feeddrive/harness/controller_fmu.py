@@ -1,7 +1,7 @@
 """The controller FMU (``DriveController.fmu``): a controller spec -> its parameter set, and
 the FMU driven sample by sample.
 
-The FMU (C, fmu_src/controller/) runs the harness's controllers -- ``state_space``, ``pid``,
+The FMU (C, fmu_src/models/controller/) runs the harness's controllers -- ``state_space``, ``pid``,
 ``pid_lead``, ``lti`` -- with the ZPETC pre-filter and the feedforward.  The design stays in Python:
 :func:`controller_fmu_parameters` designs the controller of a spec (pole placement, observer,
 ZPETC, exactly as :func:`~.controllers.make_controller` does) and returns the FMU's start

@@ -1,6 +1,6 @@
 """Compliance (effect ``compliance``, beyond the paper): a load m2 on a spring-damper on the slide.
 
-C twin: fmu_src/compliance.c.  The slide (motor force, cogging, friction) carries a second
+C twin: fmu_src/physics/compliance.c.  The slide (motor force, cogging, friction) carries a second
 mass m2 through a spring k2 and a damper c2::
 
     m a   = F_slide + k2 q + c2 w,        q = x_load - x,  w = v_load - v,

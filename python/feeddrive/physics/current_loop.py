@@ -2,7 +2,7 @@
 
     i[k] = sum_{j=1..5} a_j i[k-j] + sum_{j=0..5} b_j u[k-j],   G(1) = sum b / (1 - sum a)
 
-``current_dynamics`` off: i = G(1) u at once.  C twin: fmu_src/current_loop.c.
+``current_dynamics`` off: i = G(1) u at once.  C twin: fmu_src/physics/current_loop.c.
 """
 from __future__ import annotations
 

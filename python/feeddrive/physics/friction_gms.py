@@ -1,6 +1,6 @@
 """Generalized Maxwell-Slip friction (Eqs. 8-12, docs/model.md) driven by a given motion.
 
-C twin: fmu_src/friction_gms.c (the FMU integrates the same hybrid model with events).
+C twin: fmu_src/physics/friction_gms.c (the FMU integrates the same hybrid model with events).
 
     F_f = sum_i F_i + sigma2(v) v
     stuck:    dF_i/dt = k_i v              until sgn(F_i) = sgn(v) and |F_i| >= nu_i S(|v|)

@@ -2,7 +2,7 @@
 
 Sliding, friction is s(v) + sigma2 v (:func:`.friction_curves.steady_friction`, per side);
 at rest it balances the applied force F_app while |F_app| is below the break-away level
-F_s of the side of F_app.  The FMU locates v = 0 by events (fmu_src/friction_static.c);
+F_s of the side of F_app.  The FMU locates v = 0 by events (fmu_src/physics/friction_static.c);
 on measured data the stage counts as at rest where |v| < ``v_stick``.
 """
 from __future__ import annotations

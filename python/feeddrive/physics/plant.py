@@ -5,7 +5,7 @@ smoothing kernel that differentiator applies to the true acceleration
 (:func:`feeddrive.signals.matched_acceleration`); the force side is filtered with the same K.
 The current is held over each sample interval (Eq. 2 is sampled), so the central second
 difference at t_k sees the mean of the two held values around t_k (:func:`held_current`).
-The external load F_e of a run comes from :func:`run_load`.  C twin: fmu_src/plant.c.
+The external load F_e of a run comes from :func:`run_load`.  C twin: fmu_src/physics/plant.c.
 """
 from __future__ import annotations
 

@@ -27,8 +27,8 @@ Rules (checked by :func:`load_model`, every error names the file and the key):
   bias the interval corrects, a finite number).  Only the identification report reads it; other commands ignore it.
 
 - the parameters must pass the FMU's rules (m > 0, 0 <= F_c <= F_s, Ts > 0, sum(nu) = 1,
-  ...): :func:`feeddrive.physics.compile` checks them with the messages of the FMU's rules (fmu_src/models/plant/params.c and the effect files of fmu_src/physics/),
-  so a model the FMU would refuse is refused here, naming the file (or the model) first.
+  ...): :func:`feeddrive.physics.compile` checks them with the messages of the FMU's rules
+  (fmu_src/models/plant/params.c and the effect files of fmu_src/physics/), so a model the FMU would refuse is refused here, naming the file (or the model) first.
 """
 from __future__ import annotations
 

@@ -28,7 +28,8 @@ Rules (checked by :func:`load_model`, every error names the file and the key):
 
 - the parameters must pass the FMU's rules (m > 0, 0 <= F_c <= F_s, Ts > 0, sum(nu) = 1,
   ...): :func:`feeddrive.physics.compile` checks them with the messages of the FMU's rules
-  (fmu_src/models/plant/params.c and the effect files of fmu_src/physics/), so a model the FMU would refuse is refused here, naming the file (or the model) first.
+  (fmu_src/models/plant/params.c and the effect files of fmu_src/physics/), so a model the FMU
+  would refuse is refused here, naming the file (or the model) first.
 """
 from __future__ import annotations
 

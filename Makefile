@@ -31,7 +31,7 @@ FMU_CFLAGS := -std=c99 -O3 -fno-math-errno -fPIC -Wall -Wextra -Werror -D_POSIX_
 # generators/ (the XML to C tables)
 SRC_DIRS   := fmu_src/fmi fmu_src/models/plant fmu_src/physics fmu_src/solvers
 SRC_INC    := $(addprefix -I ,$(SRC_DIRS))
-SRC_C      := $(filter-out fmu_src/fmi/fmi3_%.c,$(wildcard $(addsuffix /*.c,$(SRC_DIRS))))
+SRC_C      := $(filter-out fmu_src/fmi/fmi3%.c,$(wildcard $(addsuffix /*.c,$(SRC_DIRS))))
 SRC_H      := $(wildcard $(addsuffix /*.h,$(SRC_DIRS)))
 STAMP      := $(VENV)/.installed
 # the controller FMU: its own sources and XML (fmu_src/models/controller/), the plant's parameters
@@ -44,7 +44,7 @@ CTRL_SO    := $(BUILD)/controller/binaries/linux64/$(CTRL).so
 CTRL_SHARED := fmu_src/models/plant/params.c fmu_src/physics/current_loop.c fmu_src/physics/position_maps.c \
                fmu_src/physics/friction_gms.c fmu_src/physics/friction_position.c
 CTRL_SRC_C := $(filter-out %/ctrl_fmi3.c,$(wildcard fmu_src/models/controller/*.c)) $(CTRL_SHARED)
-CTRL_SHARED_H := fmu_src/models/plant/params.h fmu_src/physics/plant.h fmu_src/fmi/fmi2_allowed.h fmu_src/fmi/fmi2_log.h
+CTRL_SHARED_H := fmu_src/models/plant/params.h fmu_src/physics/plant.h fmu_src/fmi/allowed.h fmu_src/fmi/log.h
 CTRL_SRC_H := $(wildcard fmu_src/models/controller/*.h) $(CTRL_SHARED_H)
 # the plant as FMI 3.0: modelDescription and value table generated from the FMI 2.0 XML
 # (fmu_src/generators/gen_fmi3.py), the fmi3 glue over the shared fmi2 one; only fmi3* exported

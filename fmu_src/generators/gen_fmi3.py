@@ -254,7 +254,7 @@ def main(xml_path: str, outdir: str, controller: bool = False) -> None:
     model_description(root2, vars3).write(out / "modelDescription.xml", encoding="UTF-8", xml_declaration=True)
     fmi_glue = Path(__file__).resolve().parents[1] / "fmi"
     glue = (["ctrl_fmi3.c", "fmi3_stubs.c"] if controller
-            else sorted(p.name for p in fmi_glue.glob("fmi3_*.c")) + ["model_vars3.c"])
+            else sorted(p.name for p in fmi_glue.glob("fmi3*.c")) + ["model_vars3.c"])
     build_description(root2, glue).write(out / "buildDescription.xml", encoding="UTF-8", xml_declaration=True)
     if controller:
         return

@@ -1,5 +1,5 @@
 /* FMI 2.0 co-simulation glue of the controller FMU: the plant's call-sequence table
- * (fmi2_allowed.h) and logging (fmi2_log.h), the value table of ctrl_vars.h, one controller
+ * (allowed.h) and logging (log.h), the value table of ctrl_vars.h, one controller
  * sample per sample instant t_k = t0 + k Ts.
  * Sample convention: u at t_k is the controller's output for the inputs as they stand at t_k (it
  * depends on x_meas directly): fmi2GetReal computes the pending sample from the current inputs,
@@ -17,8 +17,8 @@
 #include <string.h>
 
 #include "fmi2Functions.h"
-#include "fmi2_allowed.h"
-#include "fmi2_log.h"
+#include "allowed.h"
+#include "log.h"
 #include "ctrl_params.h"
 
 #define CTRL_MAGIC 0x46444354u   /* "FDCT" */
@@ -53,11 +53,11 @@ static void ctrl_log(ctrl_instance_t *c, fmi2Status st, unsigned cat, const char
     va_list ap;
     if (!c) return;
     va_start(ap, fmt);
-    fmi2_log_v(&c->cb, c->name, c->logging_on, c->log_mask, st, cat, fmt, ap);
+    log_v(&c->cb, c->name, c->logging_on, c->log_mask, st, cat, fmt, ap);
     va_end(ap);
 }
 
-/* the entry check of fmi2_allowed.h (FMU_ENTER) */
+/* the entry check of allowed.h (FMU_ENTER) */
 static ctrl_instance_t *fmu_enter(fmi2Component comp, const char *fn, int iface, int mask) {
     ctrl_instance_t *c = (ctrl_instance_t *)comp;
     if (!c || c->magic != CTRL_MAGIC) return NULL;
@@ -66,7 +66,7 @@ static ctrl_instance_t *fmu_enter(fmi2Component comp, const char *fn, int iface,
         return NULL;
     }
     if (mask == ST_ANY || (c->fsm & mask)) return c;
-    ctrl_log(c, fmi2Error, LOG_ERROR, "%s: illegal call in state %s", fn, fmi2_state_name(c->fsm));
+    ctrl_log(c, fmi2Error, LOG_ERROR, "%s: illegal call in state %s", fn, fsm_name(c->fsm));
     if (c->fsm != ST_FATAL) c->fsm = ST_ERROR;
     return NULL;
 }
@@ -166,7 +166,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     else if (fmuType != fmi2CoSimulation)
         snprintf(buf, sizeof buf, "fmi2Instantiate: fmuType %d: this FMU is co-simulation (1) only", (int)fmuType);
     if (buf[0]) {
-        if (functions->logger) fmi2_log_emit(functions, instanceName ? instanceName : "?", fmi2Error, "logStatusError", buf);
+        if (functions->logger) log_emit(functions, instanceName ? instanceName : "?", fmi2Error, "logStatusError", buf);
         return NULL;
     }
     c = (ctrl_instance_t *)functions->allocateMemory(1, sizeof(ctrl_instance_t));
@@ -205,7 +205,7 @@ fmi2Status fmi2SetDebugLogging(fmi2Component comp, fmi2Boolean loggingOn, size_t
                  nCategories);
         return fmi2Error;
     }
-    if ((bad = fmi2_log_mask(nCategories, categories, &c->log_mask)) >= 0) {
+    if ((bad = log_categories(nCategories, categories, &c->log_mask)) >= 0) {
         ctrl_log(c, fmi2Error, LOG_ERROR, "fmi2SetDebugLogging: unknown log category \"%s\" (known: "
                  "logEvents, logStatusWarning, logStatusError)", categories[bad] ? categories[bad] : "(null)");
         return fmi2Error;

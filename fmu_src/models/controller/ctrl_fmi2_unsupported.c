@@ -1,13 +1,13 @@
 /* FMI 2.0 entry points the controller FMU does not offer (a co-simulation FMU without FMU
  * states, directional derivatives, input derivatives or model exchange): each checks the call
- * like every entry point (the instance, the state machine of fmi2_allowed.h) and refuses it
+ * like every entry point (the instance, the state machine of allowed.h) and refuses it
  * with a logged message, so an importer learns why instead of meeting a missing symbol. */
 #include <stddef.h>
 
 #include "fmi2Functions.h"
-#include "fmi2_allowed.h"
+#include "allowed.h"
 
-/* the state check of fmi2_allowed.h and the refusal's message (ctrl_fmi2.c) */
+/* the state check of allowed.h and the refusal's message (ctrl_fmi2.c) */
 fmi2Status ctrl_refuse(fmi2Component comp, const char *fn, int iface, int mask);
 #define REFUSE(F) ctrl_refuse(comp, #F, ALLOW_##F)
 

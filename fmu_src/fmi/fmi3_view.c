@@ -1,12 +1,14 @@
-/* FMI 3.0 get/set: the FMI 3.0 value references (model_vars3.h) expanded to the FMI 2.0 ones of
- * their elements (an array of dimension friction.N has N, a scalar one) and handed to the shared
- * get/set of fmi2_values.c (its checks: type, state, range; a rejected set changes nothing).
- * time and eventIndicators are computed here; the structural parameter friction.N is set only
- * in Configuration Mode. (Types the FMU has none of: fmi3_stubs.c.) */
+/* The FMI 3.0 view of the variables: the FMI 3.0 value references (model_vars3.h) expanded to
+ * the FMI 2.0 ones of their elements (an array of the dimension of the structural parameter
+ * MODEL_STRUCTURAL_VR, friction.N for the plant, has N, a scalar one) and handed to the core's
+ * get/set (values.c: type, state, range; a rejected set changes nothing); time and
+ * eventIndicators are computed here; the structural parameter is set only in Configuration
+ * Mode. The continuous states of the view: those of the model but the array elements past the
+ * dimension. (Types the FMU has none of: fmi3_stubs.c.) */
 #include <stdlib.h>
 #include <string.h>
 
-#include "fmi3_glue.h"
+#include "fmi3_view.h"
 
 static int row3(unsigned vr) {
     int lo = 0, hi = MODEL3_NVARS - 1;
@@ -63,12 +65,11 @@ static fmi2Status get_special(instance_t *c, const char *fn, int r, double *out)
     model_t *m = &c->m;
     if (MODEL3_VARS[r].kind == 0) { out[0] = m->time; return fmi2OK; }
     if (!fmu_finite_result(c, fn, NULL, 0)) return fmi2Error;
-    params_inputs(m->val, &m->in);
-    plant_indicators(&m->p, &m->d, m->y, &m->in, out);
-    return fmu_finite_result(c, fn, out, PLANT_NZ) ? fmi2OK : fmi2Error;
+    model_indicators(c, out);
+    return fmu_finite_result(c, fn, out, MODEL_NZ) ? fmi2OK : fmi2Error;
 }
 
-static fmi3Status get3(instance_t *c, const char *fn, const fmi3ValueReference vr[], size_t nvr, char type,
+fmi3Status fmi3_get_values(instance_t *c, const char *fn, const fmi3ValueReference vr[], size_t nvr, char type,
                        void *values, size_t n_values) {
     size_t n, k, at = 0;
     unsigned *vr2;
@@ -98,24 +99,20 @@ static fmi3Status get3(instance_t *c, const char *fn, const fmi3ValueReference v
 
 /* friction.N in Configuration Mode (nothing else may be set there) */
 static fmi3Status set_structural(instance_t *c, const char *fn, const unsigned *vr2, size_t n, const fmi3Int32 *v) {
-    char msg[512];
     size_t k;
     for (k = 0; k < n; k++) {
-        if (vr2[k] != VR_friction_N) {
+        if (vr2[k] != MODEL_STRUCTURAL_VR) {
             fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s cannot be set in Configuration Mode (only the structural "
                     "parameter friction.N)", fn, MODEL_VARS[MODEL_VR_INDEX[vr2[k]]].name);
             return fmi3Error;
         }
-        if (!params_check_value(VR_friction_N, (double)v[k], msg, sizeof msg)) {
-            fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s", fn, msg);
-            return fmi3Error;
-        }
+        if (!model_check_value(c, fn, MODEL_VR_INDEX[MODEL_STRUCTURAL_VR], (double)v[k])) return fmi3Error;
     }
-    for (k = 0; k < n; k++) c->m.val[VR_friction_N] = (double)v[k];
+    for (k = 0; k < n; k++) c->m.val[MODEL_STRUCTURAL_VR] = (double)v[k];
     return fmi3OK;
 }
 
-static fmi3Status set3(instance_t *c, const char *fn, const fmi3ValueReference vr[], size_t nvr, char type,
+fmi3Status fmi3_set_values(instance_t *c, const char *fn, const fmi3ValueReference vr[], size_t nvr, char type,
                        const void *values, size_t n_values) {
     size_t n, k;
     unsigned *vr2;
@@ -126,7 +123,7 @@ static fmi3Status set3(instance_t *c, const char *fn, const fmi3ValueReference v
     if (!(vr2 = expand(c, fn, vr, nvr, type, n_values, &n))) return fmi3Error;
     for (k = 0; k < n; k++) {
         const char *what = vr2[k] == 0xFFFFFFFFu ? "a calculated variable"
-                         : (vr2[k] == VR_friction_N && c->m.fsm != ST_CONFIG) ? "structural" : NULL;
+                         : (vr2[k] == MODEL_STRUCTURAL_VR && c->m.fsm != ST_CONFIG) ? "structural" : NULL;
         if (what) {
             fmu_log(c, fmi2Error, LOG_ERROR, vr2[k] == 0xFFFFFFFFu ? "%s: time and eventIndicators are %s"
                     : "%s: friction.N is %s: set it in Configuration Mode (fmi3EnterConfigurationMode)", fn, what);
@@ -154,37 +151,32 @@ static fmi3Status set3(instance_t *c, const char *fn, const fmi3ValueReference v
     return (fmi3Status)st;
 }
 
-fmi3Status fmi3GetFloat64(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, fmi3Float64 v[], size_t nv) {
-    return get3(FMU_ENTER(i, fmi3GetFloat64), "fmi3GetFloat64", vr, nvr, 'R', v, nv);
-}
-fmi3Status fmi3GetInt32(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, fmi3Int32 v[], size_t nv) {
-    return get3(FMU_ENTER(i, fmi3GetInt32), "fmi3GetInt32", vr, nvr, 'I', v, nv);
-}
-fmi3Status fmi3GetBoolean(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, fmi3Boolean v[], size_t nv) {
-    return get3(FMU_ENTER(i, fmi3GetBoolean), "fmi3GetBoolean", vr, nvr, 'B', v, nv);
-}
-fmi3Status fmi3SetFloat64(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, const fmi3Float64 v[], size_t nv) {
-    return set3(FMU_ENTER(i, fmi3SetFloat64), "fmi3SetFloat64", vr, nvr, 'R', v, nv);
-}
-fmi3Status fmi3SetInt32(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, const fmi3Int32 v[], size_t nv) {
-    return set3(FMU_ENTER(i, fmi3SetInt32), "fmi3SetInt32", vr, nvr, 'I', v, nv);
-}
-fmi3Status fmi3SetBoolean(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, const fmi3Boolean v[], size_t nv) {
-    return set3(FMU_ENTER(i, fmi3SetBoolean), "fmi3SetBoolean", vr, nvr, 'B', v, nv);
+/* the continuous states of the FMI 3.0 view */
+
+int fmi3_n(const model_t *m) { return (int)m->val[MODEL_STRUCTURAL_VR]; }
+
+/* is FMI 2.0 state j an element past friction.N of an array of dimension N? */
+static int state_unused(const model_t *m, int j) {
+    int r, p, n = fmi3_n(m);
+    for (r = 0; r < MODEL3_NVARS; r++) {
+        if (MODEL3_VARS[r].kind != 1) continue;
+        for (p = 0; p < MODEL3_VARS[r].count; p++)
+            if (MODEL3_ELEMS[MODEL3_VARS[r].first + p] == MODEL_STATE_VR[j]) return p >= n;
+    }
+    return 0;
 }
 
-fmi3Status fmi3GetNumberOfContinuousStates(fmi3Instance instance, size_t *nContinuousStates) {
-    instance_t *c = FMU_ENTER(instance, fmi3GetNumberOfContinuousStates);
-    if (!c) return fmi3Error;
-    if (!nContinuousStates) { fmu_log(c, fmi2Error, LOG_ERROR, "fmi3GetNumberOfContinuousStates: NULL argument"); return fmi3Error; }
-    *nContinuousStates = fmi3_nx(&c->m);
-    return fmi3OK;
+size_t fmi3_nx(const model_t *m) {
+    size_t n = 0;
+    int j;
+    for (j = 0; j < MODEL_NX; j++) n += !state_unused(m, j);
+    return n;
 }
 
-fmi3Status fmi3GetNumberOfEventIndicators(fmi3Instance instance, size_t *nEventIndicators) {
-    instance_t *c = FMU_ENTER(instance, fmi3GetNumberOfEventIndicators);
-    if (!c) return fmi3Error;
-    if (!nEventIndicators) { fmu_log(c, fmi2Error, LOG_ERROR, "fmi3GetNumberOfEventIndicators: NULL argument"); return fmi3Error; }
-    *nEventIndicators = PLANT_NZ;
-    return fmi3OK;
+int fmi3_state_index(const model_t *m, size_t j) {
+    int k;
+    for (k = 0; k < MODEL_NX; k++)
+        if (!state_unused(m, k) && j-- == 0) return k;
+    return -1;
 }
+

@@ -1,0 +1,84 @@
+/* The FMI glue's instance, version-neutral: the model's data (model_t of the model's
+ * model_data.h, see model.h), the importer's callbacks, logging, the FMI 3.0 modes of an
+ * FMI 3.0 instance and the FMU states it holds; the one entry check (allowed.h) and logging. */
+#ifndef INSTANCE_H
+#define INSTANCE_H
+
+#include "fmi2Functions.h"
+#include "allowed.h"
+#include "log.h"
+#include "model_data.h"
+
+typedef struct {
+    model_t m;
+    fmi2CallbackFunctions cb;
+    char *name;
+    fmi2Type type;
+    int logging_on;
+    unsigned log_mask;              /* LOG_* bits (log.h) */
+    /* an FMI 3.0 instance (fmi3.c; 0 for FMI 2.0): its data, and the hook that the model's event
+     * update calls after a discrete change inside a step (NULL: none) */
+    int fmi3;
+    int event_mode_used;            /* an FMI 3.0 co-simulation instance made with eventModeUsed */
+    void *ext;
+    void (*on_switch)(void *instance);
+    /* the FMU states this instance's Get/DeserializeFMUState allocated and no FreeFMUState has
+     * freed yet (snapshot.c): FreeInstance frees them ("frees all the allocated memory") */
+    void *states;
+    /* every variable's start value: the compiled-in ones and those of the model's resources;
+     * Reset goes back to them */
+    double start_val[MODEL_NVR];
+} instance_t;
+
+/* enter.c: logging, the entry check, the one refusal */
+void fmu_log(instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(FMU_PRINTF_FORMAT, 4, 5)))
+#endif
+    ;
+/* entry of every FMI call (through FMU_ENTER): the instance when comp is one, the call belongs to
+ * its interface (a FOR_* set) and its state is one of `mask`, else NULL (with a logged message) */
+instance_t *fmu_enter(fmi2Component comp, const char *fn, int iface, int mask);
+/* the answer of a function the model does not offer (c admitted by FMU_ENTER, NULL: refused):
+ * why == NULL: OK (a call with nothing to do), else logs "<fn>: not provided (<why>)", Error */
+fmi2Status fmu_refuse(instance_t *c, const char *fn, const char *why);
+/* 16 units in the last place of t: the rounding of a time an importer computed */
+double fmu_ulp_slack(double t);
+/* a result array about to be returned: the model is initialized and every x[j] is finite (logs if not) */
+int fmu_finite_result(instance_t *c, const char *fn, const double *x, size_t n);
+
+/* lifecycle.c: the life cycle of every version (fn names the calling function in messages) */
+instance_t *fmu_instantiate(const char *fn, const char *name, fmi2Type type, const char *token,
+                            const fmi2CallbackFunctions *functions, int logging_on);
+void fmu_free_instance(instance_t *c);
+fmi2Status fmu_set_debug_logging(instance_t *c, const char *fn, int logging_on, size_t n,
+                                 const fmi2String categories[]);
+fmi2Status fmu_setup_experiment(instance_t *c, const char *fn, int tol_defined, double tol, double start,
+                                int stop_defined, double stop);
+fmi2Status fmu_enter_initialization(instance_t *c);
+/* Initialization Mode left into state `next` (the model initialised first) */
+fmi2Status fmu_exit_initialization(instance_t *c, int next);
+fmi2Status fmu_terminate(instance_t *c);
+fmi2Status fmu_reset(instance_t *c);
+
+/* values.c: get/set by value reference, type 'R', 'I' (int) or 'B' (fmi2Boolean); every value
+ * checked before any is stored (a rejected set changes nothing) */
+fmi2Status fmu_get_values(instance_t *c, const char *fn, const fmi2ValueReference vr[], size_t nvr,
+                          char type, void *value);
+fmi2Status fmu_set_values(instance_t *c, const char *fn, const fmi2ValueReference vr[], size_t nvr,
+                          char type, const void *value);
+/* a get/set of a type the model has no variables of */
+fmi2Status fmu_no_strings(instance_t *c, const char *fn, const fmi2ValueReference vr[], size_t nvr);
+
+/* snapshot.c: FMU state objects, their bytes those of the model's state format (model.h) */
+void fmu_states_free_all(instance_t *c);
+fmi2Status fmu_state_get(instance_t *c, const char *fn, void **state);
+fmi2Status fmu_state_set(instance_t *c, const char *fn, void *state);
+fmi2Status fmu_state_free(instance_t *c, const char *fn, void **state);
+fmi2Status fmu_state_size(instance_t *c, const char *fn, void *state, size_t *size);
+fmi2Status fmu_state_serialize(instance_t *c, const char *fn, void *state, unsigned char *out, size_t size);
+fmi2Status fmu_state_deserialize(instance_t *c, const char *fn, const unsigned char *b, size_t size, void **state);
+
+#include "model.h"
+
+#endif

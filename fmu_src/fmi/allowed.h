@@ -91,7 +91,7 @@ enum {
 #define ALLOW_fmi3ExitConfigurationMode        FOR_BOTH, ST_CONFIG
 #define ALLOW_fmi3EnterInitializationMode      FOR_BOTH, ST_INSTANTIATED
 #define ALLOW_fmi3ExitInitializationMode       FOR_BOTH, ST_INIT
-#define ALLOW_fmi3EnterEventMode               FOR_BOTH, (ST_CONT | ST_STEP_COMPLETE)
+#define ALLOW_fmi3EnterEventMode               FOR_BOTH, (ST_CONT | ST_STEP_COMPLETE | ST_EVENT)   /* Event Mode: refused by itself */
 #define ALLOW_fmi3UpdateDiscreteStates         FOR_BOTH, ST_EVENT
 #define ALLOW_fmi3Terminate                    FOR_BOTH, (ST_EVENT | ST_CONT | ST_STEP_COMPLETE | ST_STEP_FAILED)
 #define ALLOW_fmi3Reset                        FOR_BOTH, (~ST_FATAL)
@@ -112,7 +112,8 @@ enum {
 #define ALLOW_fmi3SerializedFMUStateSize       FOR_BOTH, ST_ANY
 #define ALLOW_fmi3SerializeFMUState            FOR_BOTH, ST_ANY
 #define ALLOW_fmi3DeserializeFMUState          FOR_BOTH, ST_ANY
-#define ALLOW_fmi3NotProvided                  FOR_BOTH, ST_ANY   /* derivatives, dependencies, clocks */
+#define ALLOW_fmi3NotProvided                  FOR_BOTH, ST_ANY   /* derivatives, dependencies */
+#define ALLOW_fmi3Clocks                       FOR_BOTH, ST_ANY   /* the clock functions (the model checks the state) */
 /* model exchange */
 #define ALLOW_fmi3EnterContinuousTimeMode      FOR_ME, ST_EVENT
 #define ALLOW_fmi3CompletedIntegratorStep      FOR_ME, ST_CONT
@@ -124,7 +125,7 @@ enum {
 #define ALLOW_fmi3GetNominalsOfContinuousStates FOR_ME, (ST_INSTANTIATED | ST_ME_OUTPUTS)
 /* co-simulation */
 #define ALLOW_fmi3EnterStepMode                FOR_CS, ST_EVENT
-#define ALLOW_fmi3DoStep                       FOR_CS, ST_STEP_COMPLETE
+#define ALLOW_fmi3DoStep                       FOR_CS, (ST_STEP_COMPLETE | ST_EVENT)   /* Event Mode: refused by itself */
 #define ALLOW_fmi3GetOutputDerivatives         FOR_CS, (ST_STEP_COMPLETE | ST_STEP_FAILED | ST_TERMINATED)
 
 /* which variables fmi2Set{Real,Integer,Boolean} may set in which states (FMI 2.0, Table 3) */

@@ -46,7 +46,7 @@ instance_t *fmu_enter(fmi2Component comp, const char *fn, int iface, int mask) {
 fmi2Status fmu_refuse(instance_t *c, const char *fn, const char *why) {
     if (!c) return fmi2Error;
     if (!why) return fmi2OK;
-    fmu_log(c, fmi2Error, LOG_ERROR, "%s: not provided (%s)", fn, why);
+    fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s", fn, why);
     return fmi2Error;
 }
 

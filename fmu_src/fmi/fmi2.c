@@ -6,8 +6,6 @@
 
 #include "instance.h"
 
-#define OFFERS(cap) ((MODEL_CAPS & (cap)) != 0)
-
 /* ---------------------------------------------------------------- life cycle */
 
 const char *fmi2GetTypesPlatform(void) { return fmi2TypesPlatform; }
@@ -47,7 +45,8 @@ fmi2Status fmi2EnterInitializationMode(fmi2Component comp) {
 fmi2Status fmi2ExitInitializationMode(fmi2Component comp) {
     instance_t *c = FMU_ENTER(comp, fmi2ExitInitializationMode);
     if (!c) return fmi2Error;
-    return fmu_exit_initialization(c, c->type == fmi2ModelExchange ? ST_EVENT : ST_STEP_COMPLETE);
+    return fmu_exit_initialization(c, "fmi2ExitInitializationMode",
+                                   c->type == fmi2ModelExchange ? ST_EVENT : ST_STEP_COMPLETE);
 }
 
 fmi2Status fmi2Terminate(fmi2Component comp) { return fmu_terminate(FMU_ENTER(comp, fmi2Terminate)); }
@@ -84,7 +83,7 @@ fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t 
 
 /* ---------------------------------------------------------------- FMU state */
 
-#define NO_STATE OFFERS(MODEL_CAN_STATE) ? NULL : "canGetAndSetFMUstate is false"
+#define NO_STATE "not provided (canGetAndSetFMUstate is false)"
 fmi2Status fmi2GetFMUstate(fmi2Component comp, fmi2FMUstate *state) {
     instance_t *c = FMU_ENTER(comp, fmi2GetFMUstate);
     return c && !OFFERS(MODEL_CAN_STATE) ? fmu_refuse(c, "fmi2GetFMUstate", NO_STATE)
@@ -122,7 +121,7 @@ fmi2Status fmi2GetDirectionalDerivative(fmi2Component comp, const fmi2ValueRefer
                                         const fmi2Real dvKnown[], fmi2Real dvUnknown[]) {
     instance_t *c = FMU_ENTER(comp, fmi2GetDirectionalDerivative);
     (void)vUnknown_ref; (void)nUnknown; (void)vKnown_ref; (void)nKnown; (void)dvKnown; (void)dvUnknown;
-    return fmu_refuse(c, "fmi2GetDirectionalDerivative", "providesDirectionalDerivative is false");
+    return fmu_refuse(c, "fmi2GetDirectionalDerivative", "not provided (providesDirectionalDerivative is false)");
 }
 
 /* ---------------------------------------------------------------- model exchange */
@@ -204,14 +203,14 @@ fmi2Status fmi2SetContinuousStates(fmi2Component comp, const fmi2Real x[], size_
     instance_t *c = FMU_ENTER(comp, fmi2SetContinuousStates);
     size_t j;
     if (!c) return fmi2Error;
-    if (!array_ok(c, "fmi2SetContinuousStates", x, nx, MODEL_NX)) return fmi2Error;
+    if (!array_ok(c, "fmi2SetContinuousStates", x, nx, GLUE_NX)) return fmi2Error;
     for (j = 0; j < nx; j++) {
         if (!isfinite(x[j])) {
             fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SetContinuousStates: state %s = %g is not finite",
-                    MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]].name, x[j]);
+                    GLUE_VARS[GLUE_VR_INDEX[GLUE_STATE_VR[j]]].name, x[j]);
             return fmi2Error;
         }
-        if (!model_check_state(c, "fmi2SetContinuousStates", MODEL_STATE_VR[j], x[j])) return fmi2Error;
+        if (!model_check_state(c, "fmi2SetContinuousStates", GLUE_STATE_VR[j], x[j])) return fmi2Error;
     }
     memcpy(c->m.y, x, nx * sizeof(double));
     c->m.out_valid = 0;
@@ -221,7 +220,7 @@ fmi2Status fmi2SetContinuousStates(fmi2Component comp, const fmi2Real x[], size_
 fmi2Status fmi2GetDerivatives(fmi2Component comp, fmi2Real derivatives[], size_t nx) {
     instance_t *c = FMU_ENTER(comp, fmi2GetDerivatives);
     if (!c) return fmi2Error;
-    if (!array_ok(c, "fmi2GetDerivatives", derivatives, nx, MODEL_NX)) return fmi2Error;
+    if (!array_ok(c, "fmi2GetDerivatives", derivatives, nx, GLUE_NX)) return fmi2Error;
     if (!fmu_finite_result(c, "fmi2GetDerivatives", NULL, 0)) return fmi2Error;
     model_derivatives(c);
     if (!fmu_finite_result(c, "fmi2GetDerivatives", c->m.dydt, nx)) return fmi2Error;
@@ -232,7 +231,7 @@ fmi2Status fmi2GetDerivatives(fmi2Component comp, fmi2Real derivatives[], size_t
 fmi2Status fmi2GetEventIndicators(fmi2Component comp, fmi2Real z[], size_t nz) {
     instance_t *c = FMU_ENTER(comp, fmi2GetEventIndicators);
     if (!c) return fmi2Error;
-    if (!array_ok(c, "fmi2GetEventIndicators", z, nz, MODEL_NZ)) return fmi2Error;
+    if (!array_ok(c, "fmi2GetEventIndicators", z, nz, GLUE_NZ)) return fmi2Error;
     if (!fmu_finite_result(c, "fmi2GetEventIndicators", NULL, 0)) return fmi2Error;
     model_indicators(c, z);
     return fmu_finite_result(c, "fmi2GetEventIndicators", z, nz) ? fmi2OK : fmi2Error;
@@ -241,7 +240,7 @@ fmi2Status fmi2GetEventIndicators(fmi2Component comp, fmi2Real z[], size_t nz) {
 fmi2Status fmi2GetContinuousStates(fmi2Component comp, fmi2Real x[], size_t nx) {
     instance_t *c = FMU_ENTER(comp, fmi2GetContinuousStates);
     if (!c) return fmi2Error;
-    if (!array_ok(c, "fmi2GetContinuousStates", x, nx, MODEL_NX)) return fmi2Error;
+    if (!array_ok(c, "fmi2GetContinuousStates", x, nx, GLUE_NX)) return fmi2Error;
     if (!fmu_finite_result(c, "fmi2GetContinuousStates", c->m.y, nx)) return fmi2Error;
     memcpy(x, c->m.y, nx * sizeof(double));
     return fmi2OK;
@@ -251,8 +250,8 @@ fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component comp, fmi2Real x_nomi
     instance_t *c = FMU_ENTER(comp, fmi2GetNominalsOfContinuousStates);
     size_t j;
     if (!c) return fmi2Error;
-    if (!array_ok(c, "fmi2GetNominalsOfContinuousStates", x_nominal, nx, MODEL_NX)) return fmi2Error;
-    for (j = 0; j < nx; j++) x_nominal[j] = MODEL_STATE_NOMINAL(j);
+    if (!array_ok(c, "fmi2GetNominalsOfContinuousStates", x_nominal, nx, GLUE_NX)) return fmi2Error;
+    for (j = 0; j < nx; j++) x_nominal[j] = GLUE_STATE_NOMINAL(j);
     return fmi2OK;
 }
 

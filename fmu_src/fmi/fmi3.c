@@ -99,9 +99,12 @@ fmi3Status fmi3SetDebugLogging(fmi3Instance instance, fmi3Boolean loggingOn, siz
 
 /* ---------------------------------------------------------------- life cycle */
 
+#define NO_CONFIG "this FMU has no structural parameters"
+
 fmi3Status fmi3EnterConfigurationMode(fmi3Instance instance) {
     instance_t *c = FMU_ENTER(instance, fmi3EnterConfigurationMode);
     if (!c) return fmi3Error;
+    if (!OFFERS(MODEL_CAN_CONFIG)) return (fmi3Status)fmu_refuse(c, "fmi3EnterConfigurationMode", NO_CONFIG);
     c->m.fsm = ST_CONFIG;
     return fmi3OK;
 }
@@ -109,6 +112,7 @@ fmi3Status fmi3EnterConfigurationMode(fmi3Instance instance) {
 fmi3Status fmi3ExitConfigurationMode(fmi3Instance instance) {
     instance_t *c = FMU_ENTER(instance, fmi3ExitConfigurationMode);
     if (!c) return fmi3Error;
+    if (!OFFERS(MODEL_CAN_CONFIG)) return (fmi3Status)fmu_refuse(c, "fmi3ExitConfigurationMode", NO_CONFIG);
     c->m.fsm = ST_INSTANTIATED;
     return fmi3OK;
 }
@@ -127,13 +131,16 @@ fmi3Status fmi3ExitInitializationMode(fmi3Instance instance) {
     instance_t *c = FMU_ENTER(instance, fmi3ExitInitializationMode);
     if (!c) return fmi3Error;
     /* model exchange and co-simulation with event mode: the initial event update is the master's */
-    return (fmi3Status)fmu_exit_initialization(c, (c->type == fmi2ModelExchange || fmi3_ext(c)->event_mode_used)
-                                                      ? ST_EVENT : ST_STEP_COMPLETE);
+    return (fmi3Status)fmu_exit_initialization(c, "fmi3ExitInitializationMode",
+                                               (c->type == fmi2ModelExchange || fmi3_ext(c)->event_mode_used)
+                                                   ? ST_EVENT : ST_STEP_COMPLETE);
 }
 
 fmi3Status fmi3EnterEventMode(fmi3Instance instance) {
     instance_t *c = FMU_ENTER(instance, fmi3EnterEventMode);
     if (!c) return fmi3Error;
+    if (c->m.fsm == ST_EVENT)
+        return (fmi3Status)fmu_refuse(c, "fmi3EnterEventMode", "illegal call in Event Mode (already in it)");
     if (c->type == fmi2CoSimulation && !fmi3_ext(c)->event_mode_used) {
         fmu_log(c, fmi2Error, LOG_ERROR, "fmi3EnterEventMode: this co-simulation instance was instantiated with "
                 "eventModeUsed = false");
@@ -171,7 +178,7 @@ fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean *discrete
          * set in Event Mode cause and a sample due now are taken at the start of the next
          * fmi3DoStep, with the inputs then set (fmi2DoStep's convention, so event mode and early
          * return do not change the trajectory) */
-        c->m.solver_restart = 1;
+        if (model_cs_event_update(c, "fmi3UpdateDiscreteStates") != fmi2OK) return fmi3Error;
     } else {
         /* as fmi2NewDiscreteStates: changed at a jump of the right-hand side too */
         if (model_event_update(c, "fmi3UpdateDiscreteStates", c->m.time - c->m.t0, fmu_ulp_slack(c->m.time),
@@ -211,6 +218,8 @@ fmi3Status fmi3SetBoolean(fmi3Instance i, const fmi3ValueReference vr[], size_t 
 fmi3Status fmi3GetNumberOfContinuousStates(fmi3Instance instance, size_t *nContinuousStates) {
     instance_t *c = FMU_ENTER(instance, fmi3GetNumberOfContinuousStates);
     if (!c) return fmi3Error;
+    if (!OFFERS(MODEL_CAN_ME))
+        return (fmi3Status)fmu_refuse(c, "fmi3GetNumberOfContinuousStates", "this FMU is co-simulation only");
     if (!nContinuousStates) { fmu_log(c, fmi2Error, LOG_ERROR, "fmi3GetNumberOfContinuousStates: NULL argument"); return fmi3Error; }
     *nContinuousStates = fmi3_nx(&c->m);
     return fmi3OK;
@@ -219,46 +228,65 @@ fmi3Status fmi3GetNumberOfContinuousStates(fmi3Instance instance, size_t *nConti
 fmi3Status fmi3GetNumberOfEventIndicators(fmi3Instance instance, size_t *nEventIndicators) {
     instance_t *c = FMU_ENTER(instance, fmi3GetNumberOfEventIndicators);
     if (!c) return fmi3Error;
+    if (!OFFERS(MODEL_CAN_ME))
+        return (fmi3Status)fmu_refuse(c, "fmi3GetNumberOfEventIndicators", "this FMU is co-simulation only");
     if (!nEventIndicators) { fmu_log(c, fmi2Error, LOG_ERROR, "fmi3GetNumberOfEventIndicators: NULL argument"); return fmi3Error; }
-    *nEventIndicators = PLANT_NZ;
+    *nEventIndicators = GLUE_NZ;
     return fmi3OK;
 }
 
 /* ---------------------------------------------------------------- FMU state */
 
+#define NO_STATE "canGetAndSetFMUState is false"
 fmi3Status fmi3GetFMUState(fmi3Instance instance, fmi3FMUState *FMUState) {
-    return (fmi3Status)fmu_state_get(FMU_ENTER(instance, fmi3GetFMUState), "fmi3GetFMUState", FMUState);
+    instance_t *c = FMU_ENTER(instance, fmi3GetFMUState);
+    return (fmi3Status)(c && !OFFERS(MODEL_CAN_STATE) ? fmu_refuse(c, "fmi3GetFMUState", NO_STATE)
+                                                      : fmu_state_get(c, "fmi3GetFMUState", FMUState));
 }
 fmi3Status fmi3SetFMUState(fmi3Instance instance, fmi3FMUState FMUState) {
-    return (fmi3Status)fmu_state_set(FMU_ENTER(instance, fmi3SetFMUState), "fmi3SetFMUState", FMUState);
+    instance_t *c = FMU_ENTER(instance, fmi3SetFMUState);
+    return (fmi3Status)(c && !OFFERS(MODEL_CAN_STATE) ? fmu_refuse(c, "fmi3SetFMUState", NO_STATE)
+                                                      : fmu_state_set(c, "fmi3SetFMUState", FMUState));
 }
 fmi3Status fmi3FreeFMUState(fmi3Instance instance, fmi3FMUState *FMUState) {
-    return (fmi3Status)fmu_state_free(FMU_ENTER(instance, fmi3FreeFMUState), "fmi3FreeFMUState", FMUState);
+    instance_t *c = FMU_ENTER(instance, fmi3FreeFMUState);
+    return (fmi3Status)(c && !OFFERS(MODEL_CAN_STATE) ? fmu_refuse(c, "fmi3FreeFMUState", NO_STATE)
+                                                      : fmu_state_free(c, "fmi3FreeFMUState", FMUState));
 }
 fmi3Status fmi3SerializedFMUStateSize(fmi3Instance instance, fmi3FMUState FMUState, size_t *size) {
-    return (fmi3Status)fmu_state_size(FMU_ENTER(instance, fmi3SerializedFMUStateSize), "fmi3SerializedFMUStateSize",
-                                      FMUState, size);
+    instance_t *c = FMU_ENTER(instance, fmi3SerializedFMUStateSize);
+    return (fmi3Status)(c && !OFFERS(MODEL_CAN_STATE) ? fmu_refuse(c, "fmi3SerializedFMUStateSize", NO_STATE)
+                                                      : fmu_state_size(c, "fmi3SerializedFMUStateSize", FMUState, size));
 }
 fmi3Status fmi3SerializeFMUState(fmi3Instance instance, fmi3FMUState FMUState, fmi3Byte serializedState[], size_t size) {
-    return (fmi3Status)fmu_state_serialize(FMU_ENTER(instance, fmi3SerializeFMUState), "fmi3SerializeFMUState",
-                                           FMUState, serializedState, size);
+    instance_t *c = FMU_ENTER(instance, fmi3SerializeFMUState);
+    return (fmi3Status)(c && !OFFERS(MODEL_CAN_STATE)
+                            ? fmu_refuse(c, "fmi3SerializeFMUState", NO_STATE)
+                            : fmu_state_serialize(c, "fmi3SerializeFMUState", FMUState, serializedState, size));
 }
 fmi3Status fmi3DeserializeFMUState(fmi3Instance instance, const fmi3Byte serializedState[], size_t size,
                                    fmi3FMUState *FMUState) {
-    return (fmi3Status)fmu_state_deserialize(FMU_ENTER(instance, fmi3DeserializeFMUState), "fmi3DeserializeFMUState",
-                                             serializedState, size, FMUState);
+    instance_t *c = FMU_ENTER(instance, fmi3DeserializeFMUState);
+    return (fmi3Status)(c && !OFFERS(MODEL_CAN_STATE)
+                            ? fmu_refuse(c, "fmi3DeserializeFMUState", NO_STATE)
+                            : fmu_state_deserialize(c, "fmi3DeserializeFMUState", serializedState, size, FMUState));
 }
 
+/* the answer of the functions no model of this glue offers (fmi3_stubs.c): "<fn>: not
+ * provided (<why>)", Error; OK for a call with nothing to do (why NULL) */
 fmi3Status fmi3_refuse(fmi3Instance instance, const char *fn, const char *why) {
-    return (fmi3Status)fmu_refuse(FMU_ENTER(instance, fmi3NotProvided), fn, why);
+    instance_t *c = FMU_ENTER(instance, fmi3NotProvided);
+    if (!c || !why) return c ? fmi3OK : fmi3Error;
+    fmu_log(c, fmi2Error, LOG_ERROR, "%s: not provided (%s)", fn, why);
+    return fmi3Error;
 }
 
 /* ---------------------------------------------------------------- model exchange */
 
 static int size_ok(instance_t *c, const char *fn, const void *p, size_t n, size_t expected) {
     if (n != expected) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "%s: size %zu, this FMU has %zu (friction.N = %d)", fn, n, expected,
-                fmi3_n(&c->m));
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: size %zu, this FMU has %zu (%s = %d)", fn, n, expected,
+                fmi3_structural_name(), fmi3_n(&c->m));
         return 0;
     }
     if (n > 0 && !p) { fmu_log(c, fmi2Error, LOG_ERROR, "%s: NULL array", fn); return 0; }
@@ -306,10 +334,10 @@ fmi3Status fmi3SetContinuousStates(fmi3Instance instance, const fmi3Float64 x[],
     if (!c) return fmi3Error;
     if (!size_ok(c, "fmi3SetContinuousStates", x, nx, fmi3_nx(&c->m))) return fmi3Error;
     for (j = 0; j < nx; j++) {
-        unsigned vr = MODEL_STATE_VR[fmi3_state_index(&c->m, j)];
+        unsigned vr = GLUE_STATE_VR[fmi3_state_index(&c->m, j)];
         if (!isfinite(x[j])) {
             fmu_log(c, fmi2Error, LOG_ERROR, "fmi3SetContinuousStates: state %s = %g is not finite",
-                    MODEL_VARS[MODEL_VR_INDEX[vr]].name, x[j]);
+                    GLUE_VARS[GLUE_VR_INDEX[vr]].name, x[j]);
             return fmi3Error;
         }
         if (!model_check_state(c, "fmi3SetContinuousStates", vr, x[j])) return fmi3Error;
@@ -326,7 +354,7 @@ fmi3Status fmi3GetContinuousStateDerivatives(fmi3Instance instance, fmi3Float64 
     if (!size_ok(c, "fmi3GetContinuousStateDerivatives", derivatives, nx, fmi3_nx(&c->m))) return fmi3Error;
     if (!fmu_finite_result(c, "fmi3GetContinuousStateDerivatives", NULL, 0)) return fmi3Error;
     model_derivatives(c);
-    if (!fmu_finite_result(c, "fmi3GetContinuousStateDerivatives", c->m.dydt, MODEL_NX)) return fmi3Error;
+    if (!fmu_finite_result(c, "fmi3GetContinuousStateDerivatives", c->m.dydt, GLUE_NX)) return fmi3Error;
     for (j = 0; j < nx; j++) derivatives[j] = c->m.dydt[fmi3_state_index(&c->m, j)];
     return fmi3OK;
 }
@@ -334,7 +362,7 @@ fmi3Status fmi3GetContinuousStateDerivatives(fmi3Instance instance, fmi3Float64 
 fmi3Status fmi3GetEventIndicators(fmi3Instance instance, fmi3Float64 z[], size_t nz) {
     instance_t *c = FMU_ENTER(instance, fmi3GetEventIndicators);
     if (!c) return fmi3Error;
-    if (!size_ok(c, "fmi3GetEventIndicators", z, nz, MODEL_NZ)) return fmi3Error;
+    if (!size_ok(c, "fmi3GetEventIndicators", z, nz, GLUE_NZ)) return fmi3Error;
     if (!fmu_finite_result(c, "fmi3GetEventIndicators", NULL, 0)) return fmi3Error;
     model_indicators(c, z);
     return fmu_finite_result(c, "fmi3GetEventIndicators", z, nz) ? fmi3OK : fmi3Error;
@@ -345,7 +373,7 @@ fmi3Status fmi3GetContinuousStates(fmi3Instance instance, fmi3Float64 x[], size_
     size_t j;
     if (!c) return fmi3Error;
     if (!size_ok(c, "fmi3GetContinuousStates", x, nx, fmi3_nx(&c->m))) return fmi3Error;
-    if (!fmu_finite_result(c, "fmi3GetContinuousStates", c->m.y, MODEL_NX)) return fmi3Error;
+    if (!fmu_finite_result(c, "fmi3GetContinuousStates", c->m.y, GLUE_NX)) return fmi3Error;
     for (j = 0; j < nx; j++) x[j] = c->m.y[fmi3_state_index(&c->m, j)];
     return fmi3OK;
 }
@@ -355,7 +383,7 @@ fmi3Status fmi3GetNominalsOfContinuousStates(fmi3Instance instance, fmi3Float64 
     size_t j;
     if (!c) return fmi3Error;
     if (!size_ok(c, "fmi3GetNominalsOfContinuousStates", nominals, nx, fmi3_nx(&c->m))) return fmi3Error;
-    for (j = 0; j < nx; j++) nominals[j] = MODEL_STATE_NOMINAL(fmi3_state_index(&c->m, j));
+    for (j = 0; j < nx; j++) nominals[j] = GLUE_STATE_NOMINAL(fmi3_state_index(&c->m, j));
     return fmi3OK;
 }
 
@@ -375,6 +403,7 @@ static void fmi3_on_switch(void *instance) {
 fmi3Status fmi3EnterStepMode(fmi3Instance instance) {
     instance_t *c = FMU_ENTER(instance, fmi3EnterStepMode);
     if (!c) return fmi3Error;
+    if (model_enter_step_mode(c) != fmi2OK) return fmi3Error;
     c->m.fsm = ST_STEP_COMPLETE;
     return fmi3OK;
 }
@@ -393,6 +422,10 @@ fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoi
     }
     e = fmi3_ext(c);
     *eventHandlingNeeded = *terminateSimulation = *earlyReturn = fmi3False;
+    *lastSuccessfulTime = c->m.time;
+    if (c->m.fsm == ST_EVENT)
+        return (fmi3Status)fmu_refuse(c, "fmi3DoStep", "illegal call in Event Mode (fmi3EnterStepMode first)");
+    if (!model_cs_step_ok(c, currentCommunicationPoint, communicationStepSize)) return fmi3Error;
     e->armed = e->event_mode_used || e->early_return_allowed;
     e->taken = 0;
     e->n_switches = 0;
@@ -403,8 +436,7 @@ fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoi
     /* a switch on the step's end is no early return: the step ends there anyway */
     if (e->taken && e->early_return_allowed && e->snap.time < c->m.time) {
         c->m = e->snap;
-        c->m.solver_restart = 1;   /* the step's integrator restarted after the switch, so does the next */
-        c->m.out_valid = 0;
+        model_restored(c);
         *earlyReturn = fmi3True;
     }
     *eventHandlingNeeded = e->event_mode_used && e->taken;
@@ -428,55 +460,69 @@ fmi3Status fmi3GetOutputDerivatives(fmi3Instance instance, const fmi3ValueRefere
 
 /* ---------------------------------------------------------------- clocks */
 
-/* the clock functions: this glue's models have no clocks (MODEL_CAN_CLOCKS) */
-#define NO_CLOCKS "this FMU has no clocks"
+/* the clock functions: the model's (MODEL_CAN_CLOCKS), else "no clocks" */
+#if (MODEL_CAPS) & MODEL_CAN_CLOCKS
+#define CLOCKS(call, fn, n) ((fmi3Status)(call))
+#define CLOCK_REFUSAL(fn, n, set_interval, set_shift) \
+    ((fmi3Status)fmu_refuse(c, fn, (n) ? model_clock_refusal(set_interval, set_shift) : NULL))
+#else
+#define CLOCKS(call, fn, n) ((fmi3Status)fmu_refuse(c, fn, (n) ? NO_CLOCKS : NULL))
+#define CLOCK_REFUSAL(fn, n, set_interval, set_shift) ((fmi3Status)fmu_refuse(c, fn, NO_CLOCKS))
+#endif
+#define NO_CLOCKS "not provided (this FMU has no clocks)"
 
 fmi3Status fmi3GetClock(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, fmi3Clock v[]) {
+    instance_t *c = FMU_ENTER(i, fmi3Clocks);
     (void)vr; (void)v;
-    return fmi3_refuse(i, "fmi3GetClock", nvr ? NO_CLOCKS : NULL);
+    return c ? CLOCKS(model_get_clock(c, "fmi3GetClock", vr, nvr, v), "fmi3GetClock", nvr) : fmi3Error;
 }
-
 fmi3Status fmi3SetClock(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, const fmi3Clock v[]) {
+    instance_t *c = FMU_ENTER(i, fmi3Clocks);
     (void)vr; (void)v;
-    return fmi3_refuse(i, "fmi3SetClock", nvr ? NO_CLOCKS : NULL);
+    return c ? CLOCKS(model_set_clock(c, "fmi3SetClock", vr, nvr, v), "fmi3SetClock", nvr) : fmi3Error;
 }
-
-fmi3Status fmi3GetIntervalDecimal(fmi3Instance instance, const fmi3ValueReference vr[], size_t n, fmi3Float64 a[], fmi3IntervalQualifier b[]) {
-    (void)vr; (void)n; (void)a; (void)b;
-    return fmi3_refuse(instance, "fmi3GetIntervalDecimal", NO_CLOCKS);
+fmi3Status fmi3GetIntervalDecimal(fmi3Instance i, const fmi3ValueReference vr[], size_t n, fmi3Float64 a[],
+                                  fmi3IntervalQualifier q[]) {
+    instance_t *c = FMU_ENTER(i, fmi3Clocks);
+    (void)vr; (void)n; (void)a; (void)q;
+    return c ? CLOCKS(model_get_interval(c, "fmi3GetIntervalDecimal", vr, n, a, q), "fmi3GetIntervalDecimal", 1)
+             : fmi3Error;
 }
-
-fmi3Status fmi3GetIntervalFraction(fmi3Instance instance, const fmi3ValueReference vr[], size_t n, fmi3UInt64 a[], fmi3UInt64 b[], fmi3IntervalQualifier q[]) {
+fmi3Status fmi3GetShiftDecimal(fmi3Instance i, const fmi3ValueReference vr[], size_t n, fmi3Float64 a[]) {
+    instance_t *c = FMU_ENTER(i, fmi3Clocks);
+    (void)vr; (void)n; (void)a;
+    return c ? CLOCKS(model_get_shift(c, "fmi3GetShiftDecimal", vr, n, a), "fmi3GetShiftDecimal", 1) : fmi3Error;
+}
+fmi3Status fmi3GetIntervalFraction(fmi3Instance i, const fmi3ValueReference vr[], size_t n, fmi3UInt64 a[],
+                                   fmi3UInt64 b[], fmi3IntervalQualifier q[]) {
+    instance_t *c = FMU_ENTER(i, fmi3Clocks);
     (void)vr; (void)n; (void)a; (void)b; (void)q;
-    return fmi3_refuse(instance, "fmi3GetIntervalFraction", NO_CLOCKS);
+    return c ? CLOCK_REFUSAL("fmi3GetIntervalFraction", n, 0, 0) : fmi3Error;
 }
-
-fmi3Status fmi3GetShiftDecimal(fmi3Instance instance, const fmi3ValueReference vr[], size_t n, fmi3Float64 a[]) {
-    (void)vr; (void)n; (void)a;
-    return fmi3_refuse(instance, "fmi3GetShiftDecimal", NO_CLOCKS);
-}
-
-fmi3Status fmi3GetShiftFraction(fmi3Instance instance, const fmi3ValueReference vr[], size_t n, fmi3UInt64 a[], fmi3UInt64 b[]) {
+fmi3Status fmi3GetShiftFraction(fmi3Instance i, const fmi3ValueReference vr[], size_t n, fmi3UInt64 a[], fmi3UInt64 b[]) {
+    instance_t *c = FMU_ENTER(i, fmi3Clocks);
     (void)vr; (void)n; (void)a; (void)b;
-    return fmi3_refuse(instance, "fmi3GetShiftFraction", NO_CLOCKS);
+    return c ? CLOCK_REFUSAL("fmi3GetShiftFraction", n, 0, 0) : fmi3Error;
 }
-
-fmi3Status fmi3SetIntervalDecimal(fmi3Instance instance, const fmi3ValueReference vr[], size_t n, const fmi3Float64 a[]) {
+fmi3Status fmi3SetIntervalDecimal(fmi3Instance i, const fmi3ValueReference vr[], size_t n, const fmi3Float64 a[]) {
+    instance_t *c = FMU_ENTER(i, fmi3Clocks);
     (void)vr; (void)n; (void)a;
-    return fmi3_refuse(instance, "fmi3SetIntervalDecimal", NO_CLOCKS);
+    return c ? CLOCK_REFUSAL("fmi3SetIntervalDecimal", n, 1, 0) : fmi3Error;
 }
-
-fmi3Status fmi3SetIntervalFraction(fmi3Instance instance, const fmi3ValueReference vr[], size_t n, const fmi3UInt64 a[], const fmi3UInt64 b[]) {
+fmi3Status fmi3SetIntervalFraction(fmi3Instance i, const fmi3ValueReference vr[], size_t n, const fmi3UInt64 a[],
+                                   const fmi3UInt64 b[]) {
+    instance_t *c = FMU_ENTER(i, fmi3Clocks);
     (void)vr; (void)n; (void)a; (void)b;
-    return fmi3_refuse(instance, "fmi3SetIntervalFraction", NO_CLOCKS);
+    return c ? CLOCK_REFUSAL("fmi3SetIntervalFraction", n, 1, 0) : fmi3Error;
 }
-
-fmi3Status fmi3SetShiftDecimal(fmi3Instance instance, const fmi3ValueReference vr[], size_t n, const fmi3Float64 a[]) {
+fmi3Status fmi3SetShiftDecimal(fmi3Instance i, const fmi3ValueReference vr[], size_t n, const fmi3Float64 a[]) {
+    instance_t *c = FMU_ENTER(i, fmi3Clocks);
     (void)vr; (void)n; (void)a;
-    return fmi3_refuse(instance, "fmi3SetShiftDecimal", NO_CLOCKS);
+    return c ? CLOCK_REFUSAL("fmi3SetShiftDecimal", n, 0, 1) : fmi3Error;
 }
-
-fmi3Status fmi3SetShiftFraction(fmi3Instance instance, const fmi3ValueReference vr[], size_t n, const fmi3UInt64 a[], const fmi3UInt64 b[]) {
+fmi3Status fmi3SetShiftFraction(fmi3Instance i, const fmi3ValueReference vr[], size_t n, const fmi3UInt64 a[],
+                                const fmi3UInt64 b[]) {
+    instance_t *c = FMU_ENTER(i, fmi3Clocks);
     (void)vr; (void)n; (void)a; (void)b;
-    return fmi3_refuse(instance, "fmi3SetShiftFraction", NO_CLOCKS);
+    return c ? CLOCK_REFUSAL("fmi3SetShiftFraction", n, 0, 0) : fmi3Error;
 }

@@ -27,8 +27,9 @@ static inline fmi3_ext_t *fmi3_ext(instance_t *c) { return (fmi3_ext_t *)c->ext;
  * the structural parameter's dimension; state_index(m, j) is the FMI 2.0 index of FMI 3.0 state j */
 size_t fmi3_nx(const model_t *m);
 int fmi3_state_index(const model_t *m, size_t j);
-/* the structural parameter (the arrays' dimension) now */
+/* the structural parameter (the arrays' dimension) now, and its name */
 int fmi3_n(const model_t *m);
+const char *fmi3_structural_name(void);
 /* get/set of FMI 3.0 value references of type 'R' (Float64), 'I' (Int32), 'B' (Boolean) */
 fmi3Status fmi3_get_values(instance_t *c, const char *fn, const fmi3ValueReference vr[], size_t nvr, char type,
                            void *values, size_t n_values);

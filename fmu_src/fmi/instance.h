@@ -4,6 +4,9 @@
 #ifndef INSTANCE_H
 #define INSTANCE_H
 
+#include <stddef.h>
+#include <stdint.h>
+
 #include "fmi2Functions.h"
 #include "allowed.h"
 #include "log.h"
@@ -27,7 +30,7 @@ typedef struct {
     void *states;
     /* every variable's start value: the compiled-in ones and those of the model's resources;
      * Reset goes back to them */
-    double start_val[MODEL_NVR];
+    double start_val[GLUE_NVR];
 } instance_t;
 
 /* enter.c: logging, the entry check, the one refusal */
@@ -39,13 +42,17 @@ void fmu_log(instance_t *c, fmi2Status st, unsigned cat, const char *fmt, ...)
 /* entry of every FMI call (through FMU_ENTER): the instance when comp is one, the call belongs to
  * its interface (a FOR_* set) and its state is one of `mask`, else NULL (with a logged message) */
 instance_t *fmu_enter(fmi2Component comp, const char *fn, int iface, int mask);
-/* the answer of a function the model does not offer (c admitted by FMU_ENTER, NULL: refused):
- * why == NULL: OK (a call with nothing to do), else logs "<fn>: not provided (<why>)", Error */
+/* the one refusal of a call the model does not offer or does not take now (c admitted by
+ * FMU_ENTER, NULL: refused): why == NULL: OK (a call with nothing to do), else logs
+ * "<fn>: <why>" and answers Error (the instance's state unchanged) */
 fmi2Status fmu_refuse(instance_t *c, const char *fn, const char *why);
 /* 16 units in the last place of t: the rounding of a time an importer computed */
 double fmu_ulp_slack(double t);
 /* a result array about to be returned: the model is initialized and every x[j] is finite (logs if not) */
 int fmu_finite_result(instance_t *c, const char *fn, const double *x, size_t n);
+
+/* the most values an array can hold (double, the widest element): a larger count is no array */
+#define FMU_MAX_VALUES ((size_t)PTRDIFF_MAX / sizeof(double))
 
 /* lifecycle.c: the life cycle of every version (fn names the calling function in messages) */
 instance_t *fmu_instantiate(const char *fn, const char *name, fmi2Type type, const char *token,
@@ -57,7 +64,7 @@ fmi2Status fmu_setup_experiment(instance_t *c, const char *fn, int tol_defined, 
                                 int stop_defined, double stop);
 fmi2Status fmu_enter_initialization(instance_t *c);
 /* Initialization Mode left into state `next` (the model initialised first) */
-fmi2Status fmu_exit_initialization(instance_t *c, int next);
+fmi2Status fmu_exit_initialization(instance_t *c, const char *fn, int next);
 fmi2Status fmu_terminate(instance_t *c);
 fmi2Status fmu_reset(instance_t *c);
 

@@ -42,6 +42,11 @@ static int instantiate_ok(const char *fn, const char *name, fmi2Type type, const
                   (int)type);
         return 0;
     }
+    if (!OFFERS(type == fmi2ModelExchange ? MODEL_CAN_ME : MODEL_CAN_CS)) {
+        log_early(functions, name, "%s: fmuType %d: this FMU is %s only", fn, (int)type,
+                  type == fmi2ModelExchange ? "co-simulation (1)" : "model exchange (0)");
+        return 0;
+    }
     return 1;
 }
 
@@ -125,9 +130,9 @@ fmi2Status fmu_enter_initialization(instance_t *c) {
     return fmi2OK;
 }
 
-fmi2Status fmu_exit_initialization(instance_t *c, int next) {
+fmi2Status fmu_exit_initialization(instance_t *c, const char *fn, int next) {
     if (!c) return fmi2Error;
-    if (model_initialize(c) != fmi2OK) { c->m.fsm = ST_ERROR; return fmi2Error; }
+    if (model_initialize(c, fn, 1) != fmi2OK) { c->m.fsm = ST_ERROR; return fmi2Error; }
     c->m.fsm = next;
     return fmi2OK;
 }

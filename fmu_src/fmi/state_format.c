@@ -48,26 +48,26 @@ static uint32_t crc32(uint32_t crc, const unsigned char *b, size_t n) {
 }
 
 /* the variables a state stores: parameters, inputs and the start values of the states */
-int sf_stored(const model_var_t *v) {
+int sf_stored(const glue_var_t *v) {
     return v->causality == 'p' || v->causality == 'i' || (v->has_start && v->variability == 'c');
 }
 uint32_t sf_n_stored(void) {
     uint32_t n = 0;
     int j;
-    for (j = 0; j < MODEL_NVARS; j++) n += (uint32_t)sf_stored(&MODEL_VARS[j]);
+    for (j = 0; j < GLUE_NVARS; j++) n += (uint32_t)sf_stored(&GLUE_VARS[j]);
     return n;
 }
 static uint32_t layout_crc(void) {
     uint32_t crc = 0;
     int j;
-    for (j = 0; j < MODEL_NVARS; j++)
-        if (sf_stored(&MODEL_VARS[j])) crc = crc32(crc, (const unsigned char *)MODEL_VARS[j].name,
-                                                strlen(MODEL_VARS[j].name) + 1);
+    for (j = 0; j < GLUE_NVARS; j++)
+        if (sf_stored(&GLUE_VARS[j])) crc = crc32(crc, (const unsigned char *)GLUE_VARS[j].name,
+                                                strlen(GLUE_VARS[j].name) + 1);
     return crc;
 }
 void sf_put_header(wr_t *w, int type, size_t payload) {
     unsigned char guid[GUID_BYTES] = {0};
-    memcpy(guid, MODEL_GUID, strlen(MODEL_GUID) < GUID_BYTES ? strlen(MODEL_GUID) : GUID_BYTES - 1);
+    memcpy(guid, MODEL_TOKEN, strlen(MODEL_TOKEN) < GUID_BYTES ? strlen(MODEL_TOKEN) : GUID_BYTES - 1);
     sf_put_u32(w, STATE_MAGIC);
     sf_put_u32(w, STATE_VERSION);
     sf_put_u32(w, HEADER_BYTES);
@@ -75,10 +75,10 @@ void sf_put_header(wr_t *w, int type, size_t payload) {
     memcpy(w->b + w->n, guid, GUID_BYTES);
     w->n += GUID_BYTES;
     sf_put_u32(w, (uint32_t)type);
-    sf_put_u32(w, MODEL_NVR);
+    sf_put_u32(w, GLUE_NVR);
     sf_put_u32(w, sf_n_stored());
-    sf_put_u32(w, MODEL_NX);
-    sf_put_u32(w, MODEL_NZ);
+    sf_put_u32(w, GLUE_NX);
+    sf_put_u32(w, GLUE_NZ);
     sf_put_u32(w, MODEL_ND);
     sf_put_u32(w, layout_crc());
     sf_put_u32(w, 0u);   /* the payload's CRC, written last */
@@ -93,7 +93,7 @@ void sf_seal(unsigned char *out, size_t payload) {
 int sf_header_ok(instance_t *c, const char *fn, const unsigned char *b, size_t len, size_t payload) {
     static const char *const STRUCT[] = {"value references", "stored variables", "continuous states",
                                          "event indicators", "discrete-state numbers", "variable layout (CRC)"};
-    const uint32_t mine[6] = {MODEL_NVR, sf_n_stored(), MODEL_NX, MODEL_NZ, MODEL_ND, layout_crc()};
+    const uint32_t mine[6] = {GLUE_NVR, sf_n_stored(), GLUE_NX, GLUE_NZ, MODEL_ND, layout_crc()};
     static const char *const IFACE[] = {"model exchange", "co-simulation"};
     rd_t r = {b, 0};
     char guid[GUID_BYTES + 1];
@@ -113,9 +113,9 @@ int sf_header_ok(instance_t *c, const char *fn, const unsigned char *b, size_t l
     guid[GUID_BYTES] = 0;
     r.n += GUID_BYTES;
     memset(mine_guid, 0, sizeof mine_guid);
-    memcpy(mine_guid, MODEL_GUID, strlen(MODEL_GUID) < GUID_BYTES ? strlen(MODEL_GUID) : GUID_BYTES - 1);
+    memcpy(mine_guid, MODEL_TOKEN, strlen(MODEL_TOKEN) < GUID_BYTES ? strlen(MODEL_TOKEN) : GUID_BYTES - 1);
     if (memcmp(b + 16, mine_guid, GUID_BYTES) != 0)
-        BAD("%s: the state's GUID %.48s differs from this FMU's %s", fn, guid, MODEL_GUID);
+        BAD("%s: the state's GUID %.48s differs from this FMU's %s", fn, guid, MODEL_TOKEN);
     type = sf_get_u32(&r);
     if (type != (uint32_t)c->type)
         BAD("%s: the state is of %s (interface %u), this instance is %s", fn, type <= 1 ? IFACE[type] : "no interface",

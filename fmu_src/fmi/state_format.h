@@ -45,7 +45,7 @@ void sf_put_f64(wr_t *w, double v);
 uint32_t sf_get_u32(rd_t *r);
 double sf_get_f64(rd_t *r);
 /* the variables a state stores: parameters, inputs and the start values of the states */
-int sf_stored(const model_var_t *v);
+int sf_stored(const glue_var_t *v);
 uint32_t sf_n_stored(void);
 /* the header of a state of interface type with a payload of `payload` bytes (its CRC 0) */
 void sf_put_header(wr_t *w, int type, size_t payload);

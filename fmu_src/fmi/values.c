@@ -12,21 +12,27 @@
 static int lookup(instance_t *c, const char *fn, fmi2ValueReference vr, char type) {
     int row;
     static const char *const TN[] = {"Real", "Integer", "Boolean"};
-    if (vr >= MODEL_NVR || (row = MODEL_VR_INDEX[vr]) < 0) {
+    if (vr >= GLUE_NVR || (row = GLUE_VR_INDEX[vr]) < 0) {
         fmu_log(c, fmi2Error, LOG_ERROR, "%s: unknown value reference %u", fn, (unsigned)vr);
         return -1;
     }
-    if (MODEL_VARS[row].type != type) {
+    if (GLUE_VARS[row].type != type) {
         fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s (value reference %u) is not of type %s", fn,
-                MODEL_VARS[row].name, (unsigned)vr, TN[type == 'R' ? 0 : (type == 'I' ? 1 : 2)]);
+                GLUE_VARS[row].name, (unsigned)vr, TN[type == 'R' ? 0 : (type == 'I' ? 1 : 2)]);
         return -1;
     }
     return row;
 }
 
+/* the value arrays of a get/set: not NULL when nvr > 0, nvr no more than an array can hold */
 static int args_ok(instance_t *c, const char *fn, const void *vr, size_t nvr, const void *value) {
     if (nvr > 0 && (!vr || !value)) {
         fmu_log(c, fmi2Error, LOG_ERROR, "%s: NULL array with nvr = %zu", fn, nvr);
+        return 0;
+    }
+    if (nvr > FMU_MAX_VALUES) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: nvr = %zu: allowed at most %zu (no array holds more values)", fn, nvr,
+                FMU_MAX_VALUES);
         return 0;
     }
     return 1;
@@ -40,18 +46,13 @@ fmi2Status fmu_get_values(instance_t *c, const char *fn, const fmi2ValueReferenc
     if (!args_ok(c, fn, vr, nvr, value)) return fmi2Error;
     if (c->m.fsm == ST_INIT && !c->m.params_ok) {
         /* initialization mode: compute with the values set so far */
-        if (model_initialize(c) != fmi2OK) return fmi2Error;
+        if (model_initialize(c, fn, 0) != fmi2OK) return fmi2Error;
     }
     {
         fmi2Status st;
         if (model_get_direct(c, fn, vr, nvr, type, value, &st)) return st;
     }
-    if (c->m.params_ok) {
-        /* the derivatives only when one is asked for */
-        int der = 0;
-        for (k = 0; k < nvr; k++) der |= vr[k] < MODEL_NVR && c->m.is_der[vr[k]];
-        model_update(c, der);
-    }
+    if (c->m.params_ok && !model_update(c, fn, vr, nvr)) return fmi2Error;
     for (k = 0; k < nvr; k++) {
         int row = lookup(c, fn, vr[k], type);
         double v;
@@ -59,7 +60,7 @@ fmi2Status fmu_get_values(instance_t *c, const char *fn, const fmi2ValueReferenc
         v = c->m.val[vr[k]];
         if (!isfinite(v)) {
             fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s = %g is not finite (the simulation overflowed)", fn,
-                    MODEL_VARS[row].name, v);
+                    GLUE_VARS[row].name, v);
             return fmi2Error;
         }
         if (type == 'R') ((fmi2Real *)value)[k] = v;
@@ -81,7 +82,7 @@ fmi2Status fmu_no_strings(instance_t *c, const char *fn, const fmi2ValueReferenc
 
 /* May variable `row` be set in the current state? */
 static int settable(instance_t *c, const char *fn, int row) {
-    const model_var_t *v = &MODEL_VARS[row];
+    const glue_var_t *v = &GLUE_VARS[row];
     int st = c->m.fsm;
     if (v->causality == 'i') {
         if (st & SET_INPUT) return 1;
@@ -118,16 +119,16 @@ fmi2Status fmu_set_values(instance_t *c, const char *fn, const fmi2ValueReferenc
             fmi2Boolean b = ((const fmi2Boolean *)value)[k];
             if (b != fmi2True && b != fmi2False) {
                 fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s = %d is not a Boolean: allowed 0 or 1", fn,
-                        MODEL_VARS[row].name, (int)b);
+                        GLUE_VARS[row].name, (int)b);
                 return fmi2Error;
             }
             v = b ? 1.0 : 0.0;
         }
         if (!model_check_value(c, fn, row, v)) return fmi2Error;
-        if (MODEL_VARS[row].causality == 'p' && (m->fsm & (ST_EVENT | ST_STEP_COMPLETE))) param_changed = 1;
+        if (GLUE_VARS[row].causality == 'p' && (m->fsm & (ST_EVENT | ST_STEP_COMPLETE))) param_changed = 1;
     }
     if (param_changed) {
-        double *save = (double *)c->cb.allocateMemory(MODEL_NVR, sizeof(double));
+        double *save = (double *)c->cb.allocateMemory(GLUE_NVR, sizeof(double));
         fmi2Status st;
         if (!save) { fmu_log(c, fmi2Error, LOG_ERROR, "%s: out of memory", fn); return fmi2Error; }
         memcpy(save, m->val, sizeof m->val);
@@ -135,7 +136,7 @@ fmi2Status fmu_set_values(instance_t *c, const char *fn, const fmi2ValueReferenc
             m->val[vr[k]] = type == 'R' ? ((const fmi2Real *)value)[k]
                           : type == 'I' ? (double)((const fmi2Integer *)value)[k]
                                         : (((const fmi2Boolean *)value)[k] ? 1.0 : 0.0);
-        st = model_recompile(c, save);
+        st = model_recompile(c, fn, save);
         c->cb.freeMemory(save);
         return st;
     }

@@ -12,7 +12,18 @@
  * Mode for its structural parameter friction.N, early return; no clocks */
 #define MODEL_CAPS (MODEL_CAN_ME | MODEL_CAN_CS | MODEL_CAN_STATE | MODEL_CAN_CONFIG | MODEL_CAN_EARLY_RETURN)
 #define MODEL_TOKEN MODEL_GUID      /* the GUID (FMI 2.0), the instantiation token (FMI 3.0) */
+/* the value table (model_vars.h) under the glue's names */
+typedef model_var_t glue_var_t;
+#define GLUE_VARS MODEL_VARS
+#define GLUE_NVARS MODEL_NVARS
+#define GLUE_NVR MODEL_NVR
+#define GLUE_VR_INDEX MODEL_VR_INDEX
+#define GLUE_NX MODEL_NX
+#define GLUE_NZ MODEL_NZ
+#define GLUE_STATE_VR MODEL_STATE_VR
+#define GLUE_STATE_NOMINAL(j) MODEL_STATE_NOMINAL(j)
 #define MODEL_ND PLANT_ND           /* discrete-state numbers of a saved state */
+#define MODEL_HAS_ARRAYS 1          /* FMI 3.0 arrays of the dimension of MODEL_STRUCTURAL_VR */
 #define MODEL_STRUCTURAL_VR VR_friction_N   /* the structural parameter: the arrays' dimension (FMI 3.0) */
 
 #define MODEL_MAGIC 0x46445256u   /* "FDRV": marks instances and FMU states */

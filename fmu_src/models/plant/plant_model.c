@@ -114,9 +114,10 @@ int model_event_update(instance_t *c, const char *fn, double tau, double slack, 
     return n;
 }
 
-fmi2Status model_recompile(instance_t *c, const double *backup_val) {
+fmi2Status model_recompile(instance_t *c, const char *fn, const double *backup_val) {
     model_t *m = &c->m;
     char msg[512];
+    (void)fn;
     plant_params_t old = m->p;
     /* refused: values and compiled parameters back, the caches untouched (nothing changes) */
     if (!params_compile(m->val, &m->p, msg, sizeof msg)) {
@@ -180,9 +181,10 @@ void plant_solver_setup(model_t *m) {
 }
 
 /* compile parameters and initialise the plant from the current values */
-fmi2Status model_initialize(instance_t *c) {
+fmi2Status model_initialize(instance_t *c, const char *fn, int exiting) {
     model_t *m = &c->m;
     char msg[512];
+    (void)fn; (void)exiting;   /* the parameters' messages name the variable; every initialisation compiles */
     if (!params_compile(m->val, &m->p, msg, sizeof msg)) {
         fmu_log(c, fmi2Error, LOG_ERROR, "%s", msg);
         m->params_ok = 0;
@@ -259,9 +261,15 @@ int model_get_direct(instance_t *c, const char *fn, const unsigned vr[], size_t 
     return 1;
 }
 
-void model_update(instance_t *c, int der) {
+/* the derivatives only when one is asked for */
+int model_update(instance_t *c, const char *fn, const unsigned vr[], size_t nvr) {
+    int der = 0;
+    size_t k;
+    (void)fn;
+    for (k = 0; k < nvr; k++) der |= vr[k] < MODEL_NVR && c->m.is_der[vr[k]];
     if (der) plant_update_outputs(c);
     else plant_update_values(c);
+    return 1;
 }
 
 int model_next_event(const model_t *m, double *t) {
@@ -277,4 +285,30 @@ void model_indicators(instance_t *c, double *z) {
     model_t *m = &c->m;
     params_inputs(m->val, &m->in);
     plant_indicators(&m->p, &m->d, m->y, &m->in, z);
+}
+
+int model_cs_step_ok(instance_t *c, double t, double h) {
+    (void)c; (void)t; (void)h;
+    return 1;
+}
+
+/* co-simulation: the switch that ended the step was updated inside it; what the inputs set in
+ * Event Mode cause and a sample due now are taken at the start of the next step, with the
+ * inputs then set (fmi2DoStep's convention, so event mode and early return do not change the
+ * trajectory) */
+fmi2Status model_cs_event_update(instance_t *c, const char *fn) {
+    (void)fn;
+    c->m.solver_restart = 1;
+    return fmi2OK;
+}
+
+fmi2Status model_enter_step_mode(instance_t *c) {
+    (void)c;
+    return fmi2OK;
+}
+
+/* the step's integrator restarted after the switch, so does the next */
+void model_restored(instance_t *c) {
+    c->m.solver_restart = 1;
+    c->m.out_valid = 0;
 }

@@ -126,133 +126,64 @@ fmi2Status fmi2GetDirectionalDerivative(fmi2Component comp, const fmi2ValueRefer
 
 /* ---------------------------------------------------------------- model exchange */
 
-static int array_ok(instance_t *c, const char *fn, const void *p, size_t n, size_t expected) {
-    if (n != expected) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "%s: size %zu, this FMU has %zu", fn, n, expected);
-        return 0;
-    }
-    if (n > 0 && !p) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "%s: NULL array", fn);
-        return 0;
-    }
-    return 1;
-}
+/* FMI 2.0's view of the continuous states: all of the model's */
+static const me_view_t ALL_STATES = {GLUE_NX, NULL, NULL, 0};
 
 fmi2Status fmi2EnterEventMode(fmi2Component comp) {
-    instance_t *c = FMU_ENTER(comp, fmi2EnterEventMode);
-    if (!c) return fmi2Error;
-    c->m.fsm = ST_EVENT;
-    return fmi2OK;
+    return fmu_set_mode(FMU_ENTER(comp, fmi2EnterEventMode), ST_EVENT);
 }
 
 fmi2Status fmi2NewDiscreteStates(fmi2Component comp, fmi2EventInfo *info) {
     instance_t *c = FMU_ENTER(comp, fmi2NewDiscreteStates);
-    fmi2Boolean changed = fmi2False;
-    int switches;
+    int changed, next_defined;
     if (!c) return fmi2Error;
     if (!info) { fmu_log(c, fmi2Error, LOG_ERROR, "fmi2NewDiscreteStates: eventInfo is NULL"); return fmi2Error; }
-    switches = model_event_update(c, "fmi2NewDiscreteStates", c->m.time - c->m.t0, fmu_ulp_slack(c->m.time),
-                                  &changed);
-    if (switches < 0) return fmi2Error;
-    /* FMI 2.0 allows valuesOfContinuousStatesChanged false at a jump of the right-hand side, but
-     * only an importer that always resets would then be right: the model reports it */
+    if (fmu_me_event_update(c, "fmi2NewDiscreteStates", &changed, &next_defined, &info->nextEventTime) != fmi2OK)
+        return fmi2Error;
     info->newDiscreteStatesNeeded = fmi2False;
     info->terminateSimulation = fmi2False;
     info->nominalsOfContinuousStatesChanged = fmi2False;
-    info->valuesOfContinuousStatesChanged = changed;
-    info->nextEventTimeDefined = model_next_event(&c->m, &info->nextEventTime) ? fmi2True : fmi2False;
+    info->valuesOfContinuousStatesChanged = changed ? fmi2True : fmi2False;
+    info->nextEventTimeDefined = next_defined ? fmi2True : fmi2False;
     return fmi2OK;
 }
 
 fmi2Status fmi2EnterContinuousTimeMode(fmi2Component comp) {
-    instance_t *c = FMU_ENTER(comp, fmi2EnterContinuousTimeMode);
-    if (!c) return fmi2Error;
-    c->m.fsm = ST_CONT;
-    return fmi2OK;
+    return fmu_set_mode(FMU_ENTER(comp, fmi2EnterContinuousTimeMode), ST_CONT);
 }
 
 fmi2Status fmi2CompletedIntegratorStep(fmi2Component comp, fmi2Boolean noSetFMUStatePriorToCurrentPoint,
                                        fmi2Boolean *enterEventMode, fmi2Boolean *terminateSimulation) {
-    instance_t *c = FMU_ENTER(comp, fmi2CompletedIntegratorStep);
     (void)noSetFMUStatePriorToCurrentPoint;
-    if (!c) return fmi2Error;
-    if (!enterEventMode || !terminateSimulation) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2CompletedIntegratorStep: NULL output argument");
+    if (fmu_me_completed_step(FMU_ENTER(comp, fmi2CompletedIntegratorStep), "fmi2CompletedIntegratorStep",
+                              enterEventMode && terminateSimulation) != fmi2OK)
         return fmi2Error;
-    }
-    model_completed_step(c);
-    *enterEventMode = fmi2False;
-    *terminateSimulation = fmi2False;
+    *enterEventMode = *terminateSimulation = fmi2False;
     return fmi2OK;
 }
 
 fmi2Status fmi2SetTime(fmi2Component comp, fmi2Real time) {
-    instance_t *c = FMU_ENTER(comp, fmi2SetTime);
-    if (!c) return fmi2Error;
-    if (!isfinite(time)) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SetTime: time = %g is not finite", time);
-        return fmi2Error;
-    }
-    c->m.time = time;
-    c->m.tau = time - c->m.t0;
-    c->m.out_valid = 0;
-    return fmi2OK;
+    return fmu_me_set_time(FMU_ENTER(comp, fmi2SetTime), "fmi2SetTime", time);
 }
-
 fmi2Status fmi2SetContinuousStates(fmi2Component comp, const fmi2Real x[], size_t nx) {
-    instance_t *c = FMU_ENTER(comp, fmi2SetContinuousStates);
-    size_t j;
-    if (!c) return fmi2Error;
-    if (!array_ok(c, "fmi2SetContinuousStates", x, nx, GLUE_NX)) return fmi2Error;
-    for (j = 0; j < nx; j++) {
-        if (!isfinite(x[j])) {
-            fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SetContinuousStates: state %s = %g is not finite",
-                    GLUE_VARS[GLUE_VR_INDEX[GLUE_STATE_VR[j]]].name, x[j]);
-            return fmi2Error;
-        }
-        if (!model_check_state(c, "fmi2SetContinuousStates", GLUE_STATE_VR[j], x[j])) return fmi2Error;
-    }
-    memcpy(c->m.y, x, nx * sizeof(double));
-    c->m.out_valid = 0;
-    return fmi2OK;
+    return fmu_me_set_states(FMU_ENTER(comp, fmi2SetContinuousStates), "fmi2SetContinuousStates", &ALL_STATES, x,
+                             nx);
 }
-
 fmi2Status fmi2GetDerivatives(fmi2Component comp, fmi2Real derivatives[], size_t nx) {
-    instance_t *c = FMU_ENTER(comp, fmi2GetDerivatives);
-    if (!c) return fmi2Error;
-    if (!array_ok(c, "fmi2GetDerivatives", derivatives, nx, GLUE_NX)) return fmi2Error;
-    if (!fmu_finite_result(c, "fmi2GetDerivatives", NULL, 0)) return fmi2Error;
-    model_derivatives(c);
-    if (!fmu_finite_result(c, "fmi2GetDerivatives", c->m.dydt, nx)) return fmi2Error;
-    memcpy(derivatives, c->m.dydt, nx * sizeof(double));
-    return fmi2OK;
+    return fmu_me_get_derivatives(FMU_ENTER(comp, fmi2GetDerivatives), "fmi2GetDerivatives", &ALL_STATES,
+                                  derivatives, nx);
 }
-
 fmi2Status fmi2GetEventIndicators(fmi2Component comp, fmi2Real z[], size_t nz) {
-    instance_t *c = FMU_ENTER(comp, fmi2GetEventIndicators);
-    if (!c) return fmi2Error;
-    if (!array_ok(c, "fmi2GetEventIndicators", z, nz, GLUE_NZ)) return fmi2Error;
-    if (!fmu_finite_result(c, "fmi2GetEventIndicators", NULL, 0)) return fmi2Error;
-    model_indicators(c, z);
-    return fmu_finite_result(c, "fmi2GetEventIndicators", z, nz) ? fmi2OK : fmi2Error;
+    return fmu_me_get_indicators(FMU_ENTER(comp, fmi2GetEventIndicators), "fmi2GetEventIndicators", &ALL_STATES, z,
+                                 nz);
 }
-
 fmi2Status fmi2GetContinuousStates(fmi2Component comp, fmi2Real x[], size_t nx) {
-    instance_t *c = FMU_ENTER(comp, fmi2GetContinuousStates);
-    if (!c) return fmi2Error;
-    if (!array_ok(c, "fmi2GetContinuousStates", x, nx, GLUE_NX)) return fmi2Error;
-    if (!fmu_finite_result(c, "fmi2GetContinuousStates", c->m.y, nx)) return fmi2Error;
-    memcpy(x, c->m.y, nx * sizeof(double));
-    return fmi2OK;
+    return fmu_me_get_states(FMU_ENTER(comp, fmi2GetContinuousStates), "fmi2GetContinuousStates", &ALL_STATES, x,
+                             nx);
 }
-
 fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component comp, fmi2Real x_nominal[], size_t nx) {
-    instance_t *c = FMU_ENTER(comp, fmi2GetNominalsOfContinuousStates);
-    size_t j;
-    if (!c) return fmi2Error;
-    if (!array_ok(c, "fmi2GetNominalsOfContinuousStates", x_nominal, nx, GLUE_NX)) return fmi2Error;
-    for (j = 0; j < nx; j++) x_nominal[j] = GLUE_STATE_NOMINAL(j);
-    return fmi2OK;
+    return fmu_me_get_nominals(FMU_ENTER(comp, fmi2GetNominalsOfContinuousStates),
+                               "fmi2GetNominalsOfContinuousStates", &ALL_STATES, x_nominal, nx);
 }
 
 /* ---------------------------------------------------------------- co-simulation */

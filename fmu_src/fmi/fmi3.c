@@ -165,7 +165,7 @@ fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean *discrete
                                     fmi3Boolean *valuesOfContinuousStatesChanged, fmi3Boolean *nextEventTimeDefined,
                                     fmi3Float64 *nextEventTime) {
     instance_t *c = FMU_ENTER(instance, fmi3UpdateDiscreteStates);
-    fmi2Boolean changed = fmi2False;
+    int changed = 0, next_defined = 0;
     double next = 0.0;
     if (!c) return fmi3Error;
     if (!discreteStatesNeedUpdate || !terminateSimulation || !nominalsOfContinuousStatesChanged ||
@@ -174,22 +174,16 @@ fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean *discrete
         return fmi3Error;
     }
     if (c->type == fmi2CoSimulation) {
-        /* co-simulation: the switch that ended the step was updated inside it; what the inputs
-         * set in Event Mode cause and a sample due now are taken at the start of the next
-         * fmi3DoStep, with the inputs then set (fmi2DoStep's convention, so event mode and early
-         * return do not change the trajectory) */
         if (model_cs_event_update(c, "fmi3UpdateDiscreteStates") != fmi2OK) return fmi3Error;
-    } else {
-        /* as fmi2NewDiscreteStates: changed at a jump of the right-hand side too */
-        if (model_event_update(c, "fmi3UpdateDiscreteStates", c->m.time - c->m.t0, fmu_ulp_slack(c->m.time),
-                               &changed) < 0)
-            return fmi3Error;
+        next_defined = model_next_event(&c->m, &next);
+    } else if (fmu_me_event_update(c, "fmi3UpdateDiscreteStates", &changed, &next_defined, &next) != fmi2OK) {
+        return fmi3Error;
     }
     *discreteStatesNeedUpdate = fmi3False;
     *terminateSimulation = fmi3False;
     *nominalsOfContinuousStatesChanged = fmi3False;
-    *valuesOfContinuousStatesChanged = changed ? fmi3True : fmi3False;
-    *nextEventTimeDefined = model_next_event(&c->m, &next) ? fmi3True : fmi3False;
+    *valuesOfContinuousStatesChanged = changed != 0;
+    *nextEventTimeDefined = next_defined != 0;
     *nextEventTime = next;
     return fmi3OK;
 }
@@ -283,108 +277,57 @@ fmi3Status fmi3_refuse(fmi3Instance instance, const char *fn, const char *why) {
 
 /* ---------------------------------------------------------------- model exchange */
 
-static int size_ok(instance_t *c, const char *fn, const void *p, size_t n, size_t expected) {
-    if (n != expected) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "%s: size %zu, this FMU has %zu (%s = %d)", fn, n, expected,
-                fmi3_structural_name(), fmi3_n(&c->m));
-        return 0;
-    }
-    if (n > 0 && !p) { fmu_log(c, fmi2Error, LOG_ERROR, "%s: NULL array", fn); return 0; }
-    return 1;
+/* FMI 3.0's view of the continuous states: those of the arrays' current dimension */
+static me_view_t view3(const instance_t *c) {
+    me_view_t v;
+    v.n = c ? fmi3_nx(&c->m) : 0;
+    v.index = fmi3_state_index;
+    v.dim_name = fmi3_structural_name();
+    v.dim = c ? fmi3_n(&c->m) : 0;
+    return v;
 }
 
 fmi3Status fmi3EnterContinuousTimeMode(fmi3Instance instance) {
-    instance_t *c = FMU_ENTER(instance, fmi3EnterContinuousTimeMode);
-    if (!c) return fmi3Error;
-    c->m.fsm = ST_CONT;
-    return fmi3OK;
+    return (fmi3Status)fmu_set_mode(FMU_ENTER(instance, fmi3EnterContinuousTimeMode), ST_CONT);
 }
 
 fmi3Status fmi3CompletedIntegratorStep(fmi3Instance instance, fmi3Boolean noSetFMUStatePriorToCurrentPoint,
                                        fmi3Boolean *enterEventMode, fmi3Boolean *terminateSimulation) {
     instance_t *c = FMU_ENTER(instance, fmi3CompletedIntegratorStep);
     (void)noSetFMUStatePriorToCurrentPoint;
-    if (!c) return fmi3Error;
-    if (!enterEventMode || !terminateSimulation) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi3CompletedIntegratorStep: NULL output argument");
+    if (fmu_me_completed_step(c, "fmi3CompletedIntegratorStep", enterEventMode && terminateSimulation) != fmi2OK)
         return fmi3Error;
-    }
-    model_completed_step(c);
-    *enterEventMode = fmi3False;
-    *terminateSimulation = fmi3False;
+    *enterEventMode = *terminateSimulation = fmi3False;
     return fmi3OK;
 }
 
 fmi3Status fmi3SetTime(fmi3Instance instance, fmi3Float64 time) {
-    instance_t *c = FMU_ENTER(instance, fmi3SetTime);
-    if (!c) return fmi3Error;
-    if (!isfinite(time)) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi3SetTime: time = %g is not finite", time);
-        return fmi3Error;
-    }
-    c->m.time = time;
-    c->m.tau = time - c->m.t0;
-    c->m.out_valid = 0;
-    return fmi3OK;
+    return (fmi3Status)fmu_me_set_time(FMU_ENTER(instance, fmi3SetTime), "fmi3SetTime", time);
 }
-
 fmi3Status fmi3SetContinuousStates(fmi3Instance instance, const fmi3Float64 x[], size_t nx) {
     instance_t *c = FMU_ENTER(instance, fmi3SetContinuousStates);
-    size_t j;
-    if (!c) return fmi3Error;
-    if (!size_ok(c, "fmi3SetContinuousStates", x, nx, fmi3_nx(&c->m))) return fmi3Error;
-    for (j = 0; j < nx; j++) {
-        unsigned vr = GLUE_STATE_VR[fmi3_state_index(&c->m, j)];
-        if (!isfinite(x[j])) {
-            fmu_log(c, fmi2Error, LOG_ERROR, "fmi3SetContinuousStates: state %s = %g is not finite",
-                    GLUE_VARS[GLUE_VR_INDEX[vr]].name, x[j]);
-            return fmi3Error;
-        }
-        if (!model_check_state(c, "fmi3SetContinuousStates", vr, x[j])) return fmi3Error;
-    }
-    for (j = 0; j < nx; j++) c->m.y[fmi3_state_index(&c->m, j)] = x[j];
-    c->m.out_valid = 0;
-    return fmi3OK;
+    me_view_t v = view3(c);
+    return (fmi3Status)fmu_me_set_states(c, "fmi3SetContinuousStates", &v, x, nx);
 }
-
 fmi3Status fmi3GetContinuousStateDerivatives(fmi3Instance instance, fmi3Float64 derivatives[], size_t nx) {
     instance_t *c = FMU_ENTER(instance, fmi3GetContinuousStateDerivatives);
-    size_t j;
-    if (!c) return fmi3Error;
-    if (!size_ok(c, "fmi3GetContinuousStateDerivatives", derivatives, nx, fmi3_nx(&c->m))) return fmi3Error;
-    if (!fmu_finite_result(c, "fmi3GetContinuousStateDerivatives", NULL, 0)) return fmi3Error;
-    model_derivatives(c);
-    if (!fmu_finite_result(c, "fmi3GetContinuousStateDerivatives", c->m.dydt, GLUE_NX)) return fmi3Error;
-    for (j = 0; j < nx; j++) derivatives[j] = c->m.dydt[fmi3_state_index(&c->m, j)];
-    return fmi3OK;
+    me_view_t v = view3(c);
+    return (fmi3Status)fmu_me_get_derivatives(c, "fmi3GetContinuousStateDerivatives", &v, derivatives, nx);
 }
-
 fmi3Status fmi3GetEventIndicators(fmi3Instance instance, fmi3Float64 z[], size_t nz) {
     instance_t *c = FMU_ENTER(instance, fmi3GetEventIndicators);
-    if (!c) return fmi3Error;
-    if (!size_ok(c, "fmi3GetEventIndicators", z, nz, GLUE_NZ)) return fmi3Error;
-    if (!fmu_finite_result(c, "fmi3GetEventIndicators", NULL, 0)) return fmi3Error;
-    model_indicators(c, z);
-    return fmu_finite_result(c, "fmi3GetEventIndicators", z, nz) ? fmi3OK : fmi3Error;
+    me_view_t v = view3(c);
+    return (fmi3Status)fmu_me_get_indicators(c, "fmi3GetEventIndicators", &v, z, nz);
 }
-
 fmi3Status fmi3GetContinuousStates(fmi3Instance instance, fmi3Float64 x[], size_t nx) {
     instance_t *c = FMU_ENTER(instance, fmi3GetContinuousStates);
-    size_t j;
-    if (!c) return fmi3Error;
-    if (!size_ok(c, "fmi3GetContinuousStates", x, nx, fmi3_nx(&c->m))) return fmi3Error;
-    if (!fmu_finite_result(c, "fmi3GetContinuousStates", c->m.y, GLUE_NX)) return fmi3Error;
-    for (j = 0; j < nx; j++) x[j] = c->m.y[fmi3_state_index(&c->m, j)];
-    return fmi3OK;
+    me_view_t v = view3(c);
+    return (fmi3Status)fmu_me_get_states(c, "fmi3GetContinuousStates", &v, x, nx);
 }
-
 fmi3Status fmi3GetNominalsOfContinuousStates(fmi3Instance instance, fmi3Float64 nominals[], size_t nx) {
     instance_t *c = FMU_ENTER(instance, fmi3GetNominalsOfContinuousStates);
-    size_t j;
-    if (!c) return fmi3Error;
-    if (!size_ok(c, "fmi3GetNominalsOfContinuousStates", nominals, nx, fmi3_nx(&c->m))) return fmi3Error;
-    for (j = 0; j < nx; j++) nominals[j] = GLUE_STATE_NOMINAL(fmi3_state_index(&c->m, j));
-    return fmi3OK;
+    me_view_t v = view3(c);
+    return (fmi3Status)fmu_me_get_nominals(c, "fmi3GetNominalsOfContinuousStates", &v, nominals, nx);
 }
 
 /* ---------------------------------------------------------------- co-simulation */

@@ -1,9 +1,8 @@
-/* What the FMI 3.0 glues (plant: fmi3_*.c, controller: controller/ctrl_fmi3.c) share: FMI 3.0
- * has no memory callbacks (calloc/free), and the FMI 2.0 glue underneath logs through an
- * fmi2CallbackLogger: log_adapter hands its messages to the fmi3LogMessageCallback (the text
- * unescaped, the FMI 2.0 function names of the shared code renamed); componentEnvironment is
- * an fmi3_logger_t (or a struct that starts with one). fmi3_refuse: the answer of a function
- * the FMU does not provide (fmi3_stubs.c), defined by each glue. */
+/* The logger of an FMI 3.0 instance (fmi3.c): FMI 3.0 has no memory callbacks (calloc/free),
+ * and the core logs through an fmi2CallbackLogger: log_adapter hands its messages to the
+ * fmi3LogMessageCallback (the text unescaped, the FMI 2.0 function names in the models'
+ * messages renamed); componentEnvironment is an fmi3_logger_t (or a struct that starts with
+ * one). fmi3_refuse: the answer of a function no model offers (fmi3_stubs.c), in fmi3.c. */
 #ifndef FMI3_LOG_H
 #define FMI3_LOG_H
 

@@ -65,6 +65,8 @@ fmi2Status fmu_setup_experiment(instance_t *c, const char *fn, int tol_defined, 
 fmi2Status fmu_enter_initialization(instance_t *c);
 /* Initialization Mode left into state `next` (the model initialised first) */
 fmi2Status fmu_exit_initialization(instance_t *c, const char *fn, int next);
+/* the instance in call-sequence state fsm (a mode entered) */
+fmi2Status fmu_set_mode(instance_t *c, int fsm);
 fmi2Status fmu_terminate(instance_t *c);
 fmi2Status fmu_reset(instance_t *c);
 
@@ -76,6 +78,24 @@ fmi2Status fmu_set_values(instance_t *c, const char *fn, const fmi2ValueReferenc
                           char type, const void *value);
 /* a get/set of a type the model has no variables of */
 fmi2Status fmu_no_strings(instance_t *c, const char *fn, const fmi2ValueReference vr[], size_t nvr);
+
+/* continuous.c: model exchange, every version, over a view of the continuous states: n of
+ * them, index(m, j) the model's state j of the view (NULL: j itself), dim_name and dim the
+ * arrays' dimension named in size messages (NULL: none) */
+typedef struct {
+    size_t n;
+    int (*index)(const model_t *m, size_t j);
+    const char *dim_name;
+    int dim;
+} me_view_t;
+fmi2Status fmu_me_set_time(instance_t *c, const char *fn, double time);
+fmi2Status fmu_me_completed_step(instance_t *c, const char *fn, int outputs_given);
+fmi2Status fmu_me_set_states(instance_t *c, const char *fn, const me_view_t *v, const double x[], size_t nx);
+fmi2Status fmu_me_get_states(instance_t *c, const char *fn, const me_view_t *v, double x[], size_t nx);
+fmi2Status fmu_me_get_derivatives(instance_t *c, const char *fn, const me_view_t *v, double dx[], size_t nx);
+fmi2Status fmu_me_get_nominals(instance_t *c, const char *fn, const me_view_t *v, double x[], size_t nx);
+fmi2Status fmu_me_get_indicators(instance_t *c, const char *fn, const me_view_t *v, double z[], size_t nz);
+fmi2Status fmu_me_event_update(instance_t *c, const char *fn, int *changed, int *next_defined, double *next);
 
 /* snapshot.c: FMU state objects, their bytes those of the model's state format (model.h) */
 void fmu_states_free_all(instance_t *c);

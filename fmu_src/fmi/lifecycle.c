@@ -137,6 +137,12 @@ fmi2Status fmu_exit_initialization(instance_t *c, const char *fn, int next) {
     return fmi2OK;
 }
 
+fmi2Status fmu_set_mode(instance_t *c, int fsm) {
+    if (!c) return fmi2Error;
+    c->m.fsm = fsm;
+    return fmi2OK;
+}
+
 fmi2Status fmu_terminate(instance_t *c) {
     if (!c) return fmi2Error;
     c->m.fsm = ST_TERMINATED;

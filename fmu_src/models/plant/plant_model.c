@@ -172,7 +172,7 @@ void plant_solver_setup(model_t *m) {
         dp45_init(&m->solver, 2 + m->p.N, PLANT_NZ, m->tol, atol, m->p.Ts);
         m->solver.n_norm = PLANT_NX_BASE;
     }
-    /* every accepted step is checked against the states' declared ranges (fmi2_cs.c) */
+    /* every accepted step is checked against the states' declared ranges (plant_step.c) */
     m->solver.bounded = 1;
     for (j = 0; j < m->solver.n; j++) {
         m->solver.y_lo[j] = MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]].min;

@@ -91,7 +91,8 @@ enum {
 #define ALLOW_fmi3ExitConfigurationMode        FOR_BOTH, ST_CONFIG
 #define ALLOW_fmi3EnterInitializationMode      FOR_BOTH, ST_INSTANTIATED
 #define ALLOW_fmi3ExitInitializationMode       FOR_BOTH, ST_INIT
-#define ALLOW_fmi3EnterEventMode               FOR_BOTH, (ST_CONT | ST_STEP_COMPLETE | ST_EVENT)   /* Event Mode: refused by itself */
+/* (Event Mode: refused by the function itself, the state kept) */
+#define ALLOW_fmi3EnterEventMode               FOR_BOTH, (ST_CONT | ST_STEP_COMPLETE | ST_EVENT)
 #define ALLOW_fmi3UpdateDiscreteStates         FOR_BOTH, ST_EVENT
 #define ALLOW_fmi3Terminate                    FOR_BOTH, (ST_EVENT | ST_CONT | ST_STEP_COMPLETE | ST_STEP_FAILED)
 #define ALLOW_fmi3Reset                        FOR_BOTH, (~ST_FATAL)
@@ -125,7 +126,8 @@ enum {
 #define ALLOW_fmi3GetNominalsOfContinuousStates FOR_ME, (ST_INSTANTIATED | ST_ME_OUTPUTS)
 /* co-simulation */
 #define ALLOW_fmi3EnterStepMode                FOR_CS, ST_EVENT
-#define ALLOW_fmi3DoStep                       FOR_CS, (ST_STEP_COMPLETE | ST_EVENT)   /* Event Mode: refused by itself */
+/* (Event Mode: refused by the function itself, the state kept) */
+#define ALLOW_fmi3DoStep                       FOR_CS, (ST_STEP_COMPLETE | ST_EVENT)
 #define ALLOW_fmi3GetOutputDerivatives         FOR_CS, (ST_STEP_COMPLETE | ST_STEP_FAILED | ST_TERMINATED)
 
 /* which variables fmi2Set{Real,Integer,Boolean} may set in which states (FMI 2.0, Table 3) */

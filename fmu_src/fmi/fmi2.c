@@ -192,7 +192,7 @@ fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h, fmi2Boolean no
     instance_t *c = FMU_ENTER(comp, fmi2DoStep);
     (void)noSetFMUStatePriorToCurrentPoint;
     if (!c) return fmi2Error;
-    return model_do_step(c, t, h);
+    return model_do_step(c, "fmi2DoStep", t, h);
 }
 
 fmi2Status fmi2CancelStep(fmi2Component comp) {

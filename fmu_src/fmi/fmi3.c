@@ -373,7 +373,7 @@ fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoi
     e->taken = 0;
     e->n_switches = 0;
     e->step_t0 = currentCommunicationPoint;
-    st = model_do_step(c, currentCommunicationPoint, communicationStepSize);
+    st = model_do_step(c, "fmi3DoStep", currentCommunicationPoint, communicationStepSize);
     e->armed = 0;
     if (st != fmi2OK) { *lastSuccessfulTime = c->m.time; return (fmi3Status)st; }
     /* a switch on the step's end is no early return: the step ends there anyway */

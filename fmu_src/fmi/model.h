@@ -70,8 +70,8 @@ void model_derivatives(instance_t *c);
 void model_indicators(instance_t *c, double *z);
 
 /* co-simulation */
-/* one step from t of length h (arguments checked here; fmi2DoStep's messages) */
-fmi2Status model_do_step(instance_t *c, double t, double h);
+/* one step from t of length h (arguments checked here, logged as fn's errors) */
+fmi2Status model_do_step(instance_t *c, const char *fn, double t, double h);
 /* the first derivatives of outputs (FMI 2.0 GetRealOutputDerivatives' rules) */
 fmi2Status model_output_derivatives(instance_t *c, const char *fn, const unsigned vr[], size_t nvr,
                                     const int order[], double value[]);

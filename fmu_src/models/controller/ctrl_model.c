@@ -196,36 +196,36 @@ int model_state_decode(instance_t *c, const char *fn, const unsigned char *b, si
 /* ---------------------------------------------------------------- co-simulation */
 
 /* a step from t of length h: every sample instant inside [t, t + h) taken with the inputs held */
-fmi2Status model_do_step(instance_t *c, double t, double h) {
+fmi2Status model_do_step(instance_t *c, const char *fn, double t, double h) {
     model_t *m = &c->m;
     double samples, taken = 0.0;
     if (!isfinite(h) || !(h > 0.0) || !isfinite(t) || !isfinite(t + h) ||
         fabs(t - m->time) > 1e-9 * (fabs(t) > 1.0 ? fabs(t) : 1.0)) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: currentCommunicationPoint = %.17g, communicationStepSize = "
-                "%.17g: allowed the FMU's time %.17g and a finite communicationStepSize > 0", t, h, m->time);
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: currentCommunicationPoint = %.17g, communicationStepSize = %.17g: "
+                "allowed the FMU's time %.17g and a finite communicationStepSize > 0", fn, t, h, m->time);
         return fmi2Error;
     }
     /* the sample instants must be times a double tells apart (as the plant's: 16 ulp <= Ts/8) */
     if (fmu_ulp_slack(t + h) > m->p.Ts / 8.0) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: at t = %.17g s a double resolves only %g s, too coarse for "
-                "the controller samples of Ts = %g s (allowed: 16 ulp(t) <= Ts/8, a start time nearer 0)", t + h,
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: at t = %.17g s a double resolves only %g s, too coarse for the "
+                "controller samples of Ts = %g s (allowed: 16 ulp(t) <= Ts/8, a start time nearer 0)", fn, t + h,
                 fmu_ulp_slack(t + h) / 16.0, m->p.Ts);
         return fmi2Error;
     }
     /* the samples this step takes, counted before the first: a refused step changes nothing */
     samples = ceil((t + h - ctrl_sample_time(m, m->s.k)) / m->p.Ts);
     if (samples > CTRL_BUDGET_SAMPLES) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: communicationStepSize = %.17g s spans %.0f samples of Ts = "
-                "%g s: allowed at most %.0f samples per call (budget), communicationStepSize <= %g s at this Ts",
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: communicationStepSize = %.17g s spans %.0f samples of Ts = %g s: "
+                "allowed at most %.0f samples per call (budget), communicationStepSize <= %g s at this Ts", fn,
                 h, samples, m->p.Ts, CTRL_BUDGET_SAMPLES, CTRL_BUDGET_SAMPLES * m->p.Ts);
         return fmi2Error;
     }
     while (ctrl_sample_time(m, m->s.k) < t + h - ctrl_time_eps(m, t + h)) {
         m->time = fmax(m->time, ctrl_sample_time(m, m->s.k));
-        if (!ctrl_evaluate(c, "fmi2DoStep")) return fmi2Error;
+        if (!ctrl_evaluate(c, fn)) return fmi2Error;
         ctrl_commit(m);
         if (++taken > CTRL_BUDGET_SAMPLES + 2.0) {   /* the count above bounds this loop; kept as its guard */
-            fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: more than %.0f samples in one step (budget)",
+            fmu_log(c, fmi2Error, LOG_ERROR, "%s: more than %.0f samples in one step (budget)", fn,
                     CTRL_BUDGET_SAMPLES);
             m->fsm = ST_ERROR;
             return fmi2Error;

@@ -31,12 +31,14 @@ FMU_CFLAGS := -std=c99 -O3 -fno-math-errno -fPIC -Wall -Wextra -Werror -D_POSIX_
 # generators/ (the XML to C tables)
 SRC_DIRS   := fmu_src/fmi fmu_src/models/plant fmu_src/physics fmu_src/solvers
 SRC_INC    := $(addprefix -I ,$(SRC_DIRS))
-SRC_C      := $(filter-out fmu_src/fmi/fmi3_%.c,$(wildcard $(addsuffix /*.c,$(SRC_DIRS))))
+SRC_C      := $(filter-out fmu_src/fmi/fmi3%.c,$(wildcard $(addsuffix /*.c,$(SRC_DIRS))))
 # the effect table's list of effects is generated from the XML with the value table (gen_vars.py)
 SRC_H      := $(wildcard $(addsuffix /*.h,$(SRC_DIRS))) $(GEN)/model_effects.h
 STAMP      := $(VENV)/.installed
-# the controller FMU: its own sources and XML (fmu_src/models/controller/), the plant's parameters
-# imported as plant.* (value reference + 1000), the plant's physics files compiled in
+# the controller FMU: its own sources and XML (fmu_src/models/controller/: its model of the FMI
+# glue, ctrl_model.c, and its law), the one FMI glue (fmu_src/fmi/) it shares with the plant, the
+# plant's parameters imported as plant.* (value reference + 1000), the plant's physics files
+# compiled in
 CTRL       := DriveController
 CTRL_FMU   := $(BUILD)/$(CTRL).fmu
 PKG_CTRL_FMU := python/feeddrive/$(CTRL).fmu
@@ -46,9 +48,11 @@ CTRL_SO    := $(BUILD)/controller/binaries/linux64/$(CTRL).so
 CTRL_SHARED := fmu_src/models/plant/params.c fmu_src/physics/effects.c fmu_src/physics/current_loop.c \
                fmu_src/physics/position_maps.c fmu_src/physics/friction_levels.c fmu_src/physics/friction_gms.c \
                fmu_src/physics/friction_position.c fmu_src/physics/offset_force.c fmu_src/physics/compliance.c
-CTRL_SRC_C := $(filter-out %/ctrl_fmi3.c,$(wildcard fmu_src/models/controller/*.c)) $(CTRL_SHARED)
+GLUE_C     := $(filter-out fmu_src/fmi/fmi3%.c,$(wildcard fmu_src/fmi/*.c))
+GLUE_H     := $(wildcard fmu_src/fmi/*.h)
+CTRL_SRC_C := $(filter-out %/ctrl_clock.c,$(wildcard fmu_src/models/controller/*.c)) $(CTRL_SHARED) $(GLUE_C)
 CTRL_SHARED_H := fmu_src/models/plant/params.h fmu_src/physics/plant.h fmu_src/physics/effect.h \
-                 $(GEN)/model_effects.h fmu_src/fmi/fmi2_allowed.h fmu_src/fmi/fmi2_log.h
+                 $(GEN)/model_effects.h $(GLUE_H)
 CTRL_SRC_H := $(wildcard fmu_src/models/controller/*.h) $(CTRL_SHARED_H)
 # the plant as FMI 3.0: modelDescription and value table generated from the FMI 2.0 XML
 # (fmu_src/generators/gen_fmi3.py), the fmi3 glue over the shared fmi2 one; only fmi3* exported
@@ -58,13 +62,14 @@ FMU3       := $(BUILD)/$(MODEL3).fmu
 PKG_FMU3   := python/feeddrive/$(MODEL3).fmu
 SO3        := $(BUILD)/fmi3/binaries/x86_64-linux/$(MODEL3).so
 SRC3_C     := $(wildcard $(addsuffix /*.c,$(SRC_DIRS)))
-# the controller as FMI 3.0: its FMI 3.0 glue over its FMI 2.0 one, the shared FMI 3.0 stubs
+# the controller as FMI 3.0: the FMI 3.0 glue and its clock, its value table generated as the plant's
 CTRL3      := $(CTRL)3
 CTRL3_GEN  := $(GEN)/controller3
 CTRL3_FMU  := $(BUILD)/$(CTRL3).fmu
 PKG_CTRL3_FMU := python/feeddrive/$(CTRL3).fmu
 CTRL3_SO   := $(BUILD)/controller3/binaries/x86_64-linux/$(CTRL3).so
-CTRL3_SRC_C := $(CTRL_SRC_C) fmu_src/models/controller/ctrl_fmi3.c fmu_src/fmi/fmi3_stubs.c
+GLUE3_C    := $(wildcard fmu_src/fmi/fmi3*.c)
+CTRL3_SRC_C := $(CTRL_SRC_C) fmu_src/models/controller/ctrl_clock.c $(GLUE3_C)
 
 # the Windows x86-64 DLLs: mingw-w64 (Debian gcc-mingw-w64-x86-64), the flags of the Linux build
 # less -fPIC and the POSIX feature macros (the product code is plain C99), MinGW's C99 printf
@@ -206,36 +211,40 @@ $(CTRL_DLL).made: $(CTRL_SRC_C) $(CTRL_SRC_H) $(GEN)/model_vars.h $(GEN)/model_v
 
 $(CTRL_FMU): $(CTRL_SO) $(CTRL_DLL).made $(CTRL_GEN)/modelDescription.xml
 	$(PY) tools/package_fmu.py --xml $(CTRL_GEN)/modelDescription.xml --so $(CTRL_SO) $(call win_binary,win64,$(CTRL_DLL)) \
-	    --sources fmu_src/models/controller $(CTRL_GEN) $(CTRL_SHARED) $(CTRL_SHARED_H) \
+	    --sources fmu_src/models/controller $(CTRL_GEN) $(CTRL_SHARED) $(CTRL_SHARED_H) $(GLUE_C) \
 	    $(GEN)/model_vars.h $(GEN)/model_vars.c --out $@
 
 $(PKG_CTRL_FMU): $(CTRL_FMU)
 	cp $< $@
 
-$(CTRL3_GEN)/modelDescription.xml $(CTRL3_GEN)/buildDescription.xml: $(CTRL_GEN)/modelDescription.xml fmu_src/generators/gen_fmi3.py
+$(CTRL3_GEN)/modelDescription.xml $(CTRL3_GEN)/buildDescription.xml $(CTRL3_GEN)/model_vars3.h $(CTRL3_GEN)/model_vars3.c: \
+    $(CTRL_GEN)/modelDescription.xml fmu_src/generators/gen_fmi3.py
 	$(PY) fmu_src/generators/gen_fmi3.py --controller $(CTRL_GEN)/modelDescription.xml $(CTRL3_GEN)
 
-$(CTRL3_SO): $(CTRL3_SRC_C) $(CTRL_SRC_H) fmu_src/fmi/fmi3_log.h fmu_src/fmi/fmi3.map $(GEN)/model_vars.h $(GEN)/model_vars.c \
-    $(CTRL_GEN)/ctrl_vars.h $(CTRL_GEN)/ctrl_vars.c $(BUILD)/fmi_include
+$(CTRL3_SO): $(CTRL3_SRC_C) $(CTRL_SRC_H) fmu_src/fmi/fmi3.map $(GEN)/model_vars.h $(GEN)/model_vars.c \
+    $(CTRL_GEN)/ctrl_vars.h $(CTRL_GEN)/ctrl_vars.c $(CTRL3_GEN)/model_vars3.h $(CTRL3_GEN)/model_vars3.c $(BUILD)/fmi_include
 	mkdir -p $(dir $@)
 	$(CC) $(FMU_CFLAGS) -ffp-contract=off $(CFLAGS) -shared -fvisibility=default -Wl,--no-undefined \
-	    -Wl,--version-script=fmu_src/fmi/fmi3.map -I fmu_src/models/controller $(SRC_INC) -I $(CTRL_GEN) -I $(GEN) \
-	    -I "$$(cat $(BUILD)/fmi_include)" -o $@ $(CTRL3_SRC_C) $(GEN)/model_vars.c $(CTRL_GEN)/ctrl_vars.c -lm
+	    -Wl,--version-script=fmu_src/fmi/fmi3.map -I fmu_src/models/controller $(SRC_INC) -I $(CTRL_GEN) -I $(CTRL3_GEN) \
+	    -I $(GEN) -I "$$(cat $(BUILD)/fmi_include)" -o $@ $(CTRL3_SRC_C) $(GEN)/model_vars.c $(CTRL_GEN)/ctrl_vars.c \
+	    $(CTRL3_GEN)/model_vars3.c -lm
 	@! (ldd $@ | grep -v -E 'linux-vdso|libc\.so|libm\.so|ld-linux|not a dynamic' | grep -q .) || \
 	    (echo "error: $@ links more than libc/libm:"; ldd $@; exit 1)
 
-$(CTRL3_DLL).made: $(CTRL3_SRC_C) $(CTRL_SRC_H) fmu_src/fmi/fmi3_log.h $(GEN)/model_vars.h $(GEN)/model_vars.c \
-    $(CTRL_GEN)/ctrl_vars.h $(CTRL_GEN)/ctrl_vars.c $(BUILD)/fmi_include $(WIN_TOOLCHAIN) tools/win_dll.py
+$(CTRL3_DLL).made: $(CTRL3_SRC_C) $(CTRL_SRC_H) $(GEN)/model_vars.h $(GEN)/model_vars.c $(CTRL_GEN)/ctrl_vars.h \
+    $(CTRL_GEN)/ctrl_vars.c $(CTRL3_GEN)/model_vars3.h $(CTRL3_GEN)/model_vars3.c $(BUILD)/fmi_include $(WIN_TOOLCHAIN) \
+    tools/win_dll.py
 	@rm -f $(CTRL3_DLL); mkdir -p $(dir $@)
 	@! grep -q '^ok' $(WIN_TOOLCHAIN) || $(WIN_DLL) --out $(CTRL3_DLL) --exports fmi3 -- $(WIN_CFLAGS) -ffp-contract=off \
-	    -I fmu_src/models/controller $(SRC_INC) -I $(CTRL_GEN) -I $(GEN) -I "$$(cat $(BUILD)/fmi_include)" \
-	    $(CTRL3_SRC_C) $(GEN)/model_vars.c $(CTRL_GEN)/ctrl_vars.c
+	    -I fmu_src/models/controller $(SRC_INC) -I $(CTRL_GEN) -I $(CTRL3_GEN) -I $(GEN) -I "$$(cat $(BUILD)/fmi_include)" \
+	    $(CTRL3_SRC_C) $(GEN)/model_vars.c $(CTRL_GEN)/ctrl_vars.c $(CTRL3_GEN)/model_vars3.c
 	@touch $@
 
 $(CTRL3_FMU): $(CTRL3_SO) $(CTRL3_DLL).made $(CTRL3_GEN)/modelDescription.xml $(CTRL3_GEN)/buildDescription.xml
 	$(PY) tools/package_fmu.py --xml $(CTRL3_GEN)/modelDescription.xml --so $(CTRL3_SO) $(call win_binary,x86_64-windows,$(CTRL3_DLL)) \
-	    --sources fmu_src/models/controller $(CTRL_GEN) $(CTRL_SHARED) $(CTRL_SHARED_H) fmu_src/fmi/fmi3_stubs.c \
-	    fmu_src/fmi/fmi3_log.h $(GEN)/model_vars.h $(GEN)/model_vars.c $(CTRL3_GEN)/buildDescription.xml \
+	    --sources fmu_src/models/controller $(CTRL_GEN) $(CTRL_SHARED) $(CTRL_SHARED_H) $(GLUE_C) $(GLUE3_C) \
+	    $(GEN)/model_vars.h $(GEN)/model_vars.c $(CTRL3_GEN)/model_vars3.h $(CTRL3_GEN)/model_vars3.c \
+	    $(CTRL3_GEN)/buildDescription.xml \
 	    --platform x86_64-linux --out $@
 
 $(PKG_CTRL3_FMU): $(CTRL3_FMU)

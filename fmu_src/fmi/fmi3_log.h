@@ -1,9 +1,8 @@
-/* What the FMI 3.0 glues (plant: fmi3_*.c, controller: controller/ctrl_fmi3.c) share: FMI 3.0
- * has no memory callbacks (calloc/free), and the FMI 2.0 glue underneath logs through an
- * fmi2CallbackLogger: log_adapter hands its messages to the fmi3LogMessageCallback (the text
- * unescaped, the FMI 2.0 function names of the shared code renamed); componentEnvironment is
- * an fmi3_logger_t (or a struct that starts with one). fmi3_refuse: the answer of a function
- * the FMU does not provide (fmi3_stubs.c), defined by each glue. */
+/* The logger of an FMI 3.0 instance (fmi3.c): FMI 3.0 has no memory callbacks (calloc/free),
+ * and the core logs through an fmi2CallbackLogger: log_adapter hands its messages (each naming
+ * the FMI 3.0 function called) to the fmi3LogMessageCallback, the text unescaped;
+ * componentEnvironment is an fmi3_logger_t (or a struct that starts with
+ * one). fmi3_refuse: the answer of a function no model offers (fmi3_stubs.c), in fmi3.c. */
 #ifndef FMI3_LOG_H
 #define FMI3_LOG_H
 
@@ -23,30 +22,11 @@ static inline void fmi3_mem_free(void *p) { free(p); }
 
 static inline void fmi3_log_adapter(fmi2ComponentEnvironment env, fmi2String name, fmi2Status st,
                                     fmi2String category, fmi2String message, ...) {
-    /* the shared glue's messages name its FMI 2.0 functions where FMI 3.0 has others */
-    static const char *const RENAMED[][2] = {
-        {"fmi2Instantiate", "fmi3Instantiate"}, {"fmi2SetupExperiment", "fmi3EnterInitializationMode"},
-        {"fmi2DoStep", "fmi3DoStep"}, {"fmi2GetRealOutputDerivatives", "fmi3GetOutputDerivatives"},
-        {"fmi2SetDebugLogging", "fmi3SetDebugLogging"}, {"fmi2NewDiscreteStates", "fmi3UpdateDiscreteStates"},
-        {"fmi2EnterInitializationMode", "fmi3EnterInitializationMode"},
-        {"fmi2ExitInitializationMode", "fmi3ExitInitializationMode"}, {"fmi2GetReal", "fmi3GetFloat64"},
-        {"fmi2SetReal", "fmi3SetFloat64"}, {"fmi2GetInteger", "fmi3GetInt32"}, {"fmi2SetInteger", "fmi3SetInt32"},
-        {"fmi2GetBoolean", "fmi3GetBoolean"}, {"fmi2SetBoolean", "fmi3SetBoolean"}};
     const fmi3_logger_t *e = (const fmi3_logger_t *)env;
     char buf[2048];
-    size_t i = 0, k;
+    size_t i = 0;
     (void)name;
     if (!e || !e->log_message || !message) return;
-    for (k = 0; k < sizeof RENAMED / sizeof RENAMED[0]; k++) {
-        size_t n = strlen(RENAMED[k][0]);
-        if (strncmp(message, RENAMED[k][0], n) == 0 && (message[n] == ':' || message[n] == ' ')) {
-            size_t m = strlen(RENAMED[k][1]);
-            memcpy(buf, RENAMED[k][1], m);
-            i = m;
-            message += n;
-            break;
-        }
-    }
     for (; *message && i + 1 < sizeof buf; message++) {
         if (message[0] == '%' && message[1] == '%') message++;
         buf[i++] = *message;

@@ -1,7 +1,7 @@
-/* The FMI 3.0 functions that neither the plant nor the controller FMU provides (the clock
- * functions: fmi3_no_clocks.c for the plant, controller/ctrl_fmi3.c for the controller), shared by
- * both FMI 3.0 libraries: each answers through the glue's fmi3_refuse (fmi3_log.h), fmi3Error
- * with a message naming the function (fmi3OK for a get/set of nothing). */
+/* The FMI 3.0 functions no model of the glue provides (the clock functions are in fmi3.c,
+ * answered by the model's clocks or refused), in both FMI 3.0 libraries: each answers through
+ * fmi3_refuse (fmi3.c), fmi3Error with a message naming the function (fmi3OK for a get/set of
+ * nothing). */
 #include "fmi3_log.h"
 
 #define NO_TYPE "this FMU has variables of types Float64, Int32 and Boolean only"

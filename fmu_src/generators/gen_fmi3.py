@@ -5,14 +5,14 @@ Usage: gen_fmi3.py modelDescription.xml OUTDIR
        gen_fmi3.py --controller build/gen/controller/modelDescription.xml OUTDIR
 
 (``--controller``: the controller FMU's merged FMI 2.0 description, co-simulation only, no
-arrays, no C table; its FMI 3.0 glue is controller/ctrl_fmi3.c. It adds the input clock
+arrays; its FMI 3.0 glue is the plant's (fmu_src/fmi/fmi3.c) with its clock (controller/ctrl_clock.c). It adds the input clock
 ``tick``: periodic, its interval the parameter Ts (``intervalVariability="fixed"``), the inputs
 and outputs clocked by it (``clocks``), and Event Mode (``hasEventMode``): an importer that
 instantiates with eventModeUsed gives every sample as a tick in Event Mode.)
 
 modelDescription.xml (FMI 2.0) stays the one list of variables. From it this writes
 OUTDIR/modelDescription.xml (FMI 3.0), OUTDIR/buildDescription.xml (for sources/) and
-OUTDIR/model_vars3.h/.c (the FMI 3.0 value references of the glue, fmu_src/fmi/fmi3_values.c):
+OUTDIR/model_vars3.h/.c (the FMI 3.0 value references of the glue, fmu_src/fmi/fmi3_view.c):
 
 - every scalar keeps its name, value reference, unit, start, min, max and nominal; Real becomes
   Float64, Integer Int32, Boolean Boolean;
@@ -35,7 +35,7 @@ N_NAME = "friction.N"
 N_ARRAYS = ("friction.F", "der(friction.F)", "friction.nu", "friction.k", "friction.stuck")
 TYPES = {"Real": "Float64", "Integer": "Int32", "Boolean": "Boolean"}
 VR_TIME, VR_INDICATORS = 0, 80
-CTRL_VR_TICK = 9          # the controller's input clock (controller/ctrl_fmi3.c's VR_TICK)
+CTRL_VR_TICK = 9          # the controller's input clock (controller/ctrl_clock.c's VR_TICK)
 
 
 def array_of(name: str) -> tuple[str, int] | None:
@@ -205,7 +205,7 @@ def c_table(vars3: list[dict], src: str) -> tuple[str, str]:
         kind = 0 if v["name"] == "time" else (2 if "nz" in v else (1 if v["dim"] else 3))
         rows.append((v["vr"], v["name"], v["type"][0] if v["type"] != "Float64" else "R", first,
                      len(v["elems"]) if v["elems"] else v.get("nz", 1), kind))
-    rows.sort(key=lambda r: r[0])     # fmi3_values.c finds a row by binary search on the vr
+    rows.sort(key=lambda r: r[0])     # fmi3_view.c finds a row by binary search on the vr
     h = [f"/* Generated from {src} by gen_fmi3.py: do not edit. */", "#ifndef MODEL_VARS3_H", "#define MODEL_VARS3_H",
          "", f"#define MODEL3_NVARS {len(rows)}", f"#define MODEL3_NELEMS {len(elems)}",
          f"#define VR3_time {VR_TIME}u", f"#define VR3_eventIndicators {VR_INDICATORS}u", "",
@@ -253,11 +253,9 @@ def main(xml_path: str, outdir: str, controller: bool = False) -> None:
     out.mkdir(parents=True, exist_ok=True)
     model_description(root2, vars3).write(out / "modelDescription.xml", encoding="UTF-8", xml_declaration=True)
     fmi_glue = Path(__file__).resolve().parents[1] / "fmi"
-    glue = (["ctrl_fmi3.c", "fmi3_stubs.c"] if controller
-            else sorted(p.name for p in fmi_glue.glob("fmi3_*.c")) + ["model_vars3.c"])
+    glue = (sorted(p.name for p in fmi_glue.glob("fmi3*.c")) + (["ctrl_clock.c"] if controller else [])
+            + ["model_vars3.c"])
     build_description(root2, glue).write(out / "buildDescription.xml", encoding="UTF-8", xml_declaration=True)
-    if controller:
-        return
     h, c = c_table(vars3, Path(xml_path).name)
     (out / "model_vars3.h").write_text(h)
     (out / "model_vars3.c").write_text(c)

@@ -7,7 +7,7 @@
  *   Karnopp-stuck static friction (prerolling off): nothing moves (v = 0, a = 0 exactly);
  * each with the DP45's error test. A step the test rejects, or at whose end an event indicator
  * has changed sign, is not taken: the caller falls back to the adaptive, event-locating DP45
- * over that interval (fmi2_cs.c). Where the scheme applies at all is fast_path_ok(). Pure
+ * over that interval (models/plant/plant_step.c). Where the scheme applies at all is fast_path_ok(). Pure
  * functions of the plant's data: no FMI, no allocation. */
 #ifndef FAST_PATH_H
 #define FAST_PATH_H

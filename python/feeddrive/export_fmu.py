@@ -9,7 +9,7 @@
   ``friction.N`` get the model's N elements;
 - ``resources/start_values.txt``: the same values, ``name value`` per line (FMI 2.0 names,
   floats with ``repr`` digits).  The FMU's binary reads it when instantiated
-  (``fmu_src/fmi/start_values.c``), so the FMU starts as the model also in an importer that sets
+  (``fmu_src/models/plant/start_values.c``), so the FMU starts as the model also in an importer that sets
   no parameters; the binary is the source FMU's, unchanged (so is its GUID/instantiation token).
 
 Beside the ``.fmu`` goes ``<stem>.ssv``, an SSP 1.0 parameter set (``ssv:ParameterSet``) of the

@@ -153,7 +153,7 @@ void part_state_structure(void) {
               fmi3GetFloat64(n9, &vr_F, 1, F, 9) == fmi3OK, "the refused instance steps on with 9 elements", &env_9);
     }
     /* a continuous state beyond its range, the checksum recomputed: x = y[0], v = y[1] follow the
-     * call-sequence state, flags and five f64 times (fmi2_state_format.h) */
+     * call-sequence state, flags and five f64 times (state_format.h, plant_snapshot.c) */
     hb = rd_u32(s_step + 8);
     {
         const double bad[2] = {-2000.0, 1e300};

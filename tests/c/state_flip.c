@@ -22,7 +22,7 @@
 #include "fmi_host.h"
 #include "model_vars.h"
 
-#define HEADER_BYTES 96   /* fmi2_state_format.h: header, its last 4 bytes the payload's CRC-32 */
+#define HEADER_BYTES 96   /* state_format.h: header, its last 4 bytes the payload's CRC-32 */
 #define CRC_AT 92
 #define NX_AT 76          /* the "continuous states" field of the header's structure */
 #define GUID_AT 16

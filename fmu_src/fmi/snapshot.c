@@ -1,10 +1,10 @@
-/* FMI 2.0 FMU state. A snapshot (fmi2FMUstate) holds the serialised state of
- * fmi2_state_format.h, so every snapshot, from memory or from bytes, is loaded through the
- * one decoder that checks every field and re-derives the rest from the parameters. */
+/* FMU state objects, every version. A snapshot holds the serialised state (state_format.h and
+ * the model's part, model.h), so every snapshot, from memory or from bytes, is loaded through
+ * the one decoder that checks every field and re-derives the rest from the parameters. */
 #include <math.h>
 #include <string.h>
 
-#include "fmi2_state_format.h"
+#include "state_format.h"
 
 #define BLOB_MAGIC 0x46444253u   /* marks an fmi2FMUstate of this FMU */
 
@@ -18,7 +18,7 @@ typedef struct blob {
 
 static blob_t *as_blob(instance_t *c, const char *fn, fmi2FMUstate state) {
     blob_t *s = (blob_t *)state;
-    if (!s || s->magic != BLOB_MAGIC || s->len != state_bytes()) {
+    if (!s || s->magic != BLOB_MAGIC || s->len != model_state_bytes()) {
         fmu_log(c, fmi2Error, LOG_ERROR, "%s: FMUstate is not a state of this FMU", fn);
         return NULL;
     }
@@ -29,7 +29,7 @@ static blob_t *new_blob(instance_t *c, const char *fn) {
     blob_t *s = (blob_t *)c->cb.allocateMemory(1, sizeof(blob_t));
     if (!s) { fmu_log(c, fmi2Error, LOG_ERROR, "%s: out of memory", fn); return NULL; }
     s->magic = BLOB_MAGIC;
-    s->len = state_bytes();
+    s->len = model_state_bytes();
     s->owner = c;
     s->prev = NULL;
     s->next = (blob_t *)c->states;
@@ -56,14 +56,14 @@ fmi2Status fmu_state_get(instance_t *c, const char *fn, void **state) {
     blob_t *s;
     if (!c) return fmi2Error;
     if (!state) { fmu_log(c, fmi2Error, LOG_ERROR, "%s: FMUstate pointer is NULL", fn); return fmi2Error; }
-    if (state_bytes() > STATE_MAX_BYTES) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "%s: a state needs %zu bytes, more than %u", fn, state_bytes(),
+    if (model_state_bytes() > STATE_MAX_BYTES) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: a state needs %zu bytes, more than %u", fn, model_state_bytes(),
                 STATE_MAX_BYTES);
         return fmi2Error;
     }
     s = *state ? as_blob(c, fn, *state) : new_blob(c, fn);
     if (!s) return fmi2Error;
-    state_encode(&c->m, c->type, s->bytes);
+    model_state_encode(&c->m, c->type, s->bytes);
     *state = s;
     return fmi2OK;
 }
@@ -71,7 +71,7 @@ fmi2Status fmu_state_get(instance_t *c, const char *fn, void **state) {
 /* bytes checked and loaded into the instance (nothing changes when they are refused) */
 static fmi2Status load(instance_t *c, const char *fn, const unsigned char *b, size_t len) {
     model_t tmp;
-    if (!state_decode(c, fn, b, len, &tmp)) return fmi2Error;
+    if (!model_state_decode(c, fn, b, len, &tmp)) return fmi2Error;
     c->m = tmp;
     return fmi2OK;
 }
@@ -119,43 +119,10 @@ fmi2Status fmu_state_deserialize(instance_t *c, const char *fn, const unsigned c
     blob_t *s;
     if (!c) return fmi2Error;
     if (!state) { fmu_log(c, fmi2Error, LOG_ERROR, "%s: FMUstate pointer is NULL", fn); return fmi2Error; }
-    if (!state_decode(c, fn, b, size, &tmp)) return fmi2Error;
+    if (!model_state_decode(c, fn, b, size, &tmp)) return fmi2Error;
     s = *state ? as_blob(c, fn, *state) : new_blob(c, fn);
     if (!s) return fmi2Error;
     memcpy(s->bytes, b, size);
     *state = s;
     return fmi2OK;
-}
-
-fmi2Status fmi2GetFMUstate(fmi2Component comp, fmi2FMUstate *state) {
-    return fmu_state_get(FMU_ENTER(comp, fmi2GetFMUstate), "fmi2GetFMUstate", state);
-}
-fmi2Status fmi2SetFMUstate(fmi2Component comp, fmi2FMUstate state) {
-    return fmu_state_set(FMU_ENTER(comp, fmi2SetFMUstate), "fmi2SetFMUstate", state);
-}
-fmi2Status fmi2FreeFMUstate(fmi2Component comp, fmi2FMUstate *state) {
-    return fmu_state_free(FMU_ENTER(comp, fmi2FreeFMUstate), "fmi2FreeFMUstate", state);
-}
-fmi2Status fmi2SerializedFMUstateSize(fmi2Component comp, fmi2FMUstate state, size_t *size) {
-    return fmu_state_size(FMU_ENTER(comp, fmi2SerializedFMUstateSize), "fmi2SerializedFMUstateSize", state, size);
-}
-fmi2Status fmi2SerializeFMUstate(fmi2Component comp, fmi2FMUstate state, fmi2Byte serializedState[], size_t size) {
-    return fmu_state_serialize(FMU_ENTER(comp, fmi2SerializeFMUstate), "fmi2SerializeFMUstate", state,
-                               (unsigned char *)serializedState, size);
-}
-fmi2Status fmi2DeSerializeFMUstate(fmi2Component comp, const fmi2Byte serializedState[], size_t size,
-                                   fmi2FMUstate *state) {
-    return fmu_state_deserialize(FMU_ENTER(comp, fmi2DeSerializeFMUstate), "fmi2DeSerializeFMUstate",
-                                 (const unsigned char *)serializedState, size, state);
-}
-
-fmi2Status fmi2GetDirectionalDerivative(fmi2Component comp, const fmi2ValueReference vUnknown_ref[], size_t nUnknown,
-                                        const fmi2ValueReference vKnown_ref[], size_t nKnown,
-                                        const fmi2Real dvKnown[], fmi2Real dvUnknown[]) {
-    instance_t *c = FMU_ENTER(comp, fmi2GetDirectionalDerivative);
-    (void)vUnknown_ref; (void)nUnknown; (void)vKnown_ref; (void)nKnown; (void)dvKnown; (void)dvUnknown;
-    if (!c) return fmi2Error;
-    fmu_log(c, fmi2Error, LOG_ERROR, "fmi2GetDirectionalDerivative: not provided "
-            "(providesDirectionalDerivative is false)");
-    return fmi2Error;
 }

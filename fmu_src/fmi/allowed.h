@@ -1,12 +1,13 @@
 /* The one table of the call sequence, FMI 2.0 and FMI 3.0: for every function that takes an
  * instance, the interface(s) it belongs to and the states it may be called in (after the
- * Reference FMUs' MASK_fmi2... / MASK_fmi3... defines). The FMI 3.0 glue (fmi3_*.c) maps its
- * states onto these: StepMode = ST_STEP_COMPLETE, StepDiscarded = ST_STEP_FAILED, plus
- * ST_CONFIG (Configuration Mode); a co-simulation instance also has Event Mode. Every entry point starts with FMU_ENTER(comp, fmi2Xxx), which checks
- * both against this table; an illegal call logs "<function>: illegal call in state <state>",
- * moves the instance to the Error state and returns NULL (the call answers fmi2Error). */
-#ifndef FMI2_ALLOWED_H
-#define FMI2_ALLOWED_H
+ * Reference FMUs' MASK_fmi2... / MASK_fmi3... defines). FMI 3.0 (fmi3.c) maps its states onto
+ * these: StepMode = ST_STEP_COMPLETE, StepDiscarded = ST_STEP_FAILED, plus ST_CONFIG
+ * (Configuration Mode); a co-simulation instance also has Event Mode. Every entry point
+ * (fmi2.c, fmi3.c) starts with FMU_ENTER(comp, fmiXxx), which checks both against this table;
+ * an illegal call logs "<function>: illegal call in state <state>", moves the instance to the
+ * Error state and returns NULL (the call answers an error). */
+#ifndef ALLOWED_H
+#define ALLOWED_H
 
 /* call-sequence states (one bit each) */
 enum {
@@ -81,7 +82,7 @@ enum {
 #define ALLOW_fmi2GetBooleanStatus             FOR_BOTH, ST_ANY
 #define ALLOW_fmi2GetStringStatus              FOR_BOTH, ST_ANY
 
-/* FMI 3.0 (fmi3_*.c) */
+/* FMI 3.0 (fmi3.c) */
 #define ST_GETTABLE3 (ST_INSTANTIATED | ST_CONFIG | ST_INIT | ST_AFTER_INIT)
 /* life cycle */
 #define ALLOW_fmi3FreeInstance                 FOR_BOTH, ST_ANY
@@ -90,7 +91,8 @@ enum {
 #define ALLOW_fmi3ExitConfigurationMode        FOR_BOTH, ST_CONFIG
 #define ALLOW_fmi3EnterInitializationMode      FOR_BOTH, ST_INSTANTIATED
 #define ALLOW_fmi3ExitInitializationMode       FOR_BOTH, ST_INIT
-#define ALLOW_fmi3EnterEventMode               FOR_BOTH, (ST_CONT | ST_STEP_COMPLETE)
+/* (Event Mode: refused by the function itself, the state kept) */
+#define ALLOW_fmi3EnterEventMode               FOR_BOTH, (ST_CONT | ST_STEP_COMPLETE | ST_EVENT)
 #define ALLOW_fmi3UpdateDiscreteStates         FOR_BOTH, ST_EVENT
 #define ALLOW_fmi3Terminate                    FOR_BOTH, (ST_EVENT | ST_CONT | ST_STEP_COMPLETE | ST_STEP_FAILED)
 #define ALLOW_fmi3Reset                        FOR_BOTH, (~ST_FATAL)
@@ -111,7 +113,8 @@ enum {
 #define ALLOW_fmi3SerializedFMUStateSize       FOR_BOTH, ST_ANY
 #define ALLOW_fmi3SerializeFMUState            FOR_BOTH, ST_ANY
 #define ALLOW_fmi3DeserializeFMUState          FOR_BOTH, ST_ANY
-#define ALLOW_fmi3NotProvided                  FOR_BOTH, ST_ANY   /* derivatives, dependencies, clocks */
+#define ALLOW_fmi3NotProvided                  FOR_BOTH, ST_ANY   /* derivatives, dependencies */
+#define ALLOW_fmi3Clocks                       FOR_BOTH, ST_ANY   /* the clock functions (the model checks the state) */
 /* model exchange */
 #define ALLOW_fmi3EnterContinuousTimeMode      FOR_ME, ST_EVENT
 #define ALLOW_fmi3CompletedIntegratorStep      FOR_ME, ST_CONT
@@ -123,7 +126,8 @@ enum {
 #define ALLOW_fmi3GetNominalsOfContinuousStates FOR_ME, (ST_INSTANTIATED | ST_ME_OUTPUTS)
 /* co-simulation */
 #define ALLOW_fmi3EnterStepMode                FOR_CS, ST_EVENT
-#define ALLOW_fmi3DoStep                       FOR_CS, ST_STEP_COMPLETE
+/* (Event Mode: refused by the function itself, the state kept) */
+#define ALLOW_fmi3DoStep                       FOR_CS, (ST_STEP_COMPLETE | ST_EVENT)
 #define ALLOW_fmi3GetOutputDerivatives         FOR_CS, (ST_STEP_COMPLETE | ST_STEP_FAILED | ST_TERMINATED)
 
 /* which variables fmi2Set{Real,Integer,Boolean} may set in which states (FMI 2.0, Table 3) */
@@ -132,8 +136,9 @@ enum {
 #define SET_TUNABLE (ST_INSTANTIATED | ST_INIT | ST_EVENT | ST_STEP_COMPLETE)
 #define SET_EXACT_STATE (ST_INSTANTIATED | ST_INIT)                    /* states with initial="exact" */
 
-/* the name of the (single-bit) state fsm, for "<function>: illegal call in state <state>" */
-static inline const char *fmi2_state_name(int fsm) {
+/* the name of the (single-bit) state fsm in FMI 2.0's words, for "<function>: illegal call in
+ * state <state>" */
+static inline const char *fsm_name(int fsm) {
     static const char *const NAMES[] = {"Instantiated", "InitializationMode", "EventMode",
                                         "ContinuousTimeMode", "StepComplete", "StepFailed",
                                         "Terminated", "Error", "Fatal", "ConfigurationMode"};
@@ -143,8 +148,8 @@ static inline const char *fmi2_state_name(int fsm) {
 }
 
 /* the same in FMI 3.0's words: Step Mode and Step Discarded for the co-simulation states */
-static inline const char *fmi3_state_name(int fsm) {
-    return fsm == ST_STEP_COMPLETE ? "StepMode" : fsm == ST_STEP_FAILED ? "StepDiscarded" : fmi2_state_name(fsm);
+static inline const char *fsm_name3(int fsm) {
+    return fsm == ST_STEP_COMPLETE ? "StepMode" : fsm == ST_STEP_FAILED ? "StepDiscarded" : fsm_name(fsm);
 }
 
 /* the instance behind comp when function F may be called on it now, else NULL (logged) */

@@ -1,5 +1,5 @@
-/* FMI 2.0 co-simulation entry points: fmi2DoStep integrates the plant interval by interval
- * between current-loop samples: by the per-sample scheme (fast_path.h) where fast_path_ok()
+/* The plant's co-simulation step (model.h's model_do_step, every FMI version): a step
+ * integrates the plant interval by interval between current-loop samples: by the per-sample scheme (fast_path.h) where fast_path_ok()
  * allows it and its step passes, else with the event-locating Dormand-Prince 5(4) solver
  * (solver_dp45.c), stopping at every current-loop sample and every friction switch inside the
  * step. A sample that falls on the end of a communication step is taken at the start of the
@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include "fast_path.h"
-#include "fmi2_instance.h"
+#include "plant_model.h"
 
 /* the interval of h from the current state by the per-sample scheme (fast_path.h) when solver.fast
  * is on: 1 when taken (m->y advanced), 0 when the adaptive solver must take it. fresh: an event
@@ -39,33 +39,33 @@ static void indicators(void *ctx, double t, const double *y, double *z) {
 }
 
 /* a step from t (the time reached so far) of size h > 0, not past the stop time (logs if not) */
-static int step_args_ok(instance_t *c, double t, double h, double eps) {
+static int step_args_ok(instance_t *c, const char *fn, double t, double h, double eps) {
     const model_t *m = &c->m;
     if (!isfinite(t) || !isfinite(h) || h <= 0.0) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: currentCommunicationPoint = %g, "
-                "communicationStepSize = %g: allowed finite values with communicationStepSize > 0", t, h);
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: currentCommunicationPoint = %g, "
+                "communicationStepSize = %g: allowed finite values with communicationStepSize > 0", fn, t, h);
         return 0;
     }
     if (m->p.current_dynamics && fmu_ulp_slack(t + h) > m->p.Ts / 8.0) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: at t = %.17g s a double resolves only %g s, too coarse for "
-                "the current-loop samples of Ts = %g s (allowed: 16 ulp(t) <= Ts/8, a start time nearer 0)",
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: at t = %.17g s a double resolves only %g s, too coarse for "
+                "the current-loop samples of Ts = %g s (allowed: 16 ulp(t) <= Ts/8, a start time nearer 0)", fn,
                 t + h, fmu_ulp_slack(t + h) / 16.0, m->p.Ts);
         return 0;
     }
     if (fabs(t - m->time) > eps) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: currentCommunicationPoint = %.17g differs from the "
-                "FMU's time %.17g (allowed: the time reached by the previous step)", t, m->time);
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: currentCommunicationPoint = %.17g differs from the "
+                "FMU's time %.17g (allowed: the time reached by the previous step)", fn, t, m->time);
         return 0;
     }
     if (m->stop_defined && t + h > m->stop_time + eps) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: step to %.17g passes the stopTime %.17g given to "
-                "fmi2SetupExperiment", t + h, m->stop_time);
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: step to %.17g passes the stopTime %.17g given to "
+                "fmi2SetupExperiment", fn, t + h, m->stop_time);
         return 0;
     }
     return 1;
 }
 
-/* the work one step of length h may take (fmi2_instance.h) */
+/* the work one step of length h may take (model_data.h) */
 typedef struct { double steps, events, start_attempts; long long n_events; } budget_t;
 
 static void budget_start(const model_t *m, double h, budget_t *b) {
@@ -84,22 +84,22 @@ static long long budget_left(const model_t *m, const budget_t *b) {
 }
 
 /* the integrator failed or a budget ran out: the message, state Error */
-static fmi2Status step_failed(instance_t *c, const budget_t *b, double h) {
+static fmi2Status step_failed(instance_t *c, const char *fn, const budget_t *b, double h) {
     model_t *m = &c->m;
     char why[320];
     double used = (double)(m->solver.n_steps + m->solver.n_rejected) - b->start_attempts;
     params_fastest_rate(m->val, &m->p, why, sizeof why);
     if (b->n_events > b->events)
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: more than %.0f state events in a step of %g s (budget "
-                "%g + %g/s): the friction switches chatter at t = %.17g s (x = %g m, v = %g m/s); fastest rate: %s",
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: more than %.0f state events in a step of %g s (budget "
+                "%g + %g/s): the friction switches chatter at t = %.17g s (x = %g m, v = %g m/s); fastest rate: %s", fn,
                 b->events, h, BUDGET_EVENTS_BASE, BUDGET_EVENTS_RATE, m->time, m->y[PLANT_IX], m->y[PLANT_IV], why);
     else if (used >= b->steps)
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: more than %.0f integrator steps in a step of %g s (budget "
-                "%g + %g per Ts + %g/s): the problem is too stiff at t = %.17g s; stiffest: %s", b->steps, h,
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: more than %.0f integrator steps in a step of %g s (budget "
+                "%g + %g per Ts + %g/s): the problem is too stiff at t = %.17g s; stiffest: %s", fn, b->steps, h,
                 BUDGET_STEPS_BASE, BUDGET_STEPS_PER_SAMPLE, BUDGET_STEPS_RATE, m->time, why);
     else
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2DoStep: the integrator failed at t = %.17g s (x = %g m, "
-                "v = %g m/s): step size below its minimum or a non-finite state", m->time,
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: the integrator failed at t = %.17g s (x = %g m, "
+                "v = %g m/s): step size below its minimum or a non-finite state", fn, m->time,
                 m->y[PLANT_IX], m->y[PLANT_IV]);
     m->fsm = ST_ERROR;
     m->out_valid = 0;
@@ -108,7 +108,7 @@ static fmi2Status step_failed(instance_t *c, const budget_t *b, double h) {
 
 /* every continuous state inside the min/max of modelDescription.xml (a NaN is outside); else the
  * message names the state, its value, the range and the cause, and the step fails */
-static int states_in_range(instance_t *c) {
+static int states_in_range(instance_t *c, const char *fn) {
     model_t *m = &c->m;
     char cause[320], vb[40];
     int j;
@@ -118,10 +118,10 @@ static int states_in_range(instance_t *c) {
         v = &MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]];
         snprintf(vb, sizeof vb, "%.9g", m->y[j]);
         m->out_valid = 0;
-        fmu_update_outputs(c);
+        plant_update_outputs(c);
         params_state_cause(&m->p, m->y, &m->in, &m->out, j, cause, sizeof cause);
-        fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s = %s %s left its declared range [%g, %g] %s at t = %.17g s: %s",
-                c->fmi3 ? "fmi3DoStep" : "fmi2DoStep", v->name, vb, v->unit, v->min, v->max, v->unit, m->time,
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s = %s %s left its declared range [%g, %g] %s at t = %.17g s: %s", fn,
+                v->name, vb, v->unit, v->min, v->max, v->unit, m->time,
                 cause);
         m->fsm = ST_ERROR;
         m->out_valid = 0;
@@ -134,7 +134,8 @@ static int states_in_range(instance_t *c) {
  * (keyed to its index: tau_k = k Ts) and every friction switch; every continuous state is checked
  * against its declared range after every accepted integrator step and where each interval ends
  * (sample, switch, step end) */
-static fmi2Status integrate(instance_t *c, double tau, double tau_end, double h, double eps, int fresh) {
+static fmi2Status integrate(instance_t *c, const char *fn, double tau, double tau_end, double h, double eps,
+                            int fresh) {
     model_t *m = &c->m;
     int roots[PLANT_NZ], fast = m->val[VR_solver_fast] != 0.0 && m->fast_ok;
     fmi2Boolean changed;
@@ -152,9 +153,9 @@ static fmi2Status integrate(instance_t *c, double tau, double tau_end, double h,
             m->time = m->t0 + tau;
             m->tau = tau;
             fresh = 0;
-            if (!states_in_range(c)) return fmi2Error;
-            if (tau < tau_end && fmu_sample_due(m, tau, 0.0)) {
-                if (fmu_event_update(c, "fmi2DoStep", tau, 0.0, &changed) < 0) return step_failed(c, &b, h);
+            if (!states_in_range(c, fn)) return fmi2Error;
+            if (tau < tau_end && plant_sample_due(m, tau, 0.0)) {
+                if (model_event_update(c, fn, tau, 0.0, &changed) < 0) return step_failed(c, fn, &b, h);
                 fresh = 1;
             }
             continue;
@@ -166,10 +167,10 @@ static fmi2Status integrate(instance_t *c, double tau, double tau_end, double h,
         m->time = m->t0 + tau;
         m->tau = tau;
         if (r == DP45_ROOT && ++b.n_events > b.events) r = DP45_ERROR;
-        if (r == DP45_ERROR) return step_failed(c, &b, h);
-        if (!states_in_range(c)) return fmi2Error;   /* also after DP45_BOUND, which leaves one outside */
-        if (r == DP45_ROOT || (tau < tau_end && fmu_sample_due(m, tau, 0.0))) {
-            if (fmu_event_update(c, "fmi2DoStep", tau, 0.0, &changed) < 0) return step_failed(c, &b, h);
+        if (r == DP45_ERROR) return step_failed(c, fn, &b, h);
+        if (!states_in_range(c, fn)) return fmi2Error;   /* also after DP45_BOUND, which leaves one outside */
+        if (r == DP45_ROOT || (tau < tau_end && plant_sample_due(m, tau, 0.0))) {
+            if (model_event_update(c, fn, tau, 0.0, &changed) < 0) return step_failed(c, fn, &b, h);
             dp45_restart(&m->solver);
             fresh = 1;
         }
@@ -177,21 +178,14 @@ static fmi2Status integrate(instance_t *c, double tau, double tau_end, double h,
     return fmi2OK;
 }
 
-fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real h, fmi2Boolean noSetFMUStatePriorToCurrentPoint) {
-    instance_t *c = FMU_ENTER(comp, fmi2DoStep);
-    (void)noSetFMUStatePriorToCurrentPoint;
-    if (!c) return fmi2Error;
-    return fmu_cs_do_step(c, t, h);
-}
-
-/* fmi2DoStep's work, shared with fmi3DoStep (fmi3_cs.c) */
-fmi2Status fmu_cs_do_step(instance_t *c, double t, double h) {
+/* fmi2DoStep's work, and fmi3DoStep's (fmi3.c adds event mode and early return) */
+fmi2Status model_do_step(instance_t *c, const char *fn, double t, double h) {
     model_t *m = &c->m;
     double t_end, eps, tau;
     fmi2Boolean changed;
     int fresh = 0;
-    eps = fmu_time_eps(m, t);
-    if (!step_args_ok(c, t, h, eps)) return fmi2Error;
+    eps = plant_time_eps(m, t);
+    if (!step_args_ok(c, fn, t, h, eps)) return fmi2Error;
     t_end = t + h;
     /* from the time reached (an early return's end, FMI 3.0, is t0 + tau rounded: the step goes on
      * from tau itself, as the step that did not return would have) */
@@ -200,53 +194,34 @@ fmi2Status fmu_cs_do_step(instance_t *c, double t, double h) {
     m->tau = tau;
     params_inputs(m->val, &m->in);
     /* what is due now, with the inputs the master has just set */
-    if (fmu_sample_due(m, tau, 0.0) || m->solver_restart) {
-        if (fmu_event_update(c, "fmi2DoStep", tau, 0.0, &changed) < 0) { m->fsm = ST_ERROR; return fmi2Error; }
+    if (plant_sample_due(m, tau, 0.0) || m->solver_restart) {
+        if (model_event_update(c, fn, tau, 0.0, &changed) < 0) { m->fsm = ST_ERROR; return fmi2Error; }
         dp45_restart(&m->solver);
         m->solver_restart = 0;
         fresh = 1;
     }
-    if (integrate(c, tau, t_end - m->t0, h, eps, fresh) != fmi2OK) return fmi2Error;
+    if (integrate(c, fn, tau, t_end - m->t0, h, eps, fresh) != fmi2OK) return fmi2Error;
     m->time = t_end;
     m->tau = t_end - m->t0;
-    fmu_check_stroke(c);
+    plant_check_stroke(c);
     m->out_valid = 0;
     return fmi2OK;
 }
 
-fmi2Status fmi2CancelStep(fmi2Component comp) {
-    instance_t *c = FMU_ENTER(comp, fmi2CancelStep);
-    if (!c) return fmi2Error;
-    fmu_log(c, fmi2Error, LOG_ERROR, "fmi2CancelStep: fmi2DoStep never returns fmi2Pending, nothing to cancel");
-    return fmi2Error;
-}
-
-fmi2Status fmi2SetRealInputDerivatives(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr,
-                                       const fmi2Integer order[], const fmi2Real value[]) {
-    instance_t *c = FMU_ENTER(comp, fmi2SetRealInputDerivatives);
-    (void)vr; (void)order; (void)value;
-    if (!c) return fmi2Error;
-    if (nvr == 0) return fmi2OK;
-    fmu_log(c, fmi2Error, LOG_ERROR, "fmi2SetRealInputDerivatives: inputs are held constant over a step "
-            "(canInterpolateInputs is false)");
-    return fmi2Error;
-}
-
-fmi2Status fmi2GetRealOutputDerivatives(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr,
-                                        const fmi2Integer order[], fmi2Real value[]) {
-    instance_t *c = FMU_ENTER(comp, fmi2GetRealOutputDerivatives);
+fmi2Status model_output_derivatives(instance_t *c, const char *fn, const unsigned vr[], size_t nvr,
+                                    const int order[], double value[]) {
     size_t k;
     if (!c) return fmi2Error;
     if (nvr > 0 && (!vr || !order || !value)) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "fmi2GetRealOutputDerivatives: NULL array with nvr = %zu", nvr);
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: NULL array with nvr = %zu", fn, nvr);
         return fmi2Error;
     }
-    if (!fmu_finite_result(c, "fmi2GetRealOutputDerivatives", NULL, 0)) return fmi2Error;
-    fmu_update_outputs(c);
+    if (!fmu_finite_result(c, fn, NULL, 0)) return fmi2Error;
+    plant_update_outputs(c);
     for (k = 0; k < nvr; k++) {
         if (order[k] != 1) {
-            fmu_log(c, fmi2Error, LOG_ERROR, "fmi2GetRealOutputDerivatives: order %d, allowed 1 "
-                    "(maxOutputDerivativeOrder)", (int)order[k]);
+            fmu_log(c, fmi2Error, LOG_ERROR, "%s: order %d, allowed 1 (maxOutputDerivativeOrder)", fn,
+                    (int)order[k]);
             return fmi2Error;
         }
         if (vr[k] == VR_x) value[k] = c->m.y[PLANT_IV];
@@ -254,41 +229,11 @@ fmi2Status fmi2GetRealOutputDerivatives(fmi2Component comp, const fmi2ValueRefer
         else if (vr[k] == VR_v) value[k] = c->m.out.a;
         else if (vr[k] == VR_i && c->m.p.current_dynamics) value[k] = 0.0;   /* held between samples */
         else {
-            fmu_log(c, fmi2Error, LOG_ERROR, "fmi2GetRealOutputDerivatives: value reference %u: derivatives "
-                    "are provided for x, x_measured, v and (with current_dynamics) i", (unsigned)vr[k]);
+            fmu_log(c, fmi2Error, LOG_ERROR, "%s: value reference %u: derivatives are provided for x, "
+                    "x_measured, v and (with current_dynamics) i", fn, (unsigned)vr[k]);
             return fmi2Error;
         }
-        if (!fmu_finite_result(c, "fmi2GetRealOutputDerivatives", &value[k], 1)) return fmi2Error;
+        if (!fmu_finite_result(c, fn, &value[k], 1)) return fmi2Error;
     }
     return fmi2OK;
-}
-
-static fmi2Status no_status(instance_t *c, const char *fn) {
-    if (!c) return fmi2Error;
-    fmu_log(c, fmi2Discard, LOG_ERROR, "%s: no asynchronous step status (fmi2DoStep never returns "
-            "fmi2Pending)", fn);
-    return fmi2Discard;
-}
-
-fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status *value) {
-    (void)s; (void)value;
-    return no_status(FMU_ENTER(c, fmi2GetStatus), "fmi2GetStatus");
-}
-fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *value) {
-    instance_t *ci = FMU_ENTER(c, fmi2GetRealStatus);
-    if (ci && s == fmi2LastSuccessfulTime && value) { *value = ci->m.time; return fmi2OK; }
-    return no_status(ci, "fmi2GetRealStatus");
-}
-fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind s, fmi2Integer *value) {
-    (void)s; (void)value;
-    return no_status(FMU_ENTER(c, fmi2GetIntegerStatus), "fmi2GetIntegerStatus");
-}
-fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boolean *value) {
-    instance_t *ci = FMU_ENTER(c, fmi2GetBooleanStatus);
-    if (ci && s == fmi2Terminated && value) { *value = fmi2False; return fmi2OK; }
-    return no_status(ci, "fmi2GetBooleanStatus");
-}
-fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind s, fmi2String *value) {
-    (void)s; (void)value;
-    return no_status(FMU_ENTER(c, fmi2GetStringStatus), "fmi2GetStringStatus");
 }

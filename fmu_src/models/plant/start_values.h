@@ -6,7 +6,7 @@
 #ifndef START_VALUES_H
 #define START_VALUES_H
 
-#include "fmi2_instance.h"
+#include "instance.h"
 
 #define START_VALUES_FILE "start_values.txt"
 
@@ -15,8 +15,8 @@
  * for fmi2Reset (c->start_val). Returns 0, with a message naming the file, the line, the
  * parameter, its value and the allowed range logged, when a line is malformed, names no
  * parameter of this FMU, or a value (or their combination) is out of range. */
-int fmu_start_values_load(instance_t *c, const char *location, int is_uri);
+int model_load_start_values(instance_t *c, const char *location, int is_uri);
 /* every variable at its start value: the compiled-in ones and those of the resource file */
-void fmu_instance_defaults(instance_t *c);
+void model_reset(instance_t *c);
 
 #endif

@@ -132,7 +132,7 @@ static int read_file(instance_t *c, FILE *f, const char *path) {
     return 1;
 }
 
-int fmu_start_values_load(instance_t *c, const char *location, int is_uri) {
+int model_load_start_values(instance_t *c, const char *location, int is_uri) {
     char path[PATH_LEN], msg[512];
     plant_params_t p;
     FILE *f;
@@ -162,8 +162,8 @@ keep:
     return 1;
 }
 
-void fmu_instance_defaults(instance_t *c) {
-    fmu_model_defaults(&c->m);
+void model_reset(instance_t *c) {
+    model_defaults(&c->m);
     memcpy(c->m.val, c->start_val, sizeof c->start_val);
     c->m.tol = c->m.val[VR_solver_tol];
 }

@@ -1,12 +1,23 @@
-/* FMI 3.0 get/set: the FMI 3.0 value references (model_vars3.h) expanded to the FMI 2.0 ones of
- * their elements (an array of dimension friction.N has N, a scalar one) and handed to the shared
- * get/set of fmi2_values.c (its checks: type, state, range; a rejected set changes nothing).
- * time and eventIndicators are computed here; the structural parameter friction.N is set only
- * in Configuration Mode. (Types the FMU has none of: fmi3_stubs.c.) */
+/* The FMI 3.0 view of the variables: the FMI 3.0 value references (model_vars3.h) expanded to
+ * the FMI 2.0 ones of their elements (an array of the dimension of the structural parameter
+ * MODEL_STRUCTURAL_VR, friction.N for the plant, has N, a scalar one) and handed to the core's
+ * get/set (values.c: type, state, range; a rejected set changes nothing); time and
+ * eventIndicators are computed here; the structural parameter is set only in Configuration
+ * Mode. The continuous states of the view: those of the model but the array elements past the
+ * dimension. (Types the FMU has none of: fmi3_stubs.c.) */
 #include <stdlib.h>
 #include <string.h>
 
-#include "fmi3_glue.h"
+#include "fmi3_view.h"
+
+/* the model's arrays have the dimension of its structural parameter (MODEL_HAS_ARRAYS) */
+#if MODEL_HAS_ARRAYS
+#define STRUCTURAL_NAME GLUE_VARS[GLUE_VR_INDEX[MODEL_STRUCTURAL_VR]].name
+#else
+#define STRUCTURAL_NAME "(no structural parameter)"
+#endif
+
+const char *fmi3_structural_name(void) { return STRUCTURAL_NAME; }
 
 static int row3(unsigned vr) {
     int lo = 0, hi = MODEL3_NVARS - 1;
@@ -16,6 +27,20 @@ static int row3(unsigned vr) {
         if (MODEL3_VARS[mid].vr < vr) lo = mid + 1; else hi = mid - 1;
     }
     return -1;
+}
+
+/* the counts of a get/set: no more than an array can hold, values not NULL when n_values > 0 */
+static int counts_ok(instance_t *c, const char *fn, size_t nvr, const void *values, size_t n_values) {
+    if (nvr > FMU_MAX_VALUES || n_values > FMU_MAX_VALUES) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: nValueReferences = %zu, nValues = %zu: allowed at most %zu (no array "
+                "holds more values)", fn, nvr, n_values, FMU_MAX_VALUES);
+        return 0;
+    }
+    if (n_values > 0 && !values) {
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: NULL array of values with nValues = %zu", fn, n_values);
+        return 0;
+    }
+    return 1;
 }
 
 static size_t count3(const model_t *m, int r) {
@@ -41,8 +66,12 @@ static unsigned *expand(instance_t *c, const char *fn, const fmi3ValueReference 
         total += count3(&c->m, r);
     }
     if (total != n_values) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "%s: nValues = %zu, the %zu variable(s) have %zu value(s) (arrays of "
-                "dimension friction.N = %d)", fn, n_values, nvr, total, fmi3_n(&c->m));
+        if (MODEL_HAS_ARRAYS)
+            fmu_log(c, fmi2Error, LOG_ERROR, "%s: nValues = %zu, the %zu variable(s) have %zu value(s) (arrays of "
+                    "dimension %s = %d)", fn, n_values, nvr, total, STRUCTURAL_NAME, fmi3_n(&c->m));
+        else
+            fmu_log(c, fmi2Error, LOG_ERROR, "%s: nValues = %zu must equal nValueReferences = %zu (this FMU has no "
+                    "arrays)", fn, n_values, nvr);
         return NULL;
     }
     out = (unsigned *)calloc(total + 1, sizeof(unsigned));
@@ -63,19 +92,18 @@ static fmi2Status get_special(instance_t *c, const char *fn, int r, double *out)
     model_t *m = &c->m;
     if (MODEL3_VARS[r].kind == 0) { out[0] = m->time; return fmi2OK; }
     if (!fmu_finite_result(c, fn, NULL, 0)) return fmi2Error;
-    params_inputs(m->val, &m->in);
-    plant_indicators(&m->p, &m->d, m->y, &m->in, out);
-    return fmu_finite_result(c, fn, out, PLANT_NZ) ? fmi2OK : fmi2Error;
+    model_indicators(c, out);
+    return fmu_finite_result(c, fn, out, GLUE_NZ) ? fmi2OK : fmi2Error;
 }
 
-static fmi3Status get3(instance_t *c, const char *fn, const fmi3ValueReference vr[], size_t nvr, char type,
+fmi3Status fmi3_get_values(instance_t *c, const char *fn, const fmi3ValueReference vr[], size_t nvr, char type,
                        void *values, size_t n_values) {
     size_t n, k, at = 0;
     unsigned *vr2;
     fmi2Status st = fmi2OK;
     int *tmp = NULL;
     if (!c) return fmi3Error;
-    if (n_values > 0 && !values) { fmu_log(c, fmi2Error, LOG_ERROR, "%s: NULL values with nValues = %zu", fn, n_values); return fmi3Error; }
+    if (!counts_ok(c, fn, nvr, values, n_values)) return fmi3Error;
     if (!(vr2 = expand(c, fn, vr, nvr, type, n_values, &n))) return fmi3Error;
     if (type == 'B' && !(tmp = (int *)calloc(n + 1, sizeof(int)))) { free(vr2); return fmi3Error; }
     /* one run of FMI 2.0 references at a time, the computed ones between */
@@ -96,40 +124,44 @@ static fmi3Status get3(instance_t *c, const char *fn, const fmi3ValueReference v
     return (fmi3Status)st;
 }
 
-/* friction.N in Configuration Mode (nothing else may be set there) */
+/* the structural parameter in Configuration Mode (nothing else may be set there) */
 static fmi3Status set_structural(instance_t *c, const char *fn, const unsigned *vr2, size_t n, const fmi3Int32 *v) {
-    char msg[512];
+#if MODEL_HAS_ARRAYS
     size_t k;
     for (k = 0; k < n; k++) {
-        if (vr2[k] != VR_friction_N) {
+        if (vr2[k] != MODEL_STRUCTURAL_VR) {
             fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s cannot be set in Configuration Mode (only the structural "
-                    "parameter friction.N)", fn, MODEL_VARS[MODEL_VR_INDEX[vr2[k]]].name);
+                    "parameter %s)", fn, GLUE_VARS[GLUE_VR_INDEX[vr2[k]]].name, STRUCTURAL_NAME);
             return fmi3Error;
         }
-        if (!params_check_value(VR_friction_N, (double)v[k], msg, sizeof msg)) {
-            fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s", fn, msg);
-            return fmi3Error;
-        }
+        if (!model_check_value(c, fn, GLUE_VR_INDEX[MODEL_STRUCTURAL_VR], (double)v[k])) return fmi3Error;
     }
-    for (k = 0; k < n; k++) c->m.val[VR_friction_N] = (double)v[k];
+    for (k = 0; k < n; k++) c->m.val[MODEL_STRUCTURAL_VR] = (double)v[k];
     return fmi3OK;
+#else
+    (void)c; (void)fn; (void)vr2; (void)n; (void)v;
+    return fmi3Error;   /* no Configuration Mode without a structural parameter */
+#endif
 }
 
-static fmi3Status set3(instance_t *c, const char *fn, const fmi3ValueReference vr[], size_t nvr, char type,
+fmi3Status fmi3_set_values(instance_t *c, const char *fn, const fmi3ValueReference vr[], size_t nvr, char type,
                        const void *values, size_t n_values) {
     size_t n, k;
     unsigned *vr2;
     fmi2Status st;
     int *tmp = NULL;
     if (!c) return fmi3Error;
-    if (n_values > 0 && !values) { fmu_log(c, fmi2Error, LOG_ERROR, "%s: NULL values with nValues = %zu", fn, n_values); return fmi3Error; }
+    if (!counts_ok(c, fn, nvr, values, n_values)) return fmi3Error;
     if (!(vr2 = expand(c, fn, vr, nvr, type, n_values, &n))) return fmi3Error;
     for (k = 0; k < n; k++) {
         const char *what = vr2[k] == 0xFFFFFFFFu ? "a calculated variable"
-                         : (vr2[k] == VR_friction_N && c->m.fsm != ST_CONFIG) ? "structural" : NULL;
+                         : (vr2[k] == MODEL_STRUCTURAL_VR && c->m.fsm != ST_CONFIG) ? "structural" : NULL;
         if (what) {
-            fmu_log(c, fmi2Error, LOG_ERROR, vr2[k] == 0xFFFFFFFFu ? "%s: time and eventIndicators are %s"
-                    : "%s: friction.N is %s: set it in Configuration Mode (fmi3EnterConfigurationMode)", fn, what);
+            if (vr2[k] == 0xFFFFFFFFu)
+                fmu_log(c, fmi2Error, LOG_ERROR, "%s: time and eventIndicators are %s", fn, what);
+            else
+                fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s is %s: set it in Configuration Mode "
+                        "(fmi3EnterConfigurationMode)", fn, STRUCTURAL_NAME, what);
             free(vr2);
             return fmi3Error;
         }
@@ -138,7 +170,7 @@ static fmi3Status set3(instance_t *c, const char *fn, const fmi3ValueReference v
         fmi3Status s3 = type == 'I' ? set_structural(c, fn, vr2, n, (const fmi3Int32 *)values) : fmi3Error;
         if (type != 'I' && n > 0)
             fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s cannot be set in Configuration Mode (only the structural "
-                    "parameter friction.N)", fn, MODEL_VARS[MODEL_VR_INDEX[vr2[0]]].name);
+                    "parameter %s)", fn, GLUE_VARS[GLUE_VR_INDEX[vr2[0]]].name, STRUCTURAL_NAME);
         free(vr2);
         return n == 0 ? fmi3OK : s3;
     }
@@ -154,37 +186,39 @@ static fmi3Status set3(instance_t *c, const char *fn, const fmi3ValueReference v
     return (fmi3Status)st;
 }
 
-fmi3Status fmi3GetFloat64(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, fmi3Float64 v[], size_t nv) {
-    return get3(FMU_ENTER(i, fmi3GetFloat64), "fmi3GetFloat64", vr, nvr, 'R', v, nv);
-}
-fmi3Status fmi3GetInt32(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, fmi3Int32 v[], size_t nv) {
-    return get3(FMU_ENTER(i, fmi3GetInt32), "fmi3GetInt32", vr, nvr, 'I', v, nv);
-}
-fmi3Status fmi3GetBoolean(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, fmi3Boolean v[], size_t nv) {
-    return get3(FMU_ENTER(i, fmi3GetBoolean), "fmi3GetBoolean", vr, nvr, 'B', v, nv);
-}
-fmi3Status fmi3SetFloat64(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, const fmi3Float64 v[], size_t nv) {
-    return set3(FMU_ENTER(i, fmi3SetFloat64), "fmi3SetFloat64", vr, nvr, 'R', v, nv);
-}
-fmi3Status fmi3SetInt32(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, const fmi3Int32 v[], size_t nv) {
-    return set3(FMU_ENTER(i, fmi3SetInt32), "fmi3SetInt32", vr, nvr, 'I', v, nv);
-}
-fmi3Status fmi3SetBoolean(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr, const fmi3Boolean v[], size_t nv) {
-    return set3(FMU_ENTER(i, fmi3SetBoolean), "fmi3SetBoolean", vr, nvr, 'B', v, nv);
+/* the continuous states of the FMI 3.0 view */
+
+int fmi3_n(const model_t *m) {
+#if MODEL_HAS_ARRAYS
+    return (int)m->val[MODEL_STRUCTURAL_VR];
+#else
+    (void)m;
+    return 0;
+#endif
 }
 
-fmi3Status fmi3GetNumberOfContinuousStates(fmi3Instance instance, size_t *nContinuousStates) {
-    instance_t *c = FMU_ENTER(instance, fmi3GetNumberOfContinuousStates);
-    if (!c) return fmi3Error;
-    if (!nContinuousStates) { fmu_log(c, fmi2Error, LOG_ERROR, "fmi3GetNumberOfContinuousStates: NULL argument"); return fmi3Error; }
-    *nContinuousStates = fmi3_nx(&c->m);
-    return fmi3OK;
+/* is FMI 2.0 state j an element past the dimension N of an array? */
+static int state_unused(const model_t *m, int j) {
+    int r, p, n = fmi3_n(m);
+    for (r = 0; r < MODEL3_NVARS; r++) {
+        if (MODEL3_VARS[r].kind != 1) continue;
+        for (p = 0; p < MODEL3_VARS[r].count; p++)
+            if (MODEL3_ELEMS[MODEL3_VARS[r].first + p] == GLUE_STATE_VR[j]) return p >= n;
+    }
+    return 0;
 }
 
-fmi3Status fmi3GetNumberOfEventIndicators(fmi3Instance instance, size_t *nEventIndicators) {
-    instance_t *c = FMU_ENTER(instance, fmi3GetNumberOfEventIndicators);
-    if (!c) return fmi3Error;
-    if (!nEventIndicators) { fmu_log(c, fmi2Error, LOG_ERROR, "fmi3GetNumberOfEventIndicators: NULL argument"); return fmi3Error; }
-    *nEventIndicators = PLANT_NZ;
-    return fmi3OK;
+size_t fmi3_nx(const model_t *m) {
+    size_t n = 0;
+    int j;
+    for (j = 0; j < GLUE_NX; j++) n += !state_unused(m, j);
+    return n;
 }
+
+int fmi3_state_index(const model_t *m, size_t j) {
+    int k;
+    for (k = 0; k < GLUE_NX; k++)
+        if (!state_unused(m, k) && j-- == 0) return k;
+    return -1;
+}
+

@@ -1,12 +1,12 @@
-/* Logging shared by the FMUs' glue (plant and controller): categories, the filter (event
+/* Logging of the FMI glue, every model and version: categories, the filter (event
  * traces only when logging is on and logEvents selected; per-sample traces only when logDebug
  * is named in fmi2SetDebugLogging -- not part of "all categories", so a system run with
  * logging on is not drowned by 2 000 lines per second; warnings and errors always), the
  * fmi2SetDebugLogging category list, and the text handed to the importer's logger as a printf
  * format with every '%' doubled, so importers that cannot read variadic arguments (ctypes,
  * JNI) still get the whole message. */
-#ifndef FMI2_LOG_H
-#define FMI2_LOG_H
+#ifndef LOG_H
+#define LOG_H
 
 #include <stdarg.h>
 #include <stdio.h>
@@ -29,7 +29,7 @@
 #define FMU_PRINTF_FORMAT printf
 #endif
 
-static inline void fmi2_log_emit(const fmi2CallbackFunctions *cb, const char *name, fmi2Status st,
+static inline void log_emit(const fmi2CallbackFunctions *cb, const char *name, fmi2Status st,
                                  const char *cat, const char *text) {
     char esc[2048];
     size_t i = 0;
@@ -42,7 +42,7 @@ static inline void fmi2_log_emit(const fmi2CallbackFunctions *cb, const char *na
 }
 
 /* format and emit a message of category cat (LOG_*) unless the filter drops it */
-static inline void fmi2_log_v(const fmi2CallbackFunctions *cb, const char *name, int logging_on,
+static inline void log_v(const fmi2CallbackFunctions *cb, const char *name, int logging_on,
                               unsigned mask, fmi2Status st, unsigned cat, const char *fmt, va_list ap) {
     char buf[1024];
     const char *cname = cat == LOG_EVENTS ? "logEvents" : cat == LOG_DEBUG ? "logDebug"
@@ -50,12 +50,12 @@ static inline void fmi2_log_v(const fmi2CallbackFunctions *cb, const char *name,
     if (!cb->logger) return;
     if ((cat == LOG_EVENTS || cat == LOG_DEBUG) && !(logging_on && (mask & cat))) return;
     vsnprintf(buf, sizeof buf, fmt, ap);
-    fmi2_log_emit(cb, name ? name : "?", st, cname, buf);
+    log_emit(cb, name ? name : "?", st, cname, buf);
 }
 
-/* the mask of fmi2SetDebugLogging's categories (none: all); -1 when every name is known,
+/* the mask of SetDebugLogging's categories (none: all); -1 when every name is known,
  * else the index of the first unknown one */
-static inline long long fmi2_log_mask(size_t n, const fmi2String categories[], unsigned *mask) {
+static inline long long log_categories(size_t n, const fmi2String categories[], unsigned *mask) {
     size_t k;
     if (n == 0) { *mask = LOG_ALL; return -1; }
     *mask = LOG_WARNING | LOG_ERROR;

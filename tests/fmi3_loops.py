@@ -157,7 +157,7 @@ def _loop(path: str, n: int, x0: float, ctrl, early_return: bool, event_mode: bo
         xs[k + 1] = plant.getFloat64([vr["x"]])[0]
     wall = time.perf_counter() - wall0
     names = ["stats.n_stick", "stats.n_slip", "stats.n_state_events", "stats.n_steps"]
-    stats = dict(zip(names, plant.getInt32([vr[s] for s in names])))
+    stats = dict(zip(names, plant.getInt32([vr[s] for s in names]), strict=True))
     plant.terminate()
     plant.freeInstance()
     ctrl.close()

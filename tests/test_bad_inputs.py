@@ -51,7 +51,7 @@ CASES = _cases()
 
 def test_corpus_is_large_enough():
     assert len(CASES) >= 40
-    assert len({c for c in CASES}) == len(CASES)
+    assert len(set(CASES)) == len(CASES)
 
 
 def _digest(folder: Path) -> dict[str, str]:
@@ -130,7 +130,7 @@ def test_foreign_sidecar_is_read_for_what_it_says(tmp_path, good, name):
         assert side.controller is None and run.meta["controller"] is None
         assert "no closed-loop replay" in line
     else:
-        assert side.controller == {k: v for k, v in good_side["controller"].items()}
+        assert side.controller == dict(good_side["controller"])
 
 
 def test_validate_shows_what_it_can_with_a_foreign_controller(tmp_path, good, capsys):

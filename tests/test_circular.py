@@ -124,8 +124,8 @@ def test_master_of_four_fmus_equals_the_harness_per_axis() -> None:
     p = circle_path(0.005, 0.05, "ccw")
     n = p.x.n
     res = simulate_axes([AxisLoop(a.name, a.plant, controller_values(a, "gms"), ref)
-                         for a, ref in zip(axes, (p.x, p.y))])
-    for a, ref in zip(axes, (p.x, p.y)):
+                         for a, ref in zip(axes, (p.x, p.y), strict=True)])
+    for a, ref in zip(axes, (p.x, p.y), strict=True):
         spec = state_space_spec({**a.nominal, "Ts": 5e-4},
                                 feedforward=sec4.FeedforwardOptions(friction="gms"))
         with Plant(a.plant) as plant:

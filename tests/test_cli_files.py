@@ -430,7 +430,7 @@ def test_realdata_arrays_special_and_empty_files_refused(tmp_path, unblock):
     with pytest.raises(ValueError, match="character device"):
         odrive.load_slow_run(tmp_path / "slow.npy")
     (tmp_path / "empty.npy").write_bytes(b"")
-    with pytest.raises(ValueError, match="empty.npy: empty or cut short"):
+    with pytest.raises(ValueError, match=r"empty\.npy: empty or cut short"):
         odrive.load_slow_run(tmp_path / "empty.npy")
 
 

@@ -138,7 +138,7 @@ def test_diagnose_rejects_no_runs():
 
 def test_too_short_run_is_rejected_with_its_name():
     run = simulate_run(PAPER, sinusoid_reference(0.1), seed=1, name="tiny")
-    with pytest.raises(ValueError, match="tiny.*usable samples"):
+    with pytest.raises(ValueError, match=r"tiny.*usable samples"):
         diagnose([run], PAPER, closed_loop=False)
 
 

@@ -35,7 +35,7 @@ LOAD = {"compliance.m2": 2.0, "compliance.f": 40.0, "compliance.zeta": 0.05}
 TRUTH = PAPER.with_effect("compliance", True, **LOAD)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _runs():
     return tuple(make_runs(TRUTH, seed=21))
 

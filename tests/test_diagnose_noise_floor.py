@@ -31,7 +31,7 @@ P = compile(PAPER)
 WINDOW = 43                                   # the floor's window at 0.5 ms (41 + 2)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _prbs(truth_key: str = "paper", seed: int = 501, noise: float = 0.005) -> Run:
     truth = CASES[truth_key][0] if truth_key in CASES else PAPER
     sensors = Sensors(current_noise=noise, seed=seed, noise_on_stage=False)

@@ -74,7 +74,7 @@ def _p2p_reference(seed: int) -> Reference:
                      np.concatenate([r.v for r in refs]), np.concatenate([r.a for r in refs]))
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _three_excitations(truth_key: str) -> tuple[Run, ...]:
     truth = _TRUTHS[truth_key]
     return (simulate_run(truth, sinusoid_reference(6.0), current_noise=0.005, seed=81,
@@ -130,7 +130,7 @@ def play(x: np.ndarray, half_width: float) -> np.ndarray:
     return y
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _play_runs() -> tuple[Run, ...]:
     # 10 um of play (a multiple of the 100 nm step: readings stay on the scale's grid)
     return tuple(dataclasses.replace(r, x=play(np.asarray(r.x, float), 10e-6))

@@ -97,7 +97,7 @@ def test_loads_are_in_f_load_and_act_as_p(runs, params):
     """F_load = P; and K_f(x)(i(P) - i(0)) over the cruise = P (Eq. 3: same friction and
     cogging at the same x and v, so the current difference is the load alone)."""
     by = {(r.meta["P"], r.meta["direction"]): r for r in runs["cogging_ripple"]}
-    for (P, d), r in by.items():
+    for (P, _d), r in by.items():
         assert np.all(r.F_load == P)
         assert r.meta["P"] == P
     grid = np.linspace(0.1485, 0.1515, 61)

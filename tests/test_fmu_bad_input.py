@@ -53,7 +53,7 @@ class Raw:
     def _log3(self, env, status, category, message) -> None:
         self.messages.append(message.decode() if isinstance(message, bytes) else str(message))
 
-    def fresh(self) -> "Raw":
+    def fresh(self) -> Raw:
         """Free the previous instance; instantiate a new one (state Instantiated)."""
         if self._live:     # (fmpy's freeInstance() would also unload the library)
             getattr(self.fmu, "fmi2FreeInstance" if self.version == "2.0" else "fmi3FreeInstance")(self.fmu.component)
@@ -79,7 +79,7 @@ class Raw:
         else:
             self.fmu.enterInitializationMode(startTime=0.0)
 
-    def initialized(self) -> "Raw":
+    def initialized(self) -> Raw:
         self.enter_init()
         self.fmu.exitInitializationMode()
         return self
@@ -251,7 +251,7 @@ def test_non_finite_parameter_or_input_rejected(me: Raw, bad: float) -> None:
     me.fresh()
     for name in names:
         me.messages.clear()
-        msg = _fails(lambda: me.set(name, bad), me)
+        msg = _fails(lambda name=name: me.set(name, bad), me)
         _names_value_and_range(msg, name, "not a finite number", "allowed values are finite")
         assert re.search(re.escape(name) + r"(\[1\])? = -?(nan|inf)\b", msg, re.I), msg
         me.reset()
@@ -264,7 +264,7 @@ def test_non_finite_input_during_simulation(me: Raw, cs: Raw, name: str, bad: fl
         raw.fresh().initialized()
         if raw is me:
             raw.enter_ct()
-        msg = _fails(lambda: raw.set(name, bad), raw)
+        msg = _fails(lambda raw=raw: raw.set(name, bad), raw)
         _names_value_and_range(msg, name, "not a finite number", "finite")
 
 

@@ -36,7 +36,7 @@ def _rows(values: dict[str, list[float]], structure: list[str] | None = None,
     rows = [{"replicate": r, **{k: v[r] for k, v in values.items()},
              "structure": structure[r] if structure else "2/2", "status": OK, "message": ""}
             for r in range(n)]
-    rows += [{"replicate": n + j, **{k: math.nan for k in values}, "structure": "",
+    rows += [{"replicate": n + j, **dict.fromkeys(values, math.nan), "structure": "",
               "status": FAILED, "message": "x"} for j in range(failed)]
     return rows
 

@@ -107,7 +107,7 @@ def test_every_run_is_classified_with_and_without_sidecar(runs_dir):
     kinds = [classify(r) for r in runs]
     assert sorted(set(kinds)) == ["constant_speed", "force_open_loop", "prbs", "prerolling",
                                   "variable_speed"]
-    for r, k in zip(runs, kinds):
+    for r, k in zip(runs, kinds, strict=True):
         r.meta = {}
         assert classify(r) == k, r.path          # from the file stem
         r.path = None

@@ -80,7 +80,7 @@ def test_unsaturated_equals_dlsim(name):
         # each part is ~100x their sum, so the tolerance is wider
         num, den = spec["num"], spec["den"]
         dens = den if np.ndim(den[0]) else [den, den]
-        ul = sum(signal.lfilter(nm, dn, x) for nm, dn, x in zip(num, dens, (r, y)))
+        ul = sum(signal.lfilter(nm, dn, x) for nm, dn, x in zip(num, dens, (r, y), strict=True))
         assert _rel(u, ul) < 20 * REL
 
 

@@ -58,7 +58,7 @@ def _controllers() -> list:
                                       u_limit=10.0, anti_windup={"pole": 0.5}), id="lti")]
 
 
-def _plan(tmp: Path, *options: str, controller: dict | None | str = "default") -> Path:
+def _plan(tmp: Path, *options: str, controller: dict | str | None = "default") -> Path:
     out = tmp / "plan"
     args = ["plan", "--out", str(out), *options]
     if controller != "default":

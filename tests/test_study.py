@@ -43,7 +43,7 @@ def _write(tmp: Path, doc: dict, name: str = "study.json") -> Path:
 
 def _same(a: list[dict], b: list[dict], cols: tuple[str, ...]) -> None:
     assert [r["run"] for r in a] == [r["run"] for r in b]
-    for ra, rb in zip(a, b):
+    for ra, rb in zip(a, b, strict=True):
         assert (ra["status"], ra["message"]) == (rb["status"], rb["message"])
         for c in cols:
             x, y = ra[c], rb[c]

@@ -64,7 +64,7 @@ def python_rows(repeats: int = 5) -> tuple[list[tuple[str, str, str]], dict]:
     n = ref.n
     calls = 3 * n   # set inputs, doStep, get outputs per sample
     rows = [
-        ("6 s closed loop from Python, CS (best of %d)" % repeats,
+        (f"6 s closed loop from Python, CS (best of {repeats})",
          f"{w_cs * 1e3:.0f} ms wall, {6.0 / w_cs:.0f}x real time", "<= 200 ms (>= 30x)"),
         ("  median of the repeats", f"{statistics.median(walls) * 1e3:.0f} ms", ""),
         ("  FMI calls per run (CS)", f"{calls} ({calls / n:.0f} per sample)", ""),
@@ -90,7 +90,7 @@ def two_fmu_rows(wall_python: float, res_python: dict, repeats: int = 5,
             for _ in range(repeats)]
     wall = min(float(r["wall"]) for r in runs)
     dx = float(np.max(np.abs(runs[0]["x"] - res_python["x"])))
-    rows = [("6 s closed loop, controller FMU + plant FMU stepped from Python (best of %d)" % repeats,
+    rows = [(f"6 s closed loop, controller FMU + plant FMU stepped from Python (best of {repeats})",
              f"{wall * 1e3:.0f} ms wall, {wall / wall_python:.2f} x the Python-controller run", ""),
             ("  agreement with the Python-controller run, max abs(dx)", f"{dx * 1e6:.3g} um", "<= 0.01 um")]
     if host is None or plant_library is None or controller_library is None:
@@ -102,7 +102,7 @@ def two_fmu_rows(wall_python: float, res_python: dict, repeats: int = 5,
     w = fig["wall_s_best"]
     dxc = float(np.max(np.abs(np.asarray(x) - res_python["x"])))
     return rows + [
-        ("6 s closed loop, controller FMU + plant FMU stepped from C (best of %d)" % repeats,
+        (f"6 s closed loop, controller FMU + plant FMU stepped from C (best of {repeats})",
          f"{w * 1e3:.1f} ms wall, {w / wall_python:.3f} x the Python-controller run",
          "<= 1/3"),
         ("  agreement with the Python-controller run, max abs(dx)", f"{dxc * 1e6:.3g} um", "<= 0.01 um")]
@@ -117,10 +117,10 @@ def c_rows(bench_cs: Path, cycles: Path | None, library: Path,
     a = run_bench_cs(bench_cs, library, repeats, "adaptive")
     wall, wall_a = f["wall_s_best"], a["wall_s_best"]
     rows = [
-        ("6 s closed loop from C through fmi2DoStep, per-sample scheme (best of %d)" % repeats,
+        (f"6 s closed loop from C through fmi2DoStep, per-sample scheme (best of {repeats})",
          f"{wall * 1e3:.1f} ms wall, {6.0 / wall:.0f}x real time", "<= 3 ms (>= 2000x)"),
-        ("  same, its floor on a loaded machine: each 50-sample chunk's fastest of the %d repetitions, "
-         "summed" % repeats,
+        (f"  same, its floor on a loaded machine: each 50-sample chunk's fastest of the {repeats} "
+         "repetitions, summed",
          f"{f['wall_s_floor'] * 1e3:.1f} ms wall, {6.0 / f['wall_s_floor']:.0f}x real time", "<= 3 ms (>= 2000x)"),
         ("  same, adaptive DP45 throughout (solver.fast = false)",
          f"{wall_a * 1e3:.1f} ms wall, {6.0 / wall_a:.0f}x real time", ""),

@@ -370,7 +370,7 @@ def write_run(run: Run, path: str | Path, decimals: Mapping[str, int] | None = N
     buf = io.StringIO(newline="")
     writer = csv.writer(buf, lineterminator="\n")
     writer.writerow(names)
-    writer.writerows(zip(*text_cols))
+    writer.writerows(zip(*text_cols, strict=True))
     data = buf.getvalue().encode("utf-8")
     if is_compressed(path):
         data = gzip.compress(data, compresslevel=GZIP_LEVEL, mtime=0)

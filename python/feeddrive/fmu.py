@@ -396,7 +396,8 @@ class Plant:
         return self.fmu.updateDiscreteStates() if self.fmi3 else self.fmu.newDiscreteStates()
 
     def get_derivatives(self, dx: object, nx: int) -> None:
-        """Model exchange: the state derivatives into ``dx`` (fmi2GetDerivatives / fmi3GetContinuousStateDerivatives)."""
+        """Model exchange: the state derivatives into ``dx`` (fmi2GetDerivatives /
+        fmi3GetContinuousStateDerivatives)."""
         if self.fmi3:
             self.fmu.getContinuousStateDerivatives(dx, nx)
         else:
@@ -440,7 +441,7 @@ class Plant:
             self._instantiated = False
             self.generation += 1
 
-    def __enter__(self) -> "Plant":
+    def __enter__(self) -> Plant:
         return self
 
     def __exit__(self, *exc) -> None:
@@ -453,7 +454,7 @@ class Plant:
             pass
 
     # ------------------------------------------------------------------ fast raw access
-    def raw_calls(self) -> "RawCalls":
+    def raw_calls(self) -> RawCalls:
         """Own ctypes handles on the started instance's fmi2DoStep, fmi2GetReal, fmi2SetReal.
 
         Loaded from the FMU's shared library (fmpy's public ``dll``), independent of fmpy's
@@ -468,7 +469,7 @@ class Plant:
             self._raw_handles = handles
         return RawCalls(self.fmu.component, *handles)
 
-    def raw(self, names: Sequence[str]) -> "RawIO":
+    def raw(self, names: Sequence[str]) -> RawIO:
         """Pre-built ctypes arrays for ``names`` (Real variables): ~1 µs get/set calls."""
         return RawIO(self, names)
 
@@ -554,7 +555,7 @@ class RawIO:
         self.calls = plant.raw_calls()
         self._generation = plant.generation
 
-    def _current(self) -> "RawCalls":
+    def _current(self) -> RawCalls:
         """The calls on the plant's current instance: after a restart the arrays are re-bound
         to the new instance (never a freed one); after close() an FMUError."""
         if self._generation != self.plant.generation:

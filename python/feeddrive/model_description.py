@@ -129,19 +129,21 @@ def _read3(root: ElementTree.Element) -> dict[str, Variable]:
         kind = _KIND3.get(v.tag, v.tag)
         name = v.get("name")
         dims = v.findall("Dimension")
-
-        def make(n: str) -> Variable:
-            return Variable(name=n, kind=kind, causality=v.get("causality", "local"),
-                            variability=v.get("variability", "continuous"), unit=v.get("unit", ""),
-                            lo=_number(v.get("min"), -math.inf), hi=_number(v.get("max"), math.inf))
         if not dims:
-            out[name] = make(name)
+            out[name] = _variable3(v, name, kind)
             continue
         n = size.get(dims[0].get("valueReference"), int(dims[0].get("start", "1")))
         for k in range(1, n + 1):
             el = f"der({name[4:-1]}[{k}])" if name.startswith("der(") else f"{name}[{k}]"
-            out[el] = make(el)
+            out[el] = _variable3(v, el, kind)
     return out
+
+
+def _variable3(v: ElementTree.Element, name: str, kind: str) -> Variable:
+    """The FMI 3.0 variable ``v`` (or one element of it) as ``name``."""
+    return Variable(name=name, kind=kind, causality=v.get("causality", "local"),
+                    variability=v.get("variability", "continuous"), unit=v.get("unit", ""),
+                    lo=_number(v.get("min"), -math.inf), hi=_number(v.get("max"), math.inf))
 
 
 def variables(fmu: str | Path | None = None) -> dict[str, Variable]:

@@ -88,7 +88,7 @@ class PID:
         self.reset()
 
     @classmethod
-    def from_force_gains(cls, model: DesignModel, reference: ArrayLike, **kw: Any) -> "PID":
+    def from_force_gains(cls, model: DesignModel, reference: ArrayLike, **kw: Any) -> PID:
         """A PID at ``model``'s Ts whose force_per_volt is the model's K_f0 G(1)."""
         return cls(reference, Ts=model.Ts, force_per_volt=1.0 / model.volts_per_newton, **kw)
 

@@ -179,7 +179,7 @@ class StateSpaceController:
     @classmethod
     def from_params(cls, params: Mapping[str, float], reference: ArrayLike,
                     feedforward_options: Any = None, v_ref: ArrayLike | None = None,
-                    a_ref: ArrayLike | None = None, **kw: Any) -> "StateSpaceController":
+                    a_ref: ArrayLike | None = None, **kw: Any) -> StateSpaceController:
         """Design model, feedforward and controller from one nominal parameter dict.
 
         ``feedforward_options``: None for no feedforward, else a
@@ -302,7 +302,7 @@ class StateSpaceController:
         def poles_table(p: np.ndarray) -> list[dict[str, Any]]:
             f, z = z_to_hz_zeta(p, self.Ts)
             return [{"z": complex(pi), "f_hz": float(fi), "zeta": float(zi)}
-                    for pi, fi, zi in zip(p, f, z)]
+                    for pi, fi, zi in zip(p, f, z, strict=True)]
         return {
             "K": self.K.tolist(), "k_q": self.k_q, "L": self.L.tolist(),
             "force_equivalent": {"Kp_N_per_m": self.K[0] * fn, "Kv_Ns_per_m": self.K[1] * fn,

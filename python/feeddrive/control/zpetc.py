@@ -70,7 +70,7 @@ class ZPETC:
         self.num, self.den, self.radius = num, den, radius
 
     @classmethod
-    def from_controller(cls, controller: Any, radius: float = 0.9) -> "ZPETC":
+    def from_controller(cls, controller: Any, radius: float = 0.9) -> ZPETC:
         """Pre-filter for a controller exposing ``closed_loop_tf() -> (num, den)``."""
         num, den = controller.closed_loop_tf()
         return cls(num, den, radius=radius)

@@ -73,7 +73,7 @@ def _poly_to_x(theta_xi: np.ndarray, powers: range, centre: float, half: float, 
                ) -> np.ndarray:
     """Coefficients in x (powers 0..order) of sum theta_k ((x - centre)/half)^k."""
     full = np.zeros(order + 1)
-    for k, t in zip(powers, theta_xi):
+    for k, t in zip(powers, theta_xi, strict=True):
         full[k] = t
     P = np.polynomial.Polynomial(full, domain=[centre - half, centre + half])
     c = P.convert().coef
@@ -185,8 +185,8 @@ def position_friction(ctx: Context) -> list[Variant]:
         grids += [(lo, hi, n, None) for n in PROFILE_KNOTS]
     out = []
     for x0, x1, n, old in grids:
-        Phi = ctx.stack(lambda q: profile_basis(q.x, x0, x1, n) * _sliding_level(ctx, q)[:, None],
-                        mask_stuck=True)
+        Phi = ctx.stack(lambda q, x0=x0, x1=x1, n=n: profile_basis(q.x, x0, x1, n)
+                        * _sliding_level(ctx, q)[:, None], mask_stuck=True)
 
         def to_model(th: np.ndarray, x0=x0, x1=x1, old=old) -> ModelFile:
             c = (old if old is not None else 0.0) + np.asarray(th, dtype=float)
@@ -329,7 +329,7 @@ def cogging_aperiodic(ctx: Context) -> list[Variant]:
     m = ctx.model
     on = m.effects["cogging_aperiodic"]
     c, h = _span(ctx)
-    powers = range(0, 4)
+    powers = range(4)
     Phi = ctx.stack(lambda q: _poly_basis(q.x, c, h, powers), mask_stuck=True)
     old = np.array([float(m.parameters[f"cogging.c[{k}]"]) for k in range(4)]) if on \
         else np.zeros(4)
@@ -352,7 +352,7 @@ def ripple_aperiodic(ctx: Context) -> list[Variant]:
     # the constant is included: with the polynomial off the model's K_f is c0 alone, and the
     # truth's drift over a short stretch of stroke is mostly a change of level (which trades
     # off with the mass only when friction and cogging leave i proportional to a)
-    powers = range(0, 3)
+    powers = range(3)
     # more K_f means more motor force: r = -(dK_f) i
     Phi = -ctx.stack(lambda q: q.i[:, None] * _poly_basis(q.x, c, h, powers), mask_stuck=True)
     old = np.array([float(m.parameters[f"ripple.c[{k}]"]) for k in range(3)])
@@ -385,7 +385,7 @@ def _periodic(ctx: Context, name: str, effect: str) -> list[Variant]:
     w = (lambda q: q.i) if weighted else (lambda q: np.ones(len(q.r)))
     peaks = _refine_wavelengths(ctx, w, lams_used, [lam for lam, _ in peaks])
     out = []
-    for n_extra in range(0, len(peaks) + 1):
+    for n_extra in range(len(peaks) + 1):
         extra = [lam for lam, _ in peaks[:n_extra]]
         slots = used + free[:n_extra]
         wl = lams_used + extra
@@ -403,7 +403,7 @@ def _periodic(ctx: Context, name: str, effect: str) -> list[Variant]:
         def to_model(th, slots=slots, wl=wl):
             n = len(slots)
             upd = {}
-            for k, (j, lam) in enumerate(zip(slots, wl)):
+            for k, (j, lam) in enumerate(zip(slots, wl, strict=True)):
                 a0 = float(p[f"{name}.a[{j}]"]) if on else 0.0
                 b0 = float(p[f"{name}.b[{j}]"]) if on else 0.0
                 upd[f"{name}.a[{j}]"] = a0 + float(th[k])

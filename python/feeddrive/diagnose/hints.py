@@ -203,7 +203,7 @@ def play_hint(runs: Sequence[Run], model: ModelFile, res: Sequence[RunResidual],
         b = float(np.exp(log_b))
         moved = [dataclasses.replace(run, x=play_position(run.x, run.time, b)) for run in runs]
         rr = residuals(list(moved), model, **kw)
-        return sum(float(np.sum(q.r[q.valid & q0.valid] ** 2)) for q, q0 in zip(rr, res))
+        return sum(float(np.sum(q.r[q.valid & q0.valid] ** 2)) for q, q0 in zip(rr, res, strict=True))
 
     grid = [(sse(np.log(b)), b) for b in PLAY_GRID]
     k = int(np.argmin([g for g, _ in grid]))

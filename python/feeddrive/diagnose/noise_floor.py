@@ -299,14 +299,14 @@ def noise_floor(run: Run, q: RunResidual, P: PlantParameters, force_gain: float 
 def floor_table(res: list[RunResidual], floors: list[NoiseFloor]) -> dict:
     """diagnosis.json ``noise_floor``: per run (sources and rms), per regime and overall rms [N]."""
     masks = [regime_masks(q) for q in res]
-    s = np.concatenate([f.sigma[q.valid] for f, q in zip(floors, res)])
+    s = np.concatenate([f.sigma[q.valid] for f, q in zip(floors, res, strict=True)])
     names = list(dict.fromkeys(k for mk in masks for k in mk))
     regimes = {}
     for name in names:
         sel = np.concatenate([mk.get(name, np.zeros(len(q.r), bool))[q.valid]
-                              for mk, q in zip(masks, res)])
+                              for mk, q in zip(masks, res, strict=True)])
         if sel.any():
             regimes[name] = float(np.sqrt(np.mean(s[sel] ** 2)))
     return {"rms_N": float(np.sqrt(np.mean(s**2))),
-            "runs": {q.name: f.to_json(q.valid) for f, q in zip(floors, res)},
+            "runs": {q.name: f.to_json(q.valid) for f, q in zip(floors, res, strict=True)},
             "regimes_rms_N": regimes}

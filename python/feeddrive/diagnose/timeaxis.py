@@ -10,6 +10,7 @@ times [N/s], and the change from the first to the last block relative to the run
 from __future__ import annotations
 
 from collections.abc import Sequence
+from itertools import pairwise
 
 import numpy as np
 
@@ -27,7 +28,7 @@ def time_blocks(q: RunResidual, n_blocks: int = N_TIME_BLOCKS) -> list[tuple[flo
         return []
     edges = np.linspace(float(tv[0]), float(tv[-1]), n_blocks + 1)
     out = []
-    for k, (lo, hi) in enumerate(zip(edges[:-1], edges[1:])):
+    for k, (lo, hi) in enumerate(pairwise(edges)):
         m = q.valid & (t >= lo) & ((t < hi) if k < n_blocks - 1 else (t <= hi))
         out.append((float(lo), float(hi), m))
     return out

@@ -74,8 +74,7 @@ def unit(name: str) -> str:
     """SI unit of an FMU parameter."""
     if name in _UNITS:
         return _UNITS[name]
-    if name.startswith("friction.nu") or name.startswith("friction_profile.c[") \
-            or name == "friction_profile.n":
+    if name.startswith(("friction.nu", "friction_profile.c[")) or name == "friction_profile.n":
         return "1"
     if name in ("friction_profile.x_start", "friction_profile.x_end"):
         return "m"
@@ -87,7 +86,7 @@ def unit(name: str) -> str:
         if name.startswith(f"{mp}.c["):
             k = int(name[len(mp) + 3:-1])
             return u if k == 0 else f"{u}/m^{k}" if k > 1 else f"{u}/m"
-        if name.startswith(f"{mp}.a[") or name.startswith(f"{mp}.b["):
+        if name.startswith((f"{mp}.a[", f"{mp}.b[")):
             return u
     return "?"
 
@@ -117,7 +116,7 @@ def parameter_changes(params: dict) -> dict:
 
 def force_change(before: list[RunResidual], after: list[RunResidual]) -> float:
     """rms over all runs of the change of the model force between two models [N]."""
-    d = np.concatenate([(qb.r - qa.r)[qb.valid & qa.valid] for qb, qa in zip(before, after)])
+    d = np.concatenate([(qb.r - qa.r)[qb.valid & qa.valid] for qb, qa in zip(before, after, strict=True)])
     return float(np.sqrt(np.mean(d**2))) if d.size else 0.0
 
 
@@ -480,7 +479,7 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
              force_gain: float | None = None, window: int | None = None,
              n_blocks: int = DEFAULT_BLOCKS, closed_loop: bool = True,
              notes: Sequence[str] = (),
-             progress: Callable[[str], None] | None = None) -> "Diagnosis":
+             progress: Callable[[str], None] | None = None) -> Diagnosis:
     """Diagnose what ``model`` lacks against measured ``runs`` (see module docstring).
 
     Parameters
@@ -504,9 +503,9 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
     current = model
     res = start_res = residuals(runs, current, **kw)
     plant = compile(model)
-    floors = [noise_floor(run, q, plant, force_gain) for run, q in zip(runs, res)]
+    floors = [noise_floor(run, q, plant, force_gain) for run, q in zip(runs, res, strict=True)]
     floor_N = float(np.sqrt(np.mean(np.concatenate([f.sigma[q.valid] ** 2
-                                                     for f, q in zip(floors, res)]))))
+                                                     for f, q in zip(floors, res, strict=True)]))))
     gate = make_gate(model, res, floor_N)
     notes = list(notes) + sorted({q.force_source for q in res})
     steps: list[Step] = []

@@ -109,7 +109,7 @@ def campaign(params: Mapping[str, Any], sensors: Sensors, quick: bool = False,
     _check_repeats(repeats)
     out: dict[str, list[Run]] = {g: [] for g in GROUPS}
     jobs = [(g, label, fn, k) for g, label, fn in plan(quick) for k in range(repeats)]
-    for group, label, fn, k in tqdm(jobs, desc="experiments", unit="run", 
+    for group, label, fn, k in tqdm(jobs, desc="experiments", unit="run",
                                     disable=(True if quick else None) if progress is None
                                     else not progress):
         keys = (label,) if k == 0 else (label, k)

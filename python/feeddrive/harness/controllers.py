@@ -323,7 +323,7 @@ def lti_realisation(spec: Mapping[str, Any]) -> LTIRealisation:
     if not u_limit > 0:
         raise ValueError(f"controller (lti): u_limit = {u_limit!r} must be > 0 [V]")
     ss, tf = [k for k in ("A", "B", "C", "D") if k in spec], [k for k in ("num", "den") if k in spec]
-    if ss and tf or not (len(ss) == 4 or len(tf) == 2):
+    if (ss and tf) or not (len(ss) == 4 or len(tf) == 2):
         raise ValueError("controller (lti): give either A, B, C, D (state space) or num and "
                          f"den (transfer functions), got {sorted(ss + tf)}")
     if tf:

@@ -64,7 +64,7 @@ class ComplianceFit:
 
 def _columns(a_runs: list[np.ndarray], Ts: list[float], f: float, zeta: float,
              masks: list[np.ndarray]) -> np.ndarray:
-    return np.concatenate([load_acceleration(a, T, f, zeta)[m] for a, T, m in zip(a_runs, Ts, masks)])
+    return np.concatenate([load_acceleration(a, T, f, zeta)[m] for a, T, m in zip(a_runs, Ts, masks, strict=True)])
 
 
 def start_columns(a_runs: list[np.ndarray], Ts: list[float], f: float, zeta: float,
@@ -74,7 +74,7 @@ def start_columns(a_runs: list[np.ndarray], Ts: list[float], f: float, zeta: flo
     n = [int(m.sum()) for m in masks]
     out = np.zeros((sum(n), 2 * len(n)))
     k = 0
-    for j, (a, T, m) in enumerate(zip(a_runs, Ts, masks)):
+    for j, (a, T, m) in enumerate(zip(a_runs, Ts, masks, strict=True)):
         out[k:k + n[j], 2 * j:2 * j + 2] = np.nan_to_num(load_free_response(a, T, f, zeta)[m])
         k += n[j]
     return out
@@ -85,7 +85,7 @@ def nuisance_columns(nuisance: list[np.ndarray | None], masks: list[np.ndarray])
     block-diagonally; a run with None adds no column."""
     n = [int(m.sum()) for m in masks]
     parts = [np.asarray(B, dtype=float).reshape(len(m), -1)[m] if B is not None
-             else np.zeros((int(m.sum()), 0)) for B, m in zip(nuisance, masks)]
+             else np.zeros((int(m.sum()), 0)) for B, m in zip(nuisance, masks, strict=True)]
     out = np.zeros((sum(n), sum(p.shape[1] for p in parts)))
     k = c = 0
     for j, p in enumerate(parts):
@@ -115,9 +115,9 @@ def fit_compliance(a_runs: list[np.ndarray], y_runs: list[np.ndarray], Ts: list[
 
     Raises ValueError when fewer than 100 samples are usable or nothing is excited.
     """
-    masks = [np.isfinite(a) & np.isfinite(y) for a, y in zip(a_runs, y_runs)]
-    y = np.concatenate([np.asarray(yr)[m] for yr, m in zip(y_runs, masks)])
-    a = np.concatenate([np.asarray(ar)[m] for ar, m in zip(a_runs, masks)])
+    masks = [np.isfinite(a) & np.isfinite(y) for a, y in zip(a_runs, y_runs, strict=True)]
+    y = np.concatenate([np.asarray(yr)[m] for yr, m in zip(y_runs, masks, strict=True)])
+    a = np.concatenate([np.asarray(ar)[m] for ar, m in zip(a_runs, masks, strict=True)])
     if y.size < 100 or not np.any(a != 0):
         raise ValueError(f"fit_compliance: {y.size} usable samples with acceleration; need >= 100 "
                          "and a motion that accelerates")

@@ -157,8 +157,8 @@ def fit_stribeck(speed: np.ndarray, friction: np.ndarray,
             if best is None or sol.cost < best.cost:
                 best = sol
     se = jacobian_stderr(best.jac, best.fun)
-    params = {n: float(t) for n, t in zip(NAMES, best.x)}
-    return params, {n: float(s) for n, s in zip(NAMES, se)}, steady_friction(v, *best.x) - F
+    params = {n: float(t) for n, t in zip(NAMES, best.x, strict=True)}
+    return params, {n: float(s) for n, s in zip(NAMES, se, strict=True)}, steady_friction(v, *best.x) - F
 
 
 def identify_stribeck(runs: Sequence[Run], force_constant: MapSpec,

@@ -30,8 +30,8 @@ from .plant import (CURRENT_TIMINGS, FRICTION_VELOCITY_S, applied_force, eq1_fri
                     run_load_mean)
 from .position_maps import MapSpec, PositionMap, eval_map
 
-__all__ = ["Compliance", "load_acceleration", "load_filter", "load_free_response", "CurrentLoop", "current_loop_dc_gain",
-           "current_loop_polynomials", "simulate_current", "FrictionCurve", "steady_friction",
+__all__ = ["Compliance", "load_acceleration", "load_filter", "load_free_response", "CurrentLoop",
+           "current_loop_dc_gain", "current_loop_polynomials", "simulate_current", "FrictionCurve", "steady_friction",
            "stribeck_drop", "stribeck_level", "FrictionProfile", "profile_basis",
            "GMSFriction", "GMSParameters", "element_forces", "element_rates", "gms_force",
            "DEFAULT_V_STICK", "karnopp_friction", "ParameterError", "PlantParameters",

@@ -26,7 +26,7 @@ class CurrentLoop:
     dynamics: bool = True
 
     @classmethod
-    def from_parameters(cls, params: Mapping[str, float]) -> "CurrentLoop":
+    def from_parameters(cls, params: Mapping[str, float]) -> CurrentLoop:
         """From ``current.a/b`` and ``effects.current_dynamics`` (missing names are 0 / on)."""
         return cls(a=tuple(float(params.get(f"current.a[{j}]", 0.0))
                            for j in range(1, N_CURRENT_A + 1)),

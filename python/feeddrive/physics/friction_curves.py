@@ -47,7 +47,7 @@ class FrictionCurve:
     dsigma2: float = 0.0
 
     @classmethod
-    def from_params(cls, params: Mapping[str, float]) -> "FrictionCurve":
+    def from_params(cls, params: Mapping[str, float]) -> FrictionCurve:
         """From FMU-named parameters as given (``asymmetry.*`` default 0; no switches)."""
         return cls(F_s=float(params["friction.F_s"]), F_c=float(params["friction.F_c"]),
                    V_s=float(params["friction.V_s"]), delta=float(params["friction.delta"]),

@@ -66,7 +66,7 @@ class GMSParameters:
 
     @classmethod
     def from_params(cls, params: Mapping[str, float], apply_effects: bool = True
-                    ) -> "GMSParameters":
+                    ) -> GMSParameters:
         """From FMU-named parameters (``friction.*``, ``asymmetry.*``); the friction part of
         :func:`feeddrive.physics.params.compile`, which validates them first.
 
@@ -224,8 +224,7 @@ def _run_element(F: float, stuck: bool, k: float, nu: float, dxs: list[float],
                  ) -> tuple[list[float], float, bool]:
     """Advance one element over the pieces; its force after every piece."""
     out = [0.0] * len(dxs)
-    j = 0
-    for dx, s, S, dec, rev in zip(dxs, dirs, Ss, decays, revs):
+    for j, (dx, s, S, dec, rev) in enumerate(zip(dxs, dirs, Ss, decays, revs, strict=True)):
         if rev:
             stuck = True
         if s != 0.0:
@@ -239,7 +238,6 @@ def _run_element(F: float, stuck: bool, k: float, nu: float, dxs: list[float],
                 t = s * lim
                 F = t + (F - t) * dec
         out[j] = F
-        j += 1
     return out, F, stuck
 
 

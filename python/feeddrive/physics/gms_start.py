@@ -43,9 +43,10 @@ at 0.28 N rms, from the grid's best at 0.005 N.  The wider search replaces the g
 solve only when it removes at least ``REFINE_GAIN`` (a fifth) of the residual energy over
 the first samples: leaving a plateau removes 55-93 % on the campaign's loaded and PRBS
 runs, while on every other run it removes at most 9 % (a wrong mass: 8.9 %), which is
-another effect's residual taken into the start forces, not a better start.  Only the sum of the F_i is determined
-while everything sticks; the split between elements is determined by when each one slips.  The estimate absorbs at most N bounded forces over the first samples: an effect
-that acts after the memory is wiped is untouched by it.
+another effect's residual taken into the start forces, not a better start.  Only the sum of
+the F_i is determined while everything sticks; the split between elements is determined by
+when each one slips.  The estimate absorbs at most N bounded forces over the first samples:
+an effect that acts after the memory is wiped is untouched by it.
 """
 from __future__ import annotations
 
@@ -107,7 +108,7 @@ class GMSStart:
         """diagnosis.json ``initial_friction`` entry of one run."""
         return {"element_forces_N": [float(f) for f in self.F0],
                 "friction_N": float(np.sum(self.F0)),
-                "bounds_N": [[float(lo), float(hi)] for lo, hi in zip(self.lower, self.upper)],
+                "bounds_N": [[float(lo), float(hi)] for lo, hi in zip(self.lower, self.upper, strict=True)],
                 "memory_wiped_s": float(self.wiped * Ts), "samples_fitted": int(self.n_fit)}
 
 
@@ -232,7 +233,7 @@ def _refined_starts(cost: Callable[[np.ndarray], float], starts: list[np.ndarray
         j = int(np.argmin(c))
         a, b = grid[max(j - 1, 0)], grid[min(j + 1, len(grid) - 1)]
         if b > a:
-            res = minimize_scalar(lambda g: cost(make(float(g))), bounds=(a, b),
+            res = minimize_scalar(lambda g, make=make: cost(make(float(g))), bounds=(a, b),
                                   method="bounded", options={"xatol": 1e-4 * (b - a)})
             out.append(make(float(res.x)))
     return out

@@ -85,8 +85,8 @@ def _range_of(name: str) -> tuple[float, bool, float, bool] | None:
 
 def _num(v: float) -> str:
     """params.c num(): %.15g when it reads back exactly, else %.17g."""
-    s = "%.15g" % v
-    return s if float(s) == v else "%.17g" % v
+    s = f"{v:.15g}"
+    return s if float(s) == v else f"{v:.17g}"
 
 
 def _bound(v: float) -> str:
@@ -98,7 +98,7 @@ def _g(v: float) -> str:
     """C's %g of a non-finite double (glibc prints the sign of a NaN)."""
     if math.isnan(v):
         return "-nan" if math.copysign(1.0, v) < 0 else "nan"
-    return "%g" % v
+    return f"{v:g}"
 
 
 def check_value(name: str, value: float) -> None:

@@ -77,7 +77,7 @@ def execute_dask(task: Any, work: Sequence[list[Any]], sink: RowsSink,
         return 0
     [shared] = client.scatter([task], broadcast=True)
     futures = [client.submit(fn, shared, b, pure=False) for b in work]
-    size = {f.key: len(b) for f, b in zip(futures, work)}
+    size = {f.key: len(b) for f, b in zip(futures, work, strict=True)}
     missing = 0
     for fut in as_completed(futures):
         try:

@@ -42,7 +42,7 @@ class RunTask:
     parameter_names: tuple[str, ...]
 
     @classmethod
-    def of(cls, study: Study) -> "RunTask":
+    def of(cls, study: Study) -> RunTask:
         return cls(study.model, study.experiment, study.metrics, study.parameter_names)
 
 

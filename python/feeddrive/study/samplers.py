@@ -71,4 +71,4 @@ def cases(study: Study) -> list[Case]:
         x = _lhs(params, d["runs"], d["seed"])
     else:
         x = _monte_carlo(params, d["runs"], d["seed"])
-    return [Case(k, "", {n: _typed(n, v) for n, v in zip(names, row)}) for k, row in enumerate(x)]
+    return [Case(k, "", {n: _typed(n, v) for n, v in zip(names, row, strict=True)}) for k, row in enumerate(x)]

@@ -82,7 +82,7 @@ def circle_system(axes: Sequence[AxisModel], radius: float, feed: float, directi
     phases = (s * th0 + np.pi, s * (th0 + np.pi / 2))
     names = (axes[0].name, axes[1].name)
     plants, ctrls, x0 = {}, {}, {}
-    for a, c, ph in zip(axes, centre_of(axes), phases):
+    for a, c, ph in zip(axes, centre_of(axes), phases, strict=True):
         values = controller_values(a, feedforward, Ts)
         values.update(sinusoid_source(radius, period, c, duration, ph))
         ctrls[a.name] = values

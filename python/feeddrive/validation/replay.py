@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..data import DataError, Run, check_plausible, load_run, sidecar_path
+from ..data import DataError, Run, check_plausible, load_run
 from ..diagnose.residual import force_residual
 from ..harness.runs import replay
 from ..harness.sidecar import Sidecar, read_run_sidecar, read_sidecar

@@ -57,8 +57,9 @@ class Sec4Result:
                  f"{'case':30s} {'reversal peak [um]':>19s} {'paper':>6s} {'band elsewhere [um]':>20s} "
                  f"{'paper':>6s} {'rms [um]':>9s}"]
         for r in self.rows:
+            band, paper_band = f"+-{r['band_um']:.1f}", f"+-{r['paper_band_um']:.0f}"
             lines.append(f"{r['case']:30s} {r['reversal_peak_um']:19.1f} {r['paper_reversal_um']:6.0f} "
-                         f"{'+-%.1f' % r['band_um']:>20s} {'+-%.0f' % r['paper_band_um']:>6s} {r['rms_um']:9.2f}")
+                         f"{band:>20s} {paper_band:>6s} {r['rms_um']:9.2f}")
         if not self.perturbed:
             lines.append("plant and nominal parameters given by the caller")
             return "\n".join(lines)

@@ -50,11 +50,9 @@ def _closed_loop(interface: str, tolerance: float, ref) -> tuple[float, dict]:
 def python_rows(repeats: int = 5) -> tuple[list[tuple[str, str, str]], dict]:
     """The 6 s, 30 mm closed-loop sinusoid driven from Python (CS and ME)."""
     ref = sinusoid(0.030, 6.0, 0.150, 6.0)
-    walls = []
-    res_cs = None
-    for _ in range(repeats):
-        w, res_cs = _closed_loop("cs", 1e-6, ref)
-        walls.append(w)
+    runs = [_closed_loop("cs", 1e-6, ref) for _ in range(repeats)]
+    walls = [w for w, _ in runs]
+    res_cs = runs[-1][1]
     w_cs = min(walls)
     w_me, res_me = _closed_loop("me", 1e-6, ref)
     _, res_ref = _closed_loop("me", 1e-10, ref)

@@ -113,16 +113,18 @@ _BLANK = frozenset({"\n", "\r\n", "\r", ""})
 class _Gzip(gzip.GzipFile):
     """A gzip stream that closes the file it reads when it is closed."""
 
+    def __init__(self, raw: IO[bytes]) -> None:
+        self._raw = raw
+        super().__init__(fileobj=raw, mode="rb")
+
     def close(self) -> None:
-        raw = self.fileobj
         try:
             super().close()
         finally:
-            if raw is not None:
-                raw.close()
+            self._raw.close()
 
 
-def _open_bytes(path: Path) -> IO[bytes]:
+def _open_bytes(path: Path) -> IO[bytes] | gzip.GzipFile:
     """The bytes of the recording ``path``: decompressed on the fly for a ``.gz`` file."""
     f = open_input(path, encoding=None)
     if not is_compressed(path):
@@ -131,7 +133,7 @@ def _open_bytes(path: Path) -> IO[bytes]:
         if not f.read(2):               # gzip reads an empty file as an empty stream
             raise gzip.BadGzipFile("empty file")
         f.seek(0)
-        return _Gzip(fileobj=f, mode="rb")
+        return _Gzip(f)
     except BaseException:
         f.close()
         raise
@@ -432,5 +434,5 @@ def read_columns(path: Path) -> tuple[dict[str, np.ndarray], dict[str, np.ndarra
     else:
         cols = {n: v for n, v in every.items() if n in KNOWN_COLUMNS}
         extra = {n: v for n, v in every.items() if n not in KNOWN_COLUMNS}
-        lines = None            # plain file: row k is line k + 2
+        return cols, extra, None            # plain file: row k is line k + 2
     return cols, extra, lines

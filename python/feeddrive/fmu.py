@@ -29,7 +29,8 @@ import os
 import shutil
 import tempfile
 import threading
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from typing import Any, Self
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -43,7 +44,11 @@ from fmpy.fmi2 import (FMU2Model, FMU2Slave, defaultCallbacks, fmi2CallbackFunct
 from fmpy.fmi3 import FMU3Model, FMU3Slave
 
 from . import fmu3
-from .model_description import DEFAULT_FMU, FMU_ENV, FMUNotFoundError, fmu_path  # noqa: F401
+# re-exported: the names the package and its users take from here
+from .model_description import DEFAULT_FMU as DEFAULT_FMU
+from .model_description import FMU_ENV as FMU_ENV
+from .model_description import FMUNotFoundError as FMUNotFoundError
+from .model_description import fmu_path as fmu_path
 from .model_description import fmi_version
 
 OUTPUTS = ("x", "v", "a", "i", "F_motor", "F_cogging", "F_friction", "K_f")
@@ -124,7 +129,7 @@ def unpacked(path: str | Path) -> Unpacked:
 
 
 @dataclass
-class Result(Mapping):
+class Result(Mapping[str, np.ndarray]):
     """Recorded signals of one run: ``res["x"]`` etc. are numpy arrays over ``res["time"]``."""
 
     signals: dict[str, np.ndarray]
@@ -132,7 +137,7 @@ class Result(Mapping):
     def __getitem__(self, k: str) -> np.ndarray:
         return self.signals[k]
 
-    def __iter__(self):
+    def __iter__(self) -> Iterator[str]:
         return iter(self.signals)
 
     def __len__(self) -> int:
@@ -175,7 +180,7 @@ class Plant:
                 self.md = shared.with_n(int(n) if not isinstance(n, bool) else n)
             except (TypeError, ValueError) as e:
                 raise ValueError(f"{self.path.name}: {e}") from None
-            self.vars = {v.name: v for v in self.md.modelVariables}
+            self.vars: Mapping[str, ScalarVariable] = {v.name: v for v in self.md.modelVariables}
         else:
             self.md = shared.md
             self.vars = shared.vars
@@ -185,7 +190,7 @@ class Plant:
         self._dir = shared.directory
         self.messages: list[str] = []
         self._log = log
-        self._arrays: dict[str, list] = {}      # FMI 3.0: array values set so far (before init)
+        self._arrays: dict[str, list[Any]] = {}      # FMI 3.0: array values set so far (before init)
         self._initialised = False
         if self.fmi3:
             cls = _Slave3 if interface == "cs" else _Model3
@@ -213,10 +218,12 @@ class Plant:
         """FMI 3.0: (array variable, 1-based index) an FMI 2.0 element name stands for."""
         return fmu3.element(self.md, name) if self.fmi3 else None
 
-    def _logger3(self, env, status, category, message):  # fmpy's FMI 3.0 callback
+    def _logger3(self, env: object, status: int, category: bytes | None,
+                 message: bytes | str) -> None:  # fmpy's FMI 3.0 callback
         self._logger(env, None, status, category, message)
 
-    def _logger(self, env, name, status, category, message):  # fmpy callback
+    def _logger(self, env: object, name: bytes | None, status: int, category: bytes | None,
+                message: bytes | str) -> None:  # fmpy callback
         text = message.decode() if isinstance(message, bytes) else str(message)
         self.messages.append(text)
 
@@ -244,7 +251,7 @@ class Plant:
                 raise FMUError(f"setting {name} = {value!r}: "
                                + (self.messages[-1] if self.messages else str(e))) from None
 
-    def _array3(self, var: ScalarVariable) -> list:
+    def _array3(self, var: ScalarVariable) -> list[Any]:
         """FMI 3.0: the current values of array ``var``: the FMU's (before initialisation
         the values set so far, else its defaults: the model description lists start values for
         the default N only; the FMU has defaults for all ten slots, as the FMI 2.0 one)."""
@@ -390,7 +397,7 @@ class Plant:
             raise FMUError(f"doStep at t = {t}: " + (self.messages[-1] if self.messages else str(e))) from None
         return False
 
-    def update_discrete_states(self) -> tuple:
+    def update_discrete_states(self) -> tuple[Any, ...]:
         """Model exchange, event mode: fmi2NewDiscreteStates / fmi3UpdateDiscreteStates as
         (update needed, terminate, nominals changed, states changed, next time defined, next time)."""
         return self.fmu.updateDiscreteStates() if self.fmi3 else self.fmu.newDiscreteStates()
@@ -441,10 +448,10 @@ class Plant:
             self._instantiated = False
             self.generation += 1
 
-    def __enter__(self) -> Plant:
+    def __enter__(self) -> Self:
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: object) -> None:
         self.close()
 
     def __del__(self) -> None:
@@ -477,34 +484,38 @@ class Plant:
 #: fmpy's FMI 3.0 function table of each library, shared by the Plants that load it (fmpy
 #: makes ~80 ctypes functions per instance otherwise: ~60 KiB a Plant).  The library stays
 #: loaded for the process (:class:`Unpacked` holds a reference), so the pointers stay valid.
-_FMI3_FUNCTIONS: dict[tuple[str, str], dict] = {}
+_FMI3_FUNCTIONS: dict[tuple[str, str], dict[str, Any]] = {}
 
 
 class _SharedFunctions:
     """Mixin: one fmpy function table per (interface, library) instead of one per instance."""
 
+    dll: ctypes.CDLL
+    _functions: dict[str, Any]
+
     def _loadFunctions(self) -> None:
         key = (type(self).__mro__[2].__name__, self.dll._name)
         table = _FMI3_FUNCTIONS.get(key)
         if table is None:
-            super()._loadFunctions()
+            super()._loadFunctions()  # type: ignore[misc]  # fmpy's class after the mixin has it
             _FMI3_FUNCTIONS[key] = self._functions
         else:
             self._functions = table
 
 
-class _Slave3(_SharedFunctions, FMU3Slave):
+class _Slave3(_SharedFunctions, FMU3Slave):  # type: ignore[misc]  # fmpy has no type information
     """fmpy's FMU3Slave on the shared function table."""
 
 
-class _Model3(_SharedFunctions, FMU3Model):
+class _Model3(_SharedFunctions, FMU3Model):  # type: ignore[misc]  # fmpy has no type information
     """fmpy's FMU3Model on the shared function table."""
 
 
 def _load_raw_handles(dll: ctypes.CDLL) -> tuple[Callable[..., int], ...]:
     """fmi2DoStep, fmi2GetReal, fmi2SetReal of ``dll`` with our own ctypes signatures."""
     ptr, n = ctypes.c_void_p, ctypes.c_size_t
-    sigs = (("fmi2DoStep", [ptr, ctypes.c_double, ctypes.c_double, ctypes.c_int]),
+    sigs: tuple[tuple[str, list[Any]], ...] = (
+            ("fmi2DoStep", [ptr, ctypes.c_double, ctypes.c_double, ctypes.c_int]),
             ("fmi2GetReal", [ptr, ptr, n, ptr]), ("fmi2SetReal", [ptr, ptr, n, ptr]))
     out = []
     for name, argtypes in sigs:

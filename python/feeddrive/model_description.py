@@ -85,8 +85,8 @@ def _read(path: str, mtime: float) -> dict[str, Variable]:
         return _read3(root)
     for sv in root.iter("ScalarVariable"):
         typed = next(iter(sv))
-        out[sv.get("name")] = Variable(
-            name=sv.get("name"), kind=typed.tag, causality=sv.get("causality", "local"),
+        out[sv.get("name", "")] = Variable(
+            name=sv.get("name", ""), kind=typed.tag, causality=sv.get("causality", "local"),
             variability=sv.get("variability", "continuous"), unit=typed.get("unit", ""),
             lo=_number(typed.get("min"), -math.inf), hi=_number(typed.get("max"), math.inf))
     return out
@@ -121,13 +121,13 @@ _KIND3 = {"Float64": "Real", "Int32": "Integer", "Boolean": "Boolean"}
 def _read3(root: ElementTree.Element) -> dict[str, Variable]:
     """FMI 3.0 variables under their FMI 2.0 names: an array of dimension ``friction.N``
     as its elements ``friction.F[1]`` ... up to the structural parameter's ``max``."""
-    mv = list(root.find("ModelVariables"))
+    mv = list(root.iterfind("ModelVariables/*"))
     size = {v.get("valueReference"): int(v.get("max", v.get("start", "1")))
             for v in mv if v.get("causality") == "structuralParameter"}
     out: dict[str, Variable] = {}
     for v in mv:
         kind = _KIND3.get(v.tag, v.tag)
-        name = v.get("name")
+        name = v.get("name", "")
         dims = v.findall("Dimension")
         if not dims:
             out[name] = _variable3(v, name, kind)

@@ -145,8 +145,8 @@ class StateSpaceController:
     """
 
     def __init__(self, model: DesignModel, reference: ArrayLike, *,
-                 poles: Sequence[complex] | None = None,
-                 observer_poles: Sequence[complex] | None = None,
+                 poles: Sequence[complex] | np.ndarray | None = None,
+                 observer_poles: Sequence[complex] | np.ndarray | None = None,
                  u_ff: ArrayLike | None = None,
                  u_limits: tuple[float, float] = DEFAULT_U_LIMITS,
                  prefilter: str | None = "zpetc", zpetc_radius: float = 0.9) -> None:
@@ -240,7 +240,7 @@ class StateSpaceController:
         Cc[nd + 1:] = -Kh
         Dy = float(-Kp @ self.L)
         Dr = float(self.K[0])            # position feedback acts on x_hat - r
-        self.lti = {"Ac": Ac, "By": By, "Br": Br, "Bu": Bu, "Cc": Cc, "Dy": Dy, "Dr": Dr}
+        self.lti: dict[str, Any] = {"Ac": Ac, "By": By, "Br": Br, "Bu": Bu, "Cc": Cc, "Dy": Dy, "Dr": Dr}
         self._fn = compile_step(Ac, By, Br, Bu, Cc, Dy, Dr, *self.u_limits)
 
     # -------------------------------------------------------------- analysis
@@ -340,7 +340,7 @@ class StateSpaceController:
     def set_feedforward(self, u_ff: ArrayLike | None) -> None:
         """Set u_ff[k] [V] (None: no feedforward); zero beyond the end of the array."""
         self.u_ff = None if u_ff is None else np.asarray(u_ff, dtype=float).copy()
-        self._uff = [] if u_ff is None else self.u_ff.tolist()
+        self._uff = [] if self.u_ff is None else self.u_ff.tolist()
         self._n_ff = len(self._uff)
 
     def reset(self) -> None:

@@ -27,6 +27,7 @@ from ..physics import (FrictionProfile, gms_force, held_current, load_accelerati
                        load_free_response, profile_basis, stribeck_drop)
 from .context import Context
 from .localise import spatial_spectrum, spectral_peaks
+from .residual import RunResidual
 
 #: Maxwell-slip element travels tried by the pre-rolling candidate [m].
 PREROLL_DELTAS = tuple(np.geomspace(2e-6, 300e-6, 8).tolist())
@@ -62,6 +63,13 @@ class Variant:
     @property
     def n_params(self) -> int:
         return self.Phi.shape[1] - self.nuisance
+
+
+def _current(q: RunResidual) -> np.ndarray:
+    """The run's current (a candidate that reads it is offered only when every run has one)."""
+    if q.i is None:
+        raise ValueError(f"{q.name}: no current")
+    return q.i
 
 
 def _poly_basis(x: np.ndarray, centre: float, half: float, powers: range) -> np.ndarray:
@@ -185,8 +193,11 @@ def position_friction(ctx: Context) -> list[Variant]:
         grids += [(lo, hi, n, None) for n in PROFILE_KNOTS]
     out = []
     for x0, x1, n, old in grids:
-        Phi = ctx.stack(lambda q, x0=x0, x1=x1, n=n: profile_basis(q.x, x0, x1, n)
-                        * _sliding_level(ctx, q)[:, None], mask_stuck=True)
+
+        def basis(q: RunResidual, x0: float = x0, x1: float = x1, n: int = n) -> np.ndarray:
+            return profile_basis(q.x, x0, x1, n) * _sliding_level(ctx, q)[:, None]
+
+        Phi = ctx.stack(basis, mask_stuck=True)
 
         def to_model(th: np.ndarray, x0=x0, x1=x1, old=old) -> ModelFile:
             c = (old if old is not None else 0.0) + np.asarray(th, dtype=float)
@@ -230,12 +241,14 @@ def stribeck(ctx: Context) -> list[Variant]:
     refined = (float(np.exp(opt.x[0])), float(np.clip(opt.x[1], 0.2, 3.0)))
     out = []
     for Vs, d in [refined] + grid:
+
+        def to_model(th: np.ndarray, Vs: float = Vs, d: float = d) -> ModelFile:
+            return m.with_effect("stribeck", True, **{"friction.F_s": F_c + th[0], "friction.V_s": Vs,
+                                                      "friction.delta": d})
+
         out.append(Variant(
             "stribeck", f"V_s={Vs * 1e3:.3g} mm/s, delta={d:.3g}", column(Vs, d), ["F_s - F_c"],
-            base=base, refine=on, nonneg=True,
-            to_model=lambda th, Vs=Vs, d=d: m.with_effect(
-                "stribeck", True, **{"friction.F_s": F_c + th[0], "friction.V_s": Vs,
-                                     "friction.delta": d})))
+            base=base, refine=on, nonneg=True, to_model=to_model))
     return out
 
 
@@ -305,7 +318,7 @@ def frictional_lag(ctx: Context) -> list[Variant]:
     if not cols:
         return []
     expl = {C: _explained(A, y) for C, A in cols.items()}
-    Cb = max(expl, key=expl.get)
+    Cb = max(expl, key=lambda C: expl[C])
     # refine log C between the neighbours of the best grid point
     k = LAG_C.index(Cb)
     lo, hi = np.log(LAG_C[max(k - 1, 0)]), np.log(LAG_C[min(k + 1, len(LAG_C) - 1)])
@@ -318,9 +331,12 @@ def frictional_lag(ctx: Context) -> list[Variant]:
             cols = {Cr: column(Cr), **cols}
     out = []
     for C, Phi in cols.items():
+
+        def to_model(th: np.ndarray, C: float = C) -> ModelFile:
+            return m.with_effect("frictional_lag", True, **{"friction.C": C})
+
         out.append(Variant("frictional_lag", f"C={C:.3g} N/s", Phi, ["scale"], base=base,
-                           refine=on, to_model=lambda th, C=C: m.with_effect(
-                               "frictional_lag", True, **{"friction.C": C})))
+                           refine=on, to_model=to_model))
     return out
 
 
@@ -354,7 +370,7 @@ def ripple_aperiodic(ctx: Context) -> list[Variant]:
     # off with the mass only when friction and cogging leave i proportional to a)
     powers = range(3)
     # more K_f means more motor force: r = -(dK_f) i
-    Phi = -ctx.stack(lambda q: q.i[:, None] * _poly_basis(q.x, c, h, powers), mask_stuck=True)
+    Phi = -ctx.stack(lambda q: _current(q)[:, None] * _poly_basis(q.x, c, h, powers), mask_stuck=True)
     old = np.array([float(m.parameters[f"ripple.c[{k}]"]) for k in range(3)])
     if not on:
         old[1:] = 0.0          # off: K_f = c0 on the stroke

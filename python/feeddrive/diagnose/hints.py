@@ -249,10 +249,10 @@ def resonance_hint(res: Sequence[RunResidual]) -> dict:
     if best is None:
         return {"signature": "resonance", "explained_force_N": 0.0, "f_Hz": None,
                 "text": "no narrow peak in the residual's spectrum"}
-    e, f0, ratio, name = best
+    e, f0, peak, name = best
     return {"signature": "resonance", "explained_force_N": float(np.sqrt(e)), "f_Hz": f0,
-            "peak_ratio": ratio, "run": name,
-            "text": f"a resonance band around {f0:.3g} Hz ({name}: {ratio:.3g} x the spectrum "
+            "peak_ratio": peak, "run": name,
+            "text": f"a resonance band around {f0:.3g} Hz ({name}: {peak:.3g} x the spectrum "
                     "around it)"}
 
 

@@ -267,8 +267,8 @@ def position_noise_force(q: RunResidual, P: PlantParameters, quantum: float,
     # m q / 2 ||c||; a larger change is the re-reading's own chance (which element sticks
     # first at a reversal), not what one rounding does
     k = float(np.sum(P.friction.k)) if P.prerolling else 0.0
-    c = savgol_coeffs(w, min(max(polyorder, 2), w - 1), deriv=2, delta=q.Ts)
-    cap = quantum / 2.0 * np.hypot(k, P.m * float(np.linalg.norm(c)))
+    coef = savgol_coeffs(w, min(max(polyorder, 2), w - 1), deriv=2, delta=q.Ts)
+    cap = quantum / 2.0 * np.hypot(k, P.m * float(np.linalg.norm(coef)))
     return np.minimum(sigma, cap)
 
 

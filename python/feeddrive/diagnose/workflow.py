@@ -23,6 +23,8 @@ the steps :mod:`confirmed` confirms (the two model files of the diagnosis).
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from collections.abc import Set as AbstractSet
+from typing import Any
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -124,15 +126,15 @@ def force_change(before: list[RunResidual], after: list[RunResidual]) -> float:
 class Step:
     """One named effect: evidence, identified parameters, gap before and after."""
 
-    effect: str | None
+    effect: str
     decision: str                      #: "missing_effect", "refinement" or "ambiguous"
     ambiguous_with: list[str]
     evidence: dict
     parameters: dict
     gap_before: dict
     gap_after: dict
+    model_after: ModelFile
     effect_was_on: bool = False        #: the step corrected values of an effect already on
-    model_after: ModelFile | None = None
     residual_before: list[RunResidual] = field(default_factory=list, repr=False)
     residual_after: list[RunResidual] = field(default_factory=list, repr=False)
 
@@ -247,7 +249,7 @@ def _gap_record(res: list[RunResidual], regimes: list[str], cl: dict | None) -> 
     return out
 
 
-def rank(ctx: Context, gate: Gate, skip: set[str] = frozenset()) -> list[Score]:
+def rank(ctx: Context, gate: Gate, skip: AbstractSet[str] = frozenset()) -> list[Score]:
     """The best variant of every candidate family, best held-out improvement first; a
     ``NESTED`` family only when it shows beyond its limit family
     (:func:`significance.nested_separable`)."""
@@ -399,6 +401,8 @@ def _wide_band_step(runs: list[Run], res: list[RunResidual], wb: WideBand, cl: d
     """The compliance step the wide-band look (:mod:`band`) confirmed, identified there and
     confirmed on the diagnosis's own residual: its gap must shrink by ``CONFIRM``."""
     c = wb.compliance
+    if c is None:
+        return None
     found = confirm_step(runs, wb.context, c, [c], [c, wb.mass], cl, name, n_blocks, kw, wb.gate)
     if found is None or found[0].gap_after["force_rms_N"] > (1.0 - CONFIRM) * gap(res):
         return None
@@ -414,8 +418,10 @@ def _band_record(wb: WideBand, lead: Score) -> dict:
     confirmed: the band of the data, the resonance glimpsed and the mass it would be taken
     for (not named)."""
     c = wb.compliance
+    if c is None:                   # a trace or a confirmation has its compliance variant
+        raise ValueError("diagnose: a band record needs the wide band's compliance variant")
     dm = float(lead.theta[0])
-    out = {**wb.to_json(), "mass_change_kg": dm}
+    out: dict[str, Any] = {**wb.to_json(), "mass_change_kg": dm}
     out["sentence"] = (
         f"The mass-like part of the residual (a mass change of {dm:+.3g} kg) rings: through a "
         f"{wb.window}-sample acceleration window (band {wb.wide_band_Hz:.0f} Hz; the diagnosis's "
@@ -452,8 +458,8 @@ def verdict(res: list[RunResidual], floors: list[NoiseFloor], gate: Gate,
     its sentence."""
     g = gap(res)
     e = excess(g, gate.floor_N)
-    out = {"gap_N": g, "noise_floor_N": gate.floor_N, "excess_N": e,
-           "x_noise_floor": g / max(gate.floor_N, 1e-300), "threshold_N": gate.threshold_N}
+    out: dict[str, Any] = {"gap_N": g, "noise_floor_N": gate.floor_N, "excess_N": e,
+                           "x_noise_floor": g / max(gate.floor_N, 1e-300), "threshold_N": gate.threshold_N}
     if e < gate.threshold_N:
         out["verdict"] = "explained"
         out["sentence"] = (f"Explained: the residual left ({g:.3g} N rms, "
@@ -516,7 +522,7 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
         notes.append("closed-loop gap not computed: no run has x_ref and a sidecar 'controller' "
                      f"the registry builds (types {', '.join(map(repr, CONTROLLERS))}; the "
                      "sidecar lines above say what was not understood)")
-    stop = {"reason": f"max_steps = {max_steps} reached"}
+    stop: dict[str, Any] = {"reason": f"max_steps = {max_steps} reached"}
     for k in range(max_steps):
         stage(f"step {k + 1}: candidates")
         ctx = Context(res, current, n_blocks=n_blocks)
@@ -532,7 +538,7 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
                 steps.append(step)
                 current, res = step.model_after, step.residual_after
                 continue
-        if wb is not None and (wb.trace or wb.confirmed):
+        if wb is not None and lead is not None and (wb.trace or wb.confirmed):
             band = _band_record(wb, lead)
             stop = {**_stop(band["sentence"], ranking, res, gate), "band": band}
             break

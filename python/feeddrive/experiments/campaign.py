@@ -68,7 +68,7 @@ def plan(quick: bool = False) -> list[Job]:
                          partial(constant_speed_runs, speeds=(cv_speed,), loads=(P,),
                                  directions=(d,), segment=cv_segment)))
     speeds = (2e-3, 20e-3) if quick else STRIBECK_SPEEDS
-    kw = {"cruise_time": 2.0, "min_length": 4e-3} if quick else {}
+    kw: dict[str, Any] = {"cruise_time": 2.0, "min_length": 4e-3} if quick else {}
     for v in speeds:
         for d in (1, -1):
             jobs.append(("stribeck", f"stribeck_{v * 1e3:g}mm_s_d{d:+d}",
@@ -77,7 +77,7 @@ def plan(quick: bool = False) -> list[Job]:
                  partial(force_open_loop_runs, n_periods=5 if quick else 10)))
     jobs.append(("variable_speed", "variable_speed",
                  partial(variable_speed_runs, duration=2.0 if quick else None)))
-    pr = {"period": 2.0, "n_periods": 2.0} if quick else {"period": 4.0, "n_periods": 3.0}
+    pr: dict[str, Any] = {"period": 2.0, "n_periods": 2.0} if quick else {"period": 4.0, "n_periods": 3.0}
     for A in PREROLLING_AMPLITUDES:
         jobs.append(("prerolling", f"prerolling_A{A * 1e6:g}um",
                      partial(prerolling_runs, amplitudes=(A,), **pr)))

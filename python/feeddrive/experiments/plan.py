@@ -115,7 +115,7 @@ class Limits:
     loads: tuple[float, ...] = tuple(P for P in PAPER_LOADS if P != 0)
 
 
-def default_limits(model: ModelFile, stroke: tuple[float, float] | None = None,
+def default_limits(model: ModelFile, stroke: Sequence[float] | None = None,
                    v_max: float | None = None, a_max: float | None = None,
                    u_limit: float | None = None, loads: Sequence[float] | None = None
                    ) -> Limits:

@@ -379,7 +379,7 @@ def _lti(spec: Mapping[str, Any], ref: Reference, u_ff: np.ndarray | None) -> LT
 
 # ---------------------------------------------------------------- controller -> spec
 def _pid_spec_of(c: PID) -> dict[str, Any]:
-    kw = {"Kp": c.Kp, "Kv": c.Kv, "Ki": c.Ki, "force_per_volt": c.force_per_volt,
+    kw: dict[str, Any] = {"Kp": c.Kp, "Kv": c.Kv, "Ki": c.Ki, "force_per_volt": c.force_per_volt,
           "u_limit": c.u_limit, "tf": c.tf, "anti_windup": c.anti_windup}
     return pid_spec(**kw) if c.lead is None else pid_lead_spec(*c.lead, **kw)
 
@@ -450,7 +450,7 @@ def make_controller(spec: Mapping[str, Any], ref: Reference,
     if delay:
         _warn_poor_margins(spec, ctrl)
         ctrl = DelayedController(ctrl)
-    ctrl.spec = dict(spec)
+    ctrl.spec = dict(spec)  # type: ignore[attr-defined]  # every controller class takes it; the protocol has what the loop calls
     return ctrl
 
 

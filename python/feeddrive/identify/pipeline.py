@@ -127,7 +127,8 @@ def classify_why(run: Run) -> tuple[str, str]:
     found, why = _by_signals(run)
     if kind is not None:
         why = f"the sidecar's kind {kind!r} is not one of {', '.join(KINDS)}; {why}"
-    stem = run_stem(run.path) if getattr(run, "path", None) is not None \
+    path = getattr(run, "path", None)
+    stem = run_stem(path) if path is not None \
         else str((run.meta or {}).get("name", ""))
     named = next((k for k, pattern in _STEMS if re.match(pattern, stem)), None)
     if named is not None and found is not None and named != found \

@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 from itertools import groupby
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.optimize import least_squares, nnls
 from scipy.signal import find_peaks
 
@@ -41,7 +42,7 @@ from ..signals import run_label
 from ._signals import current, signal
 
 
-def maxwell_slip(x: np.ndarray, Delta: Sequence[float], W: Sequence[float] | None = None,
+def maxwell_slip(x: np.ndarray, Delta: ArrayLike, W: ArrayLike | None = None,
                  phi0: float | Sequence[float] = 0.0) -> tuple[np.ndarray, np.ndarray]:
     """Maxwell-slip model (Eq. 15) along a position trajectory.
 
@@ -217,14 +218,14 @@ def fit_knots(hc: HalfCycles, n_knots: int, d_max: float | None = None,
         return _pl_residual(np.sort(np.exp(logk)), d, yc, cyc, counts)[0]
 
     sol = least_squares(res, np.log(knots), bounds=(np.log(dmax / 1000), np.log(dmax)),
-                        diff_step=1e-3)
+                        diff_step=np.full(len(knots), 1e-3))
     kn = np.sort(np.exp(sol.x))
     r, beta = _pl_residual(kn, d, yc, cyc, counts)
     return KnotFit(knots=kn, slopes=np.cumsum(beta), rms=float(np.sqrt(np.mean(r**2))))
 
 
 def fit_weights(segments: Sequence[tuple[np.ndarray, np.ndarray, float | Sequence[float]]],
-                Delta: Sequence[float], F_s: float, fit_offset: bool = True,
+                Delta: ArrayLike, F_s: float, fit_offset: bool = True,
                 nonnegative: bool = True) -> tuple[np.ndarray, np.ndarray]:
     """W_1..W_N for given Delta_i from friction samples along position trajectories.
 
@@ -369,7 +370,7 @@ def _element_travels(data: dict, N: int, decimate: int, flat_fraction: float):
 
 
 def _model_segment(run_data: tuple, tag: str, start: str, skip_reversals: int,
-                   phi0: float | Sequence[float]) -> tuple[np.ndarray, np.ndarray, object]:
+                   phi0: float | Sequence[float]) -> tuple[np.ndarray, np.ndarray, float | Sequence[float]]:
     """Step 4: where the Maxwell-slip model starts on a run, (x, F, initial state)."""
     _, x, F, hc = run_data
     if start == "record":

@@ -156,7 +156,8 @@ def fit_stribeck(speed: np.ndarray, friction: np.ndarray,
             sol = least_squares(resid, th0, bounds=(lb, ub), x_scale="jac")
             if best is None or sol.cost < best.cost:
                 best = sol
-    se = jacobian_stderr(best.jac, best.fun)
+    assert best is not None                 # the grid of starts is not empty
+    se = jacobian_stderr(np.asarray(best.jac), best.fun)
     params = {n: float(t) for n, t in zip(NAMES, best.x, strict=True)}
     return params, {n: float(s) for n, s in zip(NAMES, se, strict=True)}, steady_friction(v, *best.x) - F
 

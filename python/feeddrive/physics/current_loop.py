@@ -79,5 +79,5 @@ def simulate_current(a: ArrayLike, b: ArrayLike, u: ArrayLike, i_init: ArrayLike
         yh = np.zeros(0) if i_init is None else np.asarray(i_init, dtype=float)[::-1]
         xh = np.zeros(0) if u_init is None else np.asarray(u_init, dtype=float)[::-1]
         zi = lfiltic(num, den, yh, xh)
-        return lfilter(num, den, u, zi=zi)[0]
-    return lfilter(num, den, u)
+        return lfilter(num, den, np.asarray(u, dtype=float), zi=zi)[0]
+    return lfilter(num, den, np.asarray(u, dtype=float))

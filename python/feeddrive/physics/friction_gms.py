@@ -31,6 +31,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
+from typing import Literal, overload
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -93,7 +94,9 @@ class GMSParameters:
             raise KeyError(f"friction_gms.py: parameter {e.args[0]!r} missing") from None
         if not apply_effects:
             return p
-        on = lambda e: bool(params.get(f"effects.{e}", True))  # noqa: E731
+
+        def on(effect: str) -> bool:
+            return bool(params.get(f"effects.{effect}", True))
         if not on("asymmetric_friction"):
             p = replace(p, dF=0.0, dsigma2=0.0)
         if not on("stribeck"):
@@ -241,6 +244,13 @@ def _run_element(F: float, stuck: bool, k: float, nu: float, dxs: list[float],
     return out, F, stuck
 
 
+@overload
+def gms_force(x: ArrayLike, v: ArrayLike, dt: float, params: GMSParameters | Mapping[str, float],
+              F0: ArrayLike | None = None, return_elements: Literal[False] = False) -> np.ndarray: ...
+@overload
+def gms_force(x: ArrayLike, v: ArrayLike, dt: float, params: GMSParameters | Mapping[str, float],
+              F0: ArrayLike | None = None, *, return_elements: Literal[True]
+              ) -> tuple[np.ndarray, np.ndarray]: ...
 def gms_force(x: ArrayLike, v: ArrayLike, dt: float, params: GMSParameters | Mapping[str, float],
               F0: ArrayLike | None = None, return_elements: bool = False
               ) -> np.ndarray | tuple[np.ndarray, np.ndarray]:

@@ -42,6 +42,7 @@ from ..model_file import save_model
 from ..outputs import Reads, output_dir
 from ..physics import eq1_friction, simulate_current, stribeck_level
 from ..physics import position_maps as maps
+from ..signals import run_label
 from .page import Page
 
 MM = 1e3            #: m -> mm for axes
@@ -248,6 +249,8 @@ def fig_attraction(res: IdentificationResult) -> plt.Figure:
     at = _need(res, "attraction", "attraction")
     run = max(res.groups["variable_speed"], key=lambda r: len(r.time))
     p = res.model.parameters
+    if run.i is None:
+        raise ValueError(f"{run_label(run)}: the variable-speed run has no current column")
     F, v, _K, Ts = eq1_friction(run.time, run.x, run.i, p["m"], p, p,
                                run.F_load if run.F_load is not None else 0.0)
     G = F - p["friction.sigma2"] * v
@@ -356,7 +359,7 @@ def add_to_page(page: Page, results: IdentificationResult, level: int = 2) -> li
         if getattr(results, attr) is None:
             continue
         if fn in (fig6_dstft_cogging, fig8_dstft_ripple, fig7_cogging_components,
-                  fig9_ripple_components) and len(results.maps.samples.x) < 750:
+                  fig9_ripple_components) and results.maps is not None and len(results.maps.samples.x) < 750:
             continue                    # the DSTFT needs a 75 mm stretch of map
         paths.append(page.figure(fn(results), stem, caption))
     return paths

@@ -5,8 +5,10 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
+import numpy as np
 from tqdm import tqdm
 
+from ..control.state_space import StateSpaceController
 from ..outputs import output_dir
 from ..harness.controllers import make_controller, state_space_spec
 from ..harness.references import Reference, sinusoid
@@ -47,7 +49,8 @@ def _main_job(out_dir: Path, final_dir: Path, print_tables: bool, runs_dir: Path
     t0 = time.perf_counter()
     steps = tqdm(total=3, desc="feeddrive run", unit="stage",
                  disable=(None if print_tables else True) if progress is None else not progress)
-    ctrl = make_controller(state_space_spec(), Reference(5e-4, [0.15, 0.15], [0.0, 0.0], [0.0, 0.0]))
+    ctrl = make_controller(state_space_spec(), Reference(5e-4, np.array([0.15, 0.15]), np.zeros(2), np.zeros(2)))
+    assert isinstance(ctrl, StateSpaceController)       # the spec is a state-space controller's
     design = ctrl.format_report()
     steps.update(1)
     ref = sinusoid(sec3.AMPLITUDE, sec3.PERIOD, sec3.CENTRE, sec3.PERIOD)
@@ -83,10 +86,10 @@ def _main_job(out_dir: Path, final_dir: Path, print_tables: bool, runs_dir: Path
     odrive = Path(shared_dir) / ODRIVE if shared_dir is not None else None
     skipped = ("skipped: no shared data folder given (feeddrive run --shared DIR or $FEEDDRIVE_SHARED)"
                if odrive is None else None if odrive.is_dir() else f"skipped: {odrive} is not a folder")
-    if skipped is None:
-        page.pre(findings_text(analyse(odrive)))
-    else:
+    if skipped is not None:
         page.text(skipped)
+    elif odrive is not None:
+        page.pre(findings_text(analyse(odrive)))
     path = final_dir / page.write().name
     wall = time.perf_counter() - t0
     if print_tables:

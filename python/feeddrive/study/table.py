@@ -48,7 +48,7 @@ class ResultsTable:
         self.out = Path(out)
         self.columns = (["run", "label"] + list(study.parameter_names)
                         + list(study.metric_columns) + ["wall_s", "status", "message"])
-        self._types = dict.fromkeys(self.columns, float)
+        self._types: dict[str, type] = dict.fromkeys(self.columns, float)
         self._types.update({"run": int, "label": str, "status": str, "message": str})
         self._types.update({n: int for n in study.parameter_names if n in INTEGER_PARAMETERS})
         self.rows: dict[int, dict[str, Any]] = {}

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from ..control.feedforward import FeedforwardOptions
+from ..control.feedforward import FeedforwardOptions, FrictionFeedforward
 from ..harness.circle_path import DIRECTIONS, CirclePath, circle_path
 from ..harness.controller_fmu import controller_fmu_parameters
 from ..harness.controllers import state_space_spec
@@ -25,7 +25,7 @@ from .circular import (Glitch, Trace, bidirectional_deviation, glitch_window, gl
                        hysteresis, trace)
 from .xy_machine import AxisModel
 
-FEEDFORWARD = {"none": None, "static": "static", "gms": "gms"}
+FEEDFORWARD: dict[str, FrictionFeedforward | None] = {"none": None, "static": "static", "gms": "gms"}
 QUANTUM = 1e-7
 MIN_PER_M_S = 60.0          #: feed: 1 m/s = 60 m/min
 

@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from ..control.feedforward import FeedforwardOptions
+from ..control.feedforward import DEFAULT_V_EPS, FeedforwardOptions, FrictionFeedforward
 from ..harness.controllers import state_space_spec
 from ..harness.references import reversals, sinusoid
 from ..harness.runs import run_closed_loop
@@ -29,7 +29,8 @@ PERTURBATION = {
     "friction.k[5]": 0.8, "m": 1.03,
     **{f"cogging.{ab}[{j}]": 1.05 for ab in "ab" for j in (1, 2, 3)},
 }
-CASES = {"no feedforward": None, "static friction feedforward": "static", "GMS feedforward": "gms"}
+CASES: dict[str, FrictionFeedforward | None] = {"no feedforward": None, "static friction feedforward": "static",
+                                                 "GMS feedforward": "gms"}
 PAPER = {"no feedforward": (27.0, 13.0), "static friction feedforward": (23.0, 6.0),
          "GMS feedforward": (11.0, 4.0)}
 
@@ -89,7 +90,7 @@ def reproduce(v_eps: float | None = None, plant: Mapping[str, Any] | None = None
                      perturbed=perturbed)
     for case, friction in CASES.items():
         opts = None if friction is None else \
-            FeedforwardOptions(friction=friction, **({"v_eps": v_eps} if v_eps else {}))
+            FeedforwardOptions(friction=friction, v_eps=v_eps or DEFAULT_V_EPS)
         spec = state_space_spec(nominal, feedforward=opts)     # feedforward on ``nominal``
         res = run_closed_loop(plant, spec, ref)
         e = ref.x - res["x"]

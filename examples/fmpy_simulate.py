@@ -1,7 +1,9 @@
 """The plant FMU with fmpy alone: 2 s of u = 0.8 sin(2 pi t) V from rest at 150 mm (no controller)."""
 import sys
+
 import numpy as np
 from fmpy import simulate_fmu
+
 fmu = sys.argv[1] if len(sys.argv) > 1 else "build/LinearMotorFeedDrive.fmu"
 t = np.arange(0.0, 2.0 + 1e-9, 5e-4)                     # the inputs at the 0.5 ms samples
 inputs = np.array(list(zip(t, 0.8 * np.sin(2 * np.pi * t), 0 * t, strict=True)),

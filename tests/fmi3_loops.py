@@ -13,9 +13,13 @@ import numpy as np
 from fmpy import extract, read_model_description
 from fmpy.fmi3 import FMU3Slave
 
-from feeddrive.harness.controllers import state_space_spec
 from feeddrive.fmu3 import set_values
-from feeddrive.harness.controller_fmu import ControllerFMU, controller_fmu_parameters, sinusoid_source
+from feeddrive.harness.controller_fmu import (
+    ControllerFMU,
+    controller_fmu_parameters,
+    sinusoid_source,
+)
+from feeddrive.harness.controllers import state_space_spec
 from feeddrive.harness.references import sinusoid
 from feeddrive.paper import paper_parameters
 

@@ -11,18 +11,23 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from feeddrive.cli import main
+from feeddrive.fmu import Plant
 from feeddrive.harness import make_controller, simulate_closed_loop
 from feeddrive.harness.circle_path import circle_path
 from feeddrive.harness.controllers import state_space_spec
 from feeddrive.harness.xy_table import AxisLoop, simulate_axes
-from feeddrive.cli import main
-from feeddrive.fmu import Plant
 from feeddrive.study import RunTask, StudyError, cases, parse_study, run_case
-from feeddrive.validation import sec4
 from feeddrive.systems.xy_system import circle_system, master_run, run_libcosim_xy, write_xy_osp
+from feeddrive.validation import sec4
 from feeddrive.validation.circle_test import circular_case, controller_values, run_circle
-from feeddrive.validation.circular import (bidirectional_deviation, fit_circle, glitches,
-                                           hysteresis, trace)
+from feeddrive.validation.circular import (
+    bidirectional_deviation,
+    fit_circle,
+    glitches,
+    hysteresis,
+    trace,
+)
 from feeddrive.validation.xy_machine import identical_axes, shift_magnets, xy_axes
 
 R = 0.01

@@ -16,8 +16,7 @@ import numpy as np
 import pytest
 
 from diagnosis_runs import simulate_run, sinusoid_reference
-from feeddrive import cli
-from feeddrive import data_csv
+from feeddrive import cli, data_csv
 from feeddrive.data import DataError, load_run, write_run
 from feeddrive.harness.controller_fmu import CONTROLLER_FMU_ENV, controller_fmu_path
 from feeddrive.model_description import FMU_ENV

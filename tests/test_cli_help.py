@@ -114,10 +114,10 @@ def test_one_option_vocabulary():
 
 
 def test_choices_are_the_modules_own():
+    from feeddrive.commands.system import systems
     from feeddrive.experiments.campaign import FORMATS, MAX_REPEATS
     from feeddrive.validation.circle_test import FEEDFORWARD
     from feeddrive.validation.xy_machine import MISMATCH
-    from feeddrive.commands.system import systems
     assert cli.MAX_REPEATS == MAX_REPEATS
     assert tuple(cli.RUN_FORMATS) == tuple(FORMATS)
     from feeddrive.study.bootstrap import METHODS

@@ -8,12 +8,21 @@ import numpy as np
 import pytest
 from scipy import signal
 
-from feeddrive.control import (PID, ZPETC, FeedforwardOptions, StateSpaceController, design_model,
-                               feedforward, invert_current_loop, simulate_linear, static_friction)
-from feeddrive.physics import GMSFriction, GMSParameters, gms_force
-from feeddrive.physics import position_maps as maps
+from feeddrive.control import (
+    PID,
+    ZPETC,
+    FeedforwardOptions,
+    StateSpaceController,
+    design_model,
+    feedforward,
+    invert_current_loop,
+    simulate_linear,
+    static_friction,
+)
 from feeddrive.control.lti_step import compile_step
 from feeddrive.paper import paper_parameters
+from feeddrive.physics import GMSFriction, GMSParameters, gms_force
+from feeddrive.physics import position_maps as maps
 
 P = paper_parameters()
 TS = 5e-4

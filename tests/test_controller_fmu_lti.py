@@ -13,10 +13,19 @@ import numpy as np
 import pytest
 
 from feeddrive.fmu import FMUError, Plant
-from feeddrive.harness import (cascade_lti_spec, lti_spec, make_controller, pid_lti_spec,
-                               simulate_closed_loop, sinusoid)
-from feeddrive.harness.controller_fmu import (ControllerFMU, controller_fmu_parameters,
-                                              sinusoid_source)
+from feeddrive.harness import (
+    cascade_lti_spec,
+    lti_spec,
+    make_controller,
+    pid_lti_spec,
+    simulate_closed_loop,
+    sinusoid,
+)
+from feeddrive.harness.controller_fmu import (
+    ControllerFMU,
+    controller_fmu_parameters,
+    sinusoid_source,
+)
 from feeddrive.harness.two_fmus import simulate_two_fmus
 from feeddrive.paper import paper_parameters
 

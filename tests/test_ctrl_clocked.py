@@ -18,7 +18,13 @@ from fmpy.validation import validate_fmu
 
 from feeddrive.fmu import FMUError, Plant
 from feeddrive.fmu3 import set_values
-from feeddrive.harness import make_controller, pid_lti_spec, simulate_closed_loop, sinusoid, state_space_spec
+from feeddrive.harness import (
+    make_controller,
+    pid_lti_spec,
+    simulate_closed_loop,
+    sinusoid,
+    state_space_spec,
+)
 from feeddrive.harness.clocked_controller import ClockedController, simulate_clocked
 from feeddrive.harness.controller_fmu import controller_fmu_parameters, sinusoid_source
 from feeddrive.paper import paper_parameters

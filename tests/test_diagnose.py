@@ -6,15 +6,15 @@ import json
 import numpy as np
 import pytest
 
-from feeddrive.data import write_run
+from diagnosis_runs import make_runs, simulate_run, sinusoid_reference
 from feeddrive.cli import main as feeddrive_cli
+from feeddrive.data import write_run
 from feeddrive.diagnose.localise import displacement_since_reversal, spatial_spectrum
 from feeddrive.diagnose.residual import force_residual
 from feeddrive.diagnose.workflow import diagnose
 from feeddrive.harness import controller_spec, make_controller, pid_spec
 from feeddrive.model_file import load_model, paper_model, save_model
 from feeddrive.report.diagnosis import write_diagnosis
-from diagnosis_runs import make_runs, simulate_run, sinusoid_reference
 
 PAPER = paper_model()
 

@@ -15,6 +15,7 @@ import functools
 import numpy as np
 import pytest
 
+from diagnosis_runs import back_and_forth, make_runs, simulate_run
 from feeddrive.data import Run
 from feeddrive.diagnose.noise_floor import force_noise, motor_force_noise, noise_floor
 from feeddrive.diagnose.residual import force_residual
@@ -24,7 +25,6 @@ from feeddrive.experiments.prbs import prbs_runs
 from feeddrive.harness.sensors import Sensors
 from feeddrive.model_file import paper_model
 from feeddrive.physics import compile
-from diagnosis_runs import back_and_forth, make_runs, simulate_run
 
 PAPER = paper_model()
 P = compile(PAPER)

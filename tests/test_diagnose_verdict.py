@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 from scipy.signal import cont2discrete, lfilter
 
+from diagnosis_runs import make_runs, simulate_run, sinusoid_reference
 from feeddrive.cli import main as feeddrive_cli
 from feeddrive.data import Run, write_run
 from feeddrive.diagnose.noise_floor import force_noise, noise_floor, position_quantum
@@ -24,7 +25,6 @@ from feeddrive.diagnose.workflow import diagnose
 from feeddrive.harness import Reference, back_and_forth, point_to_point, sinusoid, state_space_spec
 from feeddrive.model_file import paper_model, save_model
 from feeddrive.physics import compile
-from diagnosis_runs import make_runs, simulate_run, sinusoid_reference
 
 PAPER = paper_model()
 

@@ -16,11 +16,11 @@ from feeddrive.experiments import campaign as campaign_mod
 from feeddrive.experiments.campaign import GROUPS, campaign, write_campaign
 from feeddrive.experiments.constant_speed import PAPER_LOADS, constant_speed_runs
 from feeddrive.experiments.force_open_loop import force_open_loop_runs
-from feeddrive.harness.sensors import Sensors
 from feeddrive.experiments.prbs import prbs_runs, prbs_sequence
-from feeddrive.physics.position_maps import force_constant
+from feeddrive.harness.sensors import Sensors
 from feeddrive.model_file import PARAMETER_NAMES, paper_model
 from feeddrive.paper import paper_parameters
+from feeddrive.physics.position_maps import force_constant
 from feeddrive.validation.replay import validate_file
 
 QUANTUM = 1e-7

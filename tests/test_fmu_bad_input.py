@@ -13,8 +13,13 @@ from collections.abc import Iterator
 import pytest
 from fmpy import extract, read_model_description
 from fmpy.fmi1 import FMICallException
-from fmpy.fmi2 import (defaultCallbacks, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE,
-                       fmi2EventInfo, fmi2Real)
+from fmpy.fmi2 import (
+    defaultCallbacks,
+    fmi2CallbackFunctions,
+    fmi2CallbackLoggerTYPE,
+    fmi2EventInfo,
+    fmi2Real,
+)
 from fmpy.fmi3 import FMU3Model, FMU3Slave, fmi3Boolean, fmi3Float64
 
 from conftest import FMU3, VERSIONS

@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 from scipy.signal import lfilter
 
-from feeddrive.physics.position_maps import cogging, force_constant
 from feeddrive.harness.simulate import simulate_open_loop
+from feeddrive.physics.position_maps import cogging, force_constant
 from fmu_loops import me_plant
 
 pytestmark = pytest.mark.usefixtures("fmu_path")

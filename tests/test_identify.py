@@ -13,13 +13,21 @@ import pytest
 from scipy.signal import lfilter
 
 from feeddrive import paper
-from feeddrive.physics import position_maps as maps
 from feeddrive.data import Run
-from feeddrive.physics.friction_curves import steady_friction, stribeck_level
-from feeddrive.identify import (dstft, fit_weights, identify_attraction, identify_current_loop,
-                                identify_mass, identify_position_maps, identify_prerolling,
-                                identify_stribeck, maxwell_slip)
 from feeddrive.harness.references import prbs
+from feeddrive.identify import (
+    dstft,
+    fit_weights,
+    identify_attraction,
+    identify_current_loop,
+    identify_mass,
+    identify_position_maps,
+    identify_prerolling,
+    identify_stribeck,
+    maxwell_slip,
+)
+from feeddrive.physics import position_maps as maps
+from feeddrive.physics.friction_curves import steady_friction, stribeck_level
 
 P = paper.paper_parameters()
 TS = paper.TS

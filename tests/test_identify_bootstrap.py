@@ -33,9 +33,9 @@ from feeddrive.harness.sensors import Sensors
 from feeddrive.identify.bootstrap import BootstrapTask, cells, check_campaign, run_replicates
 from feeddrive.identify.pipeline import identify_runs
 from feeddrive.model_file import ModelFileError, load_model, paper_model, save_model
-from feeddrive.study.bootstrap import run_bootstrap
 from feeddrive.report.identification import add_to_page, uncertainty_rows
 from feeddrive.report.page import Page
+from feeddrive.study.bootstrap import run_bootstrap
 from test_identify_roundtrip import truth_model
 
 #: The mass is fitted to one open-loop run per replicate but with the maps and the friction of

@@ -24,8 +24,13 @@ from feeddrive.experiments.force_open_loop import force_open_loop_runs
 from feeddrive.experiments.prbs import prbs_runs
 from feeddrive.experiments.resimulate import can_resimulate, resimulate
 from feeddrive.harness.sensors import Sensors
-from feeddrive.identify.parametric import (FAILED, MIN_REPLICATES, OK, STRUCTURE_SHARE,
-                                           bias_corrected)
+from feeddrive.identify.parametric import (
+    FAILED,
+    MIN_REPLICATES,
+    OK,
+    STRUCTURE_SHARE,
+    bias_corrected,
+)
 from feeddrive.model_file import ModelFileError, load_model, paper_model, save_model
 from feeddrive.study.coverage import coverage_truth, lowest_count
 

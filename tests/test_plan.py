@@ -14,8 +14,13 @@ import numpy as np
 import pytest
 
 from feeddrive import cli
-from feeddrive.experiments.plan import (MAP_SPAN, PlanError, default_limits, force_per_volt,
-                                        make_plan)
+from feeddrive.experiments.plan import (
+    MAP_SPAN,
+    PlanError,
+    default_limits,
+    force_per_volt,
+    make_plan,
+)
 from feeddrive.experiments.plan_files import reference_csv, time_decimals
 from feeddrive.harness.controllers import pid_lti_spec
 from feeddrive.harness.sidecar import read_sidecar

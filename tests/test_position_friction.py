@@ -22,9 +22,9 @@ import pytest
 from feeddrive.experiments.constant_speed import constant_speed_runs
 from feeddrive.fmu import Plant
 from feeddrive.harness import Sensors
+from feeddrive.harness.simulate import simulate_closed_loop
 from feeddrive.identify.pipeline import identify_runs
 from feeddrive.identify.position_friction import identify_position_friction
-from feeddrive.harness.simulate import simulate_closed_loop
 from feeddrive.model_file import ModelFile, load_model, paper_model, save_model
 from feeddrive.paper import paper_parameters
 from feeddrive.physics import FrictionProfile, compile, profile_basis

@@ -20,8 +20,19 @@ from feeddrive.harness import closed_loop_run, pid_spec, run_closed_loop, sinuso
 from feeddrive.harness.sensors import Sensors
 from feeddrive.paper import paper_parameters
 from feeddrive.report.study import write_study_report
-from feeddrive.study import (FAILED, OK, Case, RunTask, StudyError, cases, load_study, parse_study,
-                             read_table, run_case, run_study)
+from feeddrive.study import (
+    FAILED,
+    OK,
+    Case,
+    RunTask,
+    StudyError,
+    cases,
+    load_study,
+    parse_study,
+    read_table,
+    run_case,
+    run_study,
+)
 from feeddrive.study.run import make_reference
 
 BASE = {"schema": "feeddrive.study/1", "name": "t",

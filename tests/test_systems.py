@@ -25,8 +25,14 @@ import pytest
 from fmpy.ssp.ssd import read_ssd, read_ssv
 
 from feeddrive.harness.two_fmus import simulate_two_fmus
-from feeddrive.systems import (run_container, run_fmpy_ssp, run_libcosim_osp, sec3_system,
-                               sec4_system, write_all)
+from feeddrive.systems import (
+    run_container,
+    run_fmpy_ssp,
+    run_libcosim_osp,
+    sec3_system,
+    sec4_system,
+    write_all,
+)
 from feeddrive.systems.jacobi import simulate_jacobi
 
 TOL_EQUAL = 1e-8          #: 0.01 um, equal conventions

@@ -17,14 +17,13 @@ from pathlib import Path
 
 import numpy as np
 
-from .bench_campaign import campaign_rows
 from .bench_c import instructions_per_sample, run_bench_cs, run_cycles, run_two_fmus
+from .bench_campaign import campaign_rows
 from .bench_cli import help_rows
 from .bench_study import study_rows
 from .data import Run, write_run
 from .fmu import Plant
-from .harness.controller_fmu import (ControllerFMU, controller_fmu_parameters,
-                                     sinusoid_source)
+from .harness.controller_fmu import ControllerFMU, controller_fmu_parameters, sinusoid_source
 from .harness.controllers import make_controller, state_space_spec
 from .harness.references import sinusoid
 from .harness.runs import closed_loop_run, run_closed_loop

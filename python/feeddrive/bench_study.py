@@ -12,8 +12,8 @@ import resource
 import shutil
 import tempfile
 import time
-from typing import Any
 from pathlib import Path
+from typing import Any
 
 from distributed import LocalCluster
 from fmpy import extract, read_model_description

@@ -31,9 +31,18 @@ from typing import Any
 
 import numpy as np
 
-from .data_csv import (KNOWN_COLUMNS, MAX_HEADER_BYTES, MAX_LINE_CHARS, REQUIRED_COLUMNS,
-                       RUN_SUFFIXES, DataError, _check_values, is_compressed, read_columns,
-                       run_stem)
+from .data_csv import (
+    KNOWN_COLUMNS,
+    MAX_HEADER_BYTES,
+    MAX_LINE_CHARS,
+    REQUIRED_COLUMNS,
+    RUN_SUFFIXES,
+    DataError,
+    _check_values,
+    is_compressed,
+    read_columns,
+    run_stem,
+)
 from .inputs import InputFileError, read_text
 
 __all__ = ["KNOWN_COLUMNS", "MAX_ABS", "MAX_HEADER_BYTES", "MAX_LINE_CHARS", "MIN_ROWS",

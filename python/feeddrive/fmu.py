@@ -30,26 +30,33 @@ import shutil
 import tempfile
 import threading
 from collections.abc import Callable, Iterator, Mapping, Sequence
-from typing import Any, Self
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any, Self
 
 import numpy as np
-from fmpy import extract, read_model_description, sharedLibraryExtension
+from fmpy import extract, platform_tuple, read_model_description, sharedLibraryExtension
 from fmpy import platform as fmpy_platform
-from fmpy import platform_tuple
-from fmpy.model_description import ModelDescription, ScalarVariable
-from fmpy.fmi2 import (FMU2Model, FMU2Slave, defaultCallbacks, fmi2CallbackFunctions,
-                       fmi2CallbackLoggerTYPE, fmi2Real, fmi2ValueReference)
+from fmpy.fmi2 import (
+    FMU2Model,
+    FMU2Slave,
+    defaultCallbacks,
+    fmi2CallbackFunctions,
+    fmi2CallbackLoggerTYPE,
+    fmi2Real,
+    fmi2ValueReference,
+)
 from fmpy.fmi3 import FMU3Model, FMU3Slave
+from fmpy.model_description import ModelDescription, ScalarVariable
 
 from . import fmu3
+
 # re-exported: the names the package and its users take from here
 from .model_description import DEFAULT_FMU as DEFAULT_FMU
 from .model_description import FMU_ENV as FMU_ENV
 from .model_description import FMUNotFoundError as FMUNotFoundError
-from .model_description import fmu_path as fmu_path
 from .model_description import fmi_version
+from .model_description import fmu_path as fmu_path
 
 OUTPUTS = ("x", "v", "a", "i", "F_motor", "F_cogging", "F_friction", "K_f")
 

@@ -15,7 +15,6 @@ from importlib import resources
 from pathlib import Path
 from xml.etree import ElementTree
 
-
 FMU_ENV = "FEEDDRIVE_FMU"
 DEFAULT_FMU = Path(str(resources.files(__package__) / "LinearMotorFeedDrive.fmu"))
 

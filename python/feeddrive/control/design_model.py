@@ -23,6 +23,7 @@ from scipy import signal
 
 from ..physics import CurrentLoop
 
+
 @dataclass(frozen=True)
 class DesignModel:
     """Sampled design model u [V] -> x [m] (state order in the module docstring).

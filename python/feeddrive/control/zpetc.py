@@ -25,7 +25,6 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy import signal
 
-
 UNIT_CIRCLE_TOL = 1e-6   #: zeros this close to the unit circle count as on it
 
 

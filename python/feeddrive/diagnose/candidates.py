@@ -23,8 +23,15 @@ from scipy.optimize import minimize, minimize_scalar
 from ..identify.compliance import fit_compliance
 from ..model_file import ModelFile
 from ..paper import N_ELEMENTS_MAX, N_HARMONICS
-from ..physics import (FrictionProfile, gms_force, held_current, load_acceleration,
-                       load_free_response, profile_basis, stribeck_drop)
+from ..physics import (
+    FrictionProfile,
+    gms_force,
+    held_current,
+    load_acceleration,
+    load_free_response,
+    profile_basis,
+    stribeck_drop,
+)
 from .context import Context
 from .localise import spatial_spectrum, spectral_peaks
 from .residual import RunResidual

@@ -50,9 +50,16 @@ from scipy.signal import savgol_coeffs, savgol_filter
 
 from ..data import Run
 from ..harness.sidecar import read_sidecar
-from ..physics import (DEFAULT_V_STICK, PlantParameters, force_residual as eq1_residual,
-                       friction_velocity, gms_force, karnopp_friction, load_acceleration,
-                       measured_motion)
+from ..physics import (
+    DEFAULT_V_STICK,
+    PlantParameters,
+    friction_velocity,
+    gms_force,
+    karnopp_friction,
+    load_acceleration,
+    measured_motion,
+)
+from ..physics import force_residual as eq1_residual
 from ..signals import odd_window
 from .localise import regime_masks
 from .residual import DEFAULT_POLYORDER, RunResidual, run_force_gain

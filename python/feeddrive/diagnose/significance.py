@@ -32,8 +32,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..physics import compile
 from ..model_file import ModelFile
+from ..physics import compile
 from .residual import RunResidual
 from .scoring import I_MIN, T_MIN, Score
 

@@ -24,8 +24,8 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from collections.abc import Set as AbstractSet
-from typing import Any
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -39,14 +39,29 @@ from .band import WideBand, wide_band
 from .candidates import CANDIDATES
 from .confirmed import confirmation_of
 from .context import DEFAULT_BLOCKS, Context
-from .hints import add_hint, hints as fit_hints
-from .localise import (displacement_since_reversal, excess_location, localise, spatial_spectrum,
-                       spectral_peaks, where)
+from .hints import add_hint
+from .hints import hints as fit_hints
+from .localise import (
+    displacement_since_reversal,
+    excess_location,
+    localise,
+    spatial_spectrum,
+    spectral_peaks,
+    where,
+)
 from .noise_floor import NoiseFloor, floor_table, noise_floor
 from .residual import RunResidual, gap, residuals
 from .scoring import AMBIGUITY, I_MIN, T_MIN, Score, score, separable
-from .significance import (NOISE_FACTOR, PRACTICAL_SHARE, Gate, excess, explained_force,
-                           make_gate, nested_separable, passes)
+from .significance import (
+    NOISE_FACTOR,
+    PRACTICAL_SHARE,
+    Gate,
+    excess,
+    explained_force,
+    make_gate,
+    nested_separable,
+    passes,
+)
 from .timeaxis import time_axis, trend_text
 
 #: Travel after a reversal [m] within which the closed-loop error counts as reversal error.

@@ -32,11 +32,19 @@ from ..data import RECORDING_DECIMALS, Run, write_run
 from ..harness.sensors import Sensors
 from ..model_file import ModelFile, load_model, paper_model
 from ..outputs import output_dir
-from .constant_speed import (MAP_SPEED, PAPER_LOADS, PAPER_SPEED, STRIBECK_SPEEDS,
-                             constant_speed_runs, run_seed, stribeck_runs)
+from .constant_speed import (
+    MAP_SPEED,
+    PAPER_LOADS,
+    PAPER_SPEED,
+    STRIBECK_SPEEDS,
+    constant_speed_runs,
+    run_seed,
+    stribeck_runs,
+)
 from .force_open_loop import force_open_loop_runs
 from .prbs import prbs_runs
-from .prerolling_excitation import AMPLITUDES as PREROLLING_AMPLITUDES, prerolling_runs
+from .prerolling_excitation import AMPLITUDES as PREROLLING_AMPLITUDES
+from .prerolling_excitation import prerolling_runs
 from .variable_speed import variable_speed_runs
 
 #: The groups of the campaign, in the order they are run.

@@ -29,11 +29,11 @@ import numpy as np
 from ..data import Run
 from ..fmu import Plant
 from ..harness.references import from_positions
-from ..physics import CurrentLoop
 from ..harness.runs import to_run
 from ..harness.sensors import Sensors
 from ..harness.sidecar import read_sidecar
 from ..harness.simulate import simulate_open_loop
+from ..physics import CurrentLoop
 from ..signals import run_label, sample_time
 from .prbs import prbs_sequence
 from .recording import closed_loop_measurement, sampled_signals

@@ -43,14 +43,29 @@ from typing import Any, Protocol
 import numpy as np
 
 from ..control.design_model import design_model
-from ..control.margins import Margins, poor_margins
 from ..control.feedforward import FeedforwardOptions, feedforward
-from ..control.lti import (LTI_MAX_ORDER, LTIController, back_calculation_gain, cascade_tf,
-                           pid_tf, rest_state, tf_to_ss)
+from ..control.lti import (
+    LTI_MAX_ORDER,
+    LTIController,
+    back_calculation_gain,
+    cascade_tf,
+    pid_tf,
+    rest_state,
+    tf_to_ss,
+)
+from ..control.margins import Margins, poor_margins
 from ..control.pid import DEFAULT_FORCE_PER_VOLT, DEFAULT_GAINS, DEFAULT_U_LIMIT, PID
-from ..control.state_space import (DEFAULT_MECH_HZ, DEFAULT_MECH_REAL_HZ, DEFAULT_MECH_ZETA,
-                                   DEFAULT_OBS_CURRENT, DEFAULT_OBS_HZ, DEFAULT_OBS_ZETA,
-                                   StateSpaceController, default_observer_poles, default_poles)
+from ..control.state_space import (
+    DEFAULT_MECH_HZ,
+    DEFAULT_MECH_REAL_HZ,
+    DEFAULT_MECH_ZETA,
+    DEFAULT_OBS_CURRENT,
+    DEFAULT_OBS_HZ,
+    DEFAULT_OBS_ZETA,
+    StateSpaceController,
+    default_observer_poles,
+    default_poles,
+)
 from ..paper import paper_parameters
 from .references import Reference
 

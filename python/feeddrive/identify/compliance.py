@@ -32,10 +32,21 @@ import numpy as np
 from scipy.optimize import minimize
 
 from ..data import Run
-from ..physics import (DEFAULT_V_STICK, applied_force, compile, force_residual,
-                       friction_velocity, gms_force, held_current, karnopp_friction,
-                       load_acceleration, load_free_response, measured_motion, run_load,
-                       started_friction)
+from ..physics import (
+    DEFAULT_V_STICK,
+    applied_force,
+    compile,
+    force_residual,
+    friction_velocity,
+    gms_force,
+    held_current,
+    karnopp_friction,
+    load_acceleration,
+    load_free_response,
+    measured_motion,
+    run_load,
+    started_friction,
+)
 from ..physics.compliance import F_RANGE
 from ..physics.params import HasFmuParameters
 from ..signals import odd_window, run_label, sample_time

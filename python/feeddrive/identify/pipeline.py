@@ -39,10 +39,10 @@ import numpy as np
 from ..data import Run, load_runs, run_stem, sidecar_path
 from ..model_file import ModelFile, load_model, paper_model, save_model
 from ..outputs import Reads, check_file
-from ..validation.replay import check_run
 from ..paper import PAPER_EFFECTS
 from ..physics import CurrentLoop, run_load_mean
 from ..signals import run_label, sample_time
+from ..validation.replay import check_run
 from ._signals import steady_segment
 from .attraction import AttractionFit, identify_attraction
 from .current_loop import CurrentLoopFit, identify_current_loop

@@ -26,8 +26,15 @@ from scipy.optimize import least_squares
 from ..data import Run
 from ..physics import MapSpec, eval_map, run_load_mean, steady_friction
 from ..signals import run_label, sample_time
-from ._signals import (common_grid, current, jacobian_stderr, lstsq_with_stderr, signal,
-                       steady_segment, to_grid)
+from ._signals import (
+    common_grid,
+    current,
+    jacobian_stderr,
+    lstsq_with_stderr,
+    signal,
+    steady_segment,
+    to_grid,
+)
 from .position_maps import GRID_STEP
 
 NAMES = ("friction.F_s", "friction.F_c", "friction.V_s", "friction.delta", "friction.sigma2")

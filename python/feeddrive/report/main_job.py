@@ -9,10 +9,10 @@ import numpy as np
 from tqdm import tqdm
 
 from ..control.state_space import StateSpaceController
-from ..outputs import output_dir
 from ..harness.controllers import make_controller, state_space_spec
 from ..harness.references import Reference, sinusoid
 from ..harness.runs import run_closed_loop
+from ..outputs import output_dir
 from ..paper import paper_parameters
 from ..realdata.odrive import analyse, findings_text
 from ..validation import sec3, sec4

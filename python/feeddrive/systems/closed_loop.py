@@ -23,8 +23,7 @@ from pathlib import Path
 
 from ..control.feedforward import FeedforwardOptions, FrictionFeedforward
 from ..fmu import fmu_path
-from ..harness.controller_fmu import (controller_fmu_parameters, controller_fmu_path,
-                                      sinusoid_source)
+from ..harness.controller_fmu import controller_fmu_parameters, controller_fmu_path, sinusoid_source
 from ..harness.controllers import state_space_spec
 from ..paper import paper_parameters
 from ..validation import sec3, sec4

@@ -133,7 +133,7 @@ def write_xy_osp(system: XYSystem, directory: str | Path) -> Path:
 
 def run_libcosim_xy(directory: str | Path, system: XYSystem) -> tuple[dict[str, np.ndarray], float]:
     """libcosim on the OSP structure: each plant's x at t_k (row 0 NaN), and the wall time [s]."""
-    from libcosimpy.CosimExecution import CosimExecution   # optional: the test extra
+    from libcosimpy.CosimExecution import CosimExecution  # optional: the test extra
     from libcosimpy.CosimObserver import CosimObserver
     quiet_libcosim()
     ex = CosimExecution.from_osp_config_file(str(directory))

@@ -21,8 +21,15 @@ from ..harness.circle_path import DIRECTIONS, CirclePath, circle_path
 from ..harness.controller_fmu import controller_fmu_parameters
 from ..harness.controllers import state_space_spec
 from ..harness.xy_table import AxisLoop, simulate_axes
-from .circular import (Glitch, Trace, bidirectional_deviation, glitch_window, glitches,
-                       hysteresis, trace)
+from .circular import (
+    Glitch,
+    Trace,
+    bidirectional_deviation,
+    glitch_window,
+    glitches,
+    hysteresis,
+    trace,
+)
 from .xy_machine import AxisModel
 
 FEEDFORWARD: dict[str, FrictionFeedforward | None] = {"none": None, "static": "static", "gms": "gms"}

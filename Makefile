@@ -5,7 +5,8 @@
 #                     FMU build/LinearMotorFeedDrive3.fmu (same physics; FMI 2.0 stays the default)
 #                     and the controller as FMI 3.0, build/DriveController3.fmu
 #   make run          set-up, FMU, the paper's closed-loop reproductions, report (prints the tables)
-#   make test         set-up, FMU, the importers, Chromium (browser), every test
+#   make lint         ruff (rules of python/pyproject.toml) over the Python, mypy over the package
+#   make test         set-up, lint, FMU, the importers, Chromium (browser), every test
 #   make importers    the importers the tests run besides fmpy, from registries only (below)
 #   make bench        benchmark table (build/bench.md)
 #   make docs         the documentation site (MkDocs, mkdocs.yml) into build/docs/, warnings as errors
@@ -111,7 +112,7 @@ FMIPP_SRC       := $(BUILD)/importers/fmipp-src
 FMIPP_STAMP     := $(VENV)/.fmipp-installed
 FMIPP_APT       := swig libboost-filesystem-dev libboost-system-dev
 
-.PHONY: all fmu run test bench wheel clean venv fuzz-tools importers docs wine-tools browser interval-coverage FORCE
+.PHONY: all fmu run lint test bench wheel clean venv fuzz-tools importers docs wine-tools browser interval-coverage FORCE
 all: fmu
 fmu: $(FMU) $(PKG_FMU) $(CTRL_FMU) $(PKG_CTRL_FMU) $(FMU3) $(PKG_FMU3) $(CTRL3_FMU) $(PKG_CTRL3_FMU)
 venv: $(STAMP)
@@ -318,10 +319,19 @@ $(FMIPP_STAMP): $(STAMP) tools/patch_fmipp.py
 	if ls $$wheels/fmipp-*.whl >/dev/null 2>&1; then \
 	    $(PY) -m pip install -q --no-deps --force-reinstall $$wheels/fmipp-*.whl && touch $@; else cat $$skip; fi
 
+# ruff with the rules of python/pyproject.toml (ruff.toml points there) over the repository's
+# Python (the FMU generators included), then mypy over the package (strict where the
+# configuration says); both run and print every problem with its file and line, and either
+# fails the target
+LINT_PY := python tests tools examples fmu_src
+lint: $(STAMP)
+	@status=0; $(PY) -m ruff check $(LINT_PY) || status=1; \
+	$(PY) -m mypy --config-file python/pyproject.toml python/feeddrive || status=1; exit $$status
+
 # the suite on TEST_WORKERS processes (pytest-xdist; default one per core), the tests of one
 # file in one process (their module fixtures and C-host builds stay together); TEST_WORKERS=0: one
 TEST_WORKERS ?= $(shell nproc 2>/dev/null || echo 2)
-test: fmu fuzz-tools browser importers wine-tools
+test: lint fmu fuzz-tools browser importers wine-tools
 	$(PY) -m pytest -q -n $(TEST_WORKERS) --dist loadfile tests
 
 # the C benchmark hosts are test code (tests/c); built here and handed to the benchmark

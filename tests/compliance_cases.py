@@ -17,8 +17,17 @@ from __future__ import annotations
 import numpy as np
 
 from feeddrive.data import Run
-from feeddrive.harness import (Reference, Sensors, back_and_forth, closed_loop_run, pid_lead_spec,
-                               pid_spec, prbs, sinusoid, state_space_spec)
+from feeddrive.harness import (
+    Reference,
+    Sensors,
+    back_and_forth,
+    closed_loop_run,
+    pid_lead_spec,
+    pid_spec,
+    prbs,
+    sinusoid,
+    state_space_spec,
+)
 from feeddrive.model_file import ModelFile, paper_model
 
 PAPER = paper_model()

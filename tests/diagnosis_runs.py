@@ -3,7 +3,14 @@ current measurement only (DATA.md runs with their sidecars)."""
 from __future__ import annotations
 
 from feeddrive.data import Run
-from feeddrive.harness import Reference, Sensors, back_and_forth, closed_loop_run, pid_spec, sinusoid
+from feeddrive.harness import (
+    Reference,
+    Sensors,
+    back_and_forth,
+    closed_loop_run,
+    pid_spec,
+    sinusoid,
+)
 from feeddrive.model_file import ModelFile
 
 

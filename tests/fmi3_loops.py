@@ -13,9 +13,13 @@ import numpy as np
 from fmpy import extract, read_model_description
 from fmpy.fmi3 import FMU3Slave
 
-from feeddrive.harness.controllers import state_space_spec
 from feeddrive.fmu3 import set_values
-from feeddrive.harness.controller_fmu import ControllerFMU, controller_fmu_parameters, sinusoid_source
+from feeddrive.harness.controller_fmu import (
+    ControllerFMU,
+    controller_fmu_parameters,
+    sinusoid_source,
+)
+from feeddrive.harness.controllers import state_space_spec
 from feeddrive.harness.references import sinusoid
 from feeddrive.paper import paper_parameters
 
@@ -157,7 +161,7 @@ def _loop(path: str, n: int, x0: float, ctrl, early_return: bool, event_mode: bo
         xs[k + 1] = plant.getFloat64([vr["x"]])[0]
     wall = time.perf_counter() - wall0
     names = ["stats.n_stick", "stats.n_slip", "stats.n_state_events", "stats.n_steps"]
-    stats = dict(zip(names, plant.getInt32([vr[s] for s in names])))
+    stats = dict(zip(names, plant.getInt32([vr[s] for s in names]), strict=True))
     plant.terminate()
     plant.freeInstance()
     ctrl.close()

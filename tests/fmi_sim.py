@@ -69,7 +69,8 @@ def run_fmi_sim(exe: Path, fmu: Path, interface: str, t: np.ndarray, inputs: Map
     return {c: table.column(c).to_numpy().astype(float) for c in table.column_names}
 
 
-def on_grid(run: Mapping[str, np.ndarray], t: np.ndarray, columns: Sequence[str], tol: float = 1e-9) -> dict[str, np.ndarray]:
+def on_grid(run: Mapping[str, np.ndarray], t: np.ndarray, columns: Sequence[str],
+            tol: float = 1e-9) -> dict[str, np.ndarray]:
     """The last recorded row at each time of ``t`` (within ``tol`` s): after the event update
     there, when the run recorded that instant more than once."""
     times = run["time"]

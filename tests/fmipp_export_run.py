@@ -14,7 +14,7 @@ from pathlib import Path
 import fmipp
 import numpy as np
 
-from importer_scenario import COLUMNS, N, TS, X0, grid, u_input
+from importer_scenario import COLUMNS, TS, X0, N, grid, u_input
 
 MODEL = "LinearMotorFeedDrive"
 

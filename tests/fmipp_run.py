@@ -11,7 +11,7 @@ from pathlib import Path
 import fmipp
 import numpy as np
 
-from importer_scenario import COLUMNS, N, TS, X0, end_of_step_to_sampled, grid, u_input
+from importer_scenario import COLUMNS, TS, X0, N, end_of_step_to_sampled, grid, u_input
 
 EVENT_PRECISION = 1e-12      #: [s] fmipp's event search precision (ME)
 MODEL = "LinearMotorFeedDrive"

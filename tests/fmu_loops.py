@@ -72,13 +72,13 @@ def run_law(plant: Plant, dt: float, n: int, law: Law | None,
     last = n
     for k in range(n + 1):
         t = k * dt
-        y = dict(zip(REAL_OUT, out.get()))
+        y = dict(zip(REAL_OUT, out.get(), strict=True))
         if k > 0 and law is not None:
             u, F = law(k, t, y)
             inp.set((u, F))
         ints = list(plant.get(integers).values()) if integers else []
         rows[k] = [t, u, F, *[y[s] for s in REAL_OUT], *ints]
-        if k == n or (stop is not None and stop(k, y | dict(zip(integers, ints)))):
+        if k == n or (stop is not None and stop(k, y | dict(zip(integers, ints, strict=True)))):
             last = k
             break
         stepper.step(k)

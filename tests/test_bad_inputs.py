@@ -18,6 +18,7 @@ from feeddrive.data import load_run, write_run
 from feeddrive.identify.pipeline import classify_why
 from feeddrive.harness.checked_runs import check_run
 from feeddrive.model_file import paper_model, save_model
+from feeddrive.validation.replay import check_run
 
 #: (case, commands that may accept it): not a broken file for that command's purpose
 ACCEPTED = {("csv", "constant_x"): {"validate", "diagnose"}}  # x stuck: a gap to show
@@ -51,7 +52,7 @@ CASES = _cases()
 
 def test_corpus_is_large_enough():
     assert len(CASES) >= 40
-    assert len({c for c in CASES}) == len(CASES)
+    assert len(set(CASES)) == len(CASES)
 
 
 def _digest(folder: Path) -> dict[str, str]:
@@ -130,7 +131,7 @@ def test_foreign_sidecar_is_read_for_what_it_says(tmp_path, good, name):
         assert side.controller is None and run.meta["controller"] is None
         assert "no closed-loop replay" in line
     else:
-        assert side.controller == {k: v for k, v in good_side["controller"].items()}
+        assert side.controller == dict(good_side["controller"])
 
 
 def test_validate_shows_what_it_can_with_a_foreign_controller(tmp_path, good, capsys):

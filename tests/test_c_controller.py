@@ -10,11 +10,12 @@ DriveController3.so linked for the FMI 3.0 calls).
   fmi3GetFloat64 with a NULL value-reference array, the Boolean calls (FMI 2.0 and 3.0) with
   nValueReferences = SIZE_MAX answer Error; the input clock refuses NULL arrays, a reference that is
   no clock, a set in Step Mode, Event Mode entered twice, a tick off the sample instants, a step
-  past an untaken tick, and Event Mode on an instance made without it; an unstable state-space controller ends with an
-  error naming the state that left the finite numbers and no getter answers OK with a
-  non-finite value, and so does an unstable linear controller (``lti``), whose largest order
-  with every element set runs clamped and refuses lti.n = 9 and a NaN element; reference parameters whose sample counts do not fit a long are refused (at
-  the set: out of the declared range; at initialisation: the derived count, rule named);
+  past an untaken tick, and Event Mode on an instance made without it; an unstable state-space
+  controller ends with an error naming the state that left the finite numbers and no getter
+  answers OK with a non-finite value, and so does an unstable linear controller (``lti``),
+  whose largest order with every element set runs clamped and refuses lti.n = 9 and a NaN
+  element; reference parameters whose sample counts do not fit a long are refused (at the
+  set: out of the declared range; at initialisation: the derived count, rule named);
 * random FMI 2.0 and 3.0 calls and random settings (ctrl_fuzz.c's checks: valid status, a
   message with every non-OK answer, Error for every call illegal by its arguments, finite
   values from every getter that answers OK, no allocation left);
@@ -39,9 +40,10 @@ SAN_ENV = {"ASAN_OPTIONS": "detect_leaks=1:abort_on_error=1:halt_on_error=1",
            "UBSAN_OPTIONS": "print_stacktrace=1:halt_on_error=1"}
 SANITIZER_MARKS = ("runtime error:", "AddressSanitizer", "LeakSanitizer", "UndefinedBehaviorSanitizer",
                    "ThreadSanitizer")
-CASES = ["step_inf", "step_huge", "step_tiny_ts", "step_coarse_time", "get_float64_null", "boolean_size_max3", "clock",
-         "boolean_size_max2", "unstable_state_space", "unstable_lti", "lti_full_order", "ref_duration", "ref_duration_samples",
-         "ref_point_to_point", "ref_p2p_samples", "delay"]
+CASES = ["step_inf", "step_huge", "step_tiny_ts", "step_coarse_time", "get_float64_null",
+         "boolean_size_max3", "clock", "boolean_size_max2", "unstable_state_space", "unstable_lti",
+         "lti_full_order", "ref_duration", "ref_duration_samples", "ref_point_to_point",
+         "ref_p2p_samples", "delay"]
 
 
 def build(*targets: str) -> None:

@@ -41,7 +41,7 @@ def run(prog: str, sanitized: bool = True) -> tuple[subprocess.CompletedProcess,
 
 
 def test_corrupted_states_refused_or_clean(fmu_path: Path) -> None:
-    p, figs = run("state_flip_san")
+    _p, figs = run("state_flip_san")
     print("\n".join(json.dumps(f) for f in figs))
     assert [f["interface"] for f in figs] == ["co-simulation", "model exchange"]
     for f in figs:
@@ -53,7 +53,7 @@ def test_corrupted_states_refused_or_clean(fmu_path: Path) -> None:
 
 
 def test_limits_budget_and_time(fmu_path: Path) -> None:
-    p, figs = run("limits_san")
+    _p, figs = run("limits_san")
     print("\n".join(json.dumps(f) for f in figs))
     by = {k: v for f in figs for k, v in f.items() if k != "start_time"}
     r = by["ranges"]

@@ -11,6 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from feeddrive.cli import main
+from feeddrive.fmu import Plant
 from feeddrive.harness import make_controller, simulate_closed_loop
 from feeddrive.xy.path import circle_path
 from feeddrive.harness.controllers import state_space_spec
@@ -124,8 +126,8 @@ def test_master_of_four_fmus_equals_the_harness_per_axis() -> None:
     p = circle_path(0.005, 0.05, "ccw")
     n = p.x.n
     res = simulate_axes([AxisLoop(a.name, a.plant, controller_values(a, "gms"), ref)
-                         for a, ref in zip(axes, (p.x, p.y))])
-    for a, ref in zip(axes, (p.x, p.y)):
+                         for a, ref in zip(axes, (p.x, p.y), strict=True)])
+    for a, ref in zip(axes, (p.x, p.y), strict=True):
         spec = state_space_spec({**a.nominal, "Ts": 5e-4},
                                 feedforward=sec4.FeedforwardOptions(friction="gms"))
         with Plant(a.plant) as plant:

@@ -16,8 +16,7 @@ import numpy as np
 import pytest
 
 from diagnosis_runs import simulate_run, sinusoid_reference
-from feeddrive import cli
-from feeddrive import data_csv
+from feeddrive import cli, data_csv
 from feeddrive.data import DataError, load_run, write_run
 from feeddrive.harness.controller_fmu import CONTROLLER_FMU_ENV, controller_fmu_path
 from feeddrive.model_description import FMU_ENV
@@ -430,7 +429,7 @@ def test_realdata_arrays_special_and_empty_files_refused(tmp_path, unblock):
     with pytest.raises(ValueError, match="character device"):
         odrive.load_slow_run(tmp_path / "slow.npy")
     (tmp_path / "empty.npy").write_bytes(b"")
-    with pytest.raises(ValueError, match="empty.npy: empty or cut short"):
+    with pytest.raises(ValueError, match=r"empty\.npy: empty or cut short"):
         odrive.load_slow_run(tmp_path / "empty.npy")
 
 

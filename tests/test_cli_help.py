@@ -114,6 +114,7 @@ def test_one_option_vocabulary():
 
 
 def test_choices_are_the_modules_own():
+    from feeddrive.commands.system import systems
     from feeddrive.experiments.campaign import FORMATS, MAX_REPEATS
     from feeddrive.xy.circle_test import FEEDFORWARD
     from feeddrive.xy.machine import MISMATCH

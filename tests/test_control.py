@@ -8,12 +8,21 @@ import numpy as np
 import pytest
 from scipy import signal
 
-from feeddrive.control import (PID, ZPETC, FeedforwardOptions, StateSpaceController, design_model,
-                               feedforward, invert_current_loop, simulate_linear, static_friction)
-from feeddrive.physics import GMSFriction, GMSParameters, gms_force
-from feeddrive.physics import position_maps as maps
+from feeddrive.control import (
+    PID,
+    ZPETC,
+    FeedforwardOptions,
+    StateSpaceController,
+    design_model,
+    feedforward,
+    invert_current_loop,
+    simulate_linear,
+    static_friction,
+)
 from feeddrive.control.lti_step import compile_step
 from feeddrive.paper import paper_parameters
+from feeddrive.physics import GMSFriction, GMSParameters, gms_force
+from feeddrive.physics import position_maps as maps
 
 P = paper_parameters()
 TS = 5e-4
@@ -281,12 +290,12 @@ def test_gms_virgin_curve_and_reversal_follow_maxwell_slip():
     t = np.arange(n) * TS
     x = v * t
     F = gms_force(x, np.full(n, v), TS, prm) - prm.viscous(v)
-    virgin = sum(np.minimum(k * x, nu * prm.F_s) for k, nu in zip(prm.k, prm.nu))
+    virgin = sum(np.minimum(k * x, nu * prm.F_s) for k, nu in zip(prm.k, prm.nu, strict=True))
     assert np.max(np.abs(F - virgin)) < 0.02 * prm.F_s
     # with the break-away levels at S(|v|) instead of F_s the curve is exact up to one
     # sample of travel (k_1 v Ts = 0.006 N)
     S = float(prm.level(v))
-    exact = sum(np.minimum(k * x, nu * S) for k, nu in zip(prm.k, prm.nu))
+    exact = sum(np.minimum(k * x, nu * S) for k, nu in zip(prm.k, prm.nu, strict=True))
     assert np.max(np.abs(F - exact)) < 0.01
     # reversal after sliding: Masing rule F = F_rev - 2 phi(d/2), d = travel since reversal
     x2 = np.concatenate((x, x[-1] - v * t[1:]))
@@ -294,25 +303,25 @@ def test_gms_virgin_curve_and_reversal_follow_maxwell_slip():
     F2 = gms_force(x2, v2, TS, prm) - prm.viscous(v2)
     d = x[-1] - x2[n:]
     masing = F2[n - 1] - 2 * sum(np.minimum(k * d / 2, nu * prm.F_s)
-                                 for k, nu in zip(prm.k, prm.nu))
+                                 for k, nu in zip(prm.k, prm.nu, strict=True))
     assert np.max(np.abs(F2[n:] - masing)) < 0.02 * prm.F_s
-    masing_S = F2[n - 1] - 2 * sum(np.minimum(k * d / 2, nu * S) for k, nu in zip(prm.k, prm.nu))
+    masing_S = F2[n - 1] - 2 * sum(np.minimum(k * d / 2, nu * S) for k, nu in zip(prm.k, prm.nu, strict=True))
     assert np.max(np.abs(F2[n:] - masing_S)) < 0.01
     assert F2[-1] == pytest.approx(-F2[n - 1], rel=0.01)   # symmetric after 2 Delta_5
 
 
 def test_gms_reversal_inside_a_sample_and_stepper_agree():
-    t, x, v, _ = sine_from_rest(14000)
+    _t, x, v, _ = sine_from_rest(14000)
     F = gms_force(x, v, TS, P)
     g = GMSFriction(P, TS, x[0], v[0])
-    F2 = [g.step(a, b) for a, b in zip(x[1:], v[1:])]
+    F2 = [g.step(a, b) for a, b in zip(x[1:], v[1:], strict=True)]
     np.testing.assert_allclose(F2, F[1:], atol=1e-9)
     # around t = 3 s (reversal) the force goes from +S to -S through pre-rolling
     assert F[int(2.9 / TS)] > 20 and F[int(3.5 / TS)] < -20
 
 
 def test_gms_speed():
-    t, x, v, _ = sine_from_rest(12000)
+    _t, x, v, _ = sine_from_rest(12000)
     t0 = time.perf_counter()
     gms_force(x, v, TS, P)
     assert time.perf_counter() - t0 < 0.25     # measured ~16 ms
@@ -337,7 +346,7 @@ def test_static_friction_regularisation():
 
 
 def test_feedforward_terms_and_ripple_division():
-    t, x, v, a = sine_from_rest(2000)
+    _t, x, v, a = sine_from_rest(2000)
     opt = FeedforwardOptions(inertia=True, friction="static")
     ff = feedforward(x, TS, P, opt, v_ref=v, a_ref=a)
     Kf = maps.force_constant(x, P)
@@ -357,8 +366,8 @@ def test_inverse_current_loop_delivers_the_current():
     u = invert_current_loop(i_ff, P)
     i = np.zeros(500)
     for k in range(500):   # Eq. 2 started in the steady state of u[0]
-        uk = lambda j: u[k - j] if k - j >= 0 else u[0]          # noqa: E731
-        ik = lambda j: i[k - j] if k - j >= 0 else i_ff[0]       # noqa: E731
+        uk = lambda j, k=k: u[k - j] if k - j >= 0 else u[0]          # noqa: E731
+        ik = lambda j, k=k: i[k - j] if k - j >= 0 else i_ff[0]       # noqa: E731
         i[k] = 1.404 * ik(1) - 0.4938 * ik(2) + 0.057909 * uk(2) + 0.057909 * 0.7461 * uk(3)
     np.testing.assert_allclose(i, i_ff, atol=1e-9)
 
@@ -376,7 +385,7 @@ def _reversal_error(model, u_ff=None) -> float:
 
 
 def test_gms_feedforward_reduces_reversal_error(model):
-    t, xr, vr, ar = sine_from_rest(14000)
+    _t, xr, vr, ar = sine_from_rest(14000)
     e0 = _reversal_error(model)
     # the paper: 27 um without feedforward
     assert 15e-6 < e0 < 35e-6
@@ -393,7 +402,7 @@ def test_gms_feedforward_reduces_reversal_error(model):
 
 
 def test_from_params_builds_model_feedforward_and_controller():
-    t, xr, vr, ar = sine_from_rest(1000)
+    _t, xr, vr, ar = sine_from_rest(1000)
     c = StateSpaceController.from_params(P, xr, FeedforwardOptions(friction="gms"),
                                          v_ref=vr, a_ref=ar)
     ff = feedforward(xr, TS, P, FeedforwardOptions(friction="gms"), v_ref=vr, a_ref=ar)

@@ -31,11 +31,22 @@ from fmpy.validation import validate_fmu
 
 from feeddrive.control.feedforward import FeedforwardOptions, feedforward
 from feeddrive.fmu import FMUError, Plant
-from feeddrive.harness import (make_controller, pid_lead_spec, pid_spec, point_to_point,
-                               simulate_closed_loop, sinusoid, state_space_spec)
-from feeddrive.harness.controller_fmu import (ControllerFMU, controller_fmu_parameters,
-                                              point_to_point_source, preview_inputs,
-                                              sinusoid_source)
+from feeddrive.harness import (
+    make_controller,
+    pid_lead_spec,
+    pid_spec,
+    point_to_point,
+    simulate_closed_loop,
+    sinusoid,
+    state_space_spec,
+)
+from feeddrive.harness.controller_fmu import (
+    ControllerFMU,
+    controller_fmu_parameters,
+    point_to_point_source,
+    preview_inputs,
+    sinusoid_source,
+)
 from feeddrive.harness.references import Reference
 from feeddrive.harness.two_fmus import simulate_two_fmus
 from feeddrive.paper import paper_parameters

@@ -13,10 +13,19 @@ import numpy as np
 import pytest
 
 from feeddrive.fmu import FMUError, Plant
-from feeddrive.harness import (cascade_lti_spec, lti_spec, make_controller, pid_lti_spec,
-                               simulate_closed_loop, sinusoid)
-from feeddrive.harness.controller_fmu import (ControllerFMU, controller_fmu_parameters,
-                                              sinusoid_source)
+from feeddrive.harness import (
+    cascade_lti_spec,
+    lti_spec,
+    make_controller,
+    pid_lti_spec,
+    simulate_closed_loop,
+    sinusoid,
+)
+from feeddrive.harness.controller_fmu import (
+    ControllerFMU,
+    controller_fmu_parameters,
+    sinusoid_source,
+)
 from feeddrive.harness.two_fmus import simulate_two_fmus
 from feeddrive.paper import paper_parameters
 
@@ -103,9 +112,8 @@ def test_closed_loop_two_fmus_agree_with_harness(ctrl_fmu_built, case: str) -> N
     ({"ctrl.type": 4, "lti.L[1]": float("-inf")}, "lti.L[1]", "finite"),
 ])
 def test_bad_lti_parameters_refused(ctrl_fmu_built, values, name: str, rule: str) -> None:
-    with ControllerFMU({}) as c:
-        with pytest.raises(FMUError) as err:
-            c.start(values)
+    with ControllerFMU({}) as c, pytest.raises(FMUError) as err:
+        c.start(values)
     msg = str(err.value)
     assert name in msg and rule in msg, msg
 

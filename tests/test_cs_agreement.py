@@ -10,7 +10,7 @@ Why the agreement is asserted on an ideal scale (quantum 0): with the 100 nm lin
 closed loop is not continuous in the plant's trajectory.  Two integrations that differ by
 1e-3 µm read different scale counts at some sample, the controller's output jumps by
 Kp·100 nm / 78.7 N/V ≈ 0.8 mV, and the loop carries that on: two quantised closed loops — even CS
-at tolerances 1e-6 and 1e-9 — end up ≈ 2–7 µm and ≈ 1–3 N apart near the top reversal (measured
+at tolerances 1e-6 and 1e-9 — end up ≈ 2-7 µm and ≈ 1-3 N apart near the top reversal (measured
 and printed by ``test_quantised_loops_differ_only_through_the_scale``).  Replaying one loop's u
 open loop into the other interface does not help either: the open-loop plant is unstable (the
 cogging map's negative stiffness, up to ≈ 3e3 N/m, gives a growth rate ≈ 14 1/s), so 1e-12 m
@@ -46,7 +46,7 @@ ME_TOL = 1e-9                # CVode relative tolerance (1e-10 changes x by < 2e
 class PID:
     """Discrete PID on the quantised position, force-equivalent gains, output in volts.
 
-    F = Kp e + Ki ∫e + Kv (v_ref − v̂), v̂ the backward difference of the reading low-passed at
+    F = Kp e + Ki ∫e + Kv (v_ref - v̂), v̂ the backward difference of the reading low-passed at
     1 kHz, u = F / (K_f0 G(1)) = F / 78.7 N/V, |u| <= 10 V.  Kv = 4e3 N s/m: with the brief's
     6.7e3 the plain PID (no current-loop states in the feedback) rings at the reversals.
     """

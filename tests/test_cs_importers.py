@@ -23,7 +23,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from importer_scenario import SECONDS, TS, end_of_step_to_sampled, fmpy_runs as scenario_fmpy_runs
+from importer_scenario import SECONDS, TS, end_of_step_to_sampled
+from importer_scenario import fmpy_runs as scenario_fmpy_runs
 from importer_scenario import max_dev as _max_dev
 
 REPO = Path(__file__).resolve().parents[1]

@@ -18,7 +18,13 @@ from fmpy.validation import validate_fmu
 
 from feeddrive.fmu import FMUError, Plant
 from feeddrive.fmu3 import set_values
-from feeddrive.harness import make_controller, pid_lti_spec, simulate_closed_loop, sinusoid, state_space_spec
+from feeddrive.harness import (
+    make_controller,
+    pid_lti_spec,
+    simulate_closed_loop,
+    sinusoid,
+    state_space_spec,
+)
 from feeddrive.harness.clocked_controller import ClockedController, simulate_clocked
 from feeddrive.harness.controller_fmu import controller_fmu_parameters, sinusoid_source
 from feeddrive.paper import paper_parameters
@@ -137,7 +143,7 @@ def test_controller_object_names_the_failure(fmu_path) -> None:
     values = controller_fmu_parameters(state_space_spec(), reference=sinusoid_source(A, P, C, 0.1), quantum=1e-7)
     with ClockedController(values, CTRL3) as c:
         c.start(0.15)
-        with pytest.raises(FMUError, match="controller tick at sample 1: fmi3SetFloat64: .*x_meas"):
+        with pytest.raises(FMUError, match=r"controller tick at sample 1: fmi3SetFloat64: .*x_meas"):
             c.tick(float("nan"))
 
 
@@ -154,7 +160,8 @@ def test_the_tick_sample_in_any_order_of_the_event_mode(fmu_path) -> None:
         md = read_model_description(str(CTRL3))
         fmu = FMU3Slave(guid=md.guid, unzipDirectory=extract(str(CTRL3)),
                         modelIdentifier=md.coSimulation.modelIdentifier, instanceName=order)
-        fmu.instantiate(eventModeUsed=True, logMessage=lambda env, st, cat, msg: log.append(msg.decode()))
+        fmu.instantiate(eventModeUsed=True,
+                        logMessage=lambda env, st, cat, msg, log=log: log.append(msg.decode()))
         vr = {v.name: v.valueReference for v in md.modelVariables}
         set_values(fmu, md, values)
         fmu.enterInitializationMode(startTime=0.0)

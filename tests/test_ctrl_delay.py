@@ -21,8 +21,13 @@ from feeddrive.control.margins import poor_margins
 from feeddrive.fmu import Plant
 from feeddrive.harness import simulate_closed_loop, sinusoid, state_space_spec
 from feeddrive.harness.controller_fmu import controller_fmu_parameters, sinusoid_source
-from feeddrive.harness.controllers import (PoorMarginsWarning, delay_margins, make_controller,
-                                           pid_lead_spec, pid_spec)
+from feeddrive.harness.controllers import (
+    PoorMarginsWarning,
+    delay_margins,
+    make_controller,
+    pid_lead_spec,
+    pid_spec,
+)
 from feeddrive.harness.two_fmus import simulate_two_fmus
 from feeddrive.paper import paper_parameters
 from feeddrive.systems.closed_loop import sec3_system

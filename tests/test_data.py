@@ -297,9 +297,9 @@ def test_implausible_sampling_refused(tmp_path, time, line, word):
 def test_trailing_blank_lines_accepted_blank_or_space_line_inside_refused(tmp_path):
     run = load_run(_write(tmp_path, GOOD + "\n\r\n\n", "t.csv"))
     assert run.n == 4
-    with pytest.raises(DataError, match="line 3.*blank line"):
+    with pytest.raises(DataError, match=r"line 3.*blank line"):
         load_run(_write(tmp_path, _replace_line(GOOD, 3, "") + "\n", "b.csv"))
-    with pytest.raises(DataError, match="line 3.*1 fields"):
+    with pytest.raises(DataError, match=r"line 3.*1 fields"):
         load_run(_write(tmp_path, _replace_line(GOOD, 3, "  "), "s.csv"))
-    with pytest.raises(DataError, match="line 6.*blank line"):      # the space line is a row
+    with pytest.raises(DataError, match=r"line 6.*blank line"):      # the space line is a row
         load_run(_write(tmp_path, GOOD + "\n  \n", "e.csv"))

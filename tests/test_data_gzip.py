@@ -11,8 +11,16 @@ import pytest
 
 from feeddrive import data_csv
 from feeddrive.cli import main
-from feeddrive.data import (RECORDING_DECIMALS, DataError, Run, load_run, load_runs,
-                            run_files, sidecar_path, write_run)
+from feeddrive.data import (
+    RECORDING_DECIMALS,
+    DataError,
+    Run,
+    load_run,
+    load_runs,
+    run_files,
+    sidecar_path,
+    write_run,
+)
 from feeddrive.outputs import Reads
 
 

@@ -6,15 +6,15 @@ import json
 import numpy as np
 import pytest
 
-from feeddrive.data import write_run
+from diagnosis_runs import make_runs, simulate_run, sinusoid_reference
 from feeddrive.cli import main as feeddrive_cli
+from feeddrive.data import write_run
 from feeddrive.diagnose.localise import displacement_since_reversal, spatial_spectrum
 from feeddrive.residual import force_residual
 from feeddrive.diagnose.workflow import diagnose
 from feeddrive.harness import controller_spec, make_controller, pid_spec
 from feeddrive.model_file import load_model, paper_model, save_model
 from feeddrive.report.diagnosis import write_diagnosis
-from diagnosis_runs import make_runs, simulate_run, sinusoid_reference
 
 PAPER = paper_model()
 
@@ -138,7 +138,7 @@ def test_diagnose_rejects_no_runs():
 
 def test_too_short_run_is_rejected_with_its_name():
     run = simulate_run(PAPER, sinusoid_reference(0.1), seed=1, name="tiny")
-    with pytest.raises(ValueError, match="tiny.*usable samples"):
+    with pytest.raises(ValueError, match=r"tiny.*usable samples"):
         diagnose([run], PAPER, closed_loop=False)
 
 

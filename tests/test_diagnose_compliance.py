@@ -25,17 +25,16 @@ import pytest
 
 from feeddrive.residual import residuals
 from feeddrive.diagnose.workflow import diagnose
-from feeddrive.identify.compliance import fit_compliance, identify_compliance
 from feeddrive.harness import back_and_forth, state_space_spec
+from feeddrive.identify.compliance import fit_compliance, identify_compliance
 from feeddrive.model_file import paper_model
-from diagnosis_runs import make_runs, simulate_run, sinusoid_reference
 
 PAPER = paper_model()
 LOAD = {"compliance.m2": 2.0, "compliance.f": 40.0, "compliance.zeta": 0.05}
 TRUTH = PAPER.with_effect("compliance", True, **LOAD)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _runs():
     return tuple(make_runs(TRUTH, seed=21))
 

@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 from scipy import signal
 
+from compliance_cases import PAPER, case_runs, loaded
 from feeddrive.diagnose import candidates
 from feeddrive.diagnose.band import kernel_band_hz
 from feeddrive.diagnose.context import Context
@@ -27,7 +28,6 @@ from feeddrive.diagnose.workflow import diagnose
 from feeddrive.identify.compliance import fit_compliance, identify_compliance, rigid_parts
 from feeddrive.physics import load_acceleration, load_free_response
 from feeddrive.signals import matched_acceleration
-from compliance_cases import PAPER, case_runs, loaded
 
 #: (f [Hz], zeta, m2/m, controller, excitation): every value of every factor at least once.
 CASES = [

@@ -12,17 +12,18 @@ PID and under the state-space controller with other excitations.
 from __future__ import annotations
 
 import functools
+from itertools import pairwise
 
 import numpy as np
 import pytest
 
+from diagnosis_runs import make_runs, simulate_run
 from feeddrive.diagnose.workflow import diagnose
 from feeddrive.harness import Reference, back_and_forth, point_to_point, sinusoid, state_space_spec
+from feeddrive.model_file import paper_model
 from feeddrive.physics import FrictionProfile
 from feeddrive.physics.friction_curves import stribeck_level
 from feeddrive.physics.position_maps import cogging, force_constant
-from feeddrive.model_file import paper_model
-from diagnosis_runs import make_runs, simulate_run
 
 PAPER = paper_model()
 
@@ -42,7 +43,7 @@ def check_first(diag, effect: str, shrink: float = 0.7):
     return s
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _offset_runs():
     return make_runs(PAPER.with_effect("offset_force", True, **{"offset.F": 4.0}), seed=11)
 
@@ -217,7 +218,7 @@ def _patch_runs(controller: str) -> list:
                              current_noise=0.005, quantum=2e-7, seed=32, name="constant_speed")]
     spec = state_space_spec()     # point-to-point moves with dwell + a fast sinusoid
     xs = [0.10, 0.16, 0.20, 0.13, 0.10]
-    moves = [point_to_point(a, b, speed=0.04, accel=1.0, dwell=0.2) for a, b in zip(xs, xs[1:])]
+    moves = [point_to_point(a, b, speed=0.04, accel=1.0, dwell=0.2) for a, b in pairwise(xs)]
     p2p = Reference(moves[0].Ts, *(np.concatenate([getattr(m, k) for m in moves])
                                    for k in ("x", "v", "a")))
     return [simulate_run(truth, p2p, current_noise=0.004, seed=33, name="p2p", spec=spec),

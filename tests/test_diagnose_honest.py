@@ -16,13 +16,13 @@ import json
 import numpy as np
 import pytest
 
+from diagnosis_runs import make_runs
 from feeddrive.cli import main as feeddrive_cli
 from feeddrive.data import Run, write_run
 from feeddrive.diagnose.hints import hints, play_position
 from feeddrive.residual import residuals
 from feeddrive.diagnose.workflow import diagnose
 from feeddrive.model_file import load_model, paper_model, save_model
-from diagnosis_runs import make_runs
 from test_diagnose_verdict import _three_excitations, play
 
 PAPER = paper_model()
@@ -41,12 +41,12 @@ def drifting_current(run: Run, rate: float) -> Run:
     return dataclasses.replace(run, i=np.asarray(run.i, dtype=float) * (1 + rate * (t - t[0])))
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _runs() -> tuple[Run, ...]:
     return tuple(make_runs(PAPER, seed=71, noise=0.005))
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _diag(case: str):
     runs = {"latency": [late_position(r, 2) for r in _runs()],
             "drift": [drifting_current(r, 0.01) for r in _runs()],
@@ -127,7 +127,7 @@ def test_a_narrow_band_disturbance_is_hinted_as_a_resonance_band():
     assert best["explained_force_N"] > 5 * found[1]["explained_force_N"]
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _latency_three() -> tuple[Run, ...]:
     return tuple(late_position(r, 4) for r in _three_excitations("paper"))
 

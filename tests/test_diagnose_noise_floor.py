@@ -15,6 +15,7 @@ import functools
 import numpy as np
 import pytest
 
+from diagnosis_runs import back_and_forth, make_runs, simulate_run
 from feeddrive.data import Run
 from feeddrive.diagnose.noise_floor import force_noise, motor_force_noise, noise_floor
 from feeddrive.residual import force_residual
@@ -24,14 +25,13 @@ from feeddrive.experiments.prbs import prbs_runs
 from feeddrive.harness.sensors import Sensors
 from feeddrive.model_file import paper_model
 from feeddrive.physics import compile
-from diagnosis_runs import back_and_forth, make_runs, simulate_run
 
 PAPER = paper_model()
 P = compile(PAPER)
 WINDOW = 43                                   # the floor's window at 0.5 ms (41 + 2)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _prbs(truth_key: str = "paper", seed: int = 501, noise: float = 0.005) -> Run:
     truth = CASES[truth_key][0] if truth_key in CASES else PAPER
     sensors = Sensors(current_noise=noise, seed=seed, noise_on_stage=False)

@@ -128,7 +128,7 @@ def test_the_start_search_tracks_are_the_gms_from_the_same_start():
         assert np.max(np.abs(tracks.all(F0) - Fe)) < 1e-9
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _campaign() -> dict[str, Run]:
     runs = campaign(PAPER.fmu_parameters(), Sensors(seed=1), quick=True)
     return {r.meta["name"]: r for group in runs.values() for r in group}

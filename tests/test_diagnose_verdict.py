@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 from scipy.signal import cont2discrete, lfilter
 
+from diagnosis_runs import make_runs, simulate_run, sinusoid_reference
 from feeddrive.cli import main as feeddrive_cli
 from feeddrive.data import Run, write_run
 from feeddrive.diagnose.noise_floor import force_noise, noise_floor, position_quantum
@@ -24,7 +25,6 @@ from feeddrive.diagnose.workflow import diagnose
 from feeddrive.harness import Reference, back_and_forth, point_to_point, sinusoid, state_space_spec
 from feeddrive.model_file import paper_model, save_model
 from feeddrive.physics import compile
-from diagnosis_runs import make_runs, simulate_run, sinusoid_reference
 
 PAPER = paper_model()
 
@@ -74,7 +74,7 @@ def _p2p_reference(seed: int) -> Reference:
                      np.concatenate([r.v for r in refs]), np.concatenate([r.a for r in refs]))
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _three_excitations(truth_key: str) -> tuple[Run, ...]:
     truth = _TRUTHS[truth_key]
     return (simulate_run(truth, sinusoid_reference(6.0), current_noise=0.005, seed=81,
@@ -130,7 +130,7 @@ def play(x: np.ndarray, half_width: float) -> np.ndarray:
     return y
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _play_runs() -> tuple[Run, ...]:
     # 10 um of play (a multiple of the 100 nm step: readings stay on the scale's grid)
     return tuple(dataclasses.replace(r, x=play(np.asarray(r.x, float), 10e-6))

@@ -20,10 +20,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from importer_scenario import COLUMNS, X0, end_of_step_to_sampled, fmpy_runs, grid, max_dev, u_input
-
 from feeddrive.systems import sec3_system
 from feeddrive.systems.jacobi import simulate_jacobi
+from importer_scenario import COLUMNS, X0, end_of_step_to_sampled, fmpy_runs, grid, max_dev, u_input
 
 ecos = pytest.importorskip("feeddrive.systems.ecos")
 try:

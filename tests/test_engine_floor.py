@@ -8,8 +8,13 @@ import numpy as np
 import pytest
 
 from feeddrive.control.pid import DEFAULT_FORCE_PER_VOLT
-from feeddrive.systems.floor import (pair_values, time_ecos_pair, time_libcosim_pair,
-                                     time_libcosim_pair_ssp, write_pair_osp)
+from feeddrive.systems.floor import (
+    pair_values,
+    time_ecos_pair,
+    time_libcosim_pair,
+    time_libcosim_pair_ssp,
+    write_pair_osp,
+)
 
 
 def test_pair_structure(ctrl_fmu_path, tmp_path) -> None:

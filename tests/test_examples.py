@@ -40,7 +40,8 @@ def test_the_fmpy_script_is_ten_lines_and_drives_the_stage(tmp_path):
     p = subprocess.run([sys.executable, str(script), str(FMU)], cwd=tmp_path, capture_output=True,
                        text=True, env=_env(), timeout=300)
     assert p.returncode == 0, p.stderr
-    lo, hi, vmax = map(float, re.search(r"x from ([\d.]+) to ([\d.]+) mm, \|v\| up to ([\d.]+) mm/s", p.stdout).groups())
+    found = re.search(r"x from ([\d.]+) to ([\d.]+) mm, \|v\| up to ([\d.]+) mm/s", p.stdout)
+    lo, hi, vmax = map(float, found.groups())
     # 0.8 V is ~63 N of motor force against ~26 N of breakaway friction: the stage swings ~±100 mm
     # about mid-stroke and stays inside the 0..300 mm stroke (docs: 30.9 .. 228.3 mm, 500 mm/s)
     assert abs(lo - 30.9) < 0.5 and abs(hi - 228.3) < 0.5 and abs(vmax - 500) < 10, p.stdout

@@ -16,11 +16,11 @@ from feeddrive.experiments import campaign as campaign_mod
 from feeddrive.experiments.campaign import GROUPS, campaign, write_campaign
 from feeddrive.experiments.constant_speed import PAPER_LOADS, constant_speed_runs
 from feeddrive.experiments.force_open_loop import force_open_loop_runs
-from feeddrive.harness.sensors import Sensors
 from feeddrive.experiments.prbs import prbs_runs, prbs_sequence
-from feeddrive.physics.position_maps import force_constant
+from feeddrive.harness.sensors import Sensors
 from feeddrive.model_file import PARAMETER_NAMES, paper_model
 from feeddrive.paper import paper_parameters
+from feeddrive.physics.position_maps import force_constant
 from feeddrive.validation.replay import validate_file
 
 QUANTUM = 1e-7
@@ -97,7 +97,7 @@ def test_loads_are_in_f_load_and_act_as_p(runs, params):
     """F_load = P; and K_f(x)(i(P) - i(0)) over the cruise = P (Eq. 3: same friction and
     cogging at the same x and v, so the current difference is the load alone)."""
     by = {(r.meta["P"], r.meta["direction"]): r for r in runs["cogging_ripple"]}
-    for (P, d), r in by.items():
+    for (P, _d), r in by.items():
         assert np.all(r.F_load == P)
         assert r.meta["P"] == P
     grid = np.linspace(0.1485, 0.1515, 61)

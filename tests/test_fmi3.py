@@ -112,8 +112,8 @@ def test_model_exchange_fmi3_equals_fmi2(fmu_path: Path, fmu3_path: Path) -> Non
     """CVode on the same 12 states (FMI 3.0 with friction.N = 10, elements 6..10 at nu = 0:
     the physics of N = 5): to 1e-12 m.  At the default N = 5 (7 states) CVode's steps differ:
     within the CS/ME tolerance."""
-    kw = dict(fmi_type="ModelExchange", stop_time=T_OPEN, output_interval=TS, input=_drive(), output=OUT,
-              relative_tolerance=1e-9)
+    kw = {"fmi_type": "ModelExchange", "stop_time": T_OPEN, "output_interval": TS, "input": _drive(),
+          "output": OUT, "relative_tolerance": 1e-9}
     r2 = fmpy.simulate_fmu(str(fmu_path), **kw)
     md, fmu = configured(fmu3_path, "ModelExchange", 10)
     r10 = fmpy.simulate_fmu(str(fmu3_path), model_description=md, fmu_instance=fmu,
@@ -134,7 +134,7 @@ def test_model_exchange_fmi3_equals_fmi2(fmu_path: Path, fmu3_path: Path) -> Non
 def test_co_simulation_agrees_with_model_exchange(fmu_version: tuple[Path, str], rtol: float) -> None:
     """The FMU's own DP45 (CS) against fmpy's CVode (ME) at the same tolerance, both versions."""
     path, version = fmu_version
-    kw = dict(stop_time=T_OPEN, output_interval=TS, input=_drive(), output=OUT, relative_tolerance=rtol)
+    kw = {"stop_time": T_OPEN, "output_interval": TS, "input": _drive(), "output": OUT, "relative_tolerance": rtol}
     cs = fmpy.simulate_fmu(str(path), fmi_type="CoSimulation", **kw)
     me = fmpy.simulate_fmu(str(path), fmi_type="ModelExchange", record_events=False, **kw)
     dx = float(np.max(np.abs(cs["x"] - me["x"])))

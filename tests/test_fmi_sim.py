@@ -76,7 +76,7 @@ def test_fmi_sim_me_euler_converges_to_fmpy_me(fmi_sim_runs, fmu_path) -> None:
     coarse, fine = (_before_stop(fmi_sim_runs[f"me{h:g}"]) for h in ME_STEPS)
     devs = [max_dev(coarse, ref), max_dev(fine, ref)]
     est = max_dev(coarse, fine)            # Richardson: the fine run's error, first order
-    for h, d in zip(ME_STEPS, devs):
+    for h, d in zip(ME_STEPS, devs, strict=True):
         print(f"fmi-sim ME (Euler, h = {h:g} s) vs fmpy ME:", d)
     print("Richardson estimate of the fine run's error:", est)
     ratio = devs[0]["x"] / devs[1]["x"]

@@ -13,8 +13,13 @@ from collections.abc import Iterator
 import pytest
 from fmpy import extract, read_model_description
 from fmpy.fmi1 import FMICallException
-from fmpy.fmi2 import (defaultCallbacks, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE,
-                       fmi2EventInfo, fmi2Real)
+from fmpy.fmi2 import (
+    defaultCallbacks,
+    fmi2CallbackFunctions,
+    fmi2CallbackLoggerTYPE,
+    fmi2EventInfo,
+    fmi2Real,
+)
 from fmpy.fmi3 import FMU3Model, FMU3Slave, fmi3Boolean, fmi3Float64
 
 from conftest import FMU3, VERSIONS
@@ -53,7 +58,7 @@ class Raw:
     def _log3(self, env, status, category, message) -> None:
         self.messages.append(message.decode() if isinstance(message, bytes) else str(message))
 
-    def fresh(self) -> "Raw":
+    def fresh(self) -> Raw:
         """Free the previous instance; instantiate a new one (state Instantiated)."""
         if self._live:     # (fmpy's freeInstance() would also unload the library)
             getattr(self.fmu, "fmi2FreeInstance" if self.version == "2.0" else "fmi3FreeInstance")(self.fmu.component)
@@ -79,7 +84,7 @@ class Raw:
         else:
             self.fmu.enterInitializationMode(startTime=0.0)
 
-    def initialized(self) -> "Raw":
+    def initialized(self) -> Raw:
         self.enter_init()
         self.fmu.exitInitializationMode()
         return self
@@ -251,7 +256,7 @@ def test_non_finite_parameter_or_input_rejected(me: Raw, bad: float) -> None:
     me.fresh()
     for name in names:
         me.messages.clear()
-        msg = _fails(lambda: me.set(name, bad), me)
+        msg = _fails(lambda name=name: me.set(name, bad), me)
         _names_value_and_range(msg, name, "not a finite number", "allowed values are finite")
         assert re.search(re.escape(name) + r"(\[1\])? = -?(nan|inf)\b", msg, re.I), msg
         me.reset()
@@ -264,7 +269,7 @@ def test_non_finite_input_during_simulation(me: Raw, cs: Raw, name: str, bad: fl
         raw.fresh().initialized()
         if raw is me:
             raw.enter_ct()
-        msg = _fails(lambda: raw.set(name, bad), raw)
+        msg = _fails(lambda raw=raw: raw.set(name, bad), raw)
         _names_value_and_range(msg, name, "not a finite number", "finite")
 
 

@@ -16,7 +16,7 @@ import pytest
 from fmpy import extract, read_model_description
 from fmpy.fmi3 import FMU3Slave
 
-from feeddrive.fmu import Plant
+from feeddrive.fmu import FMUError, Plant
 from feeddrive.fmu3 import set_values
 
 H = 1e-3                      # s, communication step
@@ -40,7 +40,7 @@ def test_refused_tunable_set_changes_nothing(path: Path) -> None:
         xs = []
         for k in range(150):
             if attempt and k == 50:
-                with pytest.raises(Exception):
+                with pytest.raises(FMUError):
                     p.set({"friction.F_c": 30.0})
                 assert "friction.F_c = 30 exceeds friction.F_s" in p.messages[-1]
             p.set({"u": 1.5 * math.sin(2 * math.pi * 8 * k * H)})

@@ -25,7 +25,7 @@ from feeddrive.fmu import DEFAULT_FMU, Plant
 from feeddrive.harness import pid_spec, sinusoid
 from feeddrive.harness.controllers import make_controller
 from feeddrive.harness.simulate import simulate_closed_loop, simulate_open_loop
-from feeddrive.physics import Compliance, compile
+from feeddrive.physics import compile
 
 pytestmark = [pytest.mark.skipif(not DEFAULT_FMU.is_file(), reason="build the FMU first: make fmu"),
               pytest.mark.usefixtures("fmu_path")]     # on both FMI versions (conftest)
@@ -76,7 +76,7 @@ def test_derivatives_agree_with_the_python_mirror():
             assert math.isclose(g["compliance.F"], F, rel_tol=1e-12)
             a = (g["F_motor"] - g["F_cogging"] - g["F_friction"] + F) / P.m
             assert math.isclose(dy[1], a, rel_tol=1e-9, abs_tol=1e-9 * abs(F) / P.m)
-            dq, dw = c.derivatives(q, w, dy[1])
+            _dq, dw = c.derivatives(q, w, dy[1])
             assert dy[-2] == w and math.isclose(dy[-1], float(dw), rel_tol=1e-9)
             assert math.isclose(float(dw), -F / c.m2 - dy[1], rel_tol=1e-12)
 

@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 from scipy.signal import lfilter
 
-from feeddrive.physics.position_maps import cogging, force_constant
 from feeddrive.harness.simulate import simulate_open_loop
+from feeddrive.physics.position_maps import cogging, force_constant
 from fmu_loops import me_plant
 
 pytestmark = pytest.mark.usefixtures("fmu_path")
@@ -28,7 +28,7 @@ def _u_step(n: int) -> np.ndarray:
 
 def test_eq2_coefficients_and_dc_gain(paper: dict) -> None:
     a = [paper[f"current.a[{j}]"] for j in range(1, 6)]
-    b = [paper[f"current.b[{j}]"] for j in range(0, 6)]
+    b = [paper[f"current.b[{j}]"] for j in range(6)]
     assert np.allclose(b[:4], B_EQ2, rtol=0, atol=5e-7)     # 0.057909 * 0.7461 = 0.0432059
     assert np.allclose([1.0] + [-x for x in a[:2]], A_EQ2, rtol=0, atol=1e-15)
     assert sum(b) / (1.0 - sum(a)) == pytest.approx(1.1260, abs=5e-5)

@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from fmpy import read_model_description
+from fmpy.fmi1 import FMICallException
 
 from feeddrive.fmu import FMUError, Plant
 
@@ -124,7 +125,7 @@ def test_error_follows_the_tolerance_up_to_its_max(fmu2_path: Path, extra: dict)
         xv, p = _run(fmu2_path, params, {"u": 1.0}, 0.1, tolerance=tol)
         p.close()
         err = float(np.max(np.abs(xv[:, 1] - ref[:, 1])) / np.max(np.abs(ref[:, 1])))
-        print(f"{extra and 'm, k' or 'm'}: tol {tol:g}: max |dv| / max |v| = {err:.3g}")
+        print(f"{(extra and 'm, k') or 'm'}: tol {tol:g}: max |dv| / max |v| = {err:.3g}")
         assert err <= 2.0 * tol
 
 
@@ -176,7 +177,7 @@ def test_model_exchange_state_beyond_its_range_refused(path: Path) -> None:
     p.get_derivatives(dy0.ctypes.data_as(DP), nx)
     bad = y.copy()
     bad[1] = 1500.0
-    with pytest.raises(Exception):
+    with pytest.raises(FMICallException):
         p.fmu.setContinuousStates(bad.ctypes.data_as(DP), nx)
     assert "state v = 1500 is out of range: allowed [-1000, 1000] m/s" in p.messages[-1], p.messages[-1]
     p.get_derivatives(dy1.ctypes.data_as(DP), nx)

@@ -5,8 +5,7 @@ import numpy as np
 import pytest
 
 from feeddrive.physics.friction_curves import steady_friction
-from fmu_loops import (FRICTION_ONLY, PositionLoop, me_plant, run_at_speed, run_law,
-                       triangle)
+from fmu_loops import FRICTION_ONLY, PositionLoop, me_plant, run_at_speed, run_law, triangle
 
 pytestmark = pytest.mark.usefixtures("fmu_path")
 

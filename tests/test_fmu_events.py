@@ -26,7 +26,9 @@ def test_each_reversal_sticks_and_slips_every_element_once(paper: dict) -> None:
     sin(2 pi 2 t), started moving at the sine's speed with virgin elements, for 1.3 s
     (5 reversals)."""
     X, w = 1e-3, 2 * np.pi * 2.0
-    ref = lambda t: (X0 + X * np.sin(w * t), X * w * np.cos(w * t), -X * w * w * np.sin(w * t))
+
+    def ref(t: float) -> tuple[float, float, float]:
+        return X0 + X * np.sin(w * t), X * w * np.cos(w * t), -X * w * w * np.sin(w * t)
     plant = me_plant({"effects.current_dynamics": False})
     try:
         run = run_law(plant, 2e-3, 650, PositionLoop(ref, paper["m"]), {"x": X0, "v": X * w},

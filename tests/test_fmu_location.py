@@ -49,7 +49,7 @@ def test_neither_names_both_places(monkeypatch, tmp_path):
         Plant()
     msg = str(e.value)
     assert str(tmp_path / "LinearMotorFeedDrive.fmu") in msg and "FEEDDRIVE_FMU is not set" in msg
-    with pytest.raises(FMUNotFoundError, match="nowhere.fmu: no FMU there"):
+    with pytest.raises(FMUNotFoundError, match=r"nowhere\.fmu: no FMU there"):
         fmu_path(tmp_path / "nowhere.fmu")
 
 

@@ -87,7 +87,9 @@ def test_inner_loop_closes_on_outer_loop(loop: dict) -> None:
     outer ascending branch had at B, and the rest of the leg follows the outer branch."""
     run = loop["run"]
     t = run["time"]
-    F_at = lambda tk: float(np.interp(tk, t, run["F_friction"]))
+
+    def F_at(tk: float) -> float:
+        return float(np.interp(tk, t, run["F_friction"]))
     F_before = F_at(loop["knots"][3])          # at x0+B, moving up, before the inner loop
     F_after = F_at(loop["knots"][5])           # at x0+B again, after it
     assert abs(F_after - F_before) < 0.02 * loop["F_s"]

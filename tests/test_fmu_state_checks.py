@@ -78,7 +78,7 @@ def test_state_of_another_friction_n_refused(fmu3_path: Path) -> None:
     """A state saved at friction.N = 5 (7 continuous states) into an instance at N = 9 (11 states):
     refused naming both N, the instance keeps its 11 states; at N = 5 it loads."""
     log: list[str] = []
-    md5, a = _cs3(fmu3_path, log)
+    _md5, a = _cs3(fmu3_path, log)
     a.enterInitializationMode(startTime=0.0)
     a.exitInitializationMode()
     a.doStep(0.0, 0.01)

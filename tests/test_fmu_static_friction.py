@@ -74,7 +74,9 @@ def test_breaks_loose_exactly_at_static_friction(paper: dict) -> None:
     """Karnopp: a force ramp (held per 1 ms sample) from 0.9 F_s at 20 N/s leaves the stage
     exactly in place up to the first sample with F_app >= F_s and moves it from then on."""
     Fs, dt, x0 = paper["friction.F_s"], 1e-3, 0.0
-    F_app = lambda t: 0.9 * Fs + 20.0 * t
+
+    def F_app(t: float) -> float:
+        return 0.9 * Fs + 20.0 * t
     plant = me_plant(dict(FRICTION_ONLY, **STATIC))
     try:
         run = run_law(plant, dt, 250, lambda k, t, y: (0.0, -F_app(t)),

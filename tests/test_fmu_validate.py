@@ -6,8 +6,8 @@ import subprocess
 import sys
 from pathlib import Path
 
-import numpy as np
 import fmpy
+import numpy as np
 from fmpy.validation import validate_fmu
 
 

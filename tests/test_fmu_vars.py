@@ -69,7 +69,8 @@ def test_header_value_references_match_xml(gen_files: tuple[str, str]) -> None:
             assert vals[int(n.rsplit("[", 1)[1][:-1])] == vr, n
 
 
-ROW = re.compile(r'\{(\d+)u, "([^"]+)", \'(\w)\', \'(\w)\', \'(\w)\', ([^,]+), (\d), ([^,]+), ([^,]+), "([^"]*)", ([^}]+)\}')
+ROW = re.compile(r'\{(\d+)u, "([^"]+)", \'(\w)\', \'(\w)\', \'(\w)\', ([^,]+), (\d), ([^,]+), ([^,]+), '
+                 r'"([^"]*)", ([^}]+)\}')
 
 
 def test_c_table_rows_match_xml(gen_files: tuple[str, str]) -> None:

@@ -13,12 +13,28 @@ from feeddrive.control.feedforward import FeedforwardOptions
 from feeddrive.data import load_run, write_run
 from feeddrive.diagnose.workflow import closed_loop_gap
 from feeddrive.fmu import FMUError, Plant
-from feeddrive.harness import (CONTROLLERS, SCHEMA, Reference, Sensors, back_and_forth,
-                               cascade_lti_spec,
-                               build_sidecar, closed_loop_run, controller_spec, from_positions,
-                               make_controller, pid_lead_spec, pid_spec, point_to_point, prbs,
-                               read_sidecar, reversals, simulate_closed_loop, sinusoid,
-                               state_space_spec)
+from feeddrive.harness import (
+    CONTROLLERS,
+    SCHEMA,
+    Reference,
+    Sensors,
+    back_and_forth,
+    build_sidecar,
+    cascade_lti_spec,
+    closed_loop_run,
+    controller_spec,
+    from_positions,
+    make_controller,
+    pid_lead_spec,
+    pid_spec,
+    point_to_point,
+    prbs,
+    read_sidecar,
+    reversals,
+    simulate_closed_loop,
+    sinusoid,
+    state_space_spec,
+)
 from feeddrive.model_file import paper_model, save_model
 from feeddrive.validation.replay import validate
 

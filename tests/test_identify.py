@@ -13,13 +13,21 @@ import pytest
 from scipy.signal import lfilter
 
 from feeddrive import paper
-from feeddrive.physics import position_maps as maps
 from feeddrive.data import Run
-from feeddrive.physics.friction_curves import steady_friction, stribeck_level
-from feeddrive.identify import (dstft, fit_weights, identify_attraction, identify_current_loop,
-                                identify_mass, identify_position_maps, identify_prerolling,
-                                identify_stribeck, maxwell_slip)
 from feeddrive.harness.references import prbs
+from feeddrive.identify import (
+    dstft,
+    fit_weights,
+    identify_attraction,
+    identify_current_loop,
+    identify_mass,
+    identify_position_maps,
+    identify_prerolling,
+    identify_stribeck,
+    maxwell_slip,
+)
+from feeddrive.physics import position_maps as maps
+from feeddrive.physics.friction_curves import steady_friction, stribeck_level
 
 P = paper.paper_parameters()
 TS = paper.TS
@@ -163,7 +171,7 @@ def test_current_loop_recovers_eq2_and_picks_order_2():
 
 def test_current_loop_needs_current_column():
     run = Run(time=np.arange(100) * TS, u=np.zeros(100), x=np.zeros(100), meta={"name": "prbs7"})
-    with pytest.raises(ValueError, match="prbs7.*'i'"):
+    with pytest.raises(ValueError, match=r"prbs7.*'i'"):
         identify_current_loop(run)
 
 
@@ -212,7 +220,7 @@ def test_runs_without_current_use_the_static_gain():
             for load in (0.0, 272.7) for a, b in ((0.0, 0.04), (0.04, 0.0))]
     bare = [Run(time=r.time, u=r.u, x=r.x, F_load=r.F_load, meta={"name": f"emps{k}"})
             for k, r in enumerate(runs)]           # the generator writes u = i / 1.126
-    with pytest.raises(ValueError, match="emps0.*'i' is absent"):
+    with pytest.raises(ValueError, match=r"emps0.*'i' is absent"):
         identify_position_maps(bare)
     with pytest.warns(UserWarning, match="static current-loop gain"):
         s = identify_position_maps(bare, dc_gain=1.126).samples

@@ -4,9 +4,10 @@ A reduced campaign (PRBS, the loaded whole-stroke map runs, six Stribeck speeds,
 open-loop force run) on the perturbed truth of test_identify_roundtrip, every run repeated
 three times with its own noise seed.  Statistics behind the assertions:
 
-- coverage (at the campaign's default sensor noise): a bootstrap interval describes the noise spread of the estimator around its
-  expectation; the pipeline's own deterministic error (its estimate from noise-free runs
-  minus the truth, ``b``) is not noise and is added to the interval on both sides:
+- coverage (at the campaign's default sensor noise): a bootstrap interval describes the noise
+  spread of the estimator around its expectation; the pipeline's own deterministic error (its
+  estimate from noise-free runs minus the truth, ``b``) is not noise and is added to the
+  interval on both sides:
   lo - |b| <= truth <= hi + |b| for the well-determined parameters.  (At 4x the noise
   F_c moves by a noise-induced +0.015 N, the noise being a force on the stage: a bias of
   the estimator at that noise, which no resampling of that campaign can show);
@@ -32,9 +33,9 @@ from feeddrive.harness.sensors import Sensors
 from feeddrive.identify.bootstrap import BootstrapTask, cells, check_campaign, run_replicates
 from feeddrive.identify.pipeline import identify_runs
 from feeddrive.model_file import ModelFileError, load_model, paper_model, save_model
-from feeddrive.study.bootstrap import run_bootstrap
 from feeddrive.report.identification import add_to_page, uncertainty_rows
 from feeddrive.report.page import Page
+from feeddrive.study.bootstrap import run_bootstrap
 from test_identify_roundtrip import truth_model
 
 #: The mass is fitted to one open-loop run per replicate but with the maps and the friction of
@@ -132,7 +133,7 @@ def test_bootstrap_covers_the_truth_and_shrinks_with_noise(noisy, quiet, fmu_pat
     truth = truth_model().parameters
     assert sorted(len(c) for c in cells(noisy)) == [REPEATS] * (len(noisy) // REPEATS)
     exact = identify_runs(campaign(0.0, 1)).model.parameters      # the method's own error
-    base_n, boot_n = _boot(noisy, workers=2)
+    _base_n, boot_n = _boot(noisy, workers=2)
     _, boot_q = _boot(quiet, parallel=False)
     assert boot_n.failed == 0 and boot_q.failed == 0, boot_n.text() + boot_q.text()
     for n in SINGLE_RUN:

@@ -24,8 +24,13 @@ from feeddrive.experiments.force_open_loop import force_open_loop_runs
 from feeddrive.experiments.prbs import prbs_runs
 from feeddrive.experiments.resimulate import can_resimulate, resimulate
 from feeddrive.harness.sensors import Sensors
-from feeddrive.identify.parametric import (FAILED, MIN_REPLICATES, OK, STRUCTURE_SHARE,
-                                           bias_corrected)
+from feeddrive.identify.parametric import (
+    FAILED,
+    MIN_REPLICATES,
+    OK,
+    STRUCTURE_SHARE,
+    bias_corrected,
+)
 from feeddrive.model_file import ModelFileError, load_model, paper_model, save_model
 from feeddrive.study.coverage import coverage_truth, lowest_count
 
@@ -36,7 +41,7 @@ def _rows(values: dict[str, list[float]], structure: list[str] | None = None,
     rows = [{"replicate": r, **{k: v[r] for k, v in values.items()},
              "structure": structure[r] if structure else "2/2", "status": OK, "message": ""}
             for r in range(n)]
-    rows += [{"replicate": n + j, **{k: math.nan for k in values}, "structure": "",
+    rows += [{"replicate": n + j, **dict.fromkeys(values, math.nan), "structure": "",
               "status": FAILED, "message": "x"} for j in range(failed)]
     return rows
 

@@ -20,23 +20,23 @@ import pytest
 
 from feeddrive import cli
 from feeddrive.data import RECORDING_DECIMALS, load_runs, write_run
-from feeddrive.experiments.constant_speed import (PAPER_LOADS, constant_speed_runs,
-                                                  stribeck_runs)
+from feeddrive.experiments.constant_speed import PAPER_LOADS, constant_speed_runs, stribeck_runs
 from feeddrive.experiments.force_open_loop import force_open_loop_runs
-from feeddrive.experiments.recording import run_seed
-from feeddrive.harness.sensors import Sensors
 from feeddrive.experiments.prbs import prbs_runs
 from feeddrive.experiments.prerolling_excitation import AMPLITUDES, prerolling_runs
+from feeddrive.experiments.recording import run_seed
 from feeddrive.experiments.variable_speed import variable_speed_runs
+from feeddrive.harness.sensors import Sensors
 from feeddrive.identify import identify_attraction
-from feeddrive.report.identification import identification_section
 from feeddrive.identify.pipeline import classify, identify_folder
 from feeddrive.identify.sec4_check import compare_sec4
 from feeddrive.identify.truth_table import c_factor
 from feeddrive.model_file import ModelFile, load_model, paper_model
+from feeddrive.report.identification import identification_section
 from feeddrive.report.page import Page
 from feeddrive.experiments import sec4
 from feeddrive.study.coverage import coverage_truth
+from feeddrive.validation import sec4
 
 MAP_SPEED = 20e-3
 STRIBECK_SPEEDS = (0.3e-3, 0.6e-3, 1e-3, 2e-3, 4e-3, 8e-3, 15e-3, 30e-3, 60e-3, 120e-3)
@@ -107,7 +107,7 @@ def test_every_run_is_classified_with_and_without_sidecar(runs_dir):
     kinds = [classify(r) for r in runs]
     assert sorted(set(kinds)) == ["constant_speed", "force_open_loop", "prbs", "prerolling",
                                   "variable_speed"]
-    for r, k in zip(runs, kinds):
+    for r, k in zip(runs, kinds, strict=True):
         r.meta = {}
         assert classify(r) == k, r.path          # from the file stem
         r.path = None

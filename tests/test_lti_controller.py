@@ -12,9 +12,19 @@ from scipy import signal
 
 from feeddrive.control.lti import back_calculation_gain, rest_state, tf_to_ss
 from feeddrive.data import load_run, write_run
-from feeddrive.harness import (Sensors, cascade_lti_spec, closed_loop_run, controller_spec,
-                               lti_spec, make_controller, pid_lead_spec, pid_lti_spec, pid_spec,
-                               read_run_sidecar, sinusoid)
+from feeddrive.harness import (
+    Sensors,
+    cascade_lti_spec,
+    closed_loop_run,
+    controller_spec,
+    lti_spec,
+    make_controller,
+    pid_lead_spec,
+    pid_lti_spec,
+    pid_spec,
+    read_run_sidecar,
+    sinusoid,
+)
 from feeddrive.harness.controllers import lti_realisation
 from feeddrive.harness.references import from_positions
 from feeddrive.model_file import paper_model
@@ -80,7 +90,7 @@ def test_unsaturated_equals_dlsim(name):
         # each part is ~100x their sum, so the tolerance is wider
         num, den = spec["num"], spec["den"]
         dens = den if np.ndim(den[0]) else [den, den]
-        ul = sum(signal.lfilter(nm, dn, x) for nm, dn, x in zip(num, dens, (r, y)))
+        ul = sum(signal.lfilter(nm, dn, x) for nm, dn, x in zip(num, dens, (r, y), strict=True))
         assert _rel(u, ul) < 20 * REL
 
 

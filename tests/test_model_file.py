@@ -9,8 +9,14 @@ import numpy as np
 import pytest
 
 from feeddrive.cli import main
-from feeddrive.model_file import (PARAMETER_NAMES, ModelFile, ModelFileError, load_model,
-                                  paper_model, save_model)
+from feeddrive.model_file import (
+    PARAMETER_NAMES,
+    ModelFile,
+    ModelFileError,
+    load_model,
+    paper_model,
+    save_model,
+)
 from feeddrive.paper import EFFECT_IDS, SWITCHABLE_EFFECTS, paper_parameters
 
 

@@ -33,10 +33,9 @@ def test_output_dir_keeps_the_old_results_when_the_work_fails(tmp_path):
     out = tmp_path / "o"
     with output_dir(out) as d:
         (d / "a.txt").write_text("old")
-    with pytest.raises(RuntimeError):
-        with output_dir(out) as d:
-            (d / "a.txt").write_text("new")
-            raise RuntimeError("work failed")
+    with pytest.raises(RuntimeError), output_dir(out) as d:
+        (d / "a.txt").write_text("new")
+        raise RuntimeError("work failed")
     assert (out / "a.txt").read_text() == "old"
     assert [p.name for p in tmp_path.iterdir()] == ["o"]
 

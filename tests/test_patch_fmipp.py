@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
-from patch_fmipp import EDITS, main, patch  # noqa: E402
+from patch_fmipp import EDITS, main, patch
 
 SETUP = "".join(f"# part {k}\n{old}" for k, (old, _) in enumerate(EDITS))
 

@@ -10,8 +10,14 @@ import pytest
 
 from feeddrive.fmu import Plant
 from feeddrive.paper import SWITCHABLE_EFFECTS, paper_parameters
-from feeddrive.physics import (GMSParameters, applied_force, compile, element_forces,
-                               element_rates, karnopp_friction)
+from feeddrive.physics import (
+    GMSParameters,
+    applied_force,
+    compile,
+    element_forces,
+    element_rates,
+    karnopp_friction,
+)
 
 pytestmark = pytest.mark.usefixtures("fmu_path")     # on both FMI versions (conftest)
 

@@ -129,7 +129,7 @@ def test_non_integer_knot_count():
 def test_model_file_and_unknown_names():
     P = compile(paper_model())
     assert P.m == 16.1 and P.friction.nu[-1] == pytest.approx(0.383)
-    with pytest.raises(KeyError, match="friction.Fs"):
+    with pytest.raises(KeyError, match=r"friction\.Fs"):
         compile({"friction.Fs": 1.0})
 
 

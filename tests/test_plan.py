@@ -14,8 +14,13 @@ import numpy as np
 import pytest
 
 from feeddrive import cli
-from feeddrive.experiments.plan import (MAP_SPAN, PlanError, default_limits, force_per_volt,
-                                        make_plan)
+from feeddrive.experiments.plan import (
+    MAP_SPAN,
+    PlanError,
+    default_limits,
+    force_per_volt,
+    make_plan,
+)
 from feeddrive.experiments.plan_files import reference_csv, time_decimals
 from feeddrive.harness.controllers import pid_lti_spec
 from feeddrive.harness.sidecar import read_sidecar
@@ -58,7 +63,7 @@ def _controllers() -> list:
                                       u_limit=10.0, anti_windup={"pole": 0.5}), id="lti")]
 
 
-def _plan(tmp: Path, *options: str, controller: dict | None | str = "default") -> Path:
+def _plan(tmp: Path, *options: str, controller: dict | str | None = "default") -> Path:
     out = tmp / "plan"
     args = ["plan", "--out", str(out), *options]
     if controller != "default":

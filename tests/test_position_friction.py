@@ -22,9 +22,9 @@ import pytest
 from feeddrive.experiments.constant_speed import constant_speed_runs
 from feeddrive.fmu import Plant
 from feeddrive.harness import Sensors
+from feeddrive.harness.simulate import simulate_closed_loop
 from feeddrive.identify.pipeline import identify_runs
 from feeddrive.identify.position_friction import identify_position_friction
-from feeddrive.harness.simulate import simulate_closed_loop
 from feeddrive.model_file import ModelFile, load_model, paper_model, save_model
 from feeddrive.paper import paper_parameters
 from feeddrive.physics import FrictionProfile, compile, profile_basis
@@ -80,7 +80,7 @@ def test_python_equals_fmu_along_a_trajectory(prerolling: bool, lag: bool, fmu_p
     t = np.linspace(0.0, 2 * np.pi, 23)
     xs, vs = 0.15 - 0.12 * np.cos(t), 0.05 * np.sin(t)          # 0.03..0.27 m, both directions
     with Plant(params, interface="me", path=fmu_path) as plant:
-        for k, (x, v) in enumerate(zip(xs, vs)):
+        for k, (x, v) in enumerate(zip(xs, vs, strict=True)):
             v = 0.0 if abs(v) < 1e-12 else float(v)
             slip = ((k % 5, 2) if v != 0 else ()) if prerolling else ()
             F = states(P.friction, v, slip, x)
@@ -174,7 +174,7 @@ def test_model_file_round_trip(tmp_path):
                                                              "friction_profile.c[4]": 4.5})
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _cv_runs(fmu: str) -> tuple:
     """(cached per FMU file: ``fmu`` is the module's fmu_path, the runs' FMU)"""
     truth = paper_model().with_effect("position_friction", True, **PATCH.parameters())

@@ -10,8 +10,9 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def test_readme_variables_table_is_current():
-    p = subprocess.run([sys.executable, str(ROOT / "tools" / "vars_table.py"), "--check", str(ROOT / "docs" / "variables.md"),
-                        str(ROOT / "docs" / "parameters.md")], capture_output=True, text=True)
+    p = subprocess.run([sys.executable, str(ROOT / "tools" / "vars_table.py"), "--check",
+                        str(ROOT / "docs" / "variables.md"), str(ROOT / "docs" / "parameters.md")],
+                       capture_output=True, text=True)
     assert p.returncode == 0, p.stdout + p.stderr
 
 

@@ -74,7 +74,7 @@ def test_loader_names_file_and_problem(tmp_path, bad, match):
 def test_slow_run_loader_rejects_bad_files(tmp_path):
     p = tmp_path / "nocomp_0.npy"
     np.save(p, np.zeros((2, 500)))
-    with pytest.raises(ValueError, match="nocomp_0.npy.*shape"):
+    with pytest.raises(ValueError, match=r"nocomp_0\.npy.*shape"):
         od.load_slow_run(p)
     t = np.linspace(0, 1, 500)
     t[200] = t[199]

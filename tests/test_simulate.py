@@ -17,12 +17,13 @@ def test_nan_input_raises_naming_the_input(fmu_path):
 
 
 def test_unknown_parameter_is_named(fmu_path):
-    with pytest.raises(KeyError, match="friction.Fs"):
+    with pytest.raises(KeyError, match=r"friction\.Fs"):
         Plant({"friction.Fs": 1.0}, path=fmu_path)
 
 
 def test_out_of_range_parameter_is_named_with_its_range(fmu_path):
-    with Plant({"m": -2.0}, path=fmu_path) as p, pytest.raises(FMUError, match=r"m = -2 is out of range: allowed \(0, inf\) kg"):
+    with Plant({"m": -2.0}, path=fmu_path) as p, \
+            pytest.raises(FMUError, match=r"m = -2 is out of range: allowed \(0, inf\) kg"):
         p.start()
 
 

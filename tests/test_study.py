@@ -20,8 +20,19 @@ from feeddrive.harness import closed_loop_run, pid_spec, run_closed_loop, sinuso
 from feeddrive.harness.sensors import Sensors
 from feeddrive.paper import paper_parameters
 from feeddrive.report.study import write_study_report
-from feeddrive.study import (FAILED, OK, Case, RunTask, StudyError, cases, load_study, parse_study,
-                             read_table, run_case, run_study)
+from feeddrive.study import (
+    FAILED,
+    OK,
+    Case,
+    RunTask,
+    StudyError,
+    cases,
+    load_study,
+    parse_study,
+    read_table,
+    run_case,
+    run_study,
+)
 from feeddrive.study.run import make_reference
 
 BASE = {"schema": "feeddrive.study/1", "name": "t",
@@ -43,7 +54,7 @@ def _write(tmp: Path, doc: dict, name: str = "study.json") -> Path:
 
 def _same(a: list[dict], b: list[dict], cols: tuple[str, ...]) -> None:
     assert [r["run"] for r in a] == [r["run"] for r in b]
-    for ra, rb in zip(a, b):
+    for ra, rb in zip(a, b, strict=True):
         assert (ra["status"], ra["message"]) == (rb["status"], rb["message"])
         for c in cols:
             x, y = ra[c], rb[c]

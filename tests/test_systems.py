@@ -18,7 +18,6 @@ measurement error v h that the loop passes on: measured 6.9 um at h = 50 us, hal
 from __future__ import annotations
 
 import zipfile
-from pathlib import Path
 from xml.etree import ElementTree as ET
 
 import numpy as np
@@ -26,8 +25,14 @@ import pytest
 from fmpy.ssp.ssd import read_ssd, read_ssv
 
 from feeddrive.harness.two_fmus import simulate_two_fmus
-from feeddrive.systems import (run_container, run_fmpy_ssp, run_libcosim_osp, sec3_system,
-                               sec4_system, write_all)
+from feeddrive.systems import (
+    run_container,
+    run_fmpy_ssp,
+    run_libcosim_osp,
+    sec3_system,
+    sec4_system,
+    write_all,
+)
 from feeddrive.systems.jacobi import simulate_jacobi
 
 TOL_EQUAL = 1e-8          #: 0.01 um, equal conventions
@@ -114,7 +119,7 @@ def test_fmpy_simulate_ssp_runs_our_package(sec3) -> None:
     every connector at 0.0: the first macro step gives the controller x_meas = 0, a 0.12 m
     error that saturates u, so its run is not the harness's (measured: mm).  Documented, not
     a convention we can match."""
-    s, files, ref = sec3
+    s, files, _ref = sec3
     s10 = 10
     r = run_fmpy_ssp(files["ssp"], 200, s.Ts, substeps=s10)
     assert abs(r["x"][1] - s.x0) < 1e-6

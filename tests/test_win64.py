@@ -4,10 +4,12 @@ FMI 3.0 ``x86_64-windows``) run under Wine and compute what the Linux binaries c
 One C host (tests/c/win_host.c) is built for Linux and, with mingw-w64, for Windows; each loads
 the binaries of its platform taken out of the FMUs and runs: the plant and the controller in
 closed loop for 1 s of co-simulation (FMI 2.0; FMI 2.0 from t = 1.2e6 s with a reference 2e10
-samples long, whose sample counts pass 2^31 where a C long has 32 bits; FMI 3.0) and the plant's model-exchange derivatives at three set states (FMI 2.0
-and 3.0), and the messages of calls the plant refuses (the same text). Both builds do the same IEEE double arithmetic from the same sources, so the positions
-agree within 1e-12 m (a thousandth of the encoder's 1 nm scale; the arithmetic leaves only
-last-bit differences of the C libraries' functions) and the derivatives within 1e-12 relative.
+samples long, whose sample counts pass 2^31 where a C long has 32 bits; FMI 3.0) and the
+plant's model-exchange derivatives at three set states (FMI 2.0 and 3.0), and the messages of
+calls the plant refuses (the same text). Both builds do the same IEEE double arithmetic from
+the same sources, so the positions agree within 1e-12 m (a thousandth of the encoder's 1 nm
+scale; the arithmetic leaves only last-bit differences of the C libraries' functions) and the
+derivatives within 1e-12 relative.
 Skipped, with the reason, where mingw-w64 or Wine is not installed (``make test`` installs both
 where it can: root and apt-get). Wine's prefix is ~/.cache/feeddrive/wine (its first start
 creates it, some 15 s; later runs take about 3 s).
@@ -96,8 +98,8 @@ def runs(fmus: list[Path], tmp_path_factory: pytest.TempPathFactory) -> dict[str
     subprocess.run(["make", "-s", "-C", str(REPO / "tests" / "c"), f"MINGW_CC={MINGW_CC}", str(OUT / "win_host"),
                     str(OUT / "win_host.exe")], check=True, capture_output=True, text=True)
     d = tmp_path_factory.mktemp("win64")
-    linux = [str(extract(f, lin, d / f.stem)) for f, (_, lin, _) in zip(fmus, FMUS)]
-    windows = [str(extract(f, win, d / f.stem)) for f, (_, _, win) in zip(fmus, FMUS)]
+    linux = [str(extract(f, lin, d / f.stem)) for f, (_, lin, _) in zip(fmus, FMUS, strict=True)]
+    windows = [str(extract(f, win, d / f.stem)) for f, (_, _, win) in zip(fmus, FMUS, strict=True)]
     lin = subprocess.run([str(OUT / "win_host"), *linux], capture_output=True, text=True, timeout=120)
     assert lin.returncode == 0, lin.stdout[-2000:] + lin.stderr[-2000:]
     prefix = Path(os.environ.get("WINEPREFIX", Path.home() / ".cache" / "feeddrive" / "wine"))
@@ -114,7 +116,7 @@ def runs(fmus: list[Path], tmp_path_factory: pytest.TempPathFactory) -> dict[str
 def test_every_fmu_carries_linux_and_windows_binaries(fmus: list[Path]) -> None:
     if reason := no_win64_reason():
         pytest.skip(f"no win64 binaries: {reason}")
-    for fmu, (_, lin, win) in zip(fmus, FMUS):
+    for fmu, (_, lin, win) in zip(fmus, FMUS, strict=True):
         names = zipfile.ZipFile(fmu).namelist()
         ident = fmu.stem
         assert f"binaries/{lin}/{ident}.so" in names and f"binaries/{win}/{ident}.dll" in names, (fmu.name, names)
@@ -127,7 +129,7 @@ def test_dlls_import_only_the_c_runtime_and_export_only_their_fmi_functions(fmus
     objdump = MINGW_CC[: -len("gcc")] + "objdump"
     if shutil.which(objdump) is None:
         pytest.skip(f"{objdump} (Debian binutils-mingw-w64-x86-64) is not installed")
-    for fmu, (_, _, win) in zip(fmus, FMUS):
+    for fmu, (_, _, win) in zip(fmus, FMUS, strict=True):
         text = subprocess.run([objdump, "-p", str(extract(fmu, win, tmp_path / fmu.stem))], capture_output=True,
                               text=True, check=True).stdout
         imports = {d.lower() for d in re.findall(r"DLL Name: (\S+)", text)}
@@ -145,9 +147,9 @@ def test_cosimulation_under_wine_equals_linux(runs: dict, tag: str) -> None:
     lin, win = runs["linux"][tag], runs["windows"][tag]
     assert len(lin) == len(win) == 101                          # every 10 ms of 1 s
     assert [r[:2] for r in lin] == [r[:2] for r in win]         # the same samples and times
-    dx = max(abs(a[2] - b[2]) for a, b in zip(lin, win))
+    dx = max(abs(a[2] - b[2]) for a, b in zip(lin, win, strict=True))
     assert dx <= X_TOL, f"{tag}: max |x_win64 - x_linux| = {dx:.3g} m"
-    du = max(abs(a[4] - b[4]) for a, b in zip(lin, win))
+    du = max(abs(a[4] - b[4]) for a, b in zip(lin, win, strict=True))
     assert du <= 1e-9, f"{tag}: max |u_win64 - u_linux| = {du:.3g} V"
     x = [r[2] for r in win]
     assert max(x) - min(x) >= STROKE_MIN, f"{tag}: the loop moved {max(x) - min(x):.4g} m only"
@@ -157,7 +159,7 @@ def test_cosimulation_under_wine_equals_linux(runs: dict, tag: str) -> None:
 def test_derivatives_under_wine_equal_linux(runs: dict, tag: str) -> None:
     lin, win = runs["linux"][tag], runs["windows"][tag]
     assert len(lin) == len(win) >= 3 * 9
-    for a, b in zip(lin, win):
+    for a, b in zip(lin, win, strict=True):
         assert a[:3] == b[:3]                                   # state s, element j, value x_j
         assert abs(a[3] - b[3]) <= DX_RTOL * max(1.0, abs(a[3])), (tag, a, b)
     # der(x) = v at each set state (0, +0.05, -0.05 m/s): the call evaluated the state it was given

@@ -11,7 +11,8 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--xml", required=True)
     ap.add_argument("--so", required=True)
-    ap.add_argument("--sources", nargs="+", required=True, help="folders whose *.c/*.h (or single files) go to sources/")
+    ap.add_argument("--sources", nargs="+", required=True,
+                    help="folders whose *.c/*.h (or single files) go to sources/")
     ap.add_argument("--out", required=True)
     ap.add_argument("--platform", default="linux64",
                     help="binaries/ folder of --so: linux64 (FMI 2.0), x86_64-linux (FMI 3.0)")

@@ -79,15 +79,17 @@ def table3(xml_path: Path) -> str:
     rows = ["| name | value reference | causality | type | dimension | unit | default | FMI 2.0 |",
             "|---|---|---|---|---|---|---|---|"]
     for v in gen.fmi3_variables(ET.parse(xml_path).getroot()):
-        changed = v["name"] in ("time", "eventIndicators") or v["dim"] or v["attrs"]["causality"] == "structuralParameter"
+        changed = (v["name"] in ("time", "eventIndicators") or v["dim"]
+                   or v["attrs"]["causality"] == "structuralParameter")
         if not changed:
             continue
         dim = "friction.N" if v["dim"] else (str(v["nz"]) if "nz" in v else "")
         e = v["elems"]
         if v["dim"]:
-            elem = f"der(friction.F[k])" if v["name"].startswith("der(") else f"{v['name']}[k]"
+            elem = "der(friction.F[k])" if v["name"].startswith("der(") else f"{v['name']}[k]"
             step = ", ..., " if e[1] - e[0] > 1 else ".."
-            was = f"`{elem}`, k = 1..10 (value references {e[0]}{', ' + str(e[1]) if step != '..' else ''}{step}{e[-1]})"
+            second = f", {e[1]}" if step != ".." else ""
+            was = f"`{elem}`, k = 1..10 (value references {e[0]}{second}{step}{e[-1]})"
         else:
             was = {"time": "— (independent variable)", "eventIndicators": "`numberOfEventIndicators`"}.get(
                 v["name"], f"`{v['name']}` (parameter)")
@@ -127,7 +129,8 @@ def main() -> int:
             for key, body in bodies.items():
                 begin, end = BLOCKS[key]
                 text = re.sub(re.escape(begin) + r".*?" + re.escape(end),
-                              lambda _: begin + "\n" + body + "\n" + end, text, flags=re.S)
+                              lambda _, begin=begin, body=body, end=end: begin + "\n" + body + "\n" + end,
+                              text, flags=re.S)
             p.write_text(text)
         return status
     print(table(xml) + "\n\n" + table3(xml) + "\n\n" + params_table(xml))

@@ -103,7 +103,8 @@ def main() -> None:
         if sorted(exports) != syms:
             sys.exit(f"error: {a.out} exports {len(exports)} names, expected the {len(syms)} {a.exports}* functions")
         tmp_dll.replace(a.out)
-    print(f"wrote {a.out} ({a.out.stat().st_size} bytes; imports {', '.join(imports)}; {len(syms)} {a.exports}* exports)")
+    print(f"wrote {a.out} ({a.out.stat().st_size} bytes; imports {', '.join(imports)}; "
+          f"{len(syms)} {a.exports}* exports)")
 
 
 if __name__ == "__main__":

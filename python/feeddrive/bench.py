@@ -17,14 +17,13 @@ from pathlib import Path
 
 import numpy as np
 
-from .bench_campaign import campaign_rows
 from .bench_c import instructions_per_sample, run_bench_cs, run_cycles, run_two_fmus
+from .bench_campaign import campaign_rows
 from .bench_cli import help_rows
 from .bench_study import study_rows
 from .data import Run, write_run
 from .fmu import Plant
-from .harness.controller_fmu import (ControllerFMU, controller_fmu_parameters,
-                                     sinusoid_source)
+from .harness.controller_fmu import ControllerFMU, controller_fmu_parameters, sinusoid_source
 from .harness.controllers import make_controller, state_space_spec
 from .harness.references import sinusoid
 from .harness.runs import closed_loop_run, run_closed_loop
@@ -50,11 +49,9 @@ def _closed_loop(interface: str, tolerance: float, ref) -> tuple[float, dict]:
 def python_rows(repeats: int = 5) -> tuple[list[tuple[str, str, str]], dict]:
     """The 6 s, 30 mm closed-loop sinusoid driven from Python (CS and ME)."""
     ref = sinusoid(0.030, 6.0, 0.150, 6.0)
-    walls = []
-    res_cs = None
-    for _ in range(repeats):
-        w, res_cs = _closed_loop("cs", 1e-6, ref)
-        walls.append(w)
+    runs = [_closed_loop("cs", 1e-6, ref) for _ in range(repeats)]
+    walls = [w for w, _ in runs]
+    res_cs = runs[-1][1]
     w_cs = min(walls)
     w_me, res_me = _closed_loop("me", 1e-6, ref)
     _, res_ref = _closed_loop("me", 1e-10, ref)
@@ -64,7 +61,7 @@ def python_rows(repeats: int = 5) -> tuple[list[tuple[str, str, str]], dict]:
     n = ref.n
     calls = 3 * n   # set inputs, doStep, get outputs per sample
     rows = [
-        ("6 s closed loop from Python, CS (best of %d)" % repeats,
+        (f"6 s closed loop from Python, CS (best of {repeats})",
          f"{w_cs * 1e3:.0f} ms wall, {6.0 / w_cs:.0f}x real time", "<= 200 ms (>= 30x)"),
         ("  median of the repeats", f"{statistics.median(walls) * 1e3:.0f} ms", ""),
         ("  FMI calls per run (CS)", f"{calls} ({calls / n:.0f} per sample)", ""),
@@ -90,7 +87,7 @@ def two_fmu_rows(wall_python: float, res_python: dict, repeats: int = 5,
             for _ in range(repeats)]
     wall = min(float(r["wall"]) for r in runs)
     dx = float(np.max(np.abs(runs[0]["x"] - res_python["x"])))
-    rows = [("6 s closed loop, controller FMU + plant FMU stepped from Python (best of %d)" % repeats,
+    rows = [(f"6 s closed loop, controller FMU + plant FMU stepped from Python (best of {repeats})",
              f"{wall * 1e3:.0f} ms wall, {wall / wall_python:.2f} x the Python-controller run", ""),
             ("  agreement with the Python-controller run, max abs(dx)", f"{dx * 1e6:.3g} um", "<= 0.01 um")]
     if host is None or plant_library is None or controller_library is None:
@@ -102,7 +99,7 @@ def two_fmu_rows(wall_python: float, res_python: dict, repeats: int = 5,
     w = fig["wall_s_best"]
     dxc = float(np.max(np.abs(np.asarray(x) - res_python["x"])))
     return rows + [
-        ("6 s closed loop, controller FMU + plant FMU stepped from C (best of %d)" % repeats,
+        (f"6 s closed loop, controller FMU + plant FMU stepped from C (best of {repeats})",
          f"{w * 1e3:.1f} ms wall, {w / wall_python:.3f} x the Python-controller run",
          "<= 1/3"),
         ("  agreement with the Python-controller run, max abs(dx)", f"{dxc * 1e6:.3g} um", "<= 0.01 um")]
@@ -117,10 +114,10 @@ def c_rows(bench_cs: Path, cycles: Path | None, library: Path,
     a = run_bench_cs(bench_cs, library, repeats, "adaptive")
     wall, wall_a = f["wall_s_best"], a["wall_s_best"]
     rows = [
-        ("6 s closed loop from C through fmi2DoStep, per-sample scheme (best of %d)" % repeats,
+        (f"6 s closed loop from C through fmi2DoStep, per-sample scheme (best of {repeats})",
          f"{wall * 1e3:.1f} ms wall, {6.0 / wall:.0f}x real time", "<= 3 ms (>= 2000x)"),
-        ("  same, its floor on a loaded machine: each 50-sample chunk's fastest of the %d repetitions, "
-         "summed" % repeats,
+        (f"  same, its floor on a loaded machine: each 50-sample chunk's fastest of the {repeats} "
+         "repetitions, summed",
          f"{f['wall_s_floor'] * 1e3:.1f} ms wall, {6.0 / f['wall_s_floor']:.0f}x real time", "<= 3 ms (>= 2000x)"),
         ("  same, adaptive DP45 throughout (solver.fast = false)",
          f"{wall_a * 1e3:.1f} ms wall, {6.0 / wall_a:.0f}x real time", ""),

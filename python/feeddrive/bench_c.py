@@ -26,9 +26,9 @@ BENCH_SAMPLES = 12_000
 
 def _run(exe: Path, library: Path, *args: str) -> str:
     """Stdout of ``exe library args...``; one-line errors naming the missing file or the failure."""
-    for p, what in ((exe, "C benchmark host (`make bench` builds it)"), (library, "FMU shared library")):
-        if not Path(p).is_file():
-            raise FileNotFoundError(f"{p}: no {what} there")
+    for need, what in ((exe, "C benchmark host (`make bench` builds it)"), (library, "FMU shared library")):
+        if not Path(need).is_file():
+            raise FileNotFoundError(f"{need}: no {what} there")
     p = subprocess.run([str(exe), str(library), *args], capture_output=True, text=True, check=False)
     if p.returncode != 0:
         raise RuntimeError(f"{exe} failed (exit {p.returncode}): {p.stderr.strip()}")

@@ -49,7 +49,7 @@ def help_rows(repeats: int = 5) -> list[tuple[str, str, str]]:
     slowest command's help, and every command's time."""
     numpy, walls = help_times(repeats)
     top = walls.pop("")
-    slow = max(walls, key=walls.get)
+    slow = max(walls, key=lambda c: walls[c])
     target = f"<= {TARGET_RATIO:g}x import numpy"
     every = ", ".join(f"{n} {w * 1e3:.0f}" for n, w in walls.items())
     return [(f"python -c \"import numpy\" (fresh interpreter, median of {repeats})",

@@ -13,6 +13,7 @@ import shutil
 import tempfile
 import time
 from pathlib import Path
+from typing import Any
 
 from distributed import LocalCluster
 from fmpy import extract, read_model_description
@@ -57,7 +58,16 @@ def _own_extraction_instance() -> tuple[FMU2Slave, str, dict]:
 def _per_instance(own: bool, n: int = 100) -> tuple[float, float]:
     """(resident memory per live instance [KiB], create + start + close time [ms]) of
     started Plants (``own``: instances with their own extraction, as before)."""
-    make, close = (_own_extraction_instance, _free_own) if own else (_started_plant, Plant.close)
+
+    def make() -> Any:
+        return _own_extraction_instance() if own else _started_plant()
+
+    def close(obj: Any) -> None:
+        if own:
+            _free_own(obj)
+        else:
+            obj.close()
+
     close(make())
     gc.collect()
     r0 = _rss_bytes()

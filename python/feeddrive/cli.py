@@ -89,7 +89,7 @@ def command_reads(a: argparse.Namespace, roles: dict[str, str]):
     reads = Reads.of(files=got[FILE] + fmus, runs=got[RUN], run_folders=got[RUNS],
                      trees=got[TREE])
     if got[STUDY]:
-        from .study import study_reads          # dask: only for the commands that read a study
+        from .study import study_reads  # dask: only for the commands that read a study
         for study in got[STUDY]:
             reads = reads + study_reads(study)
     return reads

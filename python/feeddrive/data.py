@@ -31,9 +31,18 @@ from typing import Any
 
 import numpy as np
 
-from .data_csv import (KNOWN_COLUMNS, MAX_HEADER_BYTES, MAX_LINE_CHARS, REQUIRED_COLUMNS,
-                       RUN_SUFFIXES, DataError, _check_values, is_compressed, read_columns,
-                       run_stem)
+from .data_csv import (
+    KNOWN_COLUMNS,
+    MAX_HEADER_BYTES,
+    MAX_LINE_CHARS,
+    REQUIRED_COLUMNS,
+    RUN_SUFFIXES,
+    DataError,
+    _check_values,
+    is_compressed,
+    read_columns,
+    run_stem,
+)
 from .inputs import InputFileError, read_text
 
 __all__ = ["KNOWN_COLUMNS", "MAX_ABS", "MAX_HEADER_BYTES", "MAX_LINE_CHARS", "MIN_ROWS",
@@ -370,7 +379,7 @@ def write_run(run: Run, path: str | Path, decimals: Mapping[str, int] | None = N
     buf = io.StringIO(newline="")
     writer = csv.writer(buf, lineterminator="\n")
     writer.writerow(names)
-    writer.writerows(zip(*text_cols))
+    writer.writerows(zip(*text_cols, strict=True))
     data = buf.getvalue().encode("utf-8")
     if is_compressed(path):
         data = gzip.compress(data, compresslevel=GZIP_LEVEL, mtime=0)

@@ -113,16 +113,18 @@ _BLANK = frozenset({"\n", "\r\n", "\r", ""})
 class _Gzip(gzip.GzipFile):
     """A gzip stream that closes the file it reads when it is closed."""
 
+    def __init__(self, raw: IO[bytes]) -> None:
+        self._raw = raw
+        super().__init__(fileobj=raw, mode="rb")
+
     def close(self) -> None:
-        raw = self.fileobj
         try:
             super().close()
         finally:
-            if raw is not None:
-                raw.close()
+            self._raw.close()
 
 
-def _open_bytes(path: Path) -> IO[bytes]:
+def _open_bytes(path: Path) -> IO[bytes] | gzip.GzipFile:
     """The bytes of the recording ``path``: decompressed on the fly for a ``.gz`` file."""
     f = open_input(path, encoding=None)
     if not is_compressed(path):
@@ -131,7 +133,7 @@ def _open_bytes(path: Path) -> IO[bytes]:
         if not f.read(2):               # gzip reads an empty file as an empty stream
             raise gzip.BadGzipFile("empty file")
         f.seek(0)
-        return _Gzip(fileobj=f, mode="rb")
+        return _Gzip(f)
     except BaseException:
         f.close()
         raise
@@ -234,7 +236,7 @@ def _line_chunks(f, path: Path) -> Iterator[list[str]]:
             return
         # only the first line holds the carry; the others fit in the block
         if lines and (len(lines[0]) > MAX_LINE_CHARS
-                      or len(block) > MAX_LINE_CHARS and max(map(len, lines)) > MAX_LINE_CHARS):
+                      or (len(block) > MAX_LINE_CHARS and max(map(len, lines)) > MAX_LINE_CHARS)):
             k = next(k for k, ln in enumerate(lines) if len(ln) > MAX_LINE_CHARS)
             raise _too_long(path, done + k + 1)
         done += len(lines)
@@ -342,7 +344,7 @@ def _take_chunk(path: Path, names: list[str], rows: list[list[str]], rows_at: li
                 known: dict[str, list[np.ndarray]], text: dict[str, list[str]]) -> None:
     if not rows:
         return
-    for name, cells in zip(names, zip(*rows)):
+    for name, cells in zip(names, zip(*rows, strict=True), strict=True):
         if name in known:
             known[name].append(_to_float(path, name, cells, rows_at))
         else:
@@ -373,7 +375,7 @@ def _to_float(path: Path, column: str, cells: tuple[str, ...] | list[str],
     floats = _floats(cells)
     if floats is not None:
         return floats
-    for cell, line in zip(cells, lines):
+    for cell, line in zip(cells, lines, strict=True):
         if not _NUMBER_RE.fullmatch(cell):
             raise DataError(path, line, column, f"not a number: {_short(cell)!r} ({_NUMBER_RULE})")
     raise DataError(path, lines[0] if lines else None, column, f"not numbers ({_NUMBER_RULE})")
@@ -417,12 +419,12 @@ def read_columns(path: Path) -> tuple[dict[str, np.ndarray], dict[str, np.ndarra
     """
     try:
         _check_header_bytes(path)
-        names, every = _read_plain(path)
+        _, every = _read_plain(path)
     except InputFileError as e:
         raise DataError(path, None, None, e.problem) from None
     except _NotPlain:
         try:
-            names, cols, extra, lines = _read_strict(path)
+            _, cols, extra, lines = _read_strict(path)
         except _GZIP_ERRORS as e:
             raise _gzip_error(path, e) from None
     except UnicodeDecodeError as e:
@@ -432,5 +434,5 @@ def read_columns(path: Path) -> tuple[dict[str, np.ndarray], dict[str, np.ndarra
     else:
         cols = {n: v for n, v in every.items() if n in KNOWN_COLUMNS}
         extra = {n: v for n, v in every.items() if n not in KNOWN_COLUMNS}
-        lines = None            # plain file: row k is line k + 2
+        return cols, extra, None            # plain file: row k is line k + 2
     return cols, extra, lines

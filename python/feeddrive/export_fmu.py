@@ -123,7 +123,7 @@ def _describe(model: ModelFile, model_path: Path | None) -> str:
     what = f"{model.name}" + (f": {model.description}" if model.description else "")
     if model_path is None:
         return f"Identified machine {what} (feeddrive fmu)"
-    date = dt.datetime.fromtimestamp(model_path.stat().st_mtime, dt.timezone.utc)
+    date = dt.datetime.fromtimestamp(model_path.stat().st_mtime, dt.UTC)
     return (f"Identified machine {what}; model file {model_path.name} of "
             f"{date.strftime('%Y-%m-%dT%H:%M:%SZ')} (feeddrive fmu)")
 
@@ -138,7 +138,7 @@ def _edit_description(xml: Path, model: ModelFile, model_path: Path | None, src:
         _set_start2(root, values, src)
     root.set("description", f"{_describe(model, model_path)}. Built on: {root.get('description', '')}")
     root.set("generationDateAndTime",
-             dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"))
+             dt.datetime.now(dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ"))
     tree.write(str(xml), encoding="UTF-8", xml_declaration=True)
 
 

@@ -30,13 +30,13 @@ import os
 import shutil
 import tempfile
 import threading
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Protocol
 
 import numpy as np
-from fmpy import extract, read_model_description, sharedLibraryExtension
+from fmpy import extract, platform_tuple, read_model_description, sharedLibraryExtension
 from fmpy import platform as fmpy_platform
 from fmpy import platform_tuple
 from fmpy.model_description import ModelDescription, ScalarVariable
@@ -47,6 +47,7 @@ from . import fmu3
 from .model_description import (DEFAULT_FMU, FMU_ENV, FMUError, FMUNotFoundError,  # noqa: F401
                                 fmu_path)
 from .model_description import fmi_version
+from .model_description import fmu_path as fmu_path
 
 OUTPUTS = ("x", "v", "a", "i", "F_motor", "F_cogging", "F_friction", "K_f")
 
@@ -122,7 +123,7 @@ def unpacked(path: str | Path) -> Unpacked:
 
 
 @dataclass
-class Result(Mapping):
+class Result(Mapping[str, np.ndarray]):
     """Recorded signals of one run: ``res["x"]`` etc. are numpy arrays over ``res["time"]``."""
 
     signals: dict[str, np.ndarray]
@@ -130,7 +131,7 @@ class Result(Mapping):
     def __getitem__(self, k: str) -> np.ndarray:
         return self.signals[k]
 
-    def __iter__(self):
+    def __iter__(self) -> Iterator[str]:
         return iter(self.signals)
 
     def __len__(self) -> int:
@@ -283,10 +284,10 @@ class Plant:
             self._instantiated = False
             self.generation += 1
 
-    def __enter__(self) -> "Plant":
+    def __enter__(self) -> Self:
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: object) -> None:
         self.close()
 
     def __del__(self) -> None:
@@ -296,7 +297,7 @@ class Plant:
             pass
 
     # ------------------------------------------------------------------ fast raw access
-    def raw_calls(self) -> "RawCalls":
+    def raw_calls(self) -> RawCalls:
         """Own ctypes handles on the started instance's fmi2DoStep, fmi2GetReal, fmi2SetReal.
 
         Loaded from the FMU's shared library (fmpy's public ``dll``), independent of fmpy's
@@ -311,7 +312,7 @@ class Plant:
             self._raw_handles = handles
         return RawCalls(self.fmu.component, *handles)
 
-    def raw(self, names: Sequence[str]) -> "RawIO":
+    def raw(self, names: Sequence[str]) -> RawIO:
         """Pre-built ctypes arrays for ``names`` (Real variables): ~1 µs get/set calls."""
         return RawIO(self, names)
 
@@ -494,7 +495,8 @@ class _FMI2:
 def _load_raw_handles(dll: ctypes.CDLL) -> tuple[Callable[..., int], ...]:
     """fmi2DoStep, fmi2GetReal, fmi2SetReal of ``dll`` with our own ctypes signatures."""
     ptr, n = ctypes.c_void_p, ctypes.c_size_t
-    sigs = (("fmi2DoStep", [ptr, ctypes.c_double, ctypes.c_double, ctypes.c_int]),
+    sigs: tuple[tuple[str, list[Any]], ...] = (
+            ("fmi2DoStep", [ptr, ctypes.c_double, ctypes.c_double, ctypes.c_int]),
             ("fmi2GetReal", [ptr, ptr, n, ptr]), ("fmi2SetReal", [ptr, ptr, n, ptr]))
     out = []
     for name, argtypes in sigs:
@@ -542,7 +544,7 @@ class RawIO:
         self.calls = plant.raw_calls()
         self._generation = plant.generation
 
-    def _current(self) -> "RawCalls":
+    def _current(self) -> RawCalls:
         """The calls on the plant's current instance: after a restart the arrays are re-bound
         to the new instance (never a freed one); after close() an FMUError."""
         if self._generation != self.plant.generation:

@@ -81,13 +81,13 @@ def configured(path: str | Path, interface: str, n: int, **instantiate: object
 
 
 def fmi3_values(md: ModelDescription, values: dict[str, float | int | bool]
-                ) -> dict[str, float | int | bool | list]:
+                ) -> dict[str, float | int | bool | list[Any]]:
     """FMI 2.0 names and values (``friction.nu[2]``, ...) as the FMI 3.0 variables of ``md``:
     the elements of an array of dimension N gathered into one list (elements not given keep
     their start values; elements past N are dropped: they do not act on the model).  Raises
     KeyError naming a variable neither version has."""
     by_name = {v.name: v for v in md.modelVariables}
-    out: dict[str, float | int | bool | list] = {}
+    out: dict[str, float | int | bool | list[Any]] = {}
     for name, value in values.items():
         if name in by_name:
             out[name] = value
@@ -100,8 +100,10 @@ def fmi3_values(md: ModelDescription, values: dict[str, float | int | bool]
         n = int(np.prod(var.shape))
         if k > n:
             continue
-        cur = out.setdefault(base, [var._python_type(s) for s in str(var.start).split()] if var.start
-                             else [var._python_type(0)] * n)
+        cur = out.get(base)
+        if not isinstance(cur, list):
+            cur = out[base] = ([var._python_type(s) for s in str(var.start).split()] if var.start
+                               else [var._python_type(0)] * n)
         cur[k - 1] = value
     return out
 
@@ -114,7 +116,7 @@ def set_values(fmu: FMU3Model | FMU3Slave, md: ModelDescription,
     for name, value in fmi3_values(md, values).items():
         var = by_name[name]
         if name == N_NAME:
-            if int(value) != int(var.start):
+            if isinstance(value, list) or int(value) != int(var.start):
                 raise ValueError(f"{N_NAME} = {value}: this instance was configured with {var.start} "
                                  "(use configured(path, interface, N))")
             continue
@@ -154,7 +156,7 @@ def raw_handles3(dll: ctypes.CDLL) -> tuple[Callable[..., int], ...]:
         f.restype = ctypes.c_int
         f.argtypes = [ptr, ptr, n, ptr, n]
 
-    def do_step(c: int, t: float, h: float, no_set_prior: int, _keep=(flags, last)) -> int:
+    def do_step(c: int, t: float, h: float, no_set_prior: int, _keep: object = (flags, last)) -> int:
         # _keep: the output buffers live as long as the function (their addresses are passed)
         return do(c, t, h, bool(no_set_prior), a_event, a_term, a_early, a_last)
 

@@ -15,7 +15,6 @@ from importlib import resources
 from pathlib import Path
 from xml.etree import ElementTree
 
-
 FMU_ENV = "FEEDDRIVE_FMU"
 DEFAULT_FMU = Path(str(resources.files(__package__) / "LinearMotorFeedDrive.fmu"))
 
@@ -89,8 +88,8 @@ def _read(path: str, mtime: float) -> dict[str, Variable]:
         return _read3(root)
     for sv in root.iter("ScalarVariable"):
         typed = next(iter(sv))
-        out[sv.get("name")] = Variable(
-            name=sv.get("name"), kind=typed.tag, causality=sv.get("causality", "local"),
+        out[sv.get("name", "")] = Variable(
+            name=sv.get("name", ""), kind=typed.tag, causality=sv.get("causality", "local"),
             variability=sv.get("variability", "continuous"), unit=typed.get("unit", ""),
             lo=_number(typed.get("min"), -math.inf), hi=_number(typed.get("max"), math.inf))
     return out
@@ -125,27 +124,29 @@ _KIND3 = {"Float64": "Real", "Int32": "Integer", "Boolean": "Boolean"}
 def _read3(root: ElementTree.Element) -> dict[str, Variable]:
     """FMI 3.0 variables under their FMI 2.0 names: an array of dimension ``friction.N``
     as its elements ``friction.F[1]`` ... up to the structural parameter's ``max``."""
-    mv = list(root.find("ModelVariables"))
+    mv = list(root.iterfind("ModelVariables/*"))
     size = {v.get("valueReference"): int(v.get("max", v.get("start", "1")))
             for v in mv if v.get("causality") == "structuralParameter"}
     out: dict[str, Variable] = {}
     for v in mv:
         kind = _KIND3.get(v.tag, v.tag)
-        name = v.get("name")
+        name = v.get("name", "")
         dims = v.findall("Dimension")
-
-        def make(n: str) -> Variable:
-            return Variable(name=n, kind=kind, causality=v.get("causality", "local"),
-                            variability=v.get("variability", "continuous"), unit=v.get("unit", ""),
-                            lo=_number(v.get("min"), -math.inf), hi=_number(v.get("max"), math.inf))
         if not dims:
-            out[name] = make(name)
+            out[name] = _variable3(v, name, kind)
             continue
         n = size.get(dims[0].get("valueReference"), int(dims[0].get("start", "1")))
         for k in range(1, n + 1):
             el = f"der({name[4:-1]}[{k}])" if name.startswith("der(") else f"{name}[{k}]"
-            out[el] = make(el)
+            out[el] = _variable3(v, el, kind)
     return out
+
+
+def _variable3(v: ElementTree.Element, name: str, kind: str) -> Variable:
+    """The FMI 3.0 variable ``v`` (or one element of it) as ``name``."""
+    return Variable(name=name, kind=kind, causality=v.get("causality", "local"),
+                    variability=v.get("variability", "continuous"), unit=v.get("unit", ""),
+                    lo=_number(v.get("min"), -math.inf), hi=_number(v.get("max"), math.inf))
 
 
 def variables(fmu: str | Path | None = None) -> dict[str, Variable]:

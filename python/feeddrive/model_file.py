@@ -14,9 +14,10 @@ Rules (checked by :func:`load_model`, every error names the file and the key):
 - ``parameters`` keys are FMU parameter names (those of ``paper_parameters()``); an unknown
   name is an error.  **Parameters left out are filled from the paper's defaults**
   (``paper_parameters()``); the names so filled are kept in ``ModelFile.defaulted``.
-- ``friction.N``, ``friction_profile.n`` and ``compliance.sensor_side`` are JSON integers; every other parameter a finite number (a JSON integer is
-  accepted and stored as float).  ``effects.<id>`` switches belong under ``effects``; one
-  found under ``parameters`` must be a boolean that agrees with ``effects``.
+- ``friction.N``, ``friction_profile.n`` and ``compliance.sensor_side`` are JSON integers;
+  every other parameter a finite number (a JSON integer is accepted and stored as float).
+  ``effects.<id>`` switches belong under ``effects``; one found under ``parameters`` must be a
+  boolean that agrees with ``effects``.
 - ``name`` (defaults to the file stem) and ``description`` are strings; other top-level
   keys and duplicate keys are errors.
 - optional ``uncertainty`` (written by ``feeddrive identify --bootstrap``):

@@ -168,7 +168,7 @@ def _temporary_beside(target: Path) -> tuple[int, Path]:
             continue
 
 
-def write_with(target: str | Path, write: Callable[[Path], None],
+def write_with(target: str | Path, write: Callable[[Path], object],
                inputs: Reads | Iterable[str | Path | None] = ()) -> Path:
     """Write ``target`` atomically through ``write(tmp)``, which fills the temporary file
     ``tmp`` beside it (then renamed over ``target``: a reader sees the old or the new file);

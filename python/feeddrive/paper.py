@@ -62,7 +62,7 @@ def paper_parameters() -> dict[str, float | int | bool]:
     p: dict[str, float | int | bool] = {"m": MASS, "Ts": TS}
     for j in range(1, 6):
         p[f"current.a[{j}]"] = CURRENT_A[j - 1] if j <= len(CURRENT_A) else 0.0
-    for j in range(0, 6):
+    for j in range(6):
         p[f"current.b[{j}]"] = CURRENT_B[j] if j < len(CURRENT_B) else 0.0
     for name in ("cogging", "ripple"):
         t = TABLE1_MM[name]

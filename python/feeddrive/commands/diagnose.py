@@ -20,7 +20,7 @@ def main(a: argparse.Namespace) -> int:
     model = load_model(a.model)
     sides = [check_run(run, model) for run in runs]
     said = [line for run, s in zip(runs, sides, strict=True)
-            if (line := s.note_line(str(sidecar_path(run.path))))]
+            if run.path is not None and (line := s.note_line(str(sidecar_path(run.path))))]
     with stages("diagnose", a) as stage:
         diag = diagnose(runs, model, max_steps=a.max_steps, force_gain=a.force_gain,
                         window=a.window, n_blocks=a.blocks, closed_loop=not a.no_closed_loop,

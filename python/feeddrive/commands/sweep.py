@@ -8,8 +8,7 @@ from pathlib import Path
 
 from ..outputs import check_dir
 from ..report.study import write_bootstrap_report, write_study_report
-from ..study import (BootstrapStudy, load_study_file, run_bootstrap_study, run_study,
-                     study_reads)
+from ..study import BootstrapStudy, load_study_file, run_bootstrap_study, run_study, study_reads
 from ..study.table import CSV_NAME, IDENTITY_NAME
 from .common import UsageError, progress_enabled
 

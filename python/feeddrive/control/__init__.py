@@ -12,8 +12,14 @@ feedforward) are given as arrays at construction, so ``step`` only indexes them.
 - :mod:`margins`: gain / phase / modulus margins from a loop frequency response.
 """
 from .design_model import DesignModel, design_model, simulate_linear
-from .feedforward import (Feedforward, FeedforwardOptions, feedforward, invert_current_loop,
-                          reference_derivatives, static_friction)
+from .feedforward import (
+    Feedforward,
+    FeedforwardOptions,
+    feedforward,
+    invert_current_loop,
+    reference_derivatives,
+    static_friction,
+)
 from .lti import LTIController
 from .margins import Margins, loop_margins
 from .pid import PID

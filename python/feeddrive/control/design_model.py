@@ -16,11 +16,13 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 from scipy import signal
 
 from ..physics import CurrentLoop
+
 
 @dataclass(frozen=True)
 class DesignModel:
@@ -167,7 +169,15 @@ def design_model(params: Mapping[str, float], delay: int = 0) -> DesignModel:
                        K_f0=K_f0, m=m, G1=G1, tf_num=tf_num, tf_den=tf_den, delay=delay)
 
 
-def simulate_linear(model: DesignModel, controller: object, n_steps: int, x0: float = 0.0,
+class SteppedController(Protocol):
+    """What :func:`simulate_linear` calls of a controller."""
+
+    def reset(self) -> None: ...
+
+    def step(self, x_meas: float, k: int) -> float: ...
+
+
+def simulate_linear(model: DesignModel, controller: SteppedController, n_steps: int, x0: float = 0.0,
                     quantum: float | None = None,
                     force: Callable[[int, float, float], float] | Sequence[float] | None = None,
                     ) -> dict[str, np.ndarray]:

@@ -44,6 +44,10 @@ from ..physics import GMSParameters, PlantParameters, compile, gms_force
 DEFAULT_V_EPS = 3e-4   #: m/s (~ V_s/10), regularisation speed of the static-friction sign
 
 
+#: the friction terms of the feedforward
+FrictionFeedforward = Literal["none", "static", "gms"]
+
+
 @dataclass(frozen=True)
 class FeedforwardOptions:
     """Which feedforward terms to use.
@@ -60,7 +64,7 @@ class FeedforwardOptions:
     inertia: bool = False
     cogging: bool = True
     ripple: bool = True
-    friction: Literal["none", "static", "gms"] = "gms"
+    friction: FrictionFeedforward = "gms"
     v_eps: float = DEFAULT_V_EPS
     offset: bool = True
     current_loop: Literal["dc", "inverse"] = "dc"

@@ -33,6 +33,7 @@ the PID with filtered derivative and lead, and the cascaded P-PI with a velocity
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from typing import cast
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -65,7 +66,10 @@ def _aligned(p: np.ndarray, m: int, what: str) -> np.ndarray:
 def _add(*polys: np.ndarray) -> np.ndarray:
     """Sum of polynomials in z^-1 (coefficients from z^0 up: aligned at the front)."""
     m = max(len(p) for p in polys)
-    return sum(np.pad(np.asarray(p, float), (0, m - len(p))) for p in polys)
+    out = np.zeros(m)
+    for p in polys:
+        out += np.pad(np.asarray(p, float), (0, m - len(p)))
+    return out
 
 
 def tf_to_ss(num: Sequence[ArrayLike], den: ArrayLike | Sequence[ArrayLike]
@@ -85,19 +89,20 @@ def tf_to_ss(num: Sequence[ArrayLike], den: ArrayLike | Sequence[ArrayLike]
     if len(num) != 2:
         raise ValueError(f"lti: num must be [num for x_ref, num for x_meas], got {len(num)} lists")
     nr, ny = _poly(num[0], "num[0]"), _poly(num[1], "num[1]")
-    if len(den) and np.ndim(den[0]) > 0:
-        if len(den) != 2:
+    dens = cast(Sequence[ArrayLike], den)       # one list of numbers, or two lists
+    if len(dens) and np.ndim(dens[0]) > 0:
+        if len(dens) != 2:
             raise ValueError(f"lti: den must be one list or [den for x_ref, den for x_meas], "
-                             f"got {len(den)} lists")
-        dr = np.trim_zeros(_poly(den[0], "den[0]"), "f")
-        dy = np.trim_zeros(_poly(den[1], "den[1]"), "f")
+                             f"got {len(dens)} lists")
+        dr = np.trim_zeros(_poly(dens[0], "den[0]"), "f")
+        dy = np.trim_zeros(_poly(dens[1], "den[1]"), "f")
         if dr.size == 0 or dy.size == 0:
             raise ValueError("lti: a denominator is zero")
         nr = np.polymul(_aligned(nr, dr.size, "num[0]"), dy)
         ny = np.polymul(_aligned(ny, dy.size, "num[1]"), dr)
         d = np.polymul(dr, dy)
     else:
-        d = np.trim_zeros(_poly(den, "den"), "f")
+        d = np.trim_zeros(_poly(cast(ArrayLike, den), "den"), "f")
         if d.size == 0:
             raise ValueError("lti: den is zero")
     nums = np.vstack([_aligned(p, d.size, w) for p, w in ((nr, "num[0]"), (ny, "num[1]"))])

@@ -82,13 +82,13 @@ class PID:
         self._a = self.tf / (self.tf + self.Ts)
         self._b = self.Kv / (self.tf + self.Ts)
         self.lead = None if lead is None else (float(lead[0]), float(lead[1]))
-        self._lead_ba = None if lead is None else lead_coefficients(*self.lead, self.Ts)
+        self._lead_ba = None if self.lead is None else lead_coefficients(*self.lead, self.Ts)
         self.u_ff = None if u_ff is None else np.asarray(u_ff, dtype=float).copy()
-        self._uff = [] if u_ff is None else self.u_ff.tolist()
+        self._uff = [] if self.u_ff is None else self.u_ff.tolist()
         self.reset()
 
     @classmethod
-    def from_force_gains(cls, model: DesignModel, reference: ArrayLike, **kw: Any) -> "PID":
+    def from_force_gains(cls, model: DesignModel, reference: ArrayLike, **kw: Any) -> PID:
         """A PID at ``model``'s Ts whose force_per_volt is the model's K_f0 G(1)."""
         return cls(reference, Ts=model.Ts, force_per_volt=1.0 / model.volts_per_newton, **kw)
 

@@ -145,8 +145,8 @@ class StateSpaceController:
     """
 
     def __init__(self, model: DesignModel, reference: ArrayLike, *,
-                 poles: Sequence[complex] | None = None,
-                 observer_poles: Sequence[complex] | None = None,
+                 poles: Sequence[complex] | np.ndarray | None = None,
+                 observer_poles: Sequence[complex] | np.ndarray | None = None,
                  u_ff: ArrayLike | None = None,
                  u_limits: tuple[float, float] = DEFAULT_U_LIMITS,
                  prefilter: str | None = "zpetc", zpetc_radius: float = 0.9) -> None:
@@ -179,7 +179,7 @@ class StateSpaceController:
     @classmethod
     def from_params(cls, params: Mapping[str, float], reference: ArrayLike,
                     feedforward_options: Any = None, v_ref: ArrayLike | None = None,
-                    a_ref: ArrayLike | None = None, **kw: Any) -> "StateSpaceController":
+                    a_ref: ArrayLike | None = None, **kw: Any) -> StateSpaceController:
         """Design model, feedforward and controller from one nominal parameter dict.
 
         ``feedforward_options``: None for no feedforward, else a
@@ -240,7 +240,7 @@ class StateSpaceController:
         Cc[nd + 1:] = -Kh
         Dy = float(-Kp @ self.L)
         Dr = float(self.K[0])            # position feedback acts on x_hat - r
-        self.lti = {"Ac": Ac, "By": By, "Br": Br, "Bu": Bu, "Cc": Cc, "Dy": Dy, "Dr": Dr}
+        self.lti: dict[str, Any] = {"Ac": Ac, "By": By, "Br": Br, "Bu": Bu, "Cc": Cc, "Dy": Dy, "Dr": Dr}
         self._fn = compile_step(Ac, By, Br, Bu, Cc, Dy, Dr, *self.u_limits)
 
     # -------------------------------------------------------------- analysis
@@ -302,7 +302,7 @@ class StateSpaceController:
         def poles_table(p: np.ndarray) -> list[dict[str, Any]]:
             f, z = z_to_hz_zeta(p, self.Ts)
             return [{"z": complex(pi), "f_hz": float(fi), "zeta": float(zi)}
-                    for pi, fi, zi in zip(p, f, z)]
+                    for pi, fi, zi in zip(p, f, z, strict=True)]
         return {
             "K": self.K.tolist(), "k_q": self.k_q, "L": self.L.tolist(),
             "force_equivalent": {"Kp_N_per_m": self.K[0] * fn, "Kv_Ns_per_m": self.K[1] * fn,
@@ -340,7 +340,7 @@ class StateSpaceController:
     def set_feedforward(self, u_ff: ArrayLike | None) -> None:
         """Set u_ff[k] [V] (None: no feedforward); zero beyond the end of the array."""
         self.u_ff = None if u_ff is None else np.asarray(u_ff, dtype=float).copy()
-        self._uff = [] if u_ff is None else self.u_ff.tolist()
+        self._uff = [] if self.u_ff is None else self.u_ff.tolist()
         self._n_ff = len(self._uff)
 
     def reset(self) -> None:

@@ -25,7 +25,6 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy import signal
 
-
 UNIT_CIRCLE_TOL = 1e-6   #: zeros this close to the unit circle count as on it
 
 
@@ -40,18 +39,18 @@ class ZPETC:
     """
 
     def __init__(self, num: ArrayLike, den: ArrayLike, radius: float = 0.9) -> None:
-        num = np.trim_zeros(np.atleast_1d(np.asarray(num, dtype=float)), "f")
-        den = np.trim_zeros(np.atleast_1d(np.asarray(den, dtype=float)), "f")
-        if num.size == 0 or den.size == 0:
+        nz = np.trim_zeros(np.atleast_1d(np.asarray(num, dtype=float)), "f")
+        dz = np.trim_zeros(np.atleast_1d(np.asarray(den, dtype=float)), "f")
+        if nz.size == 0 or dz.size == 0:
             raise ValueError("zpetc.py: empty numerator or denominator")
-        if len(num) > len(den):
+        if len(nz) > len(dz):
             raise ValueError("zpetc.py: T(z) must be proper (deg num <= deg den)")
-        poles = np.roots(den)
+        poles = np.roots(dz)
         if np.any(np.abs(poles) >= 1.0):
             raise ValueError(f"zpetc.py: the closed loop is unstable (poles {poles})")
-        num, den = num / den[0], den / den[0]
-        b0 = num[0]
-        zeros = np.roots(num)
+        nz, dz = nz / dz[0], dz / dz[0]
+        b0 = nz[0]
+        zeros = np.roots(nz)
         inside = np.abs(zeros) < 1.0 - UNIT_CIRCLE_TOL
         acc = inside & ((zeros.real >= 0) | (np.abs(zeros) < radius))
         self.zeros_cancelled = zeros[acc]
@@ -61,16 +60,16 @@ class ZPETC:
         Bu1 = np.polyval(Bu, 1.0)
         if abs(Bu1) < 1e-12:
             raise ValueError("zpetc.py: T(z) has a zero at z = 1, no tracking possible")
-        n, na, s = len(den) - 1, len(Ba) - 1, len(Bu) - 1
+        n, na, s = len(dz) - 1, len(Ba) - 1, len(Bu) - 1
         self.preview = n - na            #: d + s samples
         self.relative_degree = n - na - s
         # causal form: [A_c(z) z^-n][B_u(z^-1)] / (b0 B_u(1)^2 [B_a(z) z^-na])
-        self.b = np.convolve(den, Bu[::-1]) / (b0 * Bu1**2)
+        self.b = np.convolve(dz, Bu[::-1]) / (b0 * Bu1**2)
         self.a = Ba
-        self.num, self.den, self.radius = num, den, radius
+        self.num, self.den, self.radius = nz, dz, radius
 
     @classmethod
-    def from_controller(cls, controller: Any, radius: float = 0.9) -> "ZPETC":
+    def from_controller(cls, controller: Any, radius: float = 0.9) -> ZPETC:
         """Pre-filter for a controller exposing ``closed_loop_tf() -> (num, den)``."""
         num, den = controller.closed_loop_tf()
         return cls(num, den, radius=radius)

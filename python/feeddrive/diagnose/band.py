@@ -101,9 +101,9 @@ def wide_band(runs: list[Run], model: ModelFile, res: list[RunResidual], n_block
         return None
     wres = residuals(runs, model, window=w, force_gain=force_gain)
     plant = compile(model)
-    floors = [noise_floor(run, q, plant, force_gain) for run, q in zip(runs, wres)]
+    floors = [noise_floor(run, q, plant, force_gain) for run, q in zip(runs, wres, strict=True)]
     floor_N = float(np.sqrt(np.mean(np.concatenate([f.sigma[q.valid] ** 2
-                                                     for f, q in zip(floors, wres)]))))
+                                                     for f, q in zip(floors, wres, strict=True)]))))
     gate = make_gate(model, wres, floor_N)
     ctx = Context(wres, model, n_blocks=n_blocks)
     sm = score(ctx, mass(ctx)[0])

@@ -24,10 +24,18 @@ from ..effects import EFFECTS, Effect
 from ..fits.compliance import fit_compliance
 from ..model_file import ModelFile
 from ..paper import N_ELEMENTS_MAX, N_HARMONICS
-from ..physics import (FrictionProfile, gms_force, held_current, load_acceleration,
-                       load_free_response, profile_basis, stribeck_drop)
+from ..physics import (
+    FrictionProfile,
+    gms_force,
+    held_current,
+    load_acceleration,
+    load_free_response,
+    profile_basis,
+    stribeck_drop,
+)
 from .context import Context
 from .localise import spatial_spectrum, spectral_peaks
+from .residual import RunResidual
 
 #: Maxwell-slip element travels tried by the pre-rolling candidate [m].
 PREROLL_DELTAS = tuple(np.geomspace(2e-6, 300e-6, 8).tolist())
@@ -65,6 +73,13 @@ class Variant:
         return self.Phi.shape[1] - self.nuisance
 
 
+def _current(q: RunResidual) -> np.ndarray:
+    """The run's current (a candidate that reads it is offered only when every run has one)."""
+    if q.i is None:
+        raise ValueError(f"{q.name}: no current")
+    return q.i
+
+
 def _poly_basis(x: np.ndarray, centre: float, half: float, powers: range) -> np.ndarray:
     xi = (x - centre) / half
     return np.column_stack([xi**k for k in powers])
@@ -74,7 +89,7 @@ def _poly_to_x(theta_xi: np.ndarray, powers: range, centre: float, half: float, 
                ) -> np.ndarray:
     """Coefficients in x (powers 0..order) of sum theta_k ((x - centre)/half)^k."""
     full = np.zeros(order + 1)
-    for k, t in zip(powers, theta_xi):
+    for k, t in zip(powers, theta_xi, strict=True):
         full[k] = t
     P = np.polynomial.Polynomial(full, domain=[centre - half, centre + half])
     c = P.convert().coef
@@ -186,8 +201,11 @@ def position_friction(ctx: Context) -> list[Variant]:
         grids += [(lo, hi, n, None) for n in PROFILE_KNOTS]
     out = []
     for x0, x1, n, old in grids:
-        Phi = ctx.stack(lambda q: profile_basis(q.x, x0, x1, n) * _sliding_level(ctx, q)[:, None],
-                        mask_stuck=True)
+
+        def basis(q: RunResidual, x0: float = x0, x1: float = x1, n: int = n) -> np.ndarray:
+            return profile_basis(q.x, x0, x1, n) * _sliding_level(ctx, q)[:, None]
+
+        Phi = ctx.stack(basis, mask_stuck=True)
 
         def to_model(th: np.ndarray, x0=x0, x1=x1, old=old) -> ModelFile:
             c = (old if old is not None else 0.0) + np.asarray(th, dtype=float)
@@ -231,12 +249,14 @@ def stribeck(ctx: Context) -> list[Variant]:
     refined = (float(np.exp(opt.x[0])), float(np.clip(opt.x[1], 0.2, 3.0)))
     out = []
     for Vs, d in [refined] + grid:
+
+        def to_model(th: np.ndarray, Vs: float = Vs, d: float = d) -> ModelFile:
+            return m.with_effect("stribeck", True, **{"friction.F_s": F_c + th[0], "friction.V_s": Vs,
+                                                      "friction.delta": d})
+
         out.append(Variant(
             "stribeck", f"V_s={Vs * 1e3:.3g} mm/s, delta={d:.3g}", column(Vs, d), ["F_s - F_c"],
-            base=base, refine=on, nonneg=True,
-            to_model=lambda th, Vs=Vs, d=d: m.with_effect(
-                "stribeck", True, **{"friction.F_s": F_c + th[0], "friction.V_s": Vs,
-                                     "friction.delta": d})))
+            base=base, refine=on, nonneg=True, to_model=to_model))
     return out
 
 
@@ -306,7 +326,7 @@ def frictional_lag(ctx: Context) -> list[Variant]:
     if not cols:
         return []
     expl = {C: _explained(A, y) for C, A in cols.items()}
-    Cb = max(expl, key=expl.get)
+    Cb = max(expl, key=lambda C: expl[C])
     # refine log C between the neighbours of the best grid point
     k = LAG_C.index(Cb)
     lo, hi = np.log(LAG_C[max(k - 1, 0)]), np.log(LAG_C[min(k + 1, len(LAG_C) - 1)])
@@ -319,9 +339,12 @@ def frictional_lag(ctx: Context) -> list[Variant]:
             cols = {Cr: column(Cr), **cols}
     out = []
     for C, Phi in cols.items():
+
+        def to_model(th: np.ndarray, C: float = C) -> ModelFile:
+            return m.with_effect("frictional_lag", True, **{"friction.C": C})
+
         out.append(Variant("frictional_lag", f"C={C:.3g} N/s", Phi, ["scale"], base=base,
-                           refine=on, to_model=lambda th, C=C: m.with_effect(
-                               "frictional_lag", True, **{"friction.C": C})))
+                           refine=on, to_model=to_model))
     return out
 
 
@@ -330,7 +353,7 @@ def cogging_aperiodic(ctx: Context) -> list[Variant]:
     m = ctx.model
     on = m.effects["cogging_aperiodic"]
     c, h = _span(ctx)
-    powers = range(0, 4)
+    powers = range(4)
     Phi = ctx.stack(lambda q: _poly_basis(q.x, c, h, powers), mask_stuck=True)
     old = np.array([float(m.parameters[f"cogging.c[{k}]"]) for k in range(4)]) if on \
         else np.zeros(4)
@@ -353,9 +376,9 @@ def ripple_aperiodic(ctx: Context) -> list[Variant]:
     # the constant is included: with the polynomial off the model's K_f is c0 alone, and the
     # truth's drift over a short stretch of stroke is mostly a change of level (which trades
     # off with the mass only when friction and cogging leave i proportional to a)
-    powers = range(0, 3)
+    powers = range(3)
     # more K_f means more motor force: r = -(dK_f) i
-    Phi = -ctx.stack(lambda q: q.i[:, None] * _poly_basis(q.x, c, h, powers), mask_stuck=True)
+    Phi = -ctx.stack(lambda q: _current(q)[:, None] * _poly_basis(q.x, c, h, powers), mask_stuck=True)
     old = np.array([float(m.parameters[f"ripple.c[{k}]"]) for k in range(3)])
     if not on:
         old[1:] = 0.0          # off: K_f = c0 on the stroke
@@ -386,7 +409,7 @@ def _periodic(ctx: Context, name: str, effect: str) -> list[Variant]:
     w = (lambda q: q.i) if weighted else (lambda q: np.ones(len(q.r)))
     peaks = _refine_wavelengths(ctx, w, lams_used, [lam for lam, _ in peaks])
     out = []
-    for n_extra in range(0, len(peaks) + 1):
+    for n_extra in range(len(peaks) + 1):
         extra = [lam for lam, _ in peaks[:n_extra]]
         slots = used + free[:n_extra]
         wl = lams_used + extra
@@ -404,7 +427,7 @@ def _periodic(ctx: Context, name: str, effect: str) -> list[Variant]:
         def to_model(th, slots=slots, wl=wl):
             n = len(slots)
             upd = {}
-            for k, (j, lam) in enumerate(zip(slots, wl)):
+            for k, (j, lam) in enumerate(zip(slots, wl, strict=True)):
                 a0 = float(p[f"{name}.a[{j}]"]) if on else 0.0
                 b0 = float(p[f"{name}.b[{j}]"]) if on else 0.0
                 upd[f"{name}.a[{j}]"] = a0 + float(th[k])

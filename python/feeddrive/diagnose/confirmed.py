@@ -47,8 +47,8 @@ def confirm_steps(steps: Sequence[Any], res: Sequence[RunResidual], sigma: Seque
             for name in regimes:
                 sel[j] |= masks[j].get(name, np.zeros(len(q.r), bool))
             sel[j] &= q.valid
-        r = np.concatenate([q.r[m] for q, m in zip(res, sel)])
-        s2 = np.concatenate([sg[m] for sg, m in zip(sigma, sel)])
+        r = np.concatenate([q.r[m] for q, m in zip(res, sel, strict=True)])
+        s2 = np.concatenate([sg[m] for sg, m in zip(sigma, sel, strict=True)])
         rec: dict = {"effect": s.effect, "regimes": regimes, "threshold_N": gate.threshold_N}
         if r.size:
             rms = float(np.sqrt(np.mean(r**2)))
@@ -77,7 +77,7 @@ def confirmed_model(start: ModelFile, steps: Sequence[Any], records: Sequence[di
                     final: ModelFile) -> ModelFile:
     """The start model with only the confirmed steps applied (their effect switched on and
     the parameters they changed), ``final`` itself when every step is confirmed."""
-    ok = [s for s, rec in zip(steps, records) if rec["confirmed"]]
+    ok = [s for s, rec in zip(steps, records, strict=True) if rec["confirmed"]]
     if len(ok) == len(steps):
         return final
     effects = dict(start.effects)
@@ -87,7 +87,7 @@ def confirmed_model(start: ModelFile, steps: Sequence[Any], records: Sequence[di
             effects[s.effect] = bool(s.model_after.effects[s.effect])
         params.update({k: p["value"] for k, p in s.parameters.items()})
     name = "+".join([start.name, *(s.effect for s in ok)])
-    left = [s.effect for s, rec in zip(steps, records) if not rec["confirmed"]]
+    left = [s.effect for s, rec in zip(steps, records, strict=True) if not rec["confirmed"]]
     desc = (f"{start.name} with the effects the diagnosis confirmed ({', '.join(s.effect for s in ok) or 'none'}); "
             f"fitted but not confirmed (in model_all_fits.json): {', '.join(left)}")
     return ModelFile(name=name, effects=effects, parameters=params, description=desc)

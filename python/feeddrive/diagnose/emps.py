@@ -19,7 +19,7 @@ EMPS_FORCE_GAIN = 35.15
 def emps_baseline_model() -> ModelFile:
     """The authors' IDIM-LS baseline as a model file (see module docstring)."""
     base = paper_model()
-    effects = {e: False for e in base.effects}
+    effects = dict.fromkeys(base.effects, False)
     effects.update({"mass": True, "viscous": True, "offset_force": True})
     params = dict(base.parameters)
     # no linear-motor maps on a ball screw: clear them so that a candidate switching one on

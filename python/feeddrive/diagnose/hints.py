@@ -203,7 +203,7 @@ def play_hint(runs: Sequence[Run], model: ModelFile, res: Sequence[RunResidual],
         b = float(np.exp(log_b))
         moved = [dataclasses.replace(run, x=play_position(run.x, run.time, b)) for run in runs]
         rr = residuals(list(moved), model, **kw)
-        return sum(float(np.sum(q.r[q.valid & q0.valid] ** 2)) for q, q0 in zip(rr, res))
+        return sum(float(np.sum(q.r[q.valid & q0.valid] ** 2)) for q, q0 in zip(rr, res, strict=True))
 
     grid = [(sse(np.log(b)), b) for b in PLAY_GRID]
     k = int(np.argmin([g for g, _ in grid]))
@@ -249,10 +249,10 @@ def resonance_hint(res: Sequence[RunResidual]) -> dict:
     if best is None:
         return {"signature": "resonance", "explained_force_N": 0.0, "f_Hz": None,
                 "text": "no narrow peak in the residual's spectrum"}
-    e, f0, ratio, name = best
+    e, f0, peak, name = best
     return {"signature": "resonance", "explained_force_N": float(np.sqrt(e)), "f_Hz": f0,
-            "peak_ratio": ratio, "run": name,
-            "text": f"a resonance band around {f0:.3g} Hz ({name}: {ratio:.3g} x the spectrum "
+            "peak_ratio": peak, "run": name,
+            "text": f"a resonance band around {f0:.3g} Hz ({name}: {peak:.3g} x the spectrum "
                     "around it)"}
 
 

@@ -9,6 +9,7 @@ and the *concentration* (energy share / sample share; > 1 means the gap lives th
 from __future__ import annotations
 
 from collections.abc import Sequence
+from itertools import pairwise
 
 import numpy as np
 
@@ -62,7 +63,7 @@ def regime_masks(q: RunResidual) -> dict[str, np.ndarray]:
     vmax = float(np.percentile(speed, 99)) if speed.size else 0.0
     dsr = displacement_since_reversal(q.x)
     m: dict[str, np.ndarray] = {}
-    for lo, hi in zip(REVERSAL_BINS[:-1], REVERSAL_BINS[1:]):
+    for lo, hi in pairwise(REVERSAL_BINS):
         name = (f"since_reversal_{lo * 1e6:g}-{hi * 1e6:g}um" if np.isfinite(hi)
                 else f"since_reversal_over_{lo * 1e3:g}mm")
         m[name] = (dsr >= lo) & (dsr < hi)
@@ -92,7 +93,7 @@ def position_bins(res: Sequence[RunResidual], n_bins: int = 12) -> list[tuple[fl
     lo = min(float(np.min(q.x[q.valid])) for q in res)
     hi = max(float(np.max(q.x[q.valid])) for q in res)
     edges = np.linspace(lo, hi + 1e-12, n_bins + 1)
-    return list(zip(edges[:-1].tolist(), edges[1:].tolist()))
+    return list(zip(edges[:-1].tolist(), edges[1:].tolist(), strict=True))
 
 
 def _stats(r: np.ndarray, mask: np.ndarray, total_sse: float, n_total: int) -> dict:
@@ -116,7 +117,7 @@ def localise(res: Sequence[RunResidual], r: Sequence[np.ndarray] | None = None,
     """
     rs = [q.r if r is None else r[j] for j, q in enumerate(res)]
     masks = [regime_masks(q) for q in res]
-    allr = np.concatenate([rj[q.valid] for rj, q in zip(rs, res)])
+    allr = np.concatenate([rj[q.valid] for rj, q in zip(rs, res, strict=True)])
     total = float(allr @ allr)
     n = allr.size
     names = sorted({k for mk in masks for k in mk}, key=lambda k: list(masks[0]).index(k)
@@ -124,7 +125,7 @@ def localise(res: Sequence[RunResidual], r: Sequence[np.ndarray] | None = None,
     out: dict = {"overall": _stats(allr, np.ones(n, bool), total, n), "regimes": {}}
     for name in names:
         mk = np.concatenate([mj.get(name, np.zeros(len(q.r), bool))[q.valid]
-                             for mj, q in zip(masks, res)])
+                             for mj, q in zip(masks, res, strict=True)])
         out["regimes"][name] = _stats(allr, mk, total, n)
     xs = np.concatenate([q.x[q.valid] for q in res])
     out["position"] = []
@@ -245,7 +246,7 @@ def frequency_bands(res: Sequence[RunResidual], r: Sequence[np.ndarray] | None =
         f = np.fft.rfftfreq(rr.size, q.Ts)
         p = np.abs(np.fft.rfft(rr)) ** 2
         edges = [*FREQ_BANDS, 0.5 / q.Ts]
-        for lo, hi in zip(edges[:-1], edges[1:]):
+        for lo, hi in pairwise(edges):
             energy[(lo, hi)] = energy.get((lo, hi), 0.0) + float(p[(f >= lo) & (f < hi)].sum())
     tot = sum(energy.values())
     return [{"f_lo_Hz": lo, "f_hi_Hz": hi, "energy_share": e / tot if tot > 0 else 0.0}
@@ -260,13 +261,13 @@ def excess_location(res: Sequence[RunResidual], sigma: Sequence[np.ndarray],
     energy and the strongest spatial wavelength (cogging-like)."""
     masks = [regime_masks(q) for q in res]
     r = np.concatenate([q.r[q.valid] for q in res])
-    s = np.concatenate([sj[q.valid] for sj, q in zip(sigma, res)])
+    s = np.concatenate([sj[q.valid] for sj, q in zip(sigma, res, strict=True)])
     n = r.size
     total = float(np.sum(r**2 - s**2))
 
     def regime(name: str) -> np.ndarray:
         return np.concatenate([mj.get(name, np.zeros(len(q.r), bool))[q.valid]
-                               for mj, q in zip(masks, res)])
+                               for mj, q in zip(masks, res, strict=True)])
 
     def best(names: Sequence[str]) -> dict:
         rows = {k: _excess_stats(r, s, regime(k), total, n) for k in names}

@@ -50,9 +50,16 @@ from scipy.signal import savgol_coeffs, savgol_filter
 
 from ..data import Run
 from ..harness.sidecar import read_sidecar
-from ..physics import (DEFAULT_V_STICK, PlantParameters, force_residual as eq1_residual,
-                       friction_velocity, gms_force, karnopp_friction, load_acceleration,
-                       measured_motion)
+from ..physics import (
+    DEFAULT_V_STICK,
+    PlantParameters,
+    friction_velocity,
+    gms_force,
+    karnopp_friction,
+    load_acceleration,
+    measured_motion,
+)
+from ..physics import force_residual as eq1_residual
 from ..signals import odd_window
 from .localise import regime_masks
 from ..residual import DEFAULT_POLYORDER, RunResidual, run_force_gain
@@ -267,8 +274,8 @@ def position_noise_force(q: RunResidual, P: PlantParameters, quantum: float,
     # m q / 2 ||c||; a larger change is the re-reading's own chance (which element sticks
     # first at a reversal), not what one rounding does
     k = float(np.sum(P.friction.k)) if P.prerolling else 0.0
-    c = savgol_coeffs(w, min(max(polyorder, 2), w - 1), deriv=2, delta=q.Ts)
-    cap = quantum / 2.0 * np.hypot(k, P.m * float(np.linalg.norm(c)))
+    coef = savgol_coeffs(w, min(max(polyorder, 2), w - 1), deriv=2, delta=q.Ts)
+    cap = quantum / 2.0 * np.hypot(k, P.m * float(np.linalg.norm(coef)))
     return np.minimum(sigma, cap)
 
 
@@ -299,14 +306,14 @@ def noise_floor(run: Run, q: RunResidual, P: PlantParameters, force_gain: float 
 def floor_table(res: list[RunResidual], floors: list[NoiseFloor]) -> dict:
     """diagnosis.json ``noise_floor``: per run (sources and rms), per regime and overall rms [N]."""
     masks = [regime_masks(q) for q in res]
-    s = np.concatenate([f.sigma[q.valid] for f, q in zip(floors, res)])
+    s = np.concatenate([f.sigma[q.valid] for f, q in zip(floors, res, strict=True)])
     names = list(dict.fromkeys(k for mk in masks for k in mk))
     regimes = {}
     for name in names:
         sel = np.concatenate([mk.get(name, np.zeros(len(q.r), bool))[q.valid]
-                              for mk, q in zip(masks, res)])
+                              for mk, q in zip(masks, res, strict=True)])
         if sel.any():
             regimes[name] = float(np.sqrt(np.mean(s[sel] ** 2)))
     return {"rms_N": float(np.sqrt(np.mean(s**2))),
-            "runs": {q.name: f.to_json(q.valid) for f, q in zip(floors, res)},
+            "runs": {q.name: f.to_json(q.valid) for f, q in zip(floors, res, strict=True)},
             "regimes_rms_N": regimes}

@@ -22,6 +22,7 @@ improvement is -inf, so that neither the ranking nor the polish can pick it.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 from scipy.optimize import nnls
@@ -118,7 +119,7 @@ def score(ctx: Context, var: Variant) -> Score:
     Gb = [Phi[lo:hi].T @ Phi[lo:hi] for lo, hi in bounds]
     cb = [Phi[lo:hi].T @ y[lo:hi] for lo, hi in bounds]
     yb = [float(y[lo:hi] @ y[lo:hi]) for lo, hi in bounds]
-    G, c, yy, n = sum(Gb), sum(cb), sum(yb), len(y)
+    G, c, yy, n = cast(np.ndarray, sum(Gb)), cast(np.ndarray, sum(cb)), sum(yb), len(y)
     r_ho = np.empty_like(r)
     sb, sa = np.zeros(B), np.zeros(B)
     for b, (lo, hi) in enumerate(bounds):

@@ -32,7 +32,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..physics import compile
 from ..model_file import ModelFile
 from ..residual import RunResidual
 from .scoring import I_MIN, T_MIN, Score

@@ -10,6 +10,7 @@ times [N/s], and the change from the first to the last block relative to the run
 from __future__ import annotations
 
 from collections.abc import Sequence
+from itertools import pairwise
 
 import numpy as np
 
@@ -27,7 +28,7 @@ def time_blocks(q: RunResidual, n_blocks: int = N_TIME_BLOCKS) -> list[tuple[flo
         return []
     edges = np.linspace(float(tv[0]), float(tv[-1]), n_blocks + 1)
     out = []
-    for k, (lo, hi) in enumerate(zip(edges[:-1], edges[1:])):
+    for k, (lo, hi) in enumerate(pairwise(edges)):
         m = q.valid & (t >= lo) & ((t < hi) if k < n_blocks - 1 else (t <= hi))
         out.append((float(lo), float(hi), m))
     return out
@@ -50,11 +51,11 @@ def run_time_axis(q: RunResidual, sigma: np.ndarray | None = None,
     out: dict = {"blocks": rows}
     if len(rows) >= 2:
         tm = np.array([(b["t_lo_s"] + b["t_hi_s"]) / 2 for b in rows])
-        rms = np.array([b["rms_N"] for b in rows])
-        slope = float(np.polyfit(tm, rms, 1)[0])
+        rms_b = np.array([b["rms_N"] for b in rows])
+        slope = float(np.polyfit(tm, rms_b, 1)[0])
         run_rms = float(np.sqrt(np.mean(q.r[q.valid] ** 2)))
         out["trend_N_per_s"] = slope
-        out["change_first_to_last"] = float((rms[-1] - rms[0]) / max(run_rms, 1e-300))
+        out["change_first_to_last"] = float((rms_b[-1] - rms_b[0]) / max(run_rms, 1e-300))
     return out
 
 

@@ -23,7 +23,9 @@ the steps :mod:`confirmed` confirms (the two model files of the diagnosis).
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from collections.abc import Set as AbstractSet
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -37,14 +39,29 @@ from .band import WideBand, wide_band
 from .candidates import CANDIDATES
 from .confirmed import confirmation_of
 from .context import DEFAULT_BLOCKS, Context
-from .hints import add_hint, hints as fit_hints
-from .localise import (displacement_since_reversal, excess_location, localise, spatial_spectrum,
-                       spectral_peaks, where)
+from .hints import add_hint
+from .hints import hints as fit_hints
+from .localise import (
+    displacement_since_reversal,
+    excess_location,
+    localise,
+    spatial_spectrum,
+    spectral_peaks,
+    where,
+)
 from .noise_floor import NoiseFloor, floor_table, noise_floor
 from ..residual import RunResidual, gap, residuals
 from .scoring import AMBIGUITY, I_MIN, T_MIN, Score, score, separable
-from .significance import (NOISE_FACTOR, PRACTICAL_SHARE, Gate, excess, explained_force,
-                           make_gate, nested_separable, passes)
+from .significance import (
+    NOISE_FACTOR,
+    PRACTICAL_SHARE,
+    Gate,
+    excess,
+    explained_force,
+    make_gate,
+    nested_separable,
+    passes,
+)
 from .timeaxis import time_axis, trend_text
 
 #: Travel after a reversal [m] within which the closed-loop error counts as reversal error.
@@ -74,8 +91,7 @@ def unit(name: str) -> str:
     """SI unit of an FMU parameter."""
     if name in _UNITS:
         return _UNITS[name]
-    if name.startswith("friction.nu") or name.startswith("friction_profile.c[") \
-            or name == "friction_profile.n":
+    if name.startswith(("friction.nu", "friction_profile.c[")) or name == "friction_profile.n":
         return "1"
     if name in ("friction_profile.x_start", "friction_profile.x_end"):
         return "m"
@@ -87,7 +103,7 @@ def unit(name: str) -> str:
         if name.startswith(f"{mp}.c["):
             k = int(name[len(mp) + 3:-1])
             return u if k == 0 else f"{u}/m^{k}" if k > 1 else f"{u}/m"
-        if name.startswith(f"{mp}.a[") or name.startswith(f"{mp}.b["):
+        if name.startswith((f"{mp}.a[", f"{mp}.b[")):
             return u
     return "?"
 
@@ -117,7 +133,7 @@ def parameter_changes(params: dict) -> dict:
 
 def force_change(before: list[RunResidual], after: list[RunResidual]) -> float:
     """rms over all runs of the change of the model force between two models [N]."""
-    d = np.concatenate([(qb.r - qa.r)[qb.valid & qa.valid] for qb, qa in zip(before, after)])
+    d = np.concatenate([(qb.r - qa.r)[qb.valid & qa.valid] for qb, qa in zip(before, after, strict=True)])
     return float(np.sqrt(np.mean(d**2))) if d.size else 0.0
 
 
@@ -125,15 +141,15 @@ def force_change(before: list[RunResidual], after: list[RunResidual]) -> float:
 class Step:
     """One named effect: evidence, identified parameters, gap before and after."""
 
-    effect: str | None
+    effect: str
     decision: str                      #: "missing_effect", "refinement" or "ambiguous"
     ambiguous_with: list[str]
     evidence: dict
     parameters: dict
     gap_before: dict
     gap_after: dict
+    model_after: ModelFile
     effect_was_on: bool = False        #: the step corrected values of an effect already on
-    model_after: ModelFile | None = None
     residual_before: list[RunResidual] = field(default_factory=list, repr=False)
     residual_after: list[RunResidual] = field(default_factory=list, repr=False)
 
@@ -248,7 +264,7 @@ def _gap_record(res: list[RunResidual], regimes: list[str], cl: dict | None) -> 
     return out
 
 
-def rank(ctx: Context, gate: Gate, skip: set[str] = frozenset()) -> list[Score]:
+def rank(ctx: Context, gate: Gate, skip: AbstractSet[str] = frozenset()) -> list[Score]:
     """The best variant of every candidate family, best held-out improvement first; a
     ``NESTED`` family only when it shows beyond its limit family
     (:func:`significance.nested_separable`)."""
@@ -400,6 +416,8 @@ def _wide_band_step(runs: list[Run], res: list[RunResidual], wb: WideBand, cl: d
     """The compliance step the wide-band look (:mod:`band`) confirmed, identified there and
     confirmed on the diagnosis's own residual: its gap must shrink by ``CONFIRM``."""
     c = wb.compliance
+    if c is None:
+        return None
     found = confirm_step(runs, wb.context, c, [c], [c, wb.mass], cl, name, n_blocks, kw, wb.gate)
     if found is None or found[0].gap_after["force_rms_N"] > (1.0 - CONFIRM) * gap(res):
         return None
@@ -415,8 +433,10 @@ def _band_record(wb: WideBand, lead: Score) -> dict:
     confirmed: the band of the data, the resonance glimpsed and the mass it would be taken
     for (not named)."""
     c = wb.compliance
+    if c is None:                   # a trace or a confirmation has its compliance variant
+        raise ValueError("diagnose: a band record needs the wide band's compliance variant")
     dm = float(lead.theta[0])
-    out = {**wb.to_json(), "mass_change_kg": dm}
+    out: dict[str, Any] = {**wb.to_json(), "mass_change_kg": dm}
     out["sentence"] = (
         f"The mass-like part of the residual (a mass change of {dm:+.3g} kg) rings: through a "
         f"{wb.window}-sample acceleration window (band {wb.wide_band_Hz:.0f} Hz; the diagnosis's "
@@ -453,8 +473,8 @@ def verdict(res: list[RunResidual], floors: list[NoiseFloor], gate: Gate,
     its sentence."""
     g = gap(res)
     e = excess(g, gate.floor_N)
-    out = {"gap_N": g, "noise_floor_N": gate.floor_N, "excess_N": e,
-           "x_noise_floor": g / max(gate.floor_N, 1e-300), "threshold_N": gate.threshold_N}
+    out: dict[str, Any] = {"gap_N": g, "noise_floor_N": gate.floor_N, "excess_N": e,
+                           "x_noise_floor": g / max(gate.floor_N, 1e-300), "threshold_N": gate.threshold_N}
     if e < gate.threshold_N:
         out["verdict"] = "explained"
         out["sentence"] = (f"Explained: the residual left ({g:.3g} N rms, "
@@ -480,7 +500,7 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
              force_gain: float | None = None, window: int | None = None,
              n_blocks: int = DEFAULT_BLOCKS, closed_loop: bool = True,
              notes: Sequence[str] = (),
-             progress: Callable[[str], None] | None = None) -> "Diagnosis":
+             progress: Callable[[str], None] | None = None) -> Diagnosis:
     """Diagnose what ``model`` lacks against measured ``runs`` (see module docstring).
 
     Parameters
@@ -504,9 +524,9 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
     current = model
     res = start_res = residuals(runs, current, **kw)
     plant = compile(model)
-    floors = [noise_floor(run, q, plant, force_gain) for run, q in zip(runs, res)]
+    floors = [noise_floor(run, q, plant, force_gain) for run, q in zip(runs, res, strict=True)]
     floor_N = float(np.sqrt(np.mean(np.concatenate([f.sigma[q.valid] ** 2
-                                                     for f, q in zip(floors, res)]))))
+                                                     for f, q in zip(floors, res, strict=True)]))))
     gate = make_gate(model, res, floor_N)
     notes = list(notes) + sorted({q.force_source for q in res})
     steps: list[Step] = []
@@ -517,7 +537,7 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
         notes.append("closed-loop gap not computed: no run has x_ref and a sidecar 'controller' "
                      f"the registry builds (types {', '.join(map(repr, CONTROLLERS))}; the "
                      "sidecar lines above say what was not understood)")
-    stop = {"reason": f"max_steps = {max_steps} reached"}
+    stop: dict[str, Any] = {"reason": f"max_steps = {max_steps} reached"}
     for k in range(max_steps):
         stage(f"step {k + 1}: candidates")
         ctx = Context(res, current, n_blocks=n_blocks)
@@ -533,7 +553,7 @@ def diagnose(runs: list[Run], model: ModelFile, max_steps: int = 4,
                 steps.append(step)
                 current, res = step.model_after, step.residual_after
                 continue
-        if wb is not None and (wb.trace or wb.confirmed):
+        if wb is not None and lead is not None and (wb.trace or wb.confirmed):
             band = _band_record(wb, lead)
             stop = {**_stop(band["sentence"], ranking, res, gate), "band": band}
             break

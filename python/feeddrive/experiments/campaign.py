@@ -32,11 +32,19 @@ from ..data import RECORDING_DECIMALS, Run, write_run
 from ..harness.sensors import Sensors
 from ..model_file import ModelFile, load_model, paper_model
 from ..outputs import output_dir
-from .constant_speed import (MAP_SPEED, PAPER_LOADS, PAPER_SPEED, STRIBECK_SPEEDS,
-                             constant_speed_runs, run_seed, stribeck_runs)
+from .constant_speed import (
+    MAP_SPEED,
+    PAPER_LOADS,
+    PAPER_SPEED,
+    STRIBECK_SPEEDS,
+    constant_speed_runs,
+    run_seed,
+    stribeck_runs,
+)
 from .force_open_loop import force_open_loop_runs
 from .prbs import prbs_runs
-from .prerolling_excitation import AMPLITUDES as PREROLLING_AMPLITUDES, prerolling_runs
+from .prerolling_excitation import AMPLITUDES as PREROLLING_AMPLITUDES
+from .prerolling_excitation import prerolling_runs
 from .variable_speed import variable_speed_runs
 
 #: The groups of the campaign, in the order they are run.
@@ -68,7 +76,7 @@ def plan(quick: bool = False) -> list[Job]:
                          partial(constant_speed_runs, speeds=(cv_speed,), loads=(P,),
                                  directions=(d,), segment=cv_segment)))
     speeds = (2e-3, 20e-3) if quick else STRIBECK_SPEEDS
-    kw = {"cruise_time": 2.0, "min_length": 4e-3} if quick else {}
+    kw: dict[str, Any] = {"cruise_time": 2.0, "min_length": 4e-3} if quick else {}
     for v in speeds:
         for d in (1, -1):
             jobs.append(("stribeck", f"stribeck_{v * 1e3:g}mm_s_d{d:+d}",
@@ -77,7 +85,7 @@ def plan(quick: bool = False) -> list[Job]:
                  partial(force_open_loop_runs, n_periods=5 if quick else 10)))
     jobs.append(("variable_speed", "variable_speed",
                  partial(variable_speed_runs, duration=2.0 if quick else None)))
-    pr = {"period": 2.0, "n_periods": 2.0} if quick else {"period": 4.0, "n_periods": 3.0}
+    pr: dict[str, Any] = {"period": 2.0, "n_periods": 2.0} if quick else {"period": 4.0, "n_periods": 3.0}
     for A in PREROLLING_AMPLITUDES:
         jobs.append(("prerolling", f"prerolling_A{A * 1e6:g}um",
                      partial(prerolling_runs, amplitudes=(A,), **pr)))
@@ -109,7 +117,7 @@ def campaign(params: Mapping[str, Any], sensors: Sensors, quick: bool = False,
     _check_repeats(repeats)
     out: dict[str, list[Run]] = {g: [] for g in GROUPS}
     jobs = [(g, label, fn, k) for g, label, fn in plan(quick) for k in range(repeats)]
-    for group, label, fn, k in tqdm(jobs, desc="experiments", unit="run", 
+    for group, label, fn, k in tqdm(jobs, desc="experiments", unit="run",
                                     disable=(True if quick else None) if progress is None
                                     else not progress):
         keys = (label,) if k == 0 else (label, k)

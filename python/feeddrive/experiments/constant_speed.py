@@ -69,7 +69,7 @@ def constant_speed_runs(params: Mapping[str, Any], sensors: Sensors,
     if not hi > lo:
         raise ValueError(f"constant_speed_runs: segment {(lo, hi)} must have x_hi > x_lo")
     Ts = float(params.get("Ts", 5e-4)) if Ts is None else float(Ts)
-    runs = []
+    runs: list[Run] = []
     for v in speeds:
         if not v > 0:
             raise ValueError(f"constant_speed_runs: speed {v!r} must be > 0 (give |v|)")

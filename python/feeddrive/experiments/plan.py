@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from itertools import pairwise
 from typing import Any
 
 import numpy as np
@@ -114,7 +115,7 @@ class Limits:
     loads: tuple[float, ...] = tuple(P for P in PAPER_LOADS if P != 0)
 
 
-def default_limits(model: ModelFile, stroke: tuple[float, float] | None = None,
+def default_limits(model: ModelFile, stroke: Sequence[float] | None = None,
                    v_max: float | None = None, a_max: float | None = None,
                    u_limit: float | None = None, loads: Sequence[float] | None = None
                    ) -> Limits:
@@ -211,7 +212,7 @@ def check_limits(limits: Limits, params: Mapping[str, Any]) -> None:
                             f"--u-limit {limits.u_limit:g} V; hang a lighter load or raise "
                             "--u-limit")
     P_all = sorted([0.0, *limits.loads])
-    for a, b in zip(P_all, P_all[1:]):
+    for a, b in pairwise(P_all):
         if b - a <= LOAD_TOL:
             raise PlanError(f"--loads: {a:g} and {b:g} N are closer than {LOAD_TOL:g} N (the "
                             "same load to identify; 0 N is always planned)")
@@ -491,7 +492,7 @@ def default_controller(params: Mapping[str, Any], u_limit: float) -> dict[str, A
 
 
 def make_plan(model: ModelFile, limits: Limits,
-              controller: Mapping[str, Any] | None | str = "default") -> Plan:
+              controller: Mapping[str, Any] | str | None = "default") -> Plan:
     """The campaign sized to ``limits`` on the nominal ``model`` (its Ts, mass, friction and
     force constant size the runs).
 

@@ -50,7 +50,7 @@ def reference_csv(columns: Mapping[str, np.ndarray], Ts: float) -> str:
     names = list(columns)
     dec = {"time": time_decimals(Ts), **DECIMALS}
     cols = [_strings(np.asarray(columns[c], float), dec[c]) for c in names]
-    return ",".join(names) + "\n" + "".join(",".join(row) + "\n" for row in zip(*cols))
+    return ",".join(names) + "\n" + "".join(",".join(row) + "\n" for row in zip(*cols, strict=True))
 
 
 def write_plan(plan: Plan, out: str | Path, source: str, inputs: Sequence[str | Path] = (),

@@ -73,7 +73,7 @@ def closed_loop_measurement(params: Mapping[str, Any], sensors: Sensors, ref: Re
     m = build_sidecar(str(meta.get("kind", "closed_loop")), ref.Ts, spec, sensors,
                       F_load=float(F_load), hold_before_record=k0 * ref.Ts, **meta)
     run = to_run(sampled_signals(res), sensors, x_ref=full.x[:-1], F_load=float(F_load), meta=m)
-    cols = {c: a[k0:] for c, a in run.columns().items()}
+    cols: dict[str, Any] = {c: a[k0:] for c, a in run.columns().items()}
     cols["time"] = cols["time"] - cols["time"][0]
     return Run(**cols, meta=run.meta)
 

@@ -29,11 +29,11 @@ import numpy as np
 from ..data import Run
 from ..fmu import Plant
 from ..harness.references import from_positions
-from ..physics import CurrentLoop
 from ..harness.runs import to_run
 from ..harness.sensors import Sensors
 from ..harness.sidecar import read_sidecar
 from ..harness.simulate import simulate_open_loop
+from ..physics import CurrentLoop
 from ..signals import run_label, sample_time
 from .prbs import prbs_sequence
 from .recording import closed_loop_measurement, sampled_signals
@@ -91,7 +91,7 @@ def resimulate(run: Run, params: Mapping[str, Any], sensors: Sensors,
     side = read_sidecar(run.meta)
     Ts = side.Ts if side.Ts is not None else sample_time(run.time, label=run_label(run))
     extra = {k: v for k, v in side.extra.items() if k != "hold_before_record"}
-    if side.controller is not None:
+    if side.controller is not None and run.x_ref is not None:    # both or neither: can_resimulate
         hold = float(side.extra.get("hold_before_record", 0.0))
         load = run.F_load if run.F_load is not None else np.full(run.n, side.F_load)
         u_ff = _prbs_excitation(run, run_label(run)) if extra.get("kind") == "prbs" else None

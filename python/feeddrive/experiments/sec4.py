@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from ..control.feedforward import FeedforwardOptions
+from ..control.feedforward import DEFAULT_V_EPS, FeedforwardOptions, FrictionFeedforward
 from ..harness.controllers import state_space_spec
 from ..harness.references import reversals, sinusoid
 from ..harness.runs import run_closed_loop
@@ -29,7 +29,8 @@ PERTURBATION = {
     "friction.k[5]": 0.8, "m": 1.03,
     **{f"cogging.{ab}[{j}]": 1.05 for ab in "ab" for j in (1, 2, 3)},
 }
-CASES = {"no feedforward": None, "static friction feedforward": "static", "GMS feedforward": "gms"}
+CASES: dict[str, FrictionFeedforward | None] = {"no feedforward": None, "static friction feedforward": "static",
+                                                 "GMS feedforward": "gms"}
 PAPER = {"no feedforward": (27.0, 13.0), "static friction feedforward": (23.0, 6.0),
          "GMS feedforward": (11.0, 4.0)}
 
@@ -57,8 +58,9 @@ class Sec4Result:
                  f"{'case':30s} {'reversal peak [um]':>19s} {'paper':>6s} {'band elsewhere [um]':>20s} "
                  f"{'paper':>6s} {'rms [um]':>9s}"]
         for r in self.rows:
+            band, paper_band = f"+-{r['band_um']:.1f}", f"+-{r['paper_band_um']:.0f}"
             lines.append(f"{r['case']:30s} {r['reversal_peak_um']:19.1f} {r['paper_reversal_um']:6.0f} "
-                         f"{'+-%.1f' % r['band_um']:>20s} {'+-%.0f' % r['paper_band_um']:>6s} {r['rms_um']:9.2f}")
+                         f"{band:>20s} {paper_band:>6s} {r['rms_um']:9.2f}")
         if not self.perturbed:
             lines.append("plant and nominal parameters given by the caller")
             return "\n".join(lines)
@@ -88,7 +90,7 @@ def reproduce(v_eps: float | None = None, plant: Mapping[str, Any] | None = None
                      perturbed=perturbed)
     for case, friction in CASES.items():
         opts = None if friction is None else \
-            FeedforwardOptions(friction=friction, **({"v_eps": v_eps} if v_eps else {}))
+            FeedforwardOptions(friction=friction, v_eps=v_eps or DEFAULT_V_EPS)
         spec = state_space_spec(nominal, feedforward=opts)     # feedforward on ``nominal``
         res = run_closed_loop(plant, spec, ref)
         e = ref.x - res["x"]

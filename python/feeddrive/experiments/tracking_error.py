@@ -44,7 +44,7 @@ def summarise(error: np.ndarray, x_ref: np.ndarray, Ts: float, half_width: float
               skip_start: float = 0.5) -> ErrorSummary:
     """Summary of a tracking (or model-vs-measurement) error signal."""
     e = np.abs(np.asarray(error, float))
-    near, far = reversal_mask(x_ref, Ts, half_width, skip_start)
+    _near, far = reversal_mask(x_ref, Ts, half_width, skip_start)
     w = int(round(half_width / Ts))
     peaks = [float(e[max(0, r - w):r + w + 1].max()) for r in reversals(x_ref)
              if r * Ts >= skip_start]

@@ -89,5 +89,5 @@ def variable_speed_runs(params: Mapping[str, Any], sensors: Sensors, v_min: floa
             "variable_phase": [k_begin * Ts, k_end * Ts],
             "note": "recording ends at the end of the variable-speed phase, while moving"}
     run = closed_loop_measurement(params, sensors, ref, meta, spec)
-    cols = {c: a[:k_end + 1] for c, a in run.columns().items()}
+    cols: dict[str, Any] = {c: a[:k_end + 1] for c, a in run.columns().items()}
     return [Run(**cols, meta=run.meta)]

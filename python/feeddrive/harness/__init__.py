@@ -14,10 +14,27 @@ registry, the FMU loop, the run maker, the sidecar schema and the checks of a me
 - :mod:`.controller_fmu`: a spec -> the controller FMU's parameter set, :class:`ControllerFMU`;
 - :mod:`.two_fmus`: the closed loop as controller FMU + plant FMU.
 """
-from .controllers import (CONTROLLERS, Controller, cascade_lti_spec, controller_spec, lti_spec,
-                          make_controller, pid_lead_spec, pid_lti_spec, pid_spec, state_space_spec)
-from .references import (Reference, back_and_forth, from_positions, point_to_point, prbs,
-                         reversals, sinusoid)
+from .controllers import (
+    CONTROLLERS,
+    Controller,
+    cascade_lti_spec,
+    controller_spec,
+    lti_spec,
+    make_controller,
+    pid_lead_spec,
+    pid_lti_spec,
+    pid_spec,
+    state_space_spec,
+)
+from .references import (
+    Reference,
+    back_and_forth,
+    from_positions,
+    point_to_point,
+    prbs,
+    reversals,
+    sinusoid,
+)
 from .runs import SCALE_ONLY, closed_loop_run, run_closed_loop, to_run
 from .sensors import IDEAL, Sensors
 from .sidecar import SCHEMA, Sidecar, build_sidecar, read_run_sidecar, read_sidecar

@@ -5,8 +5,9 @@ At t_k the master steps the plant (FMI 2.0, the harness's) over [t_k-1, t_k] hol
 reads x(t_k), steps the controller to t_k (it takes no sample inside a step), enters its Event
 Mode, activates ``tick`` (fmi3SetClock), sets x(t_k) as its ``x_meas`` and reads u_k (the
 sample of t_k, computed from it) while the clock is active, fmi3UpdateDiscreteStates commits
-the sample, and the master returns the controller to Step Mode.  u_k acts on the plant over [t_k, t_k+1): no delay but the controller's
-own ``ctrl.delay``, the harness's run (:func:`~.simulate.simulate_closed_loop`) to the bit.
+the sample, and the master returns the controller to Step Mode.  u_k acts on the plant over
+[t_k, t_k+1): no delay but the controller's own ``ctrl.delay``, the harness's run
+(:func:`~.simulate.simulate_closed_loop`) to the bit.
 The first tick is at t_0, in the Event Mode the controller enters after initialisation.
 """
 from __future__ import annotations
@@ -46,7 +47,7 @@ class ClockedController:
         self.k = 0
         self.messages: list[str] = []
 
-    def __enter__(self) -> "ClockedController":
+    def __enter__(self) -> ClockedController:
         self.fmu.instantiate(eventModeUsed=True,
                              logMessage=lambda env, st, cat, msg: self.messages.append(msg.decode()))
         return self

@@ -35,7 +35,8 @@ from scipy import signal
 from ..control.feedforward import FeedforwardOptions
 from ..control.pid import PID
 from ..control.state_space import StateSpaceController
-from ..fmu import FMUError, FMUNotFoundError, Plant
+from ..fmu import FMUError, Plant
+from ..model_description import FMUNotFoundError
 from .controllers import DelayedController, lti_realisation, make_controller, spec_delay
 from .references import Reference, sinusoid
 
@@ -197,9 +198,11 @@ def controller_fmu_parameters(spec: Mapping[str, Any], Ts: float = 5e-4,
     elif isinstance(ctrl, StateSpaceController):
         out.update(_state_space_values(ctrl))
         out.update(_feedforward_values(spec.get("feedforward")))
-    else:
+    elif isinstance(ctrl, PID):
         out.update(_pid_values(ctrl))
         out["ff.on"] = False
+    else:
+        raise ValueError(f"controller_fmu: the controller FMU has no form of {type(ctrl).__name__}")
     out.update(reference or {})
     return out
 

@@ -43,14 +43,29 @@ from typing import Any, Protocol
 import numpy as np
 
 from ..control.design_model import design_model
-from ..control.margins import Margins, poor_margins
 from ..control.feedforward import FeedforwardOptions, feedforward
-from ..control.lti import (LTI_MAX_ORDER, LTIController, back_calculation_gain, cascade_tf,
-                           pid_tf, rest_state, tf_to_ss)
+from ..control.lti import (
+    LTI_MAX_ORDER,
+    LTIController,
+    back_calculation_gain,
+    cascade_tf,
+    pid_tf,
+    rest_state,
+    tf_to_ss,
+)
+from ..control.margins import Margins, poor_margins
 from ..control.pid import DEFAULT_FORCE_PER_VOLT, DEFAULT_GAINS, DEFAULT_U_LIMIT, PID
-from ..control.state_space import (DEFAULT_MECH_HZ, DEFAULT_MECH_REAL_HZ, DEFAULT_MECH_ZETA,
-                                   DEFAULT_OBS_CURRENT, DEFAULT_OBS_HZ, DEFAULT_OBS_ZETA,
-                                   StateSpaceController, default_observer_poles, default_poles)
+from ..control.state_space import (
+    DEFAULT_MECH_HZ,
+    DEFAULT_MECH_REAL_HZ,
+    DEFAULT_MECH_ZETA,
+    DEFAULT_OBS_CURRENT,
+    DEFAULT_OBS_HZ,
+    DEFAULT_OBS_ZETA,
+    StateSpaceController,
+    default_observer_poles,
+    default_poles,
+)
 from ..paper import paper_parameters
 from .references import Reference
 
@@ -323,7 +338,7 @@ def lti_realisation(spec: Mapping[str, Any]) -> LTIRealisation:
     if not u_limit > 0:
         raise ValueError(f"controller (lti): u_limit = {u_limit!r} must be > 0 [V]")
     ss, tf = [k for k in ("A", "B", "C", "D") if k in spec], [k for k in ("num", "den") if k in spec]
-    if ss and tf or not (len(ss) == 4 or len(tf) == 2):
+    if (ss and tf) or not (len(ss) == 4 or len(tf) == 2):
         raise ValueError("controller (lti): give either A, B, C, D (state space) or num and "
                          f"den (transfer functions), got {sorted(ss + tf)}")
     if tf:
@@ -379,7 +394,7 @@ def _lti(spec: Mapping[str, Any], ref: Reference, u_ff: np.ndarray | None) -> LT
 
 # ---------------------------------------------------------------- controller -> spec
 def _pid_spec_of(c: PID) -> dict[str, Any]:
-    kw = {"Kp": c.Kp, "Kv": c.Kv, "Ki": c.Ki, "force_per_volt": c.force_per_volt,
+    kw: dict[str, Any] = {"Kp": c.Kp, "Kv": c.Kv, "Ki": c.Ki, "force_per_volt": c.force_per_volt,
           "u_limit": c.u_limit, "tf": c.tf, "anti_windup": c.anti_windup}
     return pid_spec(**kw) if c.lead is None else pid_lead_spec(*c.lead, **kw)
 
@@ -450,7 +465,7 @@ def make_controller(spec: Mapping[str, Any], ref: Reference,
     if delay:
         _warn_poor_margins(spec, ctrl)
         ctrl = DelayedController(ctrl)
-    ctrl.spec = dict(spec)
+    ctrl.spec = dict(spec)  # type: ignore[attr-defined]  # every controller class takes it; the protocol has what the loop calls
     return ctrl
 
 

@@ -67,7 +67,7 @@ class Sensors:
         return asdict(self)
 
     @classmethod
-    def from_json(cls, obj: Mapping[str, Any], where: str = "sensors") -> "Sensors":
+    def from_json(cls, obj: Mapping[str, Any], where: str = "sensors") -> Sensors:
         """From a sidecar ``sensors`` object; ValueError naming ``where`` and the key."""
         if not isinstance(obj, Mapping):
             raise ValueError(f"{where}: must be an object, got {type(obj).__name__}")

@@ -112,7 +112,7 @@ def _last_message(plant: Plant) -> str:
     return plant.messages[-1] if plant.messages else ""
 
 
-def _align_current(sig: dict) -> None:
+def _align_current(sig: dict[str, np.ndarray]) -> None:
     """Rows come from the end of each step (left limit at t_{k+1}): move i back one row."""
     if "i" in sig and len(sig["i"]) > 1:
         i = sig["i"]
@@ -164,7 +164,7 @@ class _Loop:
     rec: RawIO                  #: recorded variables, MEASURED ("x_measured") first
     inp: RawIO                  #: u, F_ext
     stepper: Stepper
-    out: ctypes.Array           #: (n + 1) x len(rec.names) doubles, written by the FMU
+    out: ctypes.Array[ctypes.c_double]  #: (n + 1) x len(rec.names) doubles, written by the FMU
     u: list[float]
     x_meas: list[float]
 

@@ -16,15 +16,33 @@ standard errors where they can be stated, and fit diagnostics.
 | compliance      | Eq. 1 residual, H(s) of the load, grid + NM | compliance.f/zeta/m2                |
 """
 from .attraction import AttractionFit, fit_attraction, identify_attraction, simulate_lag
-from .compliance import (ComplianceFit, RigidResidual, fit_compliance, identify_compliance,
-                         rigid_parts, rigid_residual)
+from .compliance import (
+    ComplianceFit,
+    RigidResidual,
+    fit_compliance,
+    identify_compliance,
+    rigid_parts,
+    rigid_residual,
+)
 from .current_loop import CurrentLoopFit, fit_current_loop, identify_current_loop
 from .dstft import DSTFT, dstft
 from .mass import MassFit, fit_mass, identify_mass
-from .position_maps import (MapFit, MapSamples, PositionMapsFit, fit_map, identify_position_maps,
-                            map_samples)
-from .prerolling import (PrerollingFit, fit_knots, fit_weights, half_cycles, identify_prerolling,
-                         maxwell_slip)
+from .position_maps import (
+    MapFit,
+    MapSamples,
+    PositionMapsFit,
+    fit_map,
+    identify_position_maps,
+    map_samples,
+)
+from .prerolling import (
+    PrerollingFit,
+    fit_knots,
+    fit_weights,
+    half_cycles,
+    identify_prerolling,
+    maxwell_slip,
+)
 from .stribeck import StribeckFit, StribeckPoints, fit_stribeck, identify_stribeck, stribeck_points
 
 __all__ = [

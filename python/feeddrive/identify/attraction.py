@@ -85,7 +85,7 @@ def simulate_lag(s: np.ndarray, kappa: float, G0: float, Ts: float) -> np.ndarra
     # G[k+1] = q[k] + (G[k] - p[k]) e[k]   (plain floats: a Python loop over lists is fast)
     out = [float(G0)]
     g = float(G0)
-    for ek, pk, qk in zip(e.tolist(), p[:-1].tolist(), q.tolist()):
+    for ek, pk, qk in zip(e.tolist(), p[:-1].tolist(), q.tolist(), strict=True):
         g = qk + (g - pk) * ek
         out.append(g)
     G[:] = out

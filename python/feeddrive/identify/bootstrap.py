@@ -107,7 +107,7 @@ def run_replicate(task: BootstrapTask, replicate: int) -> dict[str, Any]:
     """One replicate's row: replicate, the identified parameters, wall_s, status, message."""
     t0 = time.perf_counter()
     row: dict[str, Any] = {"replicate": int(replicate)}
-    values = {n: math.nan for n in task.names}
+    values = dict.fromkeys(task.names, math.nan)
     try:
         pick = resample(task.cells, task.seed, replicate)
         res = identify_runs([task.runs[j] for j in pick], **dict(task.options))

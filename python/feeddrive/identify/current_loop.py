@@ -198,7 +198,7 @@ def _assemble(a, b, se, n, d, Ts, u, i, criterion, cands) -> CurrentLoopFit:
     stderr: dict[str, float] = {}
     for j in range(1, MAX_ORDER + 1):
         params[f"current.a[{j}]"] = float(a[j - 1]) if j <= n else 0.0
-    for j in range(0, MAX_LAG + 1):
+    for j in range(MAX_LAG + 1):
         params[f"current.b[{j}]"] = float(b[j]) if j < len(b) else 0.0
     for j in range(n):
         stderr[f"current.a[{j + 1}]"] = float(se[j])

@@ -69,7 +69,7 @@ def fit_mass(time: np.ndarray, x: np.ndarray, i: np.ndarray, force_constant: Map
     """
     t = np.asarray(time, dtype=float)
     x = np.asarray(x, dtype=float)
-    force, a, v, K, Ts = eq1_terms(t, x, i, force_constant, cogging, F_load, window, current_timing)
+    force, a, v, K, _Ts = eq1_terms(t, x, i, force_constant, cogging, F_load, window, current_timing)
     cols, names = [a], ["m"]
     if isinstance(friction, str):
         if friction != "coulomb_viscous":
@@ -95,8 +95,8 @@ def fit_mass(time: np.ndarray, x: np.ndarray, i: np.ndarray, force_constant: Map
     A = np.column_stack(cols)[use]
     theta, se, r = lstsq_with_stderr(A, y[use])
     se = se / np.sqrt(np.sum(K**2))     # residuals are filtered noise: correlation length 1/sum K^2
-    return MassFit(parameters={n: float(t_) for n, t_ in zip(names, theta)},
-                   stderr={n: float(s) for n, s in zip(names, se)},
+    return MassFit(parameters={n: float(t_) for n, t_ in zip(names, theta, strict=True)},
+                   stderr={n: float(s) for n, s in zip(names, se, strict=True)},
                    rms_residual=float(np.sqrt(np.mean(r**2))), n_used=int(use.sum()),
                    window=window, force_rms=float(theta[0] * np.sqrt(np.mean(a[use] ** 2))))
 

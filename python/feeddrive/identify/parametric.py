@@ -104,7 +104,7 @@ def current_only(runs: Sequence[Run]) -> tuple[bool, ...]:
 def why_not_resimulable(runs: Sequence[Run]) -> str | None:
     """None when every run can be simulated again (whole, or its current for a PRBS run),
     else the first run's reason."""
-    for r, cur in zip(runs, current_only(runs)):
+    for r, cur in zip(runs, current_only(runs), strict=True):
         why = None if cur else can_resimulate(r)
         if why is not None:
             return f"a parametric bootstrap simulates every run again; {why}"
@@ -145,7 +145,7 @@ def run_replicate(task: ParametricTask, replicate: int) -> dict[str, Any]:
     ``structure`` (order/delay, '' without one), wall_s, status, message."""
     t0 = time.perf_counter()
     row: dict[str, Any] = {"replicate": int(replicate)}
-    values = {n: math.nan for n in task.names}
+    values = dict.fromkeys(task.names, math.nan)
     structure = ""
     try:
         res = identify_runs(simulated_campaign(task, replicate), **dict(task.options))
@@ -188,7 +188,7 @@ def bias_corrected(estimate: Mapping[str, float], rows: Sequence[dict[str, Any]]
     if len(ok) < MIN_REPLICATES or failed > MAX_FAILED_SHARE * len(rows):
         why = (f"{len(ok)} of {len(rows)} simulated campaigns identified (an interval needs "
                f">= {MIN_REPLICATES} and at most {MAX_FAILED_SHARE:.0%} failed)")
-        out.refused = {n: why for n in names}
+        out.refused = dict.fromkeys(names, why)
         return out
     same = [r for r in ok if r["structure"] == structure]
     share = len(same) / len(ok)

@@ -22,8 +22,9 @@ step identifies replaces the paper's value, the others (sample time aside, which
 the runs) keep the paper's defaults and are listed in the result and in the model's
 description.  A step whose runs are absent is skipped and says so; a step that fails raises
 a ValueError naming the step; when every step is skipped (nothing identified) a ValueError
-gives each step's reason and how each run was classified, and no model file is written.  With ``truth`` (a model the runs were generated from), the
-result holds the table of true versus identified parameters (:mod:`.truth_table`).
+gives each step's reason and how each run was classified, and no model file is written.
+With ``truth`` (a model the runs were generated from), the result holds the table of true
+versus identified parameters (:mod:`.truth_table`).
 """
 from __future__ import annotations
 
@@ -41,6 +42,7 @@ from ..harness.checked_runs import load_checked_runs
 from ..model_file import ModelFile, load_model, paper_model, save_model
 from ..physics import CurrentLoop, run_load_mean
 from ..signals import run_label, sample_time
+from ..validation.replay import check_run
 from ._signals import steady_segment
 from .attraction import AttractionFit, identify_attraction
 from .current_loop import CurrentLoopFit, identify_current_loop
@@ -125,7 +127,8 @@ def classify_why(run: Run) -> tuple[str, str]:
     found, why = _by_signals(run)
     if kind is not None:
         why = f"the sidecar's kind {kind!r} is not one of {', '.join(KINDS)}; {why}"
-    stem = run_stem(run.path) if getattr(run, "path", None) is not None \
+    path = getattr(run, "path", None)
+    stem = run_stem(path) if path is not None \
         else str((run.meta or {}).get("name", ""))
     named = next((k for k, pattern in _STEMS if re.match(pattern, stem)), None)
     if named is not None and found is not None and named != found \
@@ -163,10 +166,10 @@ def map_and_stribeck_runs(runs: Sequence[Run]) -> tuple[list[Run], list[Run]]:
     run, loaded or not) and those for the Stribeck curve (every unloaded run)."""
     loads = [run_load_mean(r)[0] for r in runs]
     speeds = [_speed(r) for r in runs]
-    loaded = [s for s, P in zip(speeds, loads) if abs(P) > LOAD_TOL]
-    maps_runs = [r for r, s in zip(runs, speeds)
+    loaded = [s for s, P in zip(speeds, loads, strict=True) if abs(P) > LOAD_TOL]
+    maps_runs = [r for r, s in zip(runs, speeds, strict=True)
                  if any(abs(s - q) <= SPEED_TOL * q for q in loaded)]
-    return maps_runs, [r for r, P in zip(runs, loads) if abs(P) <= LOAD_TOL]
+    return maps_runs, [r for r, P in zip(runs, loads, strict=True) if abs(P) <= LOAD_TOL]
 
 
 @dataclass
@@ -200,8 +203,9 @@ class IdentificationResult:
         p = self.model.parameters
         if self.current_loop is not None:
             c = self.current_loop
+            poles = zip(c.pole_hz, c.pole_zeta, strict=True)
             L.append(f"current loop: order {c.order}, delay {c.delay}, G(1) = {c.dc_gain:.4f} A/V, "
-                     f"poles {', '.join(f'{h:.0f} Hz/zeta {z:.2f}' for h, z in zip(c.pole_hz, c.pole_zeta))}, "
+                     f"poles {', '.join(f'{h:.0f} Hz/zeta {z:.2f}' for h, z in poles)}, "
                      f"fit {c.fit_percent:.1f} %")
         if self.maps is not None:
             m = self.maps

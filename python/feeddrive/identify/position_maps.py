@@ -92,7 +92,7 @@ def _group_runs(runs: Sequence[Run], grid_step: float, method: str, window: int,
             loads.append(s[4])
     loads.sort()
     grid = common_grid([(s[1].min(), s[1].max()) for s in segs], grid_step)
-    cur = {}
+    cur: dict[tuple[int, float], list[tuple[str, np.ndarray, float]]] = {}
     for label, xs, is_, v, P, _ in segs:
         li = int(np.argmin([abs(P - q) for q in loads]))
         resampled = to_grid(xs, is_, grid, method, grid_step)

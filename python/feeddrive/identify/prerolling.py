@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 from itertools import groupby
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.optimize import least_squares, nnls
 from scipy.signal import find_peaks
 
@@ -41,7 +42,7 @@ from ..signals import run_label
 from ._signals import current, signal
 
 
-def maxwell_slip(x: np.ndarray, Delta: Sequence[float], W: Sequence[float] | None = None,
+def maxwell_slip(x: np.ndarray, Delta: ArrayLike, W: ArrayLike | None = None,
                  phi0: float | Sequence[float] = 0.0) -> tuple[np.ndarray, np.ndarray]:
     """Maxwell-slip model (Eq. 15) along a position trajectory.
 
@@ -67,7 +68,7 @@ def maxwell_slip(x: np.ndarray, Delta: Sequence[float], W: Sequence[float] | Non
         raise ValueError(f"maxwell_slip: |phi0| must be <= 1, got {p0.tolist()}")
     Phi = np.empty((len(x), len(D)))
     xs = x.tolist()
-    for j, (d, ph) in enumerate(zip(D.tolist(), p0.tolist())):
+    for j, (d, ph) in enumerate(zip(D.tolist(), p0.tolist(), strict=True)):
         zeta = xs[0] - ph * d if xs else 0.0
         col = []
         for xk in xs:
@@ -136,23 +137,25 @@ def half_cycles(x: np.ndarray, F: np.ndarray, min_fraction: float = 0.3,
     order = np.argsort(idx)
     idx, kind = idx[order], kind[order]
     rev_list: list[int] = []
-    for sign, grp in groupby(zip(idx.tolist(), kind.tolist()), key=lambda t: t[1]):
+    for sign, grp in groupby(zip(idx.tolist(), kind.tolist(), strict=True), key=lambda t: t[1]):
         members = [g[0] for g in grp]
         vals = [float(x[m]) for m in members]
         best = max(vals) if sign > 0 else min(vals)
-        ext = [m for m, v in zip(members, vals) if v == best]
+        ext = [m for m, v in zip(members, vals, strict=True) if v == best]
         rev_list.append(ext[len(ext) // 2])
     rev = np.array(rev_list, dtype=int)
     if len(rev) < skip + 2:
         raise ValueError(f"pre-rolling: {len(rev)} reversals found, need at least {skip + 2}")
     ds, ys, cs = [], [], []
-    for j, (r0, r1) in enumerate(zip(rev[skip:], np.append(rev[skip + 1:], len(x)))):
+    for j, (r0, r1) in enumerate(zip(rev[skip:], np.append(rev[skip + 1:], len(x)), strict=True)):
         seg = slice(r0, r1)
         sgn = np.sign(x[min(r1, len(x)) - 1] - x[r0]) or 1.0
         d = sgn * (x[seg] - x[r0])
         # up to the farthest point only (the last segment may run past an undetected reversal)
         ok = np.isfinite(F[seg]) & (np.arange(len(d)) <= np.argmax(d))
-        ds.append(d[ok]); ys.append(sgn * F[seg][ok]); cs.append(np.full(ok.sum(), j))
+        ds.append(d[ok])
+        ys.append(sgn * F[seg][ok])
+        cs.append(np.full(ok.sum(), j))
     travel = np.abs(np.diff(x[rev]))
     return HalfCycles(d=np.concatenate(ds), y=np.concatenate(ys), cycle=np.concatenate(cs),
                       reversals=rev, amplitude=float(np.median(travel)) / 2)
@@ -215,14 +218,14 @@ def fit_knots(hc: HalfCycles, n_knots: int, d_max: float | None = None,
         return _pl_residual(np.sort(np.exp(logk)), d, yc, cyc, counts)[0]
 
     sol = least_squares(res, np.log(knots), bounds=(np.log(dmax / 1000), np.log(dmax)),
-                        diff_step=1e-3)
+                        diff_step=np.full(len(knots), 1e-3))
     kn = np.sort(np.exp(sol.x))
     r, beta = _pl_residual(kn, d, yc, cyc, counts)
     return KnotFit(knots=kn, slopes=np.cumsum(beta), rms=float(np.sqrt(np.mean(r**2))))
 
 
 def fit_weights(segments: Sequence[tuple[np.ndarray, np.ndarray, float | Sequence[float]]],
-                Delta: Sequence[float], F_s: float, fit_offset: bool = True,
+                Delta: ArrayLike, F_s: float, fit_offset: bool = True,
                 nonnegative: bool = True) -> tuple[np.ndarray, np.ndarray]:
     """W_1..W_N for given Delta_i from friction samples along position trajectories.
 
@@ -248,7 +251,9 @@ def fit_weights(segments: Sequence[tuple[np.ndarray, np.ndarray, float | Sequenc
     for j, (x, F, phi0) in enumerate(segments):
         _, Phi = maxwell_slip(x, D, phi0=phi0)
         ok = np.isfinite(F)
-        rows.append(Phi[ok]); rhs.append(np.asarray(F)[ok]); seg_of.append(np.full(ok.sum(), j))
+        rows.append(Phi[ok])
+        rhs.append(np.asarray(F)[ok])
+        seg_of.append(np.full(ok.sum(), j))
     A, b, sj = np.vstack(rows), np.concatenate(rhs), np.concatenate(seg_of)
     E = (sj[:, None] == np.arange(S)[None, :]).astype(float) if fit_offset \
         else np.zeros((len(b), 0))
@@ -365,7 +370,7 @@ def _element_travels(data: dict, N: int, decimate: int, flat_fraction: float):
 
 
 def _model_segment(run_data: tuple, tag: str, start: str, skip_reversals: int,
-                   phi0: float | Sequence[float]) -> tuple[np.ndarray, np.ndarray, object]:
+                   phi0: float | Sequence[float]) -> tuple[np.ndarray, np.ndarray, float | Sequence[float]]:
     """Step 4: where the Maxwell-slip model starts on a run, (x, F, initial state)."""
     _, x, F, hc = run_data
     if start == "record":

@@ -26,8 +26,15 @@ from scipy.optimize import least_squares
 from ..data import Run
 from ..physics import MapSpec, eval_map, run_load_mean, steady_friction
 from ..signals import run_label, sample_time
-from ._signals import (common_grid, current, jacobian_stderr, lstsq_with_stderr, signal,
-                       steady_segment, to_grid)
+from ._signals import (
+    common_grid,
+    current,
+    jacobian_stderr,
+    lstsq_with_stderr,
+    signal,
+    steady_segment,
+    to_grid,
+)
 from .position_maps import GRID_STEP
 
 NAMES = ("friction.F_s", "friction.F_c", "friction.V_s", "friction.delta", "friction.sigma2")
@@ -156,9 +163,10 @@ def fit_stribeck(speed: np.ndarray, friction: np.ndarray,
             sol = least_squares(resid, th0, bounds=(lb, ub), x_scale="jac")
             if best is None or sol.cost < best.cost:
                 best = sol
-    se = jacobian_stderr(best.jac, best.fun)
-    params = {n: float(t) for n, t in zip(NAMES, best.x)}
-    return params, {n: float(s) for n, s in zip(NAMES, se)}, steady_friction(v, *best.x) - F
+    assert best is not None                 # the grid of starts is not empty
+    se = jacobian_stderr(np.asarray(best.jac), best.fun)
+    params = {n: float(t) for n, t in zip(NAMES, best.x, strict=True)}
+    return params, {n: float(s) for n, s in zip(NAMES, se, strict=True)}, steady_friction(v, *best.x) - F
 
 
 def identify_stribeck(runs: Sequence[Run], force_constant: MapSpec,

@@ -17,21 +17,35 @@
 Identification, diagnosis and feedforward use only this package.
 """
 from .compliance import Compliance, load_acceleration, load_filter, load_free_response
-from .current_loop import (CurrentLoop, current_loop_dc_gain, current_loop_polynomials,
-                           simulate_current)
+from .current_loop import (
+    CurrentLoop,
+    current_loop_dc_gain,
+    current_loop_polynomials,
+    simulate_current,
+)
 from .friction_curves import FrictionCurve, steady_friction, stribeck_drop, stribeck_level
-from .friction_position import FrictionProfile, profile_basis
 from .friction_gms import GMSFriction, GMSParameters, element_forces, element_rates, gms_force
+from .friction_position import FrictionProfile, profile_basis
 from .friction_static import DEFAULT_V_STICK, karnopp_friction
-from .params import ParameterError, PlantParameters, check_value, compile, parameter_values
 from .gms_start import GMSStart, initial_elements, memory_wiped, started_friction
-from .plant import (CURRENT_TIMINGS, FRICTION_VELOCITY_S, applied_force, eq1_friction, eq1_terms,
-                    force_residual, friction_velocity, held_current, measured_motion, run_load,
-                    run_load_mean)
+from .params import ParameterError, PlantParameters, check_value, compile, parameter_values
+from .plant import (
+    CURRENT_TIMINGS,
+    FRICTION_VELOCITY_S,
+    applied_force,
+    eq1_friction,
+    eq1_terms,
+    force_residual,
+    friction_velocity,
+    held_current,
+    measured_motion,
+    run_load,
+    run_load_mean,
+)
 from .position_maps import MapSpec, PositionMap, eval_map
 
-__all__ = ["Compliance", "load_acceleration", "load_filter", "load_free_response", "CurrentLoop", "current_loop_dc_gain",
-           "current_loop_polynomials", "simulate_current", "FrictionCurve", "steady_friction",
+__all__ = ["Compliance", "load_acceleration", "load_filter", "load_free_response", "CurrentLoop",
+           "current_loop_dc_gain", "current_loop_polynomials", "simulate_current", "FrictionCurve", "steady_friction",
            "stribeck_drop", "stribeck_level", "FrictionProfile", "profile_basis",
            "GMSFriction", "GMSParameters", "element_forces", "element_rates", "gms_force",
            "DEFAULT_V_STICK", "karnopp_friction", "ParameterError", "PlantParameters",

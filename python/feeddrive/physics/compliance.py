@@ -59,7 +59,7 @@ class Compliance:
         return 2.0 * self.zeta * self.m2 * (2.0 * math.pi * self.f)
 
     @classmethod
-    def from_parameters(cls, val: Mapping[str, Any]) -> "Compliance":
+    def from_parameters(cls, val: Mapping[str, Any]) -> Compliance:
         """From FMU-named values (``effects.compliance``, ``compliance.*``)."""
         return cls(on=bool(val["effects.compliance"]), m2=float(val["compliance.m2"]),
                    f=float(val["compliance.f"]), zeta=float(val["compliance.zeta"]),

@@ -26,7 +26,7 @@ class CurrentLoop:
     dynamics: bool = True
 
     @classmethod
-    def from_parameters(cls, params: Mapping[str, float]) -> "CurrentLoop":
+    def from_parameters(cls, params: Mapping[str, float]) -> CurrentLoop:
         """From ``current.a/b`` and ``effects.current_dynamics`` (missing names are 0 / on)."""
         return cls(a=tuple(float(params.get(f"current.a[{j}]", 0.0))
                            for j in range(1, N_CURRENT_A + 1)),
@@ -79,5 +79,5 @@ def simulate_current(a: ArrayLike, b: ArrayLike, u: ArrayLike, i_init: ArrayLike
         yh = np.zeros(0) if i_init is None else np.asarray(i_init, dtype=float)[::-1]
         xh = np.zeros(0) if u_init is None else np.asarray(u_init, dtype=float)[::-1]
         zi = lfiltic(num, den, yh, xh)
-        return lfilter(num, den, u, zi=zi)[0]
-    return lfilter(num, den, u)
+        return lfilter(num, den, np.asarray(u, dtype=float), zi=zi)[0]
+    return lfilter(num, den, np.asarray(u, dtype=float))

@@ -17,7 +17,8 @@ def stribeck_level(speed: ArrayLike, F_s: ArrayLike, F_c: ArrayLike, V_s: float,
                    delta: float) -> np.ndarray:
     """S(|v|) = F_c + (F_s - F_c) exp(-|v/V_s|^delta) [N]; S(0) = F_s."""
     s = np.abs(np.asarray(speed, dtype=float))
-    return F_c + (F_s - F_c) * np.exp(-np.power(s / V_s, delta))
+    Fc = np.asarray(F_c, dtype=float)
+    return Fc + (np.asarray(F_s, dtype=float) - Fc) * np.exp(-np.power(s / V_s, delta))
 
 
 def stribeck_drop(v: ArrayLike, V_s: float, delta: float) -> np.ndarray:
@@ -47,7 +48,7 @@ class FrictionCurve:
     dsigma2: float = 0.0
 
     @classmethod
-    def from_params(cls, params: Mapping[str, float]) -> "FrictionCurve":
+    def from_params(cls, params: Mapping[str, float]) -> FrictionCurve:
         """From FMU-named parameters as given (``asymmetry.*`` default 0; no switches)."""
         return cls(F_s=float(params["friction.F_s"]), F_c=float(params["friction.F_c"]),
                    V_s=float(params["friction.V_s"]), delta=float(params["friction.delta"]),

@@ -31,6 +31,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
+from typing import Literal, overload
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -67,7 +68,7 @@ class GMSParameters:
 
     @classmethod
     def from_params(cls, params: Mapping[str, float], apply_effects: bool = True
-                    ) -> "GMSParameters":
+                    ) -> GMSParameters:
         """From FMU-named parameters (``friction.*``, ``asymmetry.*``); the friction part of
         :func:`feeddrive.physics.params.compile`, which validates them first.
 
@@ -221,8 +222,7 @@ def _run_element(F: float, stuck: bool, k: float, nu: float, dxs: list[float],
                  ) -> tuple[list[float], float, bool]:
     """Advance one element over the pieces; its force after every piece."""
     out = [0.0] * len(dxs)
-    j = 0
-    for dx, s, S, dec, rev in zip(dxs, dirs, Ss, decays, revs):
+    for j, (dx, s, S, dec, rev) in enumerate(zip(dxs, dirs, Ss, decays, revs, strict=True)):
         if rev:
             stuck = True
         if s != 0.0:
@@ -236,10 +236,16 @@ def _run_element(F: float, stuck: bool, k: float, nu: float, dxs: list[float],
                 t = s * lim
                 F = t + (F - t) * dec
         out[j] = F
-        j += 1
     return out, F, stuck
 
 
+@overload
+def gms_force(x: ArrayLike, v: ArrayLike, dt: float, params: GMSParameters | Mapping[str, float],
+              F0: ArrayLike | None = None, return_elements: Literal[False] = False) -> np.ndarray: ...
+@overload
+def gms_force(x: ArrayLike, v: ArrayLike, dt: float, params: GMSParameters | Mapping[str, float],
+              F0: ArrayLike | None = None, *, return_elements: Literal[True]
+              ) -> tuple[np.ndarray, np.ndarray]: ...
 def gms_force(x: ArrayLike, v: ArrayLike, dt: float, params: GMSParameters | Mapping[str, float],
               F0: ArrayLike | None = None, return_elements: bool = False
               ) -> np.ndarray | tuple[np.ndarray, np.ndarray]:

@@ -90,7 +90,7 @@ class FrictionProfile:
         return self.x_start + self.h * np.arange(self.n)
 
     @classmethod
-    def from_params(cls, params: Mapping[str, Any]) -> "FrictionProfile":
+    def from_params(cls, params: Mapping[str, Any]) -> FrictionProfile:
         """From FMU-named parameters ``friction_profile.*`` (the FMU's defaults when absent)."""
         n = int(params.get("friction_profile.n", N_KNOTS_MAX))
         return cls(x_start=float(params.get("friction_profile.x_start", 0.0)),

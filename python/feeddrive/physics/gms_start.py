@@ -43,14 +43,17 @@ at 0.28 N rms, from the grid's best at 0.005 N.  The wider search replaces the g
 solve only when it removes at least ``REFINE_GAIN`` (a fifth) of the residual energy over
 the first samples: leaving a plateau removes 55-93 % on the campaign's loaded and PRBS
 runs, while on every other run it removes at most 9 % (a wrong mass: 8.9 %), which is
-another effect's residual taken into the start forces, not a better start.  Only the sum of the F_i is determined
-while everything sticks; the split between elements is determined by when each one slips.  The estimate absorbs at most N bounded forces over the first samples: an effect
-that acts after the memory is wiped is untouched by it.
+another effect's residual taken into the start forces, not a better start.  Only the sum of
+the F_i is determined while everything sticks; the split between elements is determined by
+when each one slips.  The estimate absorbs at most N bounded forces over the first samples:
+an effect that acts after the memory is wiped is untouched by it.
 """
 from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
+from typing import Any
 
 import numpy as np
 from scipy.optimize import least_squares, minimize_scalar
@@ -103,11 +106,11 @@ class GMSStart:
             out[:L] = self.basis[:L]
         return out
 
-    def to_json(self, Ts: float) -> dict:
+    def to_json(self, Ts: float) -> dict[str, Any]:
         """diagnosis.json ``initial_friction`` entry of one run."""
         return {"element_forces_N": [float(f) for f in self.F0],
                 "friction_N": float(np.sum(self.F0)),
-                "bounds_N": [[float(lo), float(hi)] for lo, hi in zip(self.lower, self.upper)],
+                "bounds_N": [[float(lo), float(hi)] for lo, hi in zip(self.lower, self.upper, strict=True)],
                 "memory_wiped_s": float(self.wiped * Ts), "samples_fitted": int(self.n_fit)}
 
 
@@ -116,7 +119,7 @@ def element_bounds(prm: GMSParameters, x0: float) -> tuple[np.ndarray, np.ndarra
     """(lower, upper) of the element forces at a start at x0 [N]: -nu_i (F_s + dF) p(x0) and
     nu_i F_s p(x0), the static levels of each side."""
     nu = np.asarray(prm.nu, dtype=float)
-    p = float(prm.scale(np.asarray([x0]))[0]) if prm.profile is not None else 1.0
+    p = float(prm.profile(np.asarray([x0]))[0]) if prm.profile is not None else 1.0
     return -nu * (prm.F_s + prm.dF) * p, nu * prm.F_s * p
 
 
@@ -146,8 +149,10 @@ class _Tracks:
         key = (i, j)
         if key not in self._tails:
             lim = self.dirs[j] * self.prm.nu[i] * self.S[j]
-            rest = [p[j + 1:] for p in self.pieces]
-            f, _, _ = _run_element(float(lim), False, self.prm.k[i], self.prm.nu[i], *rest)
+            dxs, dirs, Ss, decs, revs = self.pieces
+            s = slice(j + 1, None)
+            f, _, _ = _run_element(float(lim), False, self.prm.k[i], self.prm.nu[i], dxs[s], dirs[s], Ss[s],
+                                   decs[s], revs[s])
             self._tails[key] = np.concatenate(([lim], f))
         return self._tails[key]
 
@@ -225,14 +230,14 @@ def _refined_starts(cost: Callable[[np.ndarray], float], starts: list[np.ndarray
     families: list[tuple[Callable[[float], np.ndarray], np.ndarray]] = [
         (common, np.asarray(FRACTIONS))]
     for s in (1.0, -1.0):
-        families.append((lambda d, s=s: masing(s, d), 2.0 * travel * np.asarray(TRAVELS)))
+        families.append((partial(masing, s), 2.0 * travel * np.asarray(TRAVELS)))
     out = []
     for make, grid in families:
         c = [cost(make(float(g))) for g in grid]
         j = int(np.argmin(c))
         a, b = grid[max(j - 1, 0)], grid[min(j + 1, len(grid) - 1)]
         if b > a:
-            res = minimize_scalar(lambda g: cost(make(float(g))), bounds=(a, b),
+            res = minimize_scalar(lambda g, make=make: cost(make(float(g))), bounds=(a, b),
                                   method="bounded", options={"xatol": 1e-4 * (b - a)})
             out.append(make(float(res.x)))
     return out

@@ -100,7 +100,7 @@ def _g(v: float) -> str:
     """C's %g of a non-finite double (glibc prints the sign of a NaN)."""
     if math.isnan(v):
         return "-nan" if math.copysign(1.0, v) < 0 else "nan"
-    return "%g" % v
+    return f"{v:g}"
 
 
 def check_value(name: str, value: float) -> None:

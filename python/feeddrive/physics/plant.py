@@ -122,7 +122,8 @@ def friction_velocity(x: np.ndarray, Ts: float, window: int,
 def applied_force(F_motor: ArrayLike, F_cg: ArrayLike, F_load: ArrayLike = 0.0,
                   F_offset: float = 0.0) -> np.ndarray:
     """The force on the stage without friction, F_motor - F_cg - F_e - F_offset [N]."""
-    return np.asarray(F_motor, dtype=float) - F_cg - F_load - F_offset
+    return (np.asarray(F_motor, dtype=float) - np.asarray(F_cg, dtype=float) - np.asarray(F_load, dtype=float)
+            - F_offset)
 
 
 def eq1_terms(time: ArrayLike, x: ArrayLike, i: ArrayLike, force_constant: MapSpec,

@@ -36,7 +36,7 @@ class PositionMap:
 
     @classmethod
     def from_parameters(cls, name: str, params: Mapping[str, float], periodic: bool = True,
-                        aperiodic: bool = True) -> "PositionMap":
+                        aperiodic: bool = True) -> PositionMap:
         """Map ``name`` ("cogging" or "ripple") from FMU-named parameters with the given
         parts on (missing names count as zero; a used slot needs its wavelength)."""
         if name not in POLY_ORDER:
@@ -62,7 +62,7 @@ class PositionMap:
         out = np.zeros_like(x)
         for k, ck in enumerate(self.c):
             out = out + ck * x**k
-        for lam, aj, bj in zip(self.wavelengths, self.a, self.b):
+        for lam, aj, bj in zip(self.wavelengths, self.a, self.b, strict=True):
             th = 2.0 * np.pi * x / lam
             out = out + aj * np.cos(th) + bj * np.sin(th)
         return out

@@ -368,7 +368,7 @@ def _lag_correlation(t: np.ndarray, pos: np.ndarray, cur: np.ndarray, m: Cogging
                      values: np.ndarray, tau: float) -> float:
     tu = np.arange(t[0], t[-1], RESAMPLE_S)
     mu = np.interp(np.interp(tu, t, pos) % COUNTS_PER_REV, m.counts, values, period=COUNTS_PER_REV)
-    num, den, _ = signal.cont2discrete(([1.0], [tau, 1.0]), RESAMPLE_S, method="zoh")
+    num, den, _ = signal.cont2discrete((np.array([1.0]), np.array([tau, 1.0])), RESAMPLE_S, method="zoh")
     num = np.ravel(num)
     y, _ = signal.lfilter(num, den, mu, zi=signal.lfilter_zi(num, den) * mu[0])
     return float(np.corrcoef(cur, np.interp(t, tu, y))[0, 1])
@@ -511,11 +511,11 @@ def findings_text(f: OdriveFindings) -> str:
                    f"counts/s with the map as feed-forward (gap shrinks "
                    f"x{n['velocity_std'] / c['velocity_std']:.1f})")
         for k in ("nocomp", "comp", "crosstalk_nocomp", "crosstalk_comp"):
-            if (s := summ.get(f"{sub}/{k}")) is not None:
-                out.append(f"  {k:16s} ({s['n']} run(s)): r(Iq, map at position) {s['r_static']:.3f}; "
-                           f"behind a {1000 * s['lag_s']:.0f} ms first-order lag {s['r_lagged']:.3f}; "
-                           f"map without odd {q}k/rev {s['r_lagged_no_crosstalk']:.3f}"
-                           + (f"; velocity std {s['velocity_std']:.0f}" if "crosstalk" in k else ""))
+            if (row := summ.get(f"{sub}/{k}")) is not None:
+                out.append(f"  {k:16s} ({row['n']} run(s)): r(Iq, map at position) {row['r_static']:.3f}; "
+                           f"behind a {1000 * row['lag_s']:.0f} ms first-order lag {row['r_lagged']:.3f}; "
+                           f"map without odd {q}k/rev {row['r_lagged_no_crosstalk']:.3f}"
+                           + (f"; velocity std {row['velocity_std']:.0f}" if "crosstalk" in k else ""))
     lags = [summ[f"{sub}/{k}"]["lag_s"] for sub in SLOW_FOLDERS for k in ("nocomp", "comp")]
     if max(lags) < 1.25 * min(lags):
         out.append(f"The Iq lag is the same at both speeds ({1000 * min(lags):.0f}..{1000 * max(lags):.0f}"

@@ -6,10 +6,11 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.projections.polar import PolarAxes
 
 from ..xy.circle_test import MIN_PER_M_S, CircleCase, circle_table
 from .page import Page
@@ -40,7 +41,7 @@ def polar_figure(case: CircleCase) -> plt.Figure:
     div = scale_um_per_div(float(np.max(np.abs(F_all))))
     span = DIVISIONS * div
     fig = plt.figure(figsize=(5.6, 5.6))
-    ax = fig.add_subplot(projection="polar")
+    ax = cast(PolarAxes, fig.add_subplot(projection="polar"))
     for d, r in case.runs.items():
         th = r.trace.theta
         o = np.argsort(th)

@@ -14,7 +14,7 @@ def fig14(sec3, window: float = 0.2) -> plt.Figure:
     sl = slice(max(0, top - w), top + w + 1)
     names = list(sec3.simulated)
     fig, axes = plt.subplots(1, len(names), figsize=(4.2 * len(names), 3.4), sharey=True)
-    for ax, name, tag in zip(np.atleast_1d(axes), names, "abc"):
+    for ax, name, tag in zip(np.atleast_1d(axes), names, "abc", strict=False):
         x_top = run.x[top]
         ax.plot(run.time[sl], (run.x[sl] - x_top) * 1e6, "k-", lw=1.6, label="measured")
         ax.plot(sec3.simulated[name]["time"][sl], (sec3.simulated[name]["x"][sl] - x_top) * 1e6, "r--",
@@ -45,7 +45,7 @@ def fig16(sec4) -> plt.Figure:
     """Tracking error against time for each feedforward (Fig. 16 a-c)."""
     cases = list(sec4.errors)
     fig, axes = plt.subplots(len(cases), 1, figsize=(9, 2.4 * len(cases)), sharex=True, sharey=True)
-    for ax, name, tag in zip(np.atleast_1d(axes), cases, "abc"):
+    for ax, name, tag in zip(np.atleast_1d(axes), cases, "abc", strict=False):
         t, e = sec4.time, sec4.errors[name]
         ax.plot(t, e * 1e6, "k-", lw=0.7)
         ax.set_title(f"({tag}) {name}", fontsize=9)
@@ -62,7 +62,7 @@ def reversal_closeups(sec4, window: float = 0.3) -> plt.Figure:
     fig, axes = plt.subplots(1, len(revs), figsize=(4 * max(1, len(revs)), 3.2), squeeze=False)
     Ts = sec4.time[1] - sec4.time[0]
     w = int(round(window / Ts))
-    for ax, r in zip(axes[0], revs):
+    for ax, r in zip(axes[0], revs, strict=True):
         sl = slice(max(0, r - w), r + w + 1)
         for name, e in sec4.errors.items():
             ax.plot(sec4.time[sl], e[sl] * 1e6, lw=1, label=name)

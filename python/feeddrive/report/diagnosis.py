@@ -4,10 +4,10 @@
 model_all_fits.json (every fit) and model_stepK.json
 (:func:`feeddrive.diagnose.output.write_files`) and then report.html with PNGs: the verdict
 in one sentence at the top (with the hint when the residual is unexplained), which effects
-are confirmed and why, the hints, the final residual per time block, the noise floor per run, the residual of the start and final
-models against time, position and displacement since reversal, the spatial spectrum of the
-starting residual, and one overlay per step: the residual before and after against the
-noise band (+-1 and +-3 x the per-sample noise floor).
+are confirmed and why, the hints, the final residual per time block, the noise floor per run,
+the residual of the start and final models against time, position and displacement since
+reversal, the spatial spectrum of the starting residual, and one overlay per step: the
+residual before and after against the noise band (+-1 and +-3 x the per-sample noise floor).
 """
 from __future__ import annotations
 
@@ -51,7 +51,7 @@ def residual_figure(axis: Axis, before: list[RunResidual], after: list[RunResidu
     (per run, per-sample noise floor [N]) also +-band and +-``factor`` x band."""
     n = len(before)
     fig, axes = plt.subplots(n, 1, figsize=(9, 2.6 * n + 0.6), squeeze=False)
-    for j, (qb, qa) in enumerate(zip(before, after)):
+    for j, (qb, qa) in enumerate(zip(before, after, strict=True)):
         ax = axes[j, 0]
         xb, kw, log = axis(qb)
         if band is not None and not log and not kw:

@@ -43,6 +43,7 @@ from ..model_file import save_model
 from ..outputs import Reads, output_dir
 from ..physics import eq1_friction, simulate_current, stribeck_level
 from ..physics import position_maps as maps
+from ..signals import run_label
 from .page import Page
 
 MM = 1e3            #: m -> mm for axes
@@ -211,7 +212,7 @@ def fig13_prerolling(res: IdentificationResult) -> plt.Figure:
     pr = _need(res, "prerolling", "pre-rolling")
     fig, ax = plt.subplots(1, len(pr.curves), figsize=(11, 4.2))
     ax = np.atleast_1d(ax)
-    for a, (tag, (x, F, model)) in zip(ax, pr.curves.items()):
+    for a, (tag, (x, F, model)) in zip(ax, pr.curves.items(), strict=True):
         a.plot((x - x.mean()) * 1e6, F, lw=0.6, color="0.5", label="measured (Eq. 1)")
         a.plot((x - x.mean()) * 1e6, model, lw=1.0, label="identified model")
         a.set_xlabel("x - mean [um]")
@@ -249,7 +250,9 @@ def fig_attraction(res: IdentificationResult) -> plt.Figure:
     at = _need(res, "attraction", "attraction")
     run = max(res.groups["variable_speed"], key=lambda r: len(r.time))
     p = res.model.parameters
-    F, v, K, Ts = eq1_friction(run.time, run.x, run.i, p["m"], p, p,
+    if run.i is None:
+        raise ValueError(f"{run_label(run)}: the variable-speed run has no current column")
+    F, v, _K, Ts = eq1_friction(run.time, run.x, run.i, p["m"], p, p,
                                run.F_load if run.F_load is not None else 0.0)
     G = F - p["friction.sigma2"] * v
     s = _level(v, p)
@@ -329,7 +332,7 @@ def uncertainty_rows(res: IdentificationResult) -> list[dict[str, Any]]:
                                "lo": iv["lo"], "hi": iv["hi"], "level": iv["level"],
                                "method": INTERVAL_METHODS.get(iv.get("method", "runs"), "?"),
                                "replicates": iv["replicates"],
-                               "bias corrected": iv["bias"] if "bias" in iv else "not estimated"}
+                               "bias corrected": iv.get("bias", "not estimated")}
         if truth is not None:
             row["true"] = truth[name]
             row["true inside"] = "yes" if iv["lo"] <= truth[name] <= iv["hi"] else "no"
@@ -377,7 +380,7 @@ def add_to_page(page: Page, results: IdentificationResult, level: int = 2) -> li
         if getattr(results, attr) is None:
             continue
         if fn in (fig6_dstft_cogging, fig8_dstft_ripple, fig7_cogging_components,
-                  fig9_ripple_components) and len(results.maps.samples.x) < 750:
+                  fig9_ripple_components) and results.maps is not None and len(results.maps.samples.x) < 750:
             continue                    # the DSTFT needs a 75 mm stretch of map
         paths.append(page.figure(fn(results), stem, caption))
     return paths
@@ -389,7 +392,7 @@ def fig_sec4_comparison(cmp: Sec4Comparison) -> plt.Figure:
     cases = list(cmp.truth.errors)
     fig, ax = plt.subplots(len(cases), 1, figsize=(9, 2.3 * len(cases)), sharex=True)
     t = cmp.truth.time
-    for a, case in zip(np.atleast_1d(ax), cases):
+    for a, case in zip(np.atleast_1d(ax), cases, strict=True):
         a.plot(t, cmp.truth.errors[case] * 1e6, lw=0.8, label="true plant")
         a.plot(t, cmp.predicted.errors[case] * 1e6, "--", lw=0.8, label="identified plant")
         a.set_ylabel("e [um]")

@@ -6,6 +6,7 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
+import numpy as np
 from tqdm import tqdm
 
 from ..experiments.reproduction import reproduce_paper
@@ -69,10 +70,10 @@ def _main_job(out_dir: Path, final_dir: Path, print_tables: bool, runs_dir: Path
     odrive = Path(shared_dir) / ODRIVE if shared_dir is not None else None
     skipped = ("skipped: no shared data folder given (feeddrive run --shared DIR or $FEEDDRIVE_SHARED)"
                if odrive is None else None if odrive.is_dir() else f"skipped: {odrive} is not a folder")
-    if skipped is None:
-        page.pre(findings_text(analyse(odrive)))
-    else:
+    if skipped is not None:
         page.text(skipped)
+    elif odrive is not None:
+        page.pre(findings_text(analyse(odrive)))
     path = final_dir / page.write().name
     wall = time.perf_counter() - t0
     if print_tables:

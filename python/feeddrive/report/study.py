@@ -24,7 +24,7 @@ def histograms(res: StudyResult) -> plt.Figure:
     """One histogram per metric over the runs that succeeded."""
     cols = res.study.metric_columns
     fig, axes = plt.subplots(1, len(cols), figsize=(3.6 * len(cols), 3.0), squeeze=False)
-    for ax, c in zip(axes[0], cols):
+    for ax, c in zip(axes[0], cols, strict=True):
         v = _ok_column(res, c)
         if v.size:
             ax.hist(v, bins=min(30, max(5, int(math.sqrt(v.size)))), color="0.4")
@@ -59,7 +59,7 @@ def tornado(res: StudyResult) -> plt.Figure:
     ms = res.study.metric_columns
     fig, axes = plt.subplots(1, len(ms), figsize=(4.2 * len(ms), 0.5 * len(res.study.parameters)
                                                   + 1.6), squeeze=False)
-    for ax, m in zip(axes[0], ms):
+    for ax, m in zip(axes[0], ms, strict=True):
         items = [s for s in res.sensitivities if s.metric == m][::-1]
         y = np.arange(len(items))
         ax.barh(y, [s.low for s in items], color="tab:blue", label="low end")

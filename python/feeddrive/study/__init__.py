@@ -13,14 +13,19 @@ serially or on Dask ``distributed`` (a LocalCluster by default, or a scheduler's
 - :mod:`.bootstrap_study`: the bootstrap as a study file (``"kind": "bootstrap"``),
   :func:`load_study_file` for either kind.
 """
+from .bootstrap_study import (
+    BootstrapStudy,
+    BootstrapStudyResult,
+    load_study_file,
+    run_bootstrap_study,
+    study_reads,
+)
 from .run import FAILED, OK, RunTask, run_batch, run_case
 from .samplers import Case, cases
 from .schema import METRICS, SCHEMA, Study, StudyError, load_study, parse_study
 from .sensitivity import Sensitivity, sensitivities, sensitivity_text
 from .sweep import StudyResult, run_study
 from .table import ResultsTable, read_table
-from .bootstrap_study import (BootstrapStudy, BootstrapStudyResult, load_study_file,
-                              run_bootstrap_study, study_reads)
 
 __all__ = ["FAILED", "OK", "RunTask", "run_batch", "run_case", "Case", "cases", "METRICS",
            "SCHEMA", "Study", "StudyError", "load_study", "parse_study", "Sensitivity",

@@ -13,14 +13,18 @@ from pathlib import Path
 from typing import Any
 
 from ..data import Run
-from ..identify.bootstrap import (Bootstrap, BootstrapTask, check_campaign, identified_names,
-                                  intervals, run_replicates, single_run_parameters)
 from ..identify import parametric
 from ..harness.checked_runs import load_checked_runs
 from ..identify.pipeline import IdentificationResult, identify_runs
 from ..model_file import ModelFile, save_model
-from .executor import Progress, batches, default_batch_size, execute_dask, execute_serial, local_client
-
+from .executor import (
+    Progress,
+    batches,
+    default_batch_size,
+    execute_dask,
+    execute_serial,
+    local_client,
+)
 
 #: The interval methods of ``identify --bootstrap`` (``--interval-method``).
 METHODS = (parametric.METHOD, "runs")

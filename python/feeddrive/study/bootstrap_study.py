@@ -161,10 +161,10 @@ def _write_rows(rows: list[dict[str, Any]], folder: Path) -> None:
 
     def column(c: str) -> pa.Array:
         vals = [r.get(c) for r in rows]
-        if all(isinstance(v, (int, float)) and not isinstance(v, bool) or v is None for v in vals) \
+        if all((isinstance(v, (int, float)) and not isinstance(v, bool)) or v is None for v in vals) \
                 and c not in ("status", "message"):
             return pa.array([math.nan if v is None else float(v) for v in vals], pa.float64()) \
-                if c != "replicate" else pa.array([int(v) for v in vals], pa.int64())
+                if c != "replicate" else pa.array(vals, pa.int64())
         return pa.array(["" if v is None else str(v) for v in vals], pa.string())
     pq.write_table(pa.table({c: column(c) for c in cols}), folder / PARQUET_NAME)
 

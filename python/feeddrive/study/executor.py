@@ -19,13 +19,14 @@ import math
 import os
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
-from typing import Any
+from typing import Any, TypeVar
 
 from distributed import Client, LocalCluster, as_completed
 from tqdm import tqdm
 
 from .run import FAILED, run_batch
-from .samplers import Case
+
+T = TypeVar("T")
 
 RowsSink = Callable[[list[dict[str, Any]]], None]
 #: One executor task: (the scattered task, a batch) -> rows (a study's run_batch, a bootstrap's).
@@ -38,7 +39,7 @@ def default_batch_size(n_runs: int) -> int:
     return max(1, min(64, math.ceil(n_runs / 32)))
 
 
-def batches(cases: Sequence[Case], size: int) -> list[list[Case]]:
+def batches(cases: Sequence[T], size: int) -> list[list[T]]:
     """``cases`` in consecutive batches of ``size``."""
     return [list(cases[k:k + size]) for k in range(0, len(cases), size)]
 
@@ -77,7 +78,7 @@ def execute_dask(task: Any, work: Sequence[list[Any]], sink: RowsSink,
         return 0
     [shared] = client.scatter([task], broadcast=True)
     futures = [client.submit(fn, shared, b, pure=False) for b in work]
-    size = {f.key: len(b) for f, b in zip(futures, work)}
+    size = {f.key: len(b) for f, b in zip(futures, work, strict=True)}
     missing = 0
     for fut in as_completed(futures):
         try:

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import json
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -28,7 +28,7 @@ from .samplers import Case
 from .schema import CIRCLE_METRICS, METRICS, Experiment, Study
 
 OK, FAILED = "ok", "failed"
-_PROFILES = {"sinusoid": sinusoid, "point_to_point": point_to_point,
+_PROFILES: dict[str, Callable[..., Reference]] = {"sinusoid": sinusoid, "point_to_point": point_to_point,
              "back_and_forth": back_and_forth}
 
 
@@ -42,7 +42,7 @@ class RunTask:
     parameter_names: tuple[str, ...]
 
     @classmethod
-    def of(cls, study: Study) -> "RunTask":
+    def of(cls, study: Study) -> RunTask:
         return cls(study.model, study.experiment, study.metrics, study.parameter_names)
 
 
@@ -136,6 +136,8 @@ def run_case(task: RunTask, case: Case) -> dict[str, Any]:
         if any(m in task.metrics for m in CIRCLE_METRICS):
             values.update(_circle(task.model, model, task.experiment))
         if "force_residual" in task.metrics:
+            if task.experiment.measured is None:
+                raise ValueError("force_residual: the experiment names no measured run")
             values["force_residual_N"] = residual_metric(
                 _CACHE.measured(task.experiment.measured), model)
         status, message = OK, ""

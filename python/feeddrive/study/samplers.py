@@ -34,8 +34,15 @@ def _typed(name: str, v: float) -> float | int:
     return int(round(v)) if name in INTEGER_PARAMETERS else float(v)
 
 
+def _range(p: ParameterSpec) -> tuple[float, float]:
+    """(low, high) of a parameter given by its range (the schema checked both are there)."""
+    if p.low is None or p.high is None:
+        raise ValueError(f"{p.name}: no range low..high")
+    return p.low, p.high
+
+
 def _grid(params: tuple[ParameterSpec, ...], levels: int) -> np.ndarray:
-    axes = [np.asarray(p.values) if p.values is not None else np.linspace(p.low, p.high, levels)
+    axes = [np.asarray(p.values) if p.values is not None else np.linspace(*_range(p), levels)
             for p in params]
     return np.array(list(itertools.product(*axes)), dtype=float)
 
@@ -60,7 +67,7 @@ def cases(study: Study) -> list[Case]:
         base = {p.name: _typed(p.name, p.base) for p in params}
         out = [Case(0, "base", dict(base))]
         for p in params:
-            for end, v in (("low", p.low), ("high", p.high)):
+            for end, v in zip(("low", "high"), _range(p), strict=True):
                 values = dict(base)
                 values[p.name] = _typed(p.name, float(v))
                 out.append(Case(len(out), f"{p.name}={end}", values))
@@ -71,4 +78,4 @@ def cases(study: Study) -> list[Case]:
         x = _lhs(params, d["runs"], d["seed"])
     else:
         x = _monte_carlo(params, d["runs"], d["seed"])
-    return [Case(k, "", {n: _typed(n, v) for n, v in zip(names, row)}) for k, row in enumerate(x)]
+    return [Case(k, "", {n: _typed(n, v) for n, v in zip(names, row, strict=True)}) for k, row in enumerate(x)]

@@ -237,7 +237,7 @@ def _circle(raw: Any, src: str) -> dict[str, Any]:
     for k in ("radius", "feed"):
         if k not in raw:
             raise StudyError(src, f"{fld}.{k}", "missing (a circle needs radius [m] and feed [m/s])")
-    out = {k: _number(raw[k], src, f"{fld}.{k}", positive=True) for k in ("radius", "feed")}
+    out: dict[str, Any] = {k: _number(raw[k], src, f"{fld}.{k}", positive=True) for k in ("radius", "feed")}
     ff = raw.get("feedforward", "none")
     if ff not in FEEDFORWARD:
         raise StudyError(src, f"{fld}.feedforward", f"{ff!r}: allowed {', '.join(FEEDFORWARD)}")
@@ -399,19 +399,20 @@ def parse_study(raw: Any, source: str, folder: Path) -> Study:
         if m not in METRICS:
             raise StudyError(source, f"metrics[{j}]", f"{m!r} is not a metric; known: "
                                                      f"{', '.join(METRICS)}")
-    circle = experiment.circle is not None
+    circ = experiment.circle
+    circle = circ is not None
     for j, m in enumerate(metrics):
         if (m in CIRCLE_METRICS) != circle:
             raise StudyError(source, f"metrics[{j}]", f"{m!r} needs " + (
                 "a reference and a controller, not a circle" if circle else "a circle experiment"))
-    if circle and "hysteresis" in metrics and len(experiment.circle["directions"]) != 2:
+    if circ is not None and "hysteresis" in metrics and len(circ["directions"]) != 2:
         raise StudyError(source, "experiment.circle.directions", "the hysteresis metric needs "
                                                                  "both directions")
-    if circle:
+    if circ is not None:
         top = float(model.parameters.get("stroke.x_max", 0.3)) - float(model.parameters.get("stroke.x_min", 0.0))
-        if not experiment.circle["radius"] < top / 2:
+        if not circ["radius"] < top / 2:
             raise StudyError(source, "experiment.circle.radius",
-                             f"{experiment.circle['radius']} m does not fit the stroke ({top} m)")
+                             f"{circ['radius']} m does not fit the stroke ({top} m)")
     if "force_residual" in metrics and experiment.measured is None:
         raise StudyError(source, "experiment.measured", "the force_residual metric needs a "
                                                         "measured run")

@@ -11,8 +11,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from .executor import (Progress, batches, default_batch_size, execute_dask, execute_serial,
-                       local_client)
+from .executor import (
+    Progress,
+    batches,
+    default_batch_size,
+    execute_dask,
+    execute_serial,
+    local_client,
+)
 from .run import FAILED, RunTask
 from .samplers import cases
 from .schema import Study

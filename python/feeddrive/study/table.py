@@ -48,7 +48,7 @@ class ResultsTable:
         self.out = Path(out)
         self.columns = (["run", "label"] + list(study.parameter_names)
                         + list(study.metric_columns) + ["wall_s", "status", "message"])
-        self._types = {c: float for c in self.columns}
+        self._types: dict[str, type] = dict.fromkeys(self.columns, float)
         self._types.update({"run": int, "label": str, "status": str, "message": str})
         self._types.update({n: int for n in study.parameter_names if n in INTEGER_PARAMETERS})
         self.rows: dict[int, dict[str, Any]] = {}
@@ -70,7 +70,8 @@ class ResultsTable:
         self.out.mkdir(parents=True, exist_ok=True)
         id_path.write_text(json.dumps(ident, indent=1, sort_keys=True) + "\n", encoding="utf-8")
         self._rewrite_csv()          # drops a partial last line of an interrupted study
-        self._file = open(csv_path, "a", newline="", encoding="utf-8")
+        # held open for the rows to come; close() closes it
+        self._file = open(csv_path, "a", newline="", encoding="utf-8")  # noqa: SIM115
         self._writer = csv.writer(self._file)
 
     def _read(self, path: Path) -> dict[int, dict[str, Any]]:

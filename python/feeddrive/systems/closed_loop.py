@@ -21,10 +21,9 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..control.feedforward import FeedforwardOptions
+from ..control.feedforward import FeedforwardOptions, FrictionFeedforward
 from ..fmu import fmu_path
-from ..harness.controller_fmu import (controller_fmu_parameters, controller_fmu_path,
-                                      sinusoid_source)
+from ..harness.controller_fmu import controller_fmu_parameters, controller_fmu_path, sinusoid_source
 from ..harness.controllers import state_space_spec
 from ..paper import paper_parameters
 from ..experiments import sec3, sec4
@@ -96,7 +95,7 @@ def sec3_system(delay: int = 0) -> ClosedLoopSystem:
                    sec3.AMPLITUDE, sec3.PERIOD, sec3.CENTRE, sec3.PERIOD)
 
 
-def sec4_system(friction: str = "gms", duration: float = sec4.DURATION,
+def sec4_system(friction: FrictionFeedforward = "gms", duration: float = sec4.DURATION,
                 delay: int = 0) -> ClosedLoopSystem:
     """Sec. 4: feedforward (``friction`` static/gms, with cogging and ripple) on the paper's
     nominal parameters, the perturbed plant, 5 mm / 6 s sinusoid, 100 nm scale; ``delay``

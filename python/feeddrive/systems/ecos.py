@@ -40,7 +40,7 @@ def load_ecospy() -> ModuleType:
     except OSError as e:
         raise ImportError(f"ecospy needs {TBB} (PyPI package tbb): not in {lib.parent} "
                           f"nor on the library path ({e})") from e
-    import ecospy   # optional: the test extra
+    import ecospy  # optional: the test extra
     ecospy.EcosLib.set_log_level("warn")
     return ecospy
 

@@ -25,7 +25,7 @@ SSV_FILES = {"plant": "resources/plant.ssv", "controller": "resources/controller
 
 
 def _libcosim_run(execution, n: int, Ts: float, substeps: int = 10) -> Result:
-    from libcosimpy.CosimObserver import CosimObserver     # optional: the test extra
+    from libcosimpy.CosimObserver import CosimObserver  # optional: the test extra
     obs = CosimObserver.create_last_value()
     execution.add_observer(obs)
     idx = {s.name.decode(): s.index for s in execution.slave_infos()}
@@ -52,7 +52,7 @@ def quiet_libcosim() -> None:
 
 def run_libcosim_osp(directory: str | Path, n: int, Ts: float, substeps: int = 10) -> Result:
     """libcosim on ``directory/OspSystemStructure.xml`` (fixed step, base step Ts), n steps."""
-    from libcosimpy.CosimExecution import CosimExecution   # optional: the test extra
+    from libcosimpy.CosimExecution import CosimExecution  # optional: the test extra
     quiet_libcosim()
     execution = CosimExecution.from_osp_config_file(str(directory))
     return _libcosim_run(execution, n, Ts, substeps)
@@ -64,7 +64,7 @@ def run_libcosim_ssp(path: str | Path, n: int, Ts: float, substeps: int = 10) ->
     libcosimpy 0.0.6 loads the package and connects it but does not apply the components'
     parameter bindings (inline or ``.ssv``): the FMUs run on their defaults.  Kept to show
     it; the OSP structure is the libcosim path."""
-    from libcosimpy.CosimExecution import CosimExecution   # optional: the test extra
+    from libcosimpy.CosimExecution import CosimExecution  # optional: the test extra
     quiet_libcosim()
     execution = CosimExecution.from_ssp_file(str(path), step_size=int(round(Ts / substeps * 1e9)))
     return _libcosim_run(execution, n, Ts, substeps)
@@ -119,7 +119,7 @@ def run_container(path: str | Path, n: int, Ts: float) -> Result:
 def time_libcosim_osp(directory: str | Path, stop_time: float) -> float:
     """Wall time [s] of libcosim's ``simulate_until(stop_time)`` on the OSP structure, no
     observer (execution creation -- loading and instantiating the FMUs -- not counted)."""
-    from libcosimpy.CosimExecution import CosimExecution   # optional: the test extra
+    from libcosimpy.CosimExecution import CosimExecution  # optional: the test extra
     quiet_libcosim()
     execution = CosimExecution.from_osp_config_file(str(directory))
     wall0 = time.perf_counter()

@@ -214,7 +214,8 @@ def write_container(system: ClosedLoopSystem, path: str | Path) -> Path:
     comps = {c: Component(name=c, filename=fmus[c], modelDescription=mds[c]) for c in fmus}
     var = {c: {v.name: v for v in mds[c].modelVariables} for c in fmus}
     md = ModelDescription(fmiVersion="2.0", modelName=f"feeddrive_{system.name}",
-                          instantiationToken="{feedd12c-0000-4000-8000-" + f"{zlib.crc32(system.name.encode()):012d}" + "}",
+                          instantiationToken="{feedd12c-0000-4000-8000-"
+                          + f"{zlib.crc32(system.name.encode()):012d}" + "}",
                           description="feeddrive closed loop: controller FMU + plant FMU",
                           coSimulation=CoSimulation(modelIdentifier="container_fmu",
                                                     fixedInternalStepSize=float(system.Ts)),

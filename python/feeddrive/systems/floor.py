@@ -41,7 +41,7 @@ def write_pair_osp(directory: str | Path, Ts: float = 5e-4) -> Path:
 
 def time_libcosim_pair(directory: str | Path, n: int, Ts: float = 5e-4) -> float:
     """Wall time [s] of libcosim's ``simulate_until(n Ts)`` on the pair (OSP structure)."""
-    from libcosimpy.CosimExecution import CosimExecution   # optional: the test extra
+    from libcosimpy.CosimExecution import CosimExecution  # optional: the test extra
     quiet_libcosim()
     osp = write_pair_osp(directory, Ts)
     execution = CosimExecution.from_osp_config_file(str(osp.parent))
@@ -115,7 +115,7 @@ def write_pair_ssp(path: str | Path, Ts: float = 5e-4) -> Path:
 def time_libcosim_pair_ssp(directory: str | Path, n: int, Ts: float = 5e-4) -> float:
     """Wall time [s] of libcosim's ``simulate_until(n Ts)`` on the pair's SSP package: the
     fixed step on the calling thread, libcosim's floor without its thread pool."""
-    from libcosimpy.CosimExecution import CosimExecution   # optional: the test extra
+    from libcosimpy.CosimExecution import CosimExecution  # optional: the test extra
     quiet_libcosim()
     ssp = write_pair_ssp(Path(directory) / "pair.ssp", Ts)
     execution = CosimExecution.from_ssp_file(str(ssp))

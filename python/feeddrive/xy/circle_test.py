@@ -25,7 +25,7 @@ from .circular import (Glitch, Trace, bidirectional_deviation, glitch_window, gl
                        hysteresis, trace)
 from .machine import AxisModel
 
-FEEDFORWARD = {"none": None, "static": "static", "gms": "gms"}
+FEEDFORWARD: dict[str, FrictionFeedforward | None] = {"none": None, "static": "static", "gms": "gms"}
 QUANTUM = 1e-7
 MIN_PER_M_S = 60.0          #: feed: 1 m/s = 60 m/min
 
@@ -77,7 +77,7 @@ def run_circle(axes: Sequence[AxisModel], radius: float, feed: float, direction:
     check_fits(axes, radius)
     path = circle_path(radius, feed, direction, centre=centre_of(axes), Ts=Ts)
     ctrls = controllers or [controller_values(a, feedforward, Ts) for a in axes]
-    loops = [AxisLoop(a.name, a.plant, c, ref) for a, c, ref in zip(axes, ctrls, (path.x, path.y))]
+    loops = [AxisLoop(a.name, a.plant, c, ref) for a, c, ref in zip(axes, ctrls, (path.x, path.y), strict=True)]
     res = simulate_axes(loops, Ts=Ts, tolerance=tolerance)
     x, y = res[axes[0].name]["x"], res[axes[1].name]["x"]
     sl = slice(path.eval_start, path.eval_stop)
@@ -151,7 +151,7 @@ def circle_table(cases: Sequence[CircleCase]) -> str:
     for c in cases:
         r = c.row()
 
-        def fig(key: str) -> str:
+        def fig(key: str, r: dict[str, Any] = r) -> str:
             v = r.get(key)
             return "-" if v is None or not np.isfinite(v) else f"{v:.1f}"
 

@@ -82,7 +82,7 @@ def circle_system(axes: Sequence[AxisModel], radius: float, feed: float, directi
     phases = (s * th0 + np.pi, s * (th0 + np.pi / 2))
     names = (axes[0].name, axes[1].name)
     plants, ctrls, x0 = {}, {}, {}
-    for a, c, ph in zip(axes, centre_of(axes), phases):
+    for a, c, ph in zip(axes, centre_of(axes), phases, strict=True):
         values = controller_values(a, feedforward, Ts)
         values.update(sinusoid_source(radius, period, c, duration, ph))
         ctrls[a.name] = values
@@ -133,7 +133,7 @@ def write_xy_osp(system: XYSystem, directory: str | Path) -> Path:
 
 def run_libcosim_xy(directory: str | Path, system: XYSystem) -> tuple[dict[str, np.ndarray], float]:
     """libcosim on the OSP structure: each plant's x at t_k (row 0 NaN), and the wall time [s]."""
-    from libcosimpy.CosimExecution import CosimExecution   # optional: the test extra
+    from libcosimpy.CosimExecution import CosimExecution  # optional: the test extra
     from libcosimpy.CosimObserver import CosimObserver
     quiet_libcosim()
     ex = CosimExecution.from_osp_config_file(str(directory))

@@ -116,7 +116,7 @@ def simulate_axes(loops: Sequence[AxisLoop], n: int | None = None, Ts: float = 5
                     raise FMUError(f"plant fmi2GetReal x at t = {t + Ts}: {_message(ax.plant)}")
         wall = time.perf_counter() - wall0
         out = {}
-        for lp, ax in zip(loops, axes):
+        for lp, ax in zip(loops, axes, strict=True):
             ax.us[n] = ax.us[n - 1]
             out[lp.name] = Result({"time": np.arange(n + 1) * Ts, "x": np.array(ax.xs),
                                    "u": np.array(ax.us), "wall": np.array(wall)})

@@ -15,10 +15,9 @@ from bad_corpus import csv_cases, foreign_sidecar_cases, model_cases, sidecar_ca
 from diagnosis_runs import simulate_run, sinusoid_reference
 from feeddrive.cli import main
 from feeddrive.data import load_run, write_run
-from feeddrive.identify.pipeline import classify_why
 from feeddrive.harness.checked_runs import check_run
+from feeddrive.identify.pipeline import classify_why
 from feeddrive.model_file import paper_model, save_model
-from feeddrive.validation.replay import check_run
 
 #: (case, commands that may accept it): not a broken file for that command's purpose
 ACCEPTED = {("csv", "constant_x"): {"validate", "diagnose"}}  # x stuck: a gap to show

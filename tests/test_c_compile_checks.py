@@ -25,8 +25,10 @@ def _compile_params(tmp_path: Path, xml_text: str) -> subprocess.CompletedProces
     xml = tmp_path / "modelDescription.xml"
     xml.write_text(xml_text, encoding="utf-8")
     gen = tmp_path / "gen"
-    subprocess.run([sys.executable, str(SRC / "generators" / "gen_vars.py"), str(xml), str(gen)], check=True, timeout=60)
-    return subprocess.run([cc, *FLAGS, *(f"-I{SRC / d}" for d in PLANT_DIRS), f"-I{gen}", str(SRC / "models" / "plant" / "params.c")],
+    subprocess.run([sys.executable, str(SRC / "generators" / "gen_vars.py"), str(xml), str(gen)],
+                   check=True, timeout=60)
+    return subprocess.run([cc, *FLAGS, *(f"-I{SRC / d}" for d in PLANT_DIRS), f"-I{gen}",
+                           str(SRC / "models" / "plant" / "params.c")],
                           capture_output=True, text=True, timeout=120)
 
 

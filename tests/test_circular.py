@@ -12,20 +12,17 @@ import numpy as np
 import pytest
 
 from feeddrive.cli import main
+from feeddrive.experiments import sec4
 from feeddrive.fmu import Plant
 from feeddrive.harness import make_controller, simulate_closed_loop
-from feeddrive.xy.path import circle_path
 from feeddrive.harness.controllers import state_space_spec
-from feeddrive.xy.table import AxisLoop, simulate_axes
-from feeddrive.cli import main
-from feeddrive.fmu import Plant
 from feeddrive.study import RunTask, StudyError, cases, parse_study, run_case
-from feeddrive.experiments import sec4
-from feeddrive.xy.system import circle_system, master_run, run_libcosim_xy, write_xy_osp
 from feeddrive.xy.circle_test import circular_case, controller_values, run_circle
-from feeddrive.xy.circular import (bidirectional_deviation, fit_circle, glitches,
-                                           hysteresis, trace)
+from feeddrive.xy.circular import bidirectional_deviation, fit_circle, glitches, hysteresis, trace
 from feeddrive.xy.machine import identical_axes, shift_magnets, xy_axes
+from feeddrive.xy.path import circle_path
+from feeddrive.xy.system import circle_system, master_run, run_libcosim_xy, write_xy_osp
+from feeddrive.xy.table import AxisLoop, simulate_axes
 
 R = 0.01
 TH = np.linspace(0, 2 * np.pi, 7200, endpoint=False)

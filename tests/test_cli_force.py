@@ -16,9 +16,9 @@ import pytest
 from diagnosis_runs import simulate_run, sinusoid_reference
 from feeddrive import cli
 from feeddrive.data import Run, write_run
+from feeddrive.experiments.tracking_error import ErrorSummary
 from feeddrive.model_file import paper_model, save_model
 from feeddrive.systems import sec3_system
-from feeddrive.experiments.tracking_error import ErrorSummary
 from feeddrive.validation.replay import ValidationReport
 
 #: a tiny sweep (two runs of 0.2 s) on a model file beside the study

@@ -118,7 +118,6 @@ def test_choices_are_the_modules_own():
     from feeddrive.experiments.campaign import FORMATS, MAX_REPEATS
     from feeddrive.xy.circle_test import FEEDFORWARD
     from feeddrive.xy.machine import MISMATCH
-    from feeddrive.commands.system import systems
     assert cli.MAX_REPEATS == MAX_REPEATS
     assert tuple(cli.RUN_FORMATS) == tuple(FORMATS)
     from feeddrive.study.bootstrap import METHODS

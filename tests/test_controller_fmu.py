@@ -317,8 +317,8 @@ def test_sec3_two_fmus_agree_with_harness(ctrl_fmu) -> None:
 
 def test_sources_listed_shipped_and_rebuildable(ctrl_fmu, tmp_path) -> None:
     """<SourceFiles> names the controller's C files (its FMI 3.0 clock apart), the FMI glue's
-    (FMI 3.0 apart), the plant physics it shares and the two generated tables; each is in sources/, and `fmpy compile` rebuilds a binary that gives
-    the same u."""
+    (FMI 3.0 apart), the plant physics it shares and the two generated tables; each is in
+    sources/, and `fmpy compile` rebuilds a binary that gives the same u."""
     import xml.etree.ElementTree as ET
     listed = {f.get("name") for f in ET.parse(REPO / "fmu_src" / "models" / "controller" / "modelDescription.xml")
               .getroot().find("CoSimulation").find("SourceFiles")}

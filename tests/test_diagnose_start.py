@@ -16,7 +16,6 @@ import numpy as np
 import pytest
 
 from feeddrive.data import Run
-from feeddrive.residual import force_residual
 from feeddrive.diagnose.workflow import diagnose
 from feeddrive.experiments.campaign import campaign
 from feeddrive.harness.sensors import Sensors
@@ -24,6 +23,7 @@ from feeddrive.identify.compliance import rigid_residual
 from feeddrive.model_file import paper_model
 from feeddrive.physics import compile, gms_force, initial_elements, memory_wiped
 from feeddrive.physics.gms_start import _Tracks, element_bounds
+from feeddrive.residual import force_residual
 from feeddrive.signals import apply_kernel, matched_acceleration
 
 PAPER = paper_model()

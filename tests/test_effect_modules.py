@@ -152,7 +152,7 @@ def test_every_reference_of_the_registry_resolves() -> None:
             if ref:
                 assert resolve(ref) is not None, (e.id, ref)
         assert CANDIDATES[e.id] is resolve(e.candidate.builder)
-    with pytest.raises(ValueError, match="allowed 'package.module:attribute'"):
+    with pytest.raises(ValueError, match=r"allowed 'package\.module:attribute'"):
         resolve("feeddrive.physics")
 
 
@@ -162,7 +162,7 @@ def test_lists_of_effects_come_from_the_registry() -> None:
     assert paper.BEYOND_PAPER == tuple(e.id for e in EFFECTS if not e.in_paper)
     assert set(MAP_EFFECTS) == {"cogging", "ripple"}
     assert {e.id for e in EFFECTS if e.position_map} == set(sum(MAP_EFFECTS.values(), ()))
-    with pytest.raises(ValueError, match="allowed 'effects.x' or None"):
+    with pytest.raises(ValueError, match=r"allowed 'effects\.x' or None"):
         Effect("x", "effects.y", False, "", (), "", EFFECTS[0].identification,
                EFFECTS[0].candidate, ())
 

@@ -20,6 +20,7 @@ import pytest
 
 from feeddrive import cli
 from feeddrive.data import RECORDING_DECIMALS, load_runs, write_run
+from feeddrive.experiments import sec4
 from feeddrive.experiments.constant_speed import PAPER_LOADS, constant_speed_runs, stribeck_runs
 from feeddrive.experiments.force_open_loop import force_open_loop_runs
 from feeddrive.experiments.prbs import prbs_runs
@@ -34,9 +35,7 @@ from feeddrive.identify.truth_table import c_factor
 from feeddrive.model_file import ModelFile, load_model, paper_model
 from feeddrive.report.identification import identification_section
 from feeddrive.report.page import Page
-from feeddrive.experiments import sec4
 from feeddrive.study.coverage import coverage_truth
-from feeddrive.validation import sec4
 
 MAP_SPEED = 20e-3
 STRIBECK_SPEEDS = (0.3e-3, 0.6e-3, 1e-3, 2e-3, 4e-3, 8e-3, 15e-3, 30e-3, 60e-3, 120e-3)

@@ -12,10 +12,10 @@ import pytest
 from feeddrive.cli import main as feeddrive_cli
 from feeddrive.data import DataError, Run, load_run, write_run
 from feeddrive.diagnose.emps import emps_baseline_model
+from feeddrive.harness.checked_runs import check_run
 from feeddrive.model_file import save_model
 from feeddrive.plausibility import A_MAX, I_MAX, V_MAX, check_units
 from feeddrive.realdata.odrive import COUNTS_PER_REV, load_slow_run
-from feeddrive.harness.checked_runs import check_run
 
 SHARED = Path(__file__).resolve().parents[2] / "shared"
 EMPS = SHARED / "realdata" / "emps" / "emps_train.csv"

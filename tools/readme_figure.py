@@ -14,8 +14,8 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-from feeddrive.report.closed_loop_figures import fig14  # noqa: E402
-from feeddrive.experiments.sec3 import reproduce  # noqa: E402
+from feeddrive.experiments.sec3 import reproduce
+from feeddrive.report.closed_loop_figures import fig14
 
 ROOT = Path(__file__).resolve().parents[1]
 

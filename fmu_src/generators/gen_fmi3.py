@@ -5,7 +5,8 @@ Usage: gen_fmi3.py modelDescription.xml OUTDIR
        gen_fmi3.py --controller build/gen/controller/modelDescription.xml OUTDIR
 
 (``--controller``: the controller FMU's merged FMI 2.0 description, co-simulation only, no
-arrays; its FMI 3.0 glue is the plant's (fmu_src/fmi/fmi3.c) with its clock (controller/ctrl_clock.c). It adds the input clock
+arrays; its FMI 3.0 glue is the plant's (fmu_src/fmi/fmi3.c) with its clock
+(controller/ctrl_clock.c). It adds the input clock
 ``tick``: periodic, its interval the parameter Ts (``intervalVariability="fixed"``), the inputs
 and outputs clocked by it (``clocks``), and Event Mode (``hasEventMode``): an importer that
 instantiates with eventModeUsed gives every sample as a tick in Event Mode.)

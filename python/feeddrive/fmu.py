@@ -33,20 +33,28 @@ import threading
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Any, Protocol, Self
 
 import numpy as np
 from fmpy import extract, platform_tuple, read_model_description, sharedLibraryExtension
 from fmpy import platform as fmpy_platform
-from fmpy import platform_tuple
+from fmpy.fmi2 import (
+    FMU2Model,
+    FMU2Slave,
+    defaultCallbacks,
+    fmi2CallbackFunctions,
+    fmi2CallbackLoggerTYPE,
+    fmi2Real,
+    fmi2ValueReference,
+)
 from fmpy.model_description import ModelDescription, ScalarVariable
-from fmpy.fmi2 import (FMU2Model, FMU2Slave, defaultCallbacks, fmi2CallbackFunctions,
-                       fmi2CallbackLoggerTYPE, fmi2Real, fmi2ValueReference)
 
 from . import fmu3
-from .model_description import (DEFAULT_FMU, FMU_ENV, FMUError, FMUNotFoundError,  # noqa: F401
-                                fmu_path)
-from .model_description import fmi_version
+from .model_description import DEFAULT_FMU as DEFAULT_FMU
+from .model_description import FMU_ENV as FMU_ENV
+from .model_description import FMUError as FMUError
+from .model_description import FMUNotFoundError as FMUNotFoundError
+from .model_description import fmi_version as fmi_version
 from .model_description import fmu_path as fmu_path
 
 OUTPUTS = ("x", "v", "a", "i", "F_motor", "F_cogging", "F_friction", "K_f")
@@ -248,7 +256,8 @@ class Plant:
         return self._fmi.derivatives()
 
     def get_derivatives(self, dx: object, nx: int) -> None:
-        """Model exchange: the state derivatives into ``dx`` (fmi2GetDerivatives / fmi3GetContinuousStateDerivatives)."""
+        """Model exchange: the state derivatives into ``dx`` (fmi2GetDerivatives /
+        fmi3GetContinuousStateDerivatives)."""
         self._fmi.derivatives()(dx, nx)
 
     def get_state(self) -> object:

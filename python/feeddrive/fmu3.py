@@ -360,9 +360,9 @@ class _SharedFunctions:
             self._functions = table
 
 
-class _Slave3(_SharedFunctions, FMU3Slave):
+class _Slave3(_SharedFunctions, FMU3Slave):  # type: ignore[misc]  # fmpy has no type information
     """fmpy's FMU3Slave on the shared function table."""
 
 
-class _Model3(_SharedFunctions, FMU3Model):
+class _Model3(_SharedFunctions, FMU3Model):  # type: ignore[misc]  # fmpy has no type information
     """fmpy's FMU3Model on the shared function table."""

@@ -41,9 +41,9 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
+from feeddrive.effects import EFFECTS
 from feeddrive.inputs import InputFileError, read_text
 from feeddrive.outputs import write_text
-from feeddrive.effects import EFFECTS
 from feeddrive.paper import EFFECT_IDS, SWITCHABLE_EFFECTS, paper_parameters
 from feeddrive.physics import ParameterError, compile
 

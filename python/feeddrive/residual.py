@@ -44,11 +44,23 @@ import numpy as np
 
 from .data import Run
 from .model_file import ModelFile
-from .physics import (DEFAULT_V_STICK, PlantParameters, applied_force, compile,
-                       force_residual as eq1_residual, friction_velocity, gms_force,
-                       held_current, karnopp_friction, load_acceleration, load_free_response,
-                       measured_motion, run_load)
-from .physics import GMSStart, started_friction
+from .physics import (
+    DEFAULT_V_STICK,
+    GMSStart,
+    PlantParameters,
+    applied_force,
+    compile,
+    friction_velocity,
+    gms_force,
+    held_current,
+    karnopp_friction,
+    load_acceleration,
+    load_free_response,
+    measured_motion,
+    run_load,
+    started_friction,
+)
+from .physics import force_residual as eq1_residual
 from .signals import apply_kernel, odd_window, run_label, sample_time
 
 #: Default Savitzky-Golay window [s] (41 samples at 0.5 ms) and polynomial order.

@@ -8,9 +8,9 @@ from ..fmu import fmu_path
 from ..harness.controller_fmu import controller_fmu_path
 from ..outputs import output_dir
 from ..report.circle import write_circle_report
-from ..xy.system import circle_system, write_xy_osp
 from ..xy.circle_test import MIN_PER_M_S, check_fits, circle_table, circular_case
 from ..xy.machine import xy_axes
+from ..xy.system import circle_system, write_xy_osp
 from .common import bar
 
 

@@ -5,10 +5,10 @@ import argparse
 
 from ..data import load_run, sidecar_path
 from ..diagnose.workflow import diagnose
+from ..harness.checked_runs import check_run
 from ..model_file import load_model
 from ..outputs import check_dir
 from ..report.diagnosis import write_diagnosis
-from ..harness.checked_runs import check_run
 from .common import stages
 
 

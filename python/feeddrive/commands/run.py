@@ -6,9 +6,9 @@ from pathlib import Path
 
 from ..data import load_runs
 from ..fmu import fmu_path
+from ..harness.checked_runs import check_run
 from ..outputs import check_dir
 from ..report.main_job import main_job
-from ..harness.checked_runs import check_run
 from .common import progress_enabled
 
 

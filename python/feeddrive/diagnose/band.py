@@ -27,10 +27,10 @@ import numpy as np
 from ..data import Run
 from ..model_file import ModelFile
 from ..physics import compile
+from ..residual import RunResidual, residuals
 from .candidates import compliance, mass
 from .context import Context
 from .noise_floor import noise_floor
-from ..residual import RunResidual, residuals
 from .scoring import T_MIN, Score, score
 from .significance import Gate, beyond, make_gate, nested_separable, passes
 

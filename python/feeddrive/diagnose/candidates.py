@@ -33,9 +33,9 @@ from ..physics import (
     profile_basis,
     stribeck_drop,
 )
+from ..residual import RunResidual
 from .context import Context
 from .localise import spatial_spectrum, spectral_peaks
-from .residual import RunResidual
 
 #: Maxwell-slip element travels tried by the pre-rolling candidate [m].
 PREROLL_DELTAS = tuple(np.geomspace(2e-6, 300e-6, 8).tolist())

@@ -23,8 +23,8 @@ import numpy as np
 
 from ..data import Run
 from ..model_file import ModelFile
-from .localise import regime_masks
 from ..residual import RunResidual, gap, residuals
+from .localise import regime_masks
 from .significance import Gate
 
 #: The rule, as diagnosis.json states it.

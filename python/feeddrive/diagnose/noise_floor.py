@@ -60,9 +60,9 @@ from ..physics import (
     measured_motion,
 )
 from ..physics import force_residual as eq1_residual
+from ..residual import DEFAULT_POLYORDER, RunResidual, run_force_gain
 from ..signals import odd_window
 from .localise import regime_masks
-from ..residual import DEFAULT_POLYORDER, RunResidual, run_force_gain
 
 #: Consistency constant of the median absolute deviation for a normal distribution.
 MAD_NORMAL = 1.4826

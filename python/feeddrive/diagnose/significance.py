@@ -33,6 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model_file import ModelFile
+from ..physics import compile
 from ..residual import RunResidual
 from .scoring import I_MIN, T_MIN, Score
 

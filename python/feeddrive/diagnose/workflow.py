@@ -35,6 +35,7 @@ from ..harness.runs import replay
 from ..harness.sidecar import read_sidecar
 from ..model_file import ModelFile
 from ..physics import compile
+from ..residual import RunResidual, gap, residuals
 from .band import WideBand, wide_band
 from .candidates import CANDIDATES
 from .confirmed import confirmation_of
@@ -50,7 +51,6 @@ from .localise import (
     where,
 )
 from .noise_floor import NoiseFloor, floor_table, noise_floor
-from ..residual import RunResidual, gap, residuals
 from .scoring import AMBIGUITY, I_MIN, T_MIN, Score, score, separable
 from .significance import (
     NOISE_FACTOR,

@@ -6,6 +6,9 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
+from ..control.state_space import StateSpaceController
 from ..harness.controllers import make_controller, state_space_spec
 from ..harness.references import Reference, sinusoid
 from ..harness.runs import run_closed_loop
@@ -35,7 +38,9 @@ def reproduce_paper(out_dir: Path | None = None,
     is called after each of the three stages (design and timed run, Sec. 3, Sec. 4).
     """
     ctrl = make_controller(state_space_spec(),
-                           Reference(5e-4, [0.15, 0.15], [0.0, 0.0], [0.0, 0.0]))
+                           Reference(5e-4, np.array([0.15, 0.15]), np.zeros(2), np.zeros(2)))
+    if not isinstance(ctrl, StateSpaceController):
+        raise TypeError(f"the state-space spec made a {type(ctrl).__name__}")
     design = ctrl.format_report()
     step()
     ref = sinusoid(sec3.AMPLITUDE, sec3.PERIOD, sec3.CENTRE, sec3.PERIOD)

@@ -30,11 +30,29 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..data import Run
-from ..fits.compliance import (F_GRID, SEARCH_STRIDE, ZETA_GRID, ZETA_RANGE, ComplianceFit,
-                               fit_compliance, nuisance_columns, start_columns)
-from ..physics import (DEFAULT_V_STICK, applied_force, compile, force_residual,
-                       friction_velocity, gms_force, held_current, karnopp_friction,
-                       measured_motion, run_load, started_friction)
+from ..fits.compliance import (
+    F_GRID,
+    SEARCH_STRIDE,
+    ZETA_GRID,
+    ZETA_RANGE,
+    ComplianceFit,
+    fit_compliance,
+    nuisance_columns,
+    start_columns,
+)
+from ..physics import (
+    DEFAULT_V_STICK,
+    applied_force,
+    compile,
+    force_residual,
+    friction_velocity,
+    gms_force,
+    held_current,
+    karnopp_friction,
+    measured_motion,
+    run_load,
+    started_friction,
+)
 from ..physics.params import HasFmuParameters
 from ..signals import odd_window, run_label, sample_time
 

@@ -42,7 +42,6 @@ from ..harness.checked_runs import load_checked_runs
 from ..model_file import ModelFile, load_model, paper_model, save_model
 from ..physics import CurrentLoop, run_load_mean
 from ..signals import run_label, sample_time
-from ..validation.replay import check_run
 from ._signals import steady_segment
 from .attraction import AttractionFit, identify_attraction
 from .current_loop import CurrentLoopFit, identify_current_loop

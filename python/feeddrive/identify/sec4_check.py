@@ -14,9 +14,9 @@ from typing import Any
 
 import numpy as np
 
-from ..harness.references import sinusoid
 from ..experiments import sec4
 from ..experiments.tracking_error import reversal_mask, summarise
+from ..harness.references import sinusoid
 
 REVERSAL_TOL = 2e-6     #: m
 

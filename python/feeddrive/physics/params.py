@@ -87,8 +87,8 @@ def _range_of(name: str) -> tuple[float, bool, float, bool] | None:
 
 def _num(v: float) -> str:
     """effects.c effect_num(): %.15g when it reads back exactly, else %.17g."""
-    s = "%.15g" % v
-    return s if float(s) == v else "%.17g" % v
+    s = f"{v:.15g}"
+    return s if float(s) == v else f"{v:.17g}"
 
 
 def _bound(v: float) -> str:
@@ -224,7 +224,7 @@ def compile(model: HasFmuParameters | Mapping[str, Any]) -> PlantParameters:
     for name, v in val.items():
         check_value(name, v)
     _check_compiled(val)
-    on = {e.id: bool(val[e.switch]) for e in switchable()}
+    on = {e.id: bool(val[e.switch]) for e in switchable() if e.switch is not None}
     maps = {name: PositionMap.from_parameters(name, val, on[per], on[aper])
             for name, (per, aper) in MAP_EFFECTS.items()}
     return PlantParameters(

@@ -3,8 +3,9 @@
 Both are a polynomial in x (the "aperiodic" part) plus a Fourier series whose terms each carry
 their own wavelength (the "periodic" part).  Parameters use FMU names (``cogging.c[0]``,
 ``cogging.lambda[1]``, ``cogging.a[1]``, ``cogging.b[1]``).  As the map effects' entries
-of fmu_src/physics/position_maps.c compile a map: a switched-off part is dropped, except the constant ``ripple.c[0]`` (``ripple_aperiodic``
-off means K_f = c0 + Fourier); harmonic slots with a = b = 0 are skipped.  C twin:
+of fmu_src/physics/position_maps.c compile a map: a switched-off part is dropped, except the
+constant ``ripple.c[0]`` (``ripple_aperiodic`` off means K_f = c0 + Fourier); harmonic slots with
+a = b = 0 are skipped.  C twin:
 fmu_src/physics/position_maps.c (the FMU evaluates at x clamped to the stroke, see
 :meth:`feeddrive.physics.params.PlantParameters.K_f`).
 """

@@ -20,10 +20,10 @@ import numpy as np
 
 from ..diagnose.localise import displacement_since_reversal, spatial_spectrum
 from ..diagnose.output import write_files
-from ..residual import RunResidual
 from ..diagnose.significance import NOISE_FACTOR
 from ..diagnose.workflow import Diagnosis
 from ..outputs import output_dir
+from ..residual import RunResidual
 from .page import Page
 
 #: How a residual is plotted: x values, line style, log x axis.

@@ -13,8 +13,17 @@ from pathlib import Path
 from typing import Any
 
 from ..data import Run
-from ..identify import parametric
 from ..harness.checked_runs import load_checked_runs
+from ..identify import parametric
+from ..identify.bootstrap import (
+    Bootstrap,
+    BootstrapTask,
+    check_campaign,
+    identified_names,
+    intervals,
+    run_replicates,
+    single_run_parameters,
+)
 from ..identify.pipeline import IdentificationResult, identify_runs
 from ..model_file import ModelFile, save_model
 from .executor import (

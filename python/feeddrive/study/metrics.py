@@ -17,9 +17,9 @@ from collections.abc import Mapping
 import numpy as np
 
 from ..data import Run
-from ..residual import force_residual
-from ..model_file import ModelFile
 from ..experiments.tracking_error import summarise
+from ..model_file import ModelFile
+from ..residual import force_residual
 from .schema import METRICS, Experiment
 
 

@@ -22,11 +22,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..control.feedforward import FeedforwardOptions, FrictionFeedforward
+from ..experiments import sec3, sec4
 from ..fmu import fmu_path
 from ..harness.controller_fmu import controller_fmu_parameters, controller_fmu_path, sinusoid_source
 from ..harness.controllers import state_space_spec
 from ..paper import paper_parameters
-from ..experiments import sec3, sec4
 
 Values = dict[str, float | int | bool]
 #: (start component, start connector, end component, end connector)

@@ -16,14 +16,21 @@ from typing import Any
 
 import numpy as np
 
-from ..control.feedforward import FeedforwardOptions
-from .path import DIRECTIONS, CirclePath, circle_path
+from ..control.feedforward import FeedforwardOptions, FrictionFeedforward
 from ..harness.controller_fmu import controller_fmu_parameters
 from ..harness.controllers import state_space_spec
-from .table import AxisLoop, simulate_axes
-from .circular import (Glitch, Trace, bidirectional_deviation, glitch_window, glitches,
-                       hysteresis, trace)
+from .circular import (
+    Glitch,
+    Trace,
+    bidirectional_deviation,
+    glitch_window,
+    glitches,
+    hysteresis,
+    trace,
+)
 from .machine import AxisModel
+from .path import DIRECTIONS, CirclePath, circle_path
+from .table import AxisLoop, simulate_axes
 
 FEEDFORWARD: dict[str, FrictionFeedforward | None] = {"none": None, "static": "static", "gms": "gms"}
 QUANTUM = 1e-7

@@ -25,9 +25,9 @@ from typing import Any
 
 import numpy as np
 
+from ..experiments.sec4 import PERTURBATION
 from ..model_file import load_model
 from ..paper import paper_parameters
-from ..experiments.sec4 import PERTURBATION
 
 Y_MASS = 40.0
 Y_FRICTION = 1.5

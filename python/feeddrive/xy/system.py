@@ -23,14 +23,14 @@ import numpy as np
 from fmpy import read_model_description
 
 from ..fmu import fmu_path
-from .path import DIRECTIONS
 from ..harness.controller_fmu import controller_fmu_path, sinusoid_source
 from ..harness.references import Reference
-from .table import AxisLoop, simulate_axes
-from .circle_test import centre_of, check_fits, controller_values
-from .machine import AxisModel
 from ..systems.engines import quiet_libcosim
 from ..systems.files import osp_structure
+from .circle_test import centre_of, check_fits, controller_values
+from .machine import AxisModel
+from .path import DIRECTIONS
+from .table import AxisLoop, simulate_axes
 
 START_DEG = 45.0
 

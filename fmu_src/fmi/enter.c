@@ -53,12 +53,12 @@ fmi2Status fmu_refuse(instance_t *c, const char *fn, const char *why) {
 double fmu_ulp_slack(double t) {
     /* nextafter(|t|, +inf) - |t| from the bits: the next double up is the one whose pattern is
      * one more (+inf and NaN stay as they are, the difference is then NaN as nextafter's) */
-    double a = fabs(t), b;
-    uint64_t u;
-    memcpy(&u, &a, sizeof u);
-    if (u < 0x7FF0000000000000ull) u++;
-    memcpy(&b, &u, sizeof b);
-    return 16.0 * (b - a);
+    union { double d; uint64_t u; } bits;   /* the double's pattern (C99 TC3 6.5.2.3) */
+    double a;
+    bits.d = fabs(t);
+    a = bits.d;
+    if (bits.u < 0x7FF0000000000000ull) bits.u++;
+    return 16.0 * (bits.d - a);
 }
 
 int fmu_finite_result(instance_t *c, const char *fn, const double *x, size_t n) {

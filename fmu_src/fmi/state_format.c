@@ -28,12 +28,10 @@ uint32_t sf_get_u32(rd_t *r) {
     return v;
 }
 double sf_get_f64(rd_t *r) {
-    uint64_t u = 0;
-    double v;
+    union { uint64_t u; double d; } bits = {0};   /* the double's pattern (C99 TC3 6.5.2.3) */
     int j;
-    for (j = 0; j < 8; j++) u |= (uint64_t)r->b[r->n++] << (8 * j);
-    memcpy(&v, &u, sizeof v);
-    return v;
+    for (j = 0; j < 8; j++) bits.u |= (uint64_t)r->b[r->n++] << (8 * j);
+    return bits.d;
 }
 
 static uint32_t crc32(uint32_t crc, const unsigned char *b, size_t n) {

@@ -320,12 +320,13 @@ $(FMIPP_STAMP): $(STAMP) tools/patch_fmipp.py
 	    $(PY) -m pip install -q --no-deps --force-reinstall $$wheels/fmipp-*.whl && touch $@; else cat $$skip; fi
 
 # ruff with the rules of python/pyproject.toml (ruff.toml points there) over the repository's
-# Python (the FMU generators included), then mypy over the package (strict where the
-# configuration says); both run and print every problem with its file and line, and either
-# fails the target
+# Python (the FMU generators included), its formatter in check mode, then mypy over the package
+# (strict where the configuration says); all three run and print every problem with its file and
+# line, and any fails the target
 LINT_PY := python tests tools examples fmu_src
 lint: $(STAMP)
 	@status=0; $(PY) -m ruff check $(LINT_PY) || status=1; \
+	$(PY) -m ruff format --check $(LINT_PY) || status=1; \
 	$(PY) -m mypy --config-file python/pyproject.toml python/feeddrive || status=1; exit $$status
 
 # the suite on TEST_WORKERS processes (pytest-xdist; default one per core), the tests of one

@@ -6,6 +6,7 @@ sidecar schema (``feeddrive.harness.sidecar``), of the model file format or of t
 parameter ranges, or is a run the tools must refuse (implausible sampling, too short,
 overflowing values, signals that carry nothing).
 """
+
 from __future__ import annotations
 
 import json
@@ -53,8 +54,10 @@ def csv_cases(good: str) -> list[tuple[str, str | bytes]]:
         ("one_row", _join(lines[:2])),
         ("two_rows", _join(lines[:3])),
         ("ten_rows", _join(lines[:11])),
-        ("missing_x", _join([",".join(c for c in ln.split(",")[:3] + ln.split(",")[4:])
-                             for ln in lines])),
+        (
+            "missing_x",
+            _join([",".join(c for c in ln.split(",")[:3] + ln.split(",")[4:]) for ln in lines]),
+        ),
         ("missing_time_case", _join(["Time" + lines[0][4:]] + lines[1:])),
         ("duplicate_column", _join([header.replace("x_ref", "x")] + lines[1:])),
         ("text_cell", _set_cell(good, mid, "u", "abc")),
@@ -64,20 +67,35 @@ def csv_cases(good: str) -> list[tuple[str, str | bytes]]:
         ("minus_inf_time", _set_cell(good, n + 1, "time", "-Infinity")),
         ("time_backwards", _set_cell(good, mid, "time", "0.0001")),
         ("time_repeats", _set_cell(good, 3, "time", _lines(good)[1].split(",")[0])),
-        ("ragged_long", _join(lines[:mid] + [lines[mid] + ",9"] + lines[mid + 1:])),
-        ("ragged_short", _join(lines[:mid] + [lines[mid].rsplit(",", 2)[0]] + lines[mid + 1:])),
+        ("ragged_long", _join(lines[:mid] + [lines[mid] + ",9"] + lines[mid + 1 :])),
+        ("ragged_short", _join(lines[:mid] + [lines[mid].rsplit(",", 2)[0]] + lines[mid + 1 :])),
         ("blank_line_inside", _join(lines[:mid] + [""] + lines[mid:])),
         ("unclosed_quote", _join(lines[:mid] + ['"0.1,2,3,4,5,6'] + lines[mid:])),
         ("not_utf8", good.encode()[:200] + b"\xff\xfe" + good.encode()[200:]),
         ("binary", bytes(range(256)) * 8),
         ("time_in_ms", _map_column(good, "time", lambda k, c: repr(float(c) * 1e4))),
         ("time_in_ns", _map_column(good, "time", lambda k, c: repr(float(c) * 1e-6))),
-        ("lost_samples", _join(lines[:mid] + lines[mid + 40:])),
+        ("lost_samples", _join(lines[:mid] + lines[mid + 40 :])),
         ("x_overflow", _set_cell(good, mid, "x", "1e308")),
         ("u_overflow", _set_cell(good, mid, "u", "-1e308")),
-        ("all_zero", _map_column(_map_column(_map_column(_map_column(_map_column(
-            good, "u", lambda k, c: "0.0"), "i", lambda k, c: "0.0"), "x", lambda k, c: "0.0"),
-            "x_ref", lambda k, c: "0.0"), "F_load", lambda k, c: "0.0")),
+        (
+            "all_zero",
+            _map_column(
+                _map_column(
+                    _map_column(
+                        _map_column(
+                            _map_column(good, "u", lambda k, c: "0.0"), "i", lambda k, c: "0.0"
+                        ),
+                        "x",
+                        lambda k, c: "0.0",
+                    ),
+                    "x_ref",
+                    lambda k, c: "0.0",
+                ),
+                "F_load",
+                lambda k, c: "0.0",
+            ),
+        ),
         ("constant_x", _map_column(good, "x", lambda k, c: "0.15")),
     ]
     return cases
@@ -85,6 +103,7 @@ def csv_cases(good: str) -> list[tuple[str, str | bytes]]:
 
 def sidecar_cases(good: dict[str, Any]) -> list[tuple[str, str | bytes]]:
     """Bad sidecars (the CSV beside them is good): not JSON, or contradicting the CSV."""
+
     def with_(**kw: Any) -> str:
         d = dict(good)
         d.update(kw)
@@ -108,6 +127,7 @@ def sidecar_cases(good: dict[str, Any]) -> list[tuple[str, str | bytes]]:
 def foreign_sidecar_cases(good: dict[str, Any]) -> list[tuple[str, dict[str, Any], str]]:
     """Sidecars that say something the tools do not use, with the key each note must name
     (the run stays usable: DATA.md, a sidecar is information, not a gate)."""
+
     def with_(**kw: Any) -> dict[str, Any]:
         d = dict(good)
         d.update(kw)
@@ -119,17 +139,26 @@ def foreign_sidecar_cases(good: dict[str, Any]) -> list[tuple[str, dict[str, Any
         ("controller_string", with_(controller="pid"), "controller"),
         ("controller_no_type", with_(controller={"Kp": 1.0}), "controller"),
         ("controller_unknown", with_(controller=dict(ctrl, type="fuzzy")), "'fuzzy'"),
-        ("controller_kp_missing", with_(controller={k: v for k, v in ctrl.items() if k != "Kp"}),
-         "'Kp' missing"),
+        (
+            "controller_kp_missing",
+            with_(controller={k: v for k, v in ctrl.items() if k != "Kp"}),
+            "'Kp' missing",
+        ),
         ("controller_kp_text", with_(controller=dict(ctrl, Kp="stiff")), "Kp"),
         ("controller_kp_negative", with_(controller=dict(ctrl, Kp=-1.0)), "gains must be >= 0"),
         ("controller_law", with_(controller=dict(ctrl, law="PID, textbook")), "controller.law"),
         ("Ts_text", with_(Ts="fast"), "Ts"),
         ("sensors_string", with_(sensors="ideal"), "sensors"),
-        ("sensors_quantum_negative", with_(sensors=dict(good["sensors"], quantum=-1e-7)),
-         "sensors.quantum"),
-        ("sensors_unknown", with_(sensors=dict(good["sensors"], encoder="LIP 581")),
-         "sensors.encoder"),
+        (
+            "sensors_quantum_negative",
+            with_(sensors=dict(good["sensors"], quantum=-1e-7)),
+            "sensors.quantum",
+        ),
+        (
+            "sensors_unknown",
+            with_(sensors=dict(good["sensors"], encoder="LIP 581")),
+            "sensors.encoder",
+        ),
         ("F_load_text", with_(F_load="heavy"), "F_load"),
         ("schema_other", with_(schema="other/9"), "'other/9'"),
         ("no_schema_own_keys", dict(no_schema, operator="A. N. Other"), "operator"),
@@ -140,6 +169,7 @@ def foreign_sidecar_cases(good: dict[str, Any]) -> list[tuple[str, dict[str, Any
 
 def model_cases(good: dict[str, Any]) -> list[tuple[str, str | bytes]]:
     """Bad model files (JSON) made from a good model document."""
+
     def with_params(**kw: Any) -> str:
         d = json.loads(json.dumps(good))
         d["parameters"].update(kw)
@@ -154,7 +184,10 @@ def model_cases(good: dict[str, Any]) -> list[tuple[str, str | bytes]]:
         ("json_syntax", text[: len(text) // 2]),
         ("json_array", "[]"),
         ("json_deep", "[" * 100_000 + "]" * 100_000),
-        ("json_deep_in_parameters", text[:-1] + ', "extra": ' + "[" * 100_000 + "]" * 100_000 + "}"),
+        (
+            "json_deep_in_parameters",
+            text[:-1] + ', "extra": ' + "[" * 100_000 + "]" * 100_000 + "}",
+        ),
         ("not_utf8", b'{"name": "\xff"}'),
         ("N_zero", with_params(**{"friction.N": 0})),
         ("N_eleven", with_params(**{"friction.N": 11})),

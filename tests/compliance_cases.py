@@ -12,6 +12,7 @@ some of it (a resonance rung in one block only cannot be told from chance):
 - ``prbs``: the stage held by the loop, a maximum-length sequence (order 11, 2 samples a
   bit, +-0.3 V) added to the controller's output for two periods, and the 1 Hz sinusoid.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -38,8 +39,11 @@ Ts = 5e-4
 
 def loaded(f: float, zeta: float, ratio: float) -> ModelFile:
     """The paper's drive with a load of ``ratio`` x its mass on a spring at f [Hz], zeta."""
-    return PAPER.with_effect("compliance", True, **{"compliance.m2": ratio * M,
-                                                    "compliance.f": f, "compliance.zeta": zeta})
+    return PAPER.with_effect(
+        "compliance",
+        True,
+        **{"compliance.m2": ratio * M, "compliance.f": f, "compliance.zeta": zeta},
+    )
 
 
 def _sensors(seed: int) -> Sensors:
@@ -66,5 +70,7 @@ def case_runs(truth: ModelFile, controller: str, excitation: str, seed: int = 1)
     """The runs of one case (module docstring)."""
     spec = SPECS[controller]()
     p = truth.fmu_parameters()
-    return [closed_loop_run(p, spec, ref, _sensors(seed + j), name=name, u_ff=u_ff)[0]
-            for j, (name, ref, u_ff) in enumerate(_references(excitation))]
+    return [
+        closed_loop_run(p, spec, ref, _sensors(seed + j), name=name, u_ff=u_ff)[0]
+        for j, (name, ref, u_ff) in enumerate(_references(excitation))
+    ]

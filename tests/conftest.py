@@ -1,5 +1,6 @@
 """Shared fixtures of the test suite: the built FMUs (FMI 2.0 and FMI 3.0), the paper's
 parameters; the ``slow`` marker."""
+
 from __future__ import annotations
 
 import subprocess
@@ -13,8 +14,8 @@ from feeddrive.paper import paper_parameters
 
 REPO = Path(__file__).resolve().parents[1]
 FMU = REPO / "build" / "LinearMotorFeedDrive.fmu"
-PKG_FMU = REPO / "python" / "feeddrive" / FMU.name     # the package's copy (make fmu), Plant's default
-FMU3 = REPO / "build" / "LinearMotorFeedDrive3.fmu"    # the same plant as FMI 3.0 (make fmu)
+PKG_FMU = REPO / "python" / "feeddrive" / FMU.name  # the package's copy (make fmu), Plant's default
+FMU3 = REPO / "build" / "LinearMotorFeedDrive3.fmu"  # the same plant as FMI 3.0 (make fmu)
 VERSIONS = ("2.0", "3.0")
 
 
@@ -22,10 +23,22 @@ VERSIONS = ("2.0", "3.0")
 #: tests that uses ``fmu_path`` runs on both FMUs (``[fmi2]``, ``[fmi3]``), except those marked
 #: ``fmi2_only`` (FMI 2.0 specifics, or a slow test whose FMI 3.0 twin is a subset: see there)
 BOTH_VERSIONS = {
-    "test_fmu_breakaway", "test_fmu_compliance", "test_fmu_current_loop", "test_fmu_elements",
-    "test_fmu_events", "test_fmu_friction_steady", "test_fmu_frictional_lag", "test_fmu_maps",
-    "test_fmu_prerolling", "test_fmu_static_friction", "test_fmu_tolerance", "test_fmu_shared",
-    "test_cs_agreement", "test_physics_effects", "test_position_friction", "test_cs_fast_path",
+    "test_fmu_breakaway",
+    "test_fmu_compliance",
+    "test_fmu_current_loop",
+    "test_fmu_elements",
+    "test_fmu_events",
+    "test_fmu_friction_steady",
+    "test_fmu_frictional_lag",
+    "test_fmu_maps",
+    "test_fmu_prerolling",
+    "test_fmu_static_friction",
+    "test_fmu_tolerance",
+    "test_fmu_shared",
+    "test_cs_agreement",
+    "test_physics_effects",
+    "test_position_friction",
+    "test_cs_fast_path",
 }
 
 
@@ -36,7 +49,10 @@ def pytest_configure(config: pytest.Config) -> None:
 
 def pytest_generate_tests(metafunc: pytest.Metafunc) -> None:
     """Parametrise ``fmi`` (and so ``fmu_path``) over both versions in BOTH_VERSIONS modules."""
-    if metafunc.module.__name__.rpartition(".")[2] in BOTH_VERSIONS and "fmi" in metafunc.fixturenames:
+    if (
+        metafunc.module.__name__.rpartition(".")[2] in BOTH_VERSIONS
+        and "fmi" in metafunc.fixturenames
+    ):
         versions = VERSIONS[:1] if metafunc.definition.get_closest_marker("fmi2_only") else VERSIONS
         metafunc.parametrize("fmi", versions, ids=lambda v: f"fmi{v[0]}", scope="module")
 
@@ -79,7 +95,9 @@ def fmu_path(fmi: str, fmu2_path: Path, fmu3_path: Path) -> Iterator[Path]:
 
 
 @pytest.fixture(scope="session", params=VERSIONS, ids=lambda v: f"fmi{v[0]}")
-def fmu_version(request: pytest.FixtureRequest, fmu2_path: Path, fmu3_path: Path) -> tuple[Path, str]:
+def fmu_version(
+    request: pytest.FixtureRequest, fmu2_path: Path, fmu3_path: Path
+) -> tuple[Path, str]:
     """(path, FMI version) of each build of the plant: the tests that take it run on both."""
     return (fmu2_path if request.param == "2.0" else fmu3_path), request.param
 

@@ -3,6 +3,7 @@ FMU (FMI 2.0) + plant FMU stepped from Python, the plant either the FMI 2.0 FMU
 (:func:`feeddrive.harness.two_fmus.simulate_two_fmus`) or the FMI 3.0 one with or without
 early return / event mode at friction switches (:func:`two_fmus3`), on the same convention
 (macro step Ts; at t_k x(t_k) -> x_meas, u(t_k) -> plant, both step over [t_k, t_k+1])."""
+
 from __future__ import annotations
 
 import ctypes
@@ -31,19 +32,20 @@ class Loop3:
     """x at t_k (k = 0..n), and what the FMI 3.0 master saw."""
 
     x: np.ndarray
-    early_returns: int           # fmi3DoStep calls that returned early (at a friction switch)
-    events: int                  # steps that asked for event mode (eventHandlingNeeded)
-    do_steps: int                # fmi3DoStep calls in all
+    early_returns: int  # fmi3DoStep calls that returned early (at a friction switch)
+    events: int  # steps that asked for event mode (eventHandlingNeeded)
+    do_steps: int  # fmi3DoStep calls in all
     switch_times: list[float]
     wall: float
-    stats: dict                  # the plant's stats.* at the end
+    stats: dict  # the plant's stats.* at the end
 
 
 def reference_6s() -> tuple[int, float, dict]:
     """n, x0 and the controller FMU's parameters of the 6 s, 30 mm sinusoid (bench.py's)."""
     ref = sinusoid(0.030, 6.0, 0.150, 6.0)
-    values = controller_fmu_parameters(state_space_spec(), quantum=1e-7,
-                                       reference=sinusoid_source(0.030, 6.0, 0.150, 6.0))
+    values = controller_fmu_parameters(
+        state_space_spec(), quantum=1e-7, reference=sinusoid_source(0.030, 6.0, 0.150, 6.0)
+    )
     return ref.n, float(ref.x[0]), values
 
 
@@ -53,8 +55,12 @@ class _Controller3:
     def __init__(self, path: str, values: dict) -> None:
         md = read_model_description(path)
         self.var = {v.name: v for v in md.modelVariables}
-        self.fmu = FMU3Slave(guid=md.guid, unzipDirectory=extract(path),
-                             modelIdentifier=md.coSimulation.modelIdentifier, instanceName="ctrl3")
+        self.fmu = FMU3Slave(
+            guid=md.guid,
+            unzipDirectory=extract(path),
+            modelIdentifier=md.coSimulation.modelIdentifier,
+            instanceName="ctrl3",
+        )
         self.values = values
 
     def start(self, x0: float) -> float:
@@ -82,12 +88,22 @@ class _Controller3:
         self.fmu.freeInstance()
 
 
-def two_fmus3(path: str, n: int, x0: float, ctrl_values: dict, early_return: bool = False,
-              event_mode: bool = False, tolerance: float = 1e-6, controller3: str | None = None) -> Loop3:
+def two_fmus3(
+    path: str,
+    n: int,
+    x0: float,
+    ctrl_values: dict,
+    early_return: bool = False,
+    event_mode: bool = False,
+    tolerance: float = 1e-6,
+    controller3: str | None = None,
+) -> Loop3:
     """The loop with the FMI 3.0 plant at ``path`` (a fresh instance, default friction.N) and
     the FMI 2.0 controller FMU, or the FMI 3.0 one at ``controller3``."""
     if controller3 is not None:
-        return _loop(path, n, x0, _Controller3(controller3, ctrl_values), early_return, event_mode, tolerance)
+        return _loop(
+            path, n, x0, _Controller3(controller3, ctrl_values), early_return, event_mode, tolerance
+        )
     with ControllerFMU(ctrl_values) as ctrl:
         return _loop(path, n, x0, _Controller2(ctrl), early_return, event_mode, tolerance)
 
@@ -120,11 +136,17 @@ class _Controller2:
         pass
 
 
-def _loop(path: str, n: int, x0: float, ctrl, early_return: bool, event_mode: bool, tolerance: float) -> Loop3:
+def _loop(
+    path: str, n: int, x0: float, ctrl, early_return: bool, event_mode: bool, tolerance: float
+) -> Loop3:
     md = read_model_description(path)
     vr = {v.name: v.valueReference for v in md.modelVariables}
-    plant = FMU3Slave(guid=md.guid, unzipDirectory=extract(path), modelIdentifier=md.coSimulation.modelIdentifier,
-                      instanceName="plant3")
+    plant = FMU3Slave(
+        guid=md.guid,
+        unzipDirectory=extract(path),
+        modelIdentifier=md.coSimulation.modelIdentifier,
+        instanceName="plant3",
+    )
     xs = np.empty(n + 1)
     n_early = n_events = n_steps = 0
     switches: list[float] = []
@@ -143,7 +165,7 @@ def _loop(path: str, n: int, x0: float, ctrl, early_return: bool, event_mode: bo
         u = ctrl.step(k, xs[k] if k > 0 else None)
         if k > 0:
             plant.setFloat64([vr["u"]], [u])
-        t_now, t_end = t, t + TS    # the FMI 2.0 loop's step end, to the bit
+        t_now, t_end = t, t + TS  # the FMI 2.0 loop's step end, to the bit
         while True:
             need, _, early, t_last = plant.doStep(t_now, TS if t_now == t else t_end - t_now)
             n_steps += 1

@@ -5,6 +5,7 @@ description it parsed for a model identifier).
 Usage: python tests/fmipp_export_run.py FMU OUT.npz [PARAMETERS.json]
 PARAMETERS.json: {name: value} set before initialization (bool: Boolean, int: Integer, float: Real).
 """
+
 from __future__ import annotations
 
 import json

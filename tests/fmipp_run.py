@@ -3,6 +3,7 @@ tests/test_fmipp.py, which runs this file in its own process).
 
 Usage: python tests/fmipp_run.py FMU OUT_DIR  -> OUT_DIR/fmipp.npz (me_x, me_v, ..., cs_x, ...)
 """
+
 from __future__ import annotations
 
 import sys
@@ -13,7 +14,7 @@ import numpy as np
 
 from importer_scenario import COLUMNS, TS, X0, N, end_of_step_to_sampled, grid, u_input
 
-EVENT_PRECISION = 1e-12      #: [s] fmipp's event search precision (ME)
+EVENT_PRECISION = 1e-12  #: [s] fmipp's event search precision (ME)
 MODEL = "LinearMotorFeedDrive"
 
 
@@ -39,7 +40,7 @@ def _run(fmu_path: Path, tmp: Path, interface: str) -> dict[str, np.ndarray]:
             assert f.doStep(k * TS, TS, True) == fmipp.statusOK, f"doStep at {k * TS}"
         else:
             calls = 0
-            while f.getTime() < t[k + 1] - EVENT_PRECISION:      # it stops before every event
+            while f.getTime() < t[k + 1] - EVENT_PRECISION:  # it stops before every event
                 f.integrate(float(t[k + 1]), 1e-5)
                 calls += 1
                 assert calls < 1000, f"fmipp ME stuck at t = {f.getTime()!r}"

@@ -7,6 +7,7 @@ t_k; the FMU integrates [t_k, t_{k+1}] with fmpy's CVodeSolver and the FMI 2.0 e
 handling of :class:`feeddrive.harness.simulate.Stepper` (state events located by CVode's root
 finder, an event update at every sample).
 """
+
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
@@ -20,8 +21,10 @@ from feeddrive.harness.simulate import Stepper as _Stepper
 #: Parameters that strip the plant down to mass + friction driven by F_ext (u = 0):
 #: no cogging, no ripple, no current-loop samples (so a sample may be longer than Ts).
 FRICTION_ONLY: dict[str, bool] = {
-    "effects.cogging_periodic": False, "effects.cogging_aperiodic": False,
-    "effects.ripple_periodic": False, "effects.ripple_aperiodic": False,
+    "effects.cogging_periodic": False,
+    "effects.cogging_aperiodic": False,
+    "effects.ripple_periodic": False,
+    "effects.ripple_aperiodic": False,
     "effects.current_dynamics": False,
 }
 
@@ -36,23 +39,30 @@ class Run:
     """Signals at t_k (k = 0..n) and the event counts of one run."""
 
     sig: dict[str, np.ndarray]
-    state_events: int                 # CVode roots reported to the ME loop
-    time_events: int                  # sample instants handled in event mode
+    state_events: int  # CVode roots reported to the ME loop
+    time_events: int  # sample instants handled in event mode
     stats: dict[str, int] = field(default_factory=dict)
 
     def __getitem__(self, name: str) -> np.ndarray:
         return self.sig[name]
 
 
-def me_plant(parameters: Mapping[str, float | int | bool] | None = None,
-             tolerance: float = 1e-8) -> Plant:
+def me_plant(
+    parameters: Mapping[str, float | int | bool] | None = None, tolerance: float = 1e-8
+) -> Plant:
     """A model-exchange instance of the FMU (CVode) with ``parameters`` over the defaults."""
     return Plant(dict(parameters or {}), interface="me", tolerance=tolerance)
 
 
-def run_law(plant: Plant, dt: float, n: int, law: Law | None,
-            start: Mapping[str, float] | None = None, integers: Sequence[str] = ("n_stuck",),
-            stop: Callable[[int, Mapping[str, float]], bool] | None = None) -> Run:
+def run_law(
+    plant: Plant,
+    dt: float,
+    n: int,
+    law: Law | None,
+    start: Mapping[str, float] | None = None,
+    integers: Sequence[str] = ("n_stuck",),
+    stop: Callable[[int, Mapping[str, float]], bool] | None = None,
+) -> Run:
     """Run ``n`` samples of length ``dt`` from the start values ``start`` (u, F_ext, x, v, ...).
 
     At k = 0 the inputs are the start values; at k >= 1 ``law`` sets them (None: held).
@@ -83,10 +93,12 @@ def run_law(plant: Plant, dt: float, n: int, law: Law | None,
             break
         stepper.step(k)
     sig = {s: rows[: last + 1, j].copy() for j, s in enumerate(names)}
-    stats = plant.get(["stats.n_stick", "stats.n_slip", "stats.n_state_events",
-                       "stats.n_time_events"])
-    return Run(sig, stepper.n_state_events, stepper.n_time_events,
-               {k: int(v) for k, v in stats.items()})
+    stats = plant.get(
+        ["stats.n_stick", "stats.n_slip", "stats.n_state_events", "stats.n_time_events"]
+    )
+    return Run(
+        sig, stepper.n_state_events, stepper.n_time_events, {k: int(v) for k, v in stats.items()}
+    )
 
 
 class VelocityLoop:
@@ -95,8 +107,9 @@ class VelocityLoop:
     damped).  The plant must be friction-only (u = 0, no cogging): then at constant speed
     F_ext = -(force of friction acting on the stage)."""
 
-    def __init__(self, v_ref: Callable[[float], float], m: float, dt: float,
-                 bandwidth: float = 20.0) -> None:
+    def __init__(
+        self, v_ref: Callable[[float], float], m: float, dt: float, bandwidth: float = 20.0
+    ) -> None:
         w = 2.0 * np.pi * bandwidth
         self.v_ref, self.dt = v_ref, dt
         self.kp, self.ki = m * w, m * w * w / 4.0
@@ -108,14 +121,21 @@ class VelocityLoop:
         return 0.0, -(y["F_friction"] + self.kp * e + self.ki * self.integral)
 
 
-def run_at_speed(parameters: Mapping[str, float | int | bool], v_ref: float, m: float,
-                 dt: float = 2e-3, n: int = 300, ramp: float = 0.02) -> Run:
+def run_at_speed(
+    parameters: Mapping[str, float | int | bool],
+    v_ref: float,
+    m: float,
+    dt: float = 2e-3,
+    n: int = 300,
+    ramp: float = 0.02,
+) -> Run:
     """Model exchange at tolerance 1e-8 from x = 0, speed ramped to ``v_ref`` in ``ramp``
     seconds and held by a :class:`VelocityLoop` (friction-only parameters)."""
     plant = me_plant(parameters)
     try:
-        return run_law(plant, dt, n, VelocityLoop(lambda t: v_ref * min(t / ramp, 1.0), m, dt),
-                       {"x": 0.0})
+        return run_law(
+            plant, dt, n, VelocityLoop(lambda t: v_ref * min(t / ramp, 1.0), m, dt), {"x": 0.0}
+        )
     finally:
         plant.close()
 
@@ -125,21 +145,27 @@ class PositionLoop:
     feedforward from the FMU's outputs, motor force included, plus PD with poles at
     ``bandwidth`` Hz (critically damped)."""
 
-    def __init__(self, ref: Callable[[float], tuple[float, float, float]], m: float,
-                 bandwidth: float = 30.0) -> None:
+    def __init__(
+        self, ref: Callable[[float], tuple[float, float, float]], m: float, bandwidth: float = 30.0
+    ) -> None:
         w = 2.0 * np.pi * bandwidth
         self.ref, self.m = ref, m
         self.kp, self.kd = w * w, 2.0 * w
 
     def __call__(self, k: int, t: float, y: Mapping[str, float]) -> tuple[float, float]:
         x_r, v_r, a_r = self.ref(t)
-        drive = y["F_friction"] + y["F_cogging"] - y["F_motor"] \
+        drive = (
+            y["F_friction"]
+            + y["F_cogging"]
+            - y["F_motor"]
             + self.m * (a_r + self.kd * (v_r - y["v"]) + self.kp * (x_r - y["x"]))
+        )
         return 0.0, -drive
 
 
-def triangle(points: Sequence[float], speed: float, t_hold: float = 0.0
-             ) -> tuple[Callable[[float], tuple[float, float, float]], np.ndarray]:
+def triangle(
+    points: Sequence[float], speed: float, t_hold: float = 0.0
+) -> tuple[Callable[[float], tuple[float, float, float]], np.ndarray]:
     """Position reference through ``points`` [m] at constant ``speed`` [m/s] (a hold of
     ``t_hold`` s first).  Returns ref(t) -> (x, v, a) and the times the points are reached."""
     pts = np.asarray(points, dtype=float)
@@ -159,8 +185,9 @@ def triangle(points: Sequence[float], speed: float, t_hold: float = 0.0
     return ref, knots
 
 
-def maxwell_slip(x: np.ndarray, k: Sequence[float], levels: Sequence[float],
-                 F0: Sequence[float] | None = None) -> np.ndarray:
+def maxwell_slip(
+    x: np.ndarray, k: Sequence[float], levels: Sequence[float], F0: Sequence[float] | None = None
+) -> np.ndarray:
     """Friction of the ideal Maxwell-slip model (MODEL.md, Eq. 15) along the path ``x``.
 
     Element i is a spring k_i whose force is clipped at +-levels[i] (a block that slides

@@ -4,6 +4,7 @@ from rest at x = 0.15 m (about 57 mm of travel, 0.2 m/s peak, stick and slip at 
 reversal), outputs on the grid t_k = k Ts; and fmpy's runs of it (CS at the experiment
 tolerance 1e-6, ME with CVode at 1e-9), computed once per session and FMU file.
 """
+
 from __future__ import annotations
 
 import functools

@@ -7,6 +7,7 @@ sidecar's position, stopped where the stage leaves the sidecar's ``stop_outside`
 recording gets the sensors' effects (100 nm scale, current noise acting on the stage), and is
 written as ``NAME.csv`` with the plan's sidecar copied beside it unchanged.
 """
+
 from __future__ import annotations
 
 import json
@@ -34,15 +35,22 @@ def read_reference(path: Path) -> dict[str, np.ndarray]:
     return {n: data[:, j] for j, n in enumerate(names)}
 
 
-def _open_loop(params: Mapping[str, Any], sensors: Sensors, cols: dict[str, np.ndarray],
-               side: Mapping[str, Any]) -> Run:
+def _open_loop(
+    params: Mapping[str, Any],
+    sensors: Sensors,
+    cols: dict[str, np.ndarray],
+    side: Mapping[str, Any],
+) -> Run:
     Ts = float(side["Ts"])
-    u = np.append(cols["u"], cols["u"][-1])          # one sample more (sampled_signals)
+    u = np.append(cols["u"], cols["u"][-1])  # one sample more (sampled_signals)
     t = np.arange(len(u)) * Ts
     F = sensors.force_disturbance(len(u))
     with Plant(params, interface="cs", tolerance=1e-6) as plant:
-        res = sampled_signals(simulate_open_loop(plant, t, u, F_ext=F, start_values={
-            "x": float(side["position"]), "v": 0.0}))
+        res = sampled_signals(
+            simulate_open_loop(
+                plant, t, u, F_ext=F, start_values={"x": float(side["position"]), "v": 0.0}
+            )
+        )
     lo, hi = (float(v) for v in side["stop_outside"])
     out = np.flatnonzero((res["x"] < lo) | (res["x"] > hi))
     stop = int(out[0]) if out.size else len(res["x"])
@@ -60,10 +68,16 @@ def play_plan(plan_dir: Path, params: Mapping[str, Any], out: Path, seed: int = 
         sensors = Sensors(seed=run_seed(seed, ref_path.stem))
         if "x_ref" in cols:
             ref = from_positions(cols["x_ref"], float(side["Ts"]))
-            run = closed_loop_measurement(params, sensors, ref, {}, spec=side["controller"],
-                                          F_load=float(side["F_load"]),
-                                          u_ff=cols.get("u_add"),
-                                          hold=float(side["hold_before_record"]))
+            run = closed_loop_measurement(
+                params,
+                sensors,
+                ref,
+                {},
+                spec=side["controller"],
+                F_load=float(side["F_load"]),
+                u_ff=cols.get("u_add"),
+                hold=float(side["hold_before_record"]),
+            )
         else:
             run = _open_loop(params, sensors, cols, side)
         run.meta = {}

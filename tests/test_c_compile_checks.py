@@ -1,6 +1,7 @@
 """The compile-time checks of fmu_src/models/plant/params.c: the plant's counts of continuous states and event
 indicators must equal those of the header generated from modelDescription.xml (gen_vars.py), or
 the FMU does not build, and the failure names the check."""
+
 from __future__ import annotations
 
 import re
@@ -25,11 +26,23 @@ def _compile_params(tmp_path: Path, xml_text: str) -> subprocess.CompletedProces
     xml = tmp_path / "modelDescription.xml"
     xml.write_text(xml_text, encoding="utf-8")
     gen = tmp_path / "gen"
-    subprocess.run([sys.executable, str(SRC / "generators" / "gen_vars.py"), str(xml), str(gen)],
-                   check=True, timeout=60)
-    return subprocess.run([cc, *FLAGS, *(f"-I{SRC / d}" for d in PLANT_DIRS), f"-I{gen}",
-                           str(SRC / "models" / "plant" / "params.c")],
-                          capture_output=True, text=True, timeout=120)
+    subprocess.run(
+        [sys.executable, str(SRC / "generators" / "gen_vars.py"), str(xml), str(gen)],
+        check=True,
+        timeout=60,
+    )
+    return subprocess.run(
+        [
+            cc,
+            *FLAGS,
+            *(f"-I{SRC / d}" for d in PLANT_DIRS),
+            f"-I{gen}",
+            str(SRC / "models" / "plant" / "params.c"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
 
 
 def test_params_compiles_against_the_model_description(tmp_path: Path) -> None:
@@ -42,7 +55,7 @@ def _one_state_less(text: str) -> str:
     assert der is not None
     block = der.group(0)
     last = list(re.finditer(r"\s*<Unknown [^>]*/>", block))[-1]
-    return text.replace(block, block[:last.start()] + block[last.end():])
+    return text.replace(block, block[: last.start()] + block[last.end() :])
 
 
 def _one_indicator_less(text: str) -> str:
@@ -50,8 +63,13 @@ def _one_indicator_less(text: str) -> str:
     return text.replace(f'numberOfEventIndicators="{n}"', f'numberOfEventIndicators="{n - 1}"')
 
 
-@pytest.mark.parametrize("edit, check", [(_one_state_less, "compile_check_continuous_states_match_xml"),
-                                         (_one_indicator_less, "compile_check_event_indicators_match_xml")])
+@pytest.mark.parametrize(
+    "edit, check",
+    [
+        (_one_state_less, "compile_check_continuous_states_match_xml"),
+        (_one_indicator_less, "compile_check_event_indicators_match_xml"),
+    ],
+)
 def test_count_mismatch_fails_the_build(tmp_path: Path, edit, check: str) -> None:
     proc = _compile_params(tmp_path, edit(XML.read_text(encoding="utf-8")))
     assert proc.returncode != 0, "params.c compiled against a model description with other counts"

@@ -23,6 +23,7 @@ DriveController3.so linked for the FMI 3.0 calls).
 * a coverage-guided libFuzzer run (tests/c/ctrl_fuzz_lib.c: programs of FMI 2.0 and 3.0 calls,
   the same oracle) for 20 s from an empty corpus, when clang is installed.
 """
+
 from __future__ import annotations
 
 import os
@@ -36,27 +37,57 @@ import pytest
 REPO = Path(__file__).resolve().parents[1]
 OUT = REPO / "build" / "tests_c"
 CTRL_SO = REPO / "build" / "controller" / "binaries" / "linux64" / "DriveController.so"
-SAN_ENV = {"ASAN_OPTIONS": "detect_leaks=1:abort_on_error=1:halt_on_error=1",
-           "UBSAN_OPTIONS": "print_stacktrace=1:halt_on_error=1"}
-SANITIZER_MARKS = ("runtime error:", "AddressSanitizer", "LeakSanitizer", "UndefinedBehaviorSanitizer",
-                   "ThreadSanitizer")
-CASES = ["step_inf", "step_huge", "step_tiny_ts", "step_coarse_time", "get_float64_null",
-         "boolean_size_max3", "clock", "boolean_size_max2", "unstable_state_space", "unstable_lti",
-         "lti_full_order", "ref_duration", "ref_duration_samples", "ref_point_to_point",
-         "ref_p2p_samples", "delay"]
+SAN_ENV = {
+    "ASAN_OPTIONS": "detect_leaks=1:abort_on_error=1:halt_on_error=1",
+    "UBSAN_OPTIONS": "print_stacktrace=1:halt_on_error=1",
+}
+SANITIZER_MARKS = (
+    "runtime error:",
+    "AddressSanitizer",
+    "LeakSanitizer",
+    "UndefinedBehaviorSanitizer",
+    "ThreadSanitizer",
+)
+CASES = [
+    "step_inf",
+    "step_huge",
+    "step_tiny_ts",
+    "step_coarse_time",
+    "get_float64_null",
+    "boolean_size_max3",
+    "clock",
+    "boolean_size_max2",
+    "unstable_state_space",
+    "unstable_lti",
+    "lti_full_order",
+    "ref_duration",
+    "ref_duration_samples",
+    "ref_point_to_point",
+    "ref_p2p_samples",
+    "delay",
+]
 
 
 def build(*targets: str) -> None:
-    subprocess.run(["make", "-s", "-j2", "-C", str(REPO / "tests" / "c")] + [str(OUT / t) for t in targets],
-                   check=True, capture_output=True, text=True)
+    subprocess.run(
+        ["make", "-s", "-j2", "-C", str(REPO / "tests" / "c")] + [str(OUT / t) for t in targets],
+        check=True,
+        capture_output=True,
+        text=True,
+    )
 
 
 def run(prog: str, *args: str, timeout: float = 300) -> subprocess.CompletedProcess:
     """Run a ctrl_host build; a run that does not end within ``timeout`` fails the test."""
     lib = str(CTRL_SO) if prog == "ctrl_host3" else "-"
     try:
-        return subprocess.run([str(OUT / prog), lib, *args], capture_output=True, text=True, timeout=timeout,
-                              env=dict(os.environ, **SAN_ENV))
+        return subprocess.run(
+            [str(OUT / prog), lib, *args],
+            capture_output=True,
+            text=True,
+            timeout=timeout,
+            env=dict(os.environ, **SAN_ENV),
+        )
     except subprocess.TimeoutExpired:
         pytest.fail(f"{prog} {' '.join(args)} did not end within {timeout} s")
 
@@ -94,8 +125,20 @@ def _counts(stdout: str) -> dict[str, int]:
     """The fuzz run's counts by name (the numbers of its two summary lines)."""
     lines = stdout.splitlines()[-3:-1]
     text = " ".join(lines).replace("FMI 3.0", "")
-    keys = ["calls", "fmi3", "illegal", "finite_gets", "values", "steps", "settings", "set_refused",
-            "init_refused", "diverged", "samples", "ran"]
+    keys = [
+        "calls",
+        "fmi3",
+        "illegal",
+        "finite_gets",
+        "values",
+        "steps",
+        "settings",
+        "set_refused",
+        "init_refused",
+        "diverged",
+        "samples",
+        "ran",
+    ]
     return dict(zip(keys, map(int, re.findall(r"\d+", text)), strict=True))
 
 
@@ -109,7 +152,12 @@ def test_fuzz_sanitized(san, seed: int) -> None:
     # deep enough to mean something: both versions, every kind of answer
     assert n["calls"] >= 1_000_000 and n["fmi3"] > 300_000, n
     assert n["illegal"] > 40_000 and n["finite_gets"] > 300_000 and n["steps"] > 300_000, n
-    assert n["settings"] > 8_000 and n["init_refused"] > 500 and n["diverged"] > 30 and n["ran"] > 5_000, n
+    assert (
+        n["settings"] > 8_000
+        and n["init_refused"] > 500
+        and n["diverged"] > 30
+        and n["ran"] > 5_000
+    ), n
 
 
 def test_fuzz_shipped_libraries(fmu_path: Path) -> None:
@@ -136,20 +184,35 @@ def test_threads_thread_sanitizer(fmu_path: Path) -> None:
     assert p.stdout.count("PASS instance") == 8
 
 
-@pytest.mark.skipif(shutil.which(os.environ.get("CLANG", "clang")) is None,
-                    reason="clang (libFuzzer) is not installed: apt-get install clang (make test does as root)")
+@pytest.mark.skipif(
+    shutil.which(os.environ.get("CLANG", "clang")) is None,
+    reason="clang (libFuzzer) is not installed: apt-get install clang (make test does as root)",
+)
 def test_libfuzzer_bounded_run(fmu_path: Path, tmp_path: Path) -> None:
     """20 s of coverage-guided programs of calls (seed 1) under ASan + UBSan: no finding."""
     build("ctrl_fuzz_lib")
     corpus = tmp_path / "corpus"
     corpus.mkdir()
-    p = subprocess.run([str(OUT / "ctrl_fuzz_lib"), "-seed=1", "-max_total_time=20", "-timeout=10",
-                        "-rss_limit_mb=2048", f"-artifact_prefix={tmp_path}/", str(corpus)],
-                       capture_output=True, text=True, timeout=140)
+    p = subprocess.run(
+        [
+            str(OUT / "ctrl_fuzz_lib"),
+            "-seed=1",
+            "-max_total_time=20",
+            "-timeout=10",
+            "-rss_limit_mb=2048",
+            f"-artifact_prefix={tmp_path}/",
+            str(corpus),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=140,
+    )
     report = p.stderr[-4000:]
     done = re.search(r"Done (\d+) runs in (\d+) second", p.stderr)
     assert p.returncode == 0 and done, report
     assert "ctrl_fuzz_lib finding" not in p.stderr and "ERROR:" not in p.stderr, report
     cov = re.findall(r"cov: (\d+)", p.stderr)
-    print(f"{done.group(1)} executions in {done.group(2)} s, coverage {cov[-1] if cov else '?'} edges")
+    print(
+        f"{done.group(1)} executions in {done.group(2)} s, coverage {cov[-1] if cov else '?'} edges"
+    )
     assert int(done.group(1)) > 1000

@@ -19,6 +19,7 @@ tests/c/fmi3_host.c (+ fmi3_host_robust.c) under AddressSanitizer + UBSan + Leak
 * calls in wrong states refused naming the call; 900 instances created and freed, no leak, also
   when their FMU states are left to fmi3FreeInstance.
 """
+
 from __future__ import annotations
 
 import json
@@ -30,17 +31,33 @@ import pytest
 
 REPO = Path(__file__).resolve().parents[1]
 OUT = REPO / "build" / "tests_c"
-SAN_ENV = {"ASAN_OPTIONS": "detect_leaks=1:abort_on_error=1:halt_on_error=1",
-           "UBSAN_OPTIONS": "print_stacktrace=1:halt_on_error=1"}
-SANITIZER_MARKS = ("runtime error:", "AddressSanitizer", "LeakSanitizer", "UndefinedBehaviorSanitizer")
+SAN_ENV = {
+    "ASAN_OPTIONS": "detect_leaks=1:abort_on_error=1:halt_on_error=1",
+    "UBSAN_OPTIONS": "print_stacktrace=1:halt_on_error=1",
+}
+SANITIZER_MARKS = (
+    "runtime error:",
+    "AddressSanitizer",
+    "LeakSanitizer",
+    "UndefinedBehaviorSanitizer",
+)
 PROG = "fmi3_host_san"
 
 
 def run(*args: str) -> subprocess.CompletedProcess:
-    subprocess.run(["make", "-s", "-C", str(REPO / "tests" / "c"), str(OUT / PROG)], check=True,
-                   capture_output=True, text=True)
-    return subprocess.run([str(OUT / PROG), *args], capture_output=True, text=True, timeout=300,
-                          env=dict(os.environ, **SAN_ENV))
+    subprocess.run(
+        ["make", "-s", "-C", str(REPO / "tests" / "c"), str(OUT / PROG)],
+        check=True,
+        capture_output=True,
+        text=True,
+    )
+    return subprocess.run(
+        [str(OUT / PROG), *args],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        env=dict(os.environ, **SAN_ENV),
+    )
 
 
 @pytest.fixture(scope="module")
@@ -72,7 +89,7 @@ def test_model_exchange_loop(figures: dict[str, list[dict]]) -> None:
     for r in figures["me"]:
         # a time event at every current-loop sample (Ts = 0.5 ms) over 0.25 s
         assert r["time_events"] == 500
-        assert r["state_events"] >= 3   # the friction switches of u's first half period
+        assert r["state_events"] >= 3  # the friction switches of u's first half period
         assert r["updates"] >= r["time_events"] + r["state_events"]
     n5 = figures["me"][1]
     # forward Euler is first order: 0.8 um from the co-simulation's DP45 at h = 10 us (0.6 um
@@ -88,7 +105,7 @@ def test_co_simulation_equals_fmi2(figures: dict[str, list[dict]]) -> None:
     assert [(r["event_mode"], r["early_return"]) for r in cs] == [(0, 0), (0, 1), (1, 0), (1, 1)]
     for r in cs:
         assert r["max_abs_dx_vs_fmi2_m"] == 0.0 and r["x_end"] == r["fmi2_x_end"]
-        assert r["x_range_m"] > 0.05   # the stage moves (u's 2 Hz swings), switches happen
+        assert r["x_range_m"] > 0.05  # the stage moves (u's 2 Hz swings), switches happen
     plain, early, events, both = cs
     assert plain["early_returns"] == 0 and plain["events"] == 0 and plain["dosteps"] == 1000
     # one extra fmi3DoStep per early return; every switch ends a step early
@@ -111,7 +128,7 @@ def test_state_structure_and_ranges(figures: dict[str, list[dict]]) -> None:
 def test_limits_and_wrong_states(figures: dict[str, list[dict]]) -> None:
     lim = figures["limits"][0]
     assert lim["variables"] >= 100 and lim["nan_refused"] == lim["variables"]
-    assert lim["beyond_refused"] >= 2 * lim["variables"] - 5   # both ends where both are finite
+    assert lim["beyond_refused"] >= 2 * lim["variables"] - 5  # both ends where both are finite
     assert figures["wrong_states"][0]["refused"] == 15
     assert figures["many"][0] == {"instances": 900, "alive_at_once": 300}
 

@@ -11,6 +11,7 @@ AddressSanitizer + UBSan (the FMU's sources compiled into the test program):
   ME time jump of 1e7 s is refused; startTime 1.7e9 s and 1e10 s give the samples of startTime 0;
 * fmi2GetDerivatives after a failed fmi2EnterEventMode is not fmi2OK; Integer counters saturate.
 """
+
 from __future__ import annotations
 
 import json
@@ -23,17 +24,33 @@ import pytest
 REPO = Path(__file__).resolve().parents[1]
 OUT = REPO / "build" / "tests_c"
 SO = REPO / "build" / "binaries" / "linux64" / "LinearMotorFeedDrive.so"
-SAN_ENV = {"ASAN_OPTIONS": "detect_leaks=1:abort_on_error=1:halt_on_error=1",
-           "UBSAN_OPTIONS": "print_stacktrace=1:halt_on_error=1"}
-SANITIZER_MARKS = ("runtime error:", "AddressSanitizer", "LeakSanitizer", "UndefinedBehaviorSanitizer")
+SAN_ENV = {
+    "ASAN_OPTIONS": "detect_leaks=1:abort_on_error=1:halt_on_error=1",
+    "UBSAN_OPTIONS": "print_stacktrace=1:halt_on_error=1",
+}
+SANITIZER_MARKS = (
+    "runtime error:",
+    "AddressSanitizer",
+    "LeakSanitizer",
+    "UndefinedBehaviorSanitizer",
+)
 
 
 def run(prog: str, sanitized: bool = True) -> tuple[subprocess.CompletedProcess, list[dict]]:
-    subprocess.run(["make", "-s", "-C", str(REPO / "tests" / "c"), str(OUT / prog)], check=True,
-                   capture_output=True, text=True)
+    subprocess.run(
+        ["make", "-s", "-C", str(REPO / "tests" / "c"), str(OUT / prog)],
+        check=True,
+        capture_output=True,
+        text=True,
+    )
     env = dict(os.environ, **SAN_ENV) if sanitized else None
-    p = subprocess.run([str(OUT / prog), "-" if sanitized else str(SO)], capture_output=True, text=True,
-                       timeout=600, env=env)
+    p = subprocess.run(
+        [str(OUT / prog), "-" if sanitized else str(SO)],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        env=env,
+    )
     report = p.stdout[-4000:] + "\n" + p.stderr[-4000:]
     assert not any(m in p.stderr for m in SANITIZER_MARKS), report
     assert p.returncode == 0 and " 0 failed" in p.stdout.splitlines()[-1], report

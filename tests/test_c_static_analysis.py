@@ -11,6 +11,7 @@ the build itself keeps ``-O3``'s own warnings as errors.  The planted fault (a d
 leak, a NULL dereference) is compiled the same way: the analyser must report it, or the clean
 result would mean nothing.
 """
+
 from __future__ import annotations
 
 import re
@@ -41,9 +42,15 @@ int planted(int n) {
 
 def _make_value(name: str) -> str:
     """The value of the Makefile's variable ``name`` (an extra rule read from stdin prints it)."""
-    p = subprocess.run(["make", "--no-print-directory", "-s", "-f", "Makefile", "-f", "-", f"print-{name}"],
-                       input="print-%:\n\t@echo '$($*)'\n", cwd=REPO, capture_output=True, text=True,
-                       check=True, timeout=60)
+    p = subprocess.run(
+        ["make", "--no-print-directory", "-s", "-f", "Makefile", "-f", "-", f"print-{name}"],
+        input="print-%:\n\t@echo '$($*)'\n",
+        cwd=REPO,
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=60,
+    )
     return p.stdout.strip()
 
 
@@ -51,8 +58,13 @@ def _gcc_with_analyser() -> str:
     gcc = shutil.which("gcc")
     if gcc is None:
         pytest.skip("gcc is not installed: -fanalyzer is GCC's")
-    probe = subprocess.run([gcc, "-fanalyzer", "-x", "c", "-c", "-", "-o", "/dev/null"], input="int x;\n",
-                           capture_output=True, text=True, timeout=60)
+    probe = subprocess.run(
+        [gcc, "-fanalyzer", "-x", "c", "-c", "-", "-o", "/dev/null"],
+        input="int x;\n",
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
     if probe.returncode != 0:
         pytest.skip(f"{gcc} has no -fanalyzer (GCC >= 10): {probe.stderr.strip()}")
     return gcc
@@ -62,15 +74,27 @@ def compile_units() -> list[tuple[str, tuple[str, ...]]]:
     """(source, flags) of every C source of every shared library ``make fmu`` links, once per
     distinct flag set, in build order."""
     cc = _make_value("CC")
-    dry = subprocess.run(["make", "--no-print-directory", "-n", "-B", "fmu"], cwd=REPO, capture_output=True,
-                         text=True, check=True, timeout=120).stdout.replace("\\\n", " ")
+    dry = subprocess.run(
+        ["make", "--no-print-directory", "-n", "-B", "fmu"],
+        cwd=REPO,
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=120,
+    ).stdout.replace("\\\n", " ")
     units: dict[tuple[str, tuple[str, ...]], None] = {}
     for line in dry.splitlines():
         if not line.startswith(cc + " ") or " -shared" not in line:
             continue
         # the shell expands the arguments as make would run them ("$(cat build/fmi_include)")
-        argv = subprocess.run(["sh", "-c", "printf '%s\\n' " + line[len(cc):]], cwd=REPO, capture_output=True,
-                              text=True, check=True, timeout=60).stdout.splitlines()
+        argv = subprocess.run(
+            ["sh", "-c", "printf '%s\\n' " + line[len(cc) :]],
+            cwd=REPO,
+            capture_output=True,
+            text=True,
+            check=True,
+            timeout=60,
+        ).stdout.splitlines()
         flags: list[str] = []
         sources: list[str] = []
         args = iter(argv)
@@ -88,8 +112,13 @@ def compile_units() -> list[tuple[str, tuple[str, ...]]]:
 
 
 def _analyse(gcc: str, source: str, flags: tuple[str, ...]) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([gcc, *flags, "-O0", "-fanalyzer", "-c", source, "-o", "/dev/null"], cwd=REPO,
-                          capture_output=True, text=True, timeout=600)
+    return subprocess.run(
+        [gcc, *flags, "-O0", "-fanalyzer", "-c", source, "-o", "/dev/null"],
+        cwd=REPO,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
 
 
 def diagnostics(stderr: str) -> list[tuple[str, str, str]]:
@@ -113,8 +142,11 @@ def test_the_analyser_reports_a_planted_fault(tmp_path: Path) -> None:
     proc = _analyse(gcc, str(src), ("-std=c99", "-Wall", "-Wextra", "-Werror"))
     assert proc.returncode != 0, "the analyser let a double free through"
     checks = {check for _, check, _ in diagnostics(proc.stderr)}
-    assert {"analyzer-double-free", "analyzer-malloc-leak", "analyzer-possible-null-dereference"} <= checks, \
-        proc.stderr
+    assert {
+        "analyzer-double-free",
+        "analyzer-malloc-leak",
+        "analyzer-possible-null-dereference",
+    } <= checks, proc.stderr
 
 
 @pytest.mark.slow
@@ -132,6 +164,9 @@ def test_fmu_sources_pass_the_static_analyser(fmu2_path: Path, fmu3_path: Path) 
         known.update(d[2] for d in diags if d[:2] in FALSE_POSITIVES)
         if new or (proc.returncode != 0 and not diags):
             found.append(f"{source} ({' '.join(flags)}):\n{proc.stderr.strip()}")
-    print(f"{len(units)} compilations of {len(sources)} sources analysed; known false positives:",
-          *sorted(known), sep="\n")
+    print(
+        f"{len(units)} compilations of {len(sources)} sources analysed; known false positives:",
+        *sorted(known),
+        sep="\n",
+    )
     assert not found, "\n\n".join(found)

@@ -2,6 +2,7 @@
 allowed-state table, the FMI glue knows nothing of friction, its files call each other in one
 direction only, each model's capabilities agree with its model descriptions, and no function
 is long."""
+
 from __future__ import annotations
 
 import re
@@ -15,8 +16,10 @@ FMI = SRC / "fmi"
 GLUE = sorted(FMI.glob("*.c")) + sorted(FMI.glob("*.h"))
 MAX_LINES = 60
 # identifiers of the friction models (plant.h, friction_gms.c, friction_static.c)
-FRICTION = re.compile(r"\b(stuck|st_stuck|st_dir|active|prerolling|lag|nu|sigma2|Fs|Fc|Vs|"
-                      r"PLANT_NE_MAX|PLANT_IF|gms_\w+|static_\w+|friction_\w+|VRA_friction_\w+)\b")
+FRICTION = re.compile(
+    r"\b(stuck|st_stuck|st_dir|active|prerolling|lag|nu|sigma2|Fs|Fc|Vs|"
+    r"PLANT_NE_MAX|PLANT_IF|gms_\w+|static_\w+|friction_\w+|VRA_friction_\w+)\b"
+)
 ENTRY = re.compile(r"^(?:fmi2Status|void|fmi2Component)\s+(fmi2\w+)\((fmi2Component)\s+(\w+)", re.M)
 
 
@@ -48,11 +51,17 @@ def test_every_fmi_entry_point_enters_through_the_table() -> None:
         for m in ENTRY.finditer(text):
             name, comp = m.group(1), m.group(3)
             defined.add(name)
-            body = text[m.end(): text.index("\n}", m.end())]
-            assert f"FMU_ENTER({comp}, {name})" in body, f"{path.name}: {name} does not start with FMU_ENTER"
-            assert "fmu_enter(" not in body, f"{path.name}: {name} calls fmu_enter with its own mask"
+            body = text[m.end() : text.index("\n}", m.end())]
+            assert f"FMU_ENTER({comp}, {name})" in body, (
+                f"{path.name}: {name} does not start with FMU_ENTER"
+            )
+            assert "fmu_enter(" not in body, (
+                f"{path.name}: {name} calls fmu_enter with its own mask"
+            )
     assert len(defined) >= 40, sorted(defined)
-    assert table == defined, f"table without function: {table - defined}; function without entry: {defined - table}"
+    assert table == defined, (
+        f"table without function: {table - defined}; function without entry: {defined - table}"
+    )
 
 
 def test_fmi_glue_knows_nothing_of_friction() -> None:
@@ -62,8 +71,12 @@ def test_fmi_glue_knows_nothing_of_friction() -> None:
 
 
 def test_no_function_longer_than_sixty_lines() -> None:
-    long = [f"{p.name}:{line} {name} ({n} lines)" for p in sorted(SRC.rglob("*.c"))
-            for name, line, n in _functions(p.read_text(encoding="utf-8")) if n > MAX_LINES]
+    long = [
+        f"{p.name}:{line} {name} ({n} lines)"
+        for p in sorted(SRC.rglob("*.c"))
+        for name, line, n in _functions(p.read_text(encoding="utf-8"))
+        if n > MAX_LINES
+    ]
     assert not long, long
 
 
@@ -72,8 +85,12 @@ def test_glue_files_call_each_other_in_one_direction() -> None:
     code = {p.name: _code(p) for p in sorted(FMI.glob("*.c"))}
     defined = {name: {f for f, _, _ in _functions(text)} for name, text in code.items()}
     owner = {f: name for name, fs in defined.items() for f in fs}
-    calls = {name: {owner[f] for f in set(re.findall(r"\b(\w+)\s*\(", text)) if owner.get(f, name) != name}
-             for name, text in code.items()}
+    calls = {
+        name: {
+            owner[f] for f in set(re.findall(r"\b(\w+)\s*\(", text)) if owner.get(f, name) != name
+        }
+        for name, text in code.items()
+    }
     assert sum(len(v) for v in calls.values()) >= 10, calls
     done: set[str] = set()
 
@@ -105,16 +122,25 @@ def test_model_capabilities_agree_with_the_model_descriptions(fmu3_path: Path) -
     """MODEL_CAPS of each model (what the glue offers and refuses for it) says what its FMI 2.0
     and FMI 3.0 model descriptions declare: the interfaces, FMU states, a structural parameter,
     early return and clocks."""
-    fmus = {"plant": (ROOT / "modelDescription.xml", fmu3_path),
-            "controller": (SRC / "models" / "controller" / "modelDescription.xml",
-                           fmu3_path.with_name("DriveController3.fmu"))}
+    fmus = {
+        "plant": (ROOT / "modelDescription.xml", fmu3_path),
+        "controller": (
+            SRC / "models" / "controller" / "modelDescription.xml",
+            fmu3_path.with_name("DriveController3.fmu"),
+        ),
+    }
     for model, (xml2, fmu3) in fmus.items():
         md2, md3 = ET.parse(xml2).getroot(), _xml3(fmu3)
         cs2, cs3 = md2.find("CoSimulation"), md3.find("CoSimulation")
-        declared = {"ME": md2.find("ModelExchange") is not None and md3.find("ModelExchange") is not None,
-                    "CS": cs2 is not None and cs3 is not None,
-                    "STATE": cs2.get("canGetAndSetFMUstate") == "true" and cs3.get("canGetAndSetFMUState") == "true",
-                    "CONFIG": any(v.get("causality") == "structuralParameter" for v in md3.find("ModelVariables")),
-                    "EARLY_RETURN": cs3.get("mightReturnEarlyFromDoStep") == "true",
-                    "CLOCKS": md3.find("ModelVariables").find("Clock") is not None}
+        declared = {
+            "ME": md2.find("ModelExchange") is not None and md3.find("ModelExchange") is not None,
+            "CS": cs2 is not None and cs3 is not None,
+            "STATE": cs2.get("canGetAndSetFMUstate") == "true"
+            and cs3.get("canGetAndSetFMUState") == "true",
+            "CONFIG": any(
+                v.get("causality") == "structuralParameter" for v in md3.find("ModelVariables")
+            ),
+            "EARLY_RETURN": cs3.get("mightReturnEarlyFromDoStep") == "true",
+            "CLOCKS": md3.find("ModelVariables").find("Clock") is not None,
+        }
         assert _caps(model) == {k for k, v in declared.items() if v}, (model, declared)

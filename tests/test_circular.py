@@ -1,6 +1,7 @@
 """The ISO 230-4 circular test: the evaluation on synthetic paths with known G, H, G(b) and
 glitches; the circle reference; the X-Y master of 4 FMUs against the harness; the glitches
 against Sec. 4 with and without GMS feedforward; the symmetric table; the CLI; the study kind."""
+
 from __future__ import annotations
 
 import json
@@ -30,7 +31,7 @@ TH = np.linspace(0, 2 * np.pi, 7200, endpoint=False)
 
 # ------------------------------------------------------------------ evaluation, synthetic
 def test_ellipse_has_G_equal_to_the_difference_of_its_semi_axes() -> None:
-    a, b = R + 3e-6, R - 2e-6                    # radii from the centre run from b to a
+    a, b = R + 3e-6, R - 2e-6  # radii from the centre run from b to a
     t = trace(0.15 + a * np.cos(TH), 0.12 + b * np.sin(TH), R)
     assert abs(t.fit.cx - 0.15) < 1e-12 and abs(t.fit.cy - 0.12) < 1e-12
     assert t.G == pytest.approx(a - b, rel=1e-6)
@@ -39,7 +40,10 @@ def test_ellipse_has_G_equal_to_the_difference_of_its_semi_axes() -> None:
 
 def test_shifted_circle_has_no_circular_deviation_and_its_radius_error_as_F() -> None:
     t = trace(0.1507 + (R + 4e-6) * np.cos(TH), 0.1493 + (R + 4e-6) * np.sin(TH), R)
-    assert (t.fit.cx, t.fit.cy) == (pytest.approx(0.1507, abs=1e-12), pytest.approx(0.1493, abs=1e-12))
+    assert (t.fit.cx, t.fit.cy) == (
+        pytest.approx(0.1507, abs=1e-12),
+        pytest.approx(0.1493, abs=1e-12),
+    )
     assert t.G < 1e-12
     assert t.F_max == pytest.approx(4e-6, abs=1e-12) and t.F_min == pytest.approx(4e-6, abs=1e-12)
 
@@ -49,7 +53,7 @@ def test_hysteresis_of_two_offset_circles_is_twice_the_offset() -> None:
     d = 1.5e-6
     cw = trace(0.15 + d + R * np.cos(-TH), 0.15 + R * np.sin(-TH), R, "cw")
     ccw = trace(0.15 - d + R * np.cos(TH + 0.3e-3), 0.15 + R * np.sin(TH + 0.3e-3), R, "ccw")
-    assert cw.G < 1e-12 and ccw.G < 1e-12               # each path is a perfect circle
+    assert cw.G < 1e-12 and ccw.G < 1e-12  # each path is a perfect circle
     assert hysteresis(cw, ccw) == pytest.approx(2 * d, rel=1e-4)
     assert bidirectional_deviation(cw, ccw) == pytest.approx(2 * d, rel=1e-4)
 
@@ -90,14 +94,14 @@ def test_circle_path_is_on_the_circle_with_a_smooth_start_and_360_deg_at_feed() 
     p = circle_path(0.01, 0.05, "cw", centre=(0.15, 0.14))
     r = np.hypot(p.x.x - 0.15, p.y.x - 0.14)
     assert np.max(np.abs(r - 0.01)) < 1e-15
-    for ref in (p.x, p.y):                          # v, a analytic = differences of x, v
+    for ref in (p.x, p.y):  # v, a analytic = differences of x, v
         assert ref.v[0] == 0.0 and ref.a[0] == 0.0
         assert np.max(np.abs(np.gradient(ref.x, ref.Ts) - ref.v)[1:-1]) < 1e-5 * 0.05
         assert np.max(np.abs(np.gradient(ref.v, ref.Ts) - ref.a)[1:-1]) < 2e-3
     ev = slice(p.eval_start, p.eval_stop)
     speed = np.hypot(p.x.v, p.y.v)[ev]
     assert np.max(np.abs(speed - 0.05)) < 1e-12
-    span = p.theta[p.eval_start] - p.theta[p.eval_stop - 1]       # cw: theta decreases
+    span = p.theta[p.eval_start] - p.theta[p.eval_stop - 1]  # cw: theta decreases
     assert 2 * np.pi - 2 * p.omega * p.x.Ts < span <= 2 * np.pi
     assert np.rad2deg(p.theta[p.eval_start]) == pytest.approx(45.0, abs=0.01)
     assert np.hypot(p.x.v[-1], p.y.v[-1]) == 0.0
@@ -122,11 +126,16 @@ def test_master_of_four_fmus_equals_the_harness_per_axis() -> None:
     axes = xy_axes()
     p = circle_path(0.005, 0.05, "ccw")
     n = p.x.n
-    res = simulate_axes([AxisLoop(a.name, a.plant, controller_values(a, "gms"), ref)
-                         for a, ref in zip(axes, (p.x, p.y), strict=True)])
+    res = simulate_axes(
+        [
+            AxisLoop(a.name, a.plant, controller_values(a, "gms"), ref)
+            for a, ref in zip(axes, (p.x, p.y), strict=True)
+        ]
+    )
     for a, ref in zip(axes, (p.x, p.y), strict=True):
-        spec = state_space_spec({**a.nominal, "Ts": 5e-4},
-                                feedforward=sec4.FeedforwardOptions(friction="gms"))
+        spec = state_space_spec(
+            {**a.nominal, "Ts": 5e-4}, feedforward=sec4.FeedforwardOptions(friction="gms")
+        )
         with Plant(a.plant) as plant:
             h = simulate_closed_loop(plant, make_controller(spec, ref), n, float(ref.x[0]))
         assert np.max(np.abs(res[a.name]["x"] - h["x"])) < 1e-10, a.name
@@ -150,7 +159,7 @@ def test_gms_feedforward_shrinks_the_quadrant_glitches_as_in_sec4(sec4_circles) 
     # Sec. 4 (same axis, velocity, acceleration): 22.9 um without, 8.0 um with GMS FF
     assert 0.8 * 22.9e-6 < max(g_none) < 1.2 * 22.9e-6
     assert 0.7 * 8.0e-6 < max(g_gms) < 1.2 * 8.0e-6
-    assert min(g_none) > 2 * max(g_gms)                 # every glitch at least halved
+    assert min(g_none) > 2 * max(g_gms)  # every glitch at least halved
     assert none.H > 2 * gms.H
     assert all(r.trace.G > 2 * gms.runs[d].trace.G for d, r in none.runs.items())
 
@@ -191,8 +200,13 @@ def test_xy_system_runs_in_libcosim(tmp_path: Path) -> None:
 
 # ------------------------------------------------------------------ CLI
 def _cli(*args: str, cwd: Path) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "feeddrive.cli", "circle", *args], cwd=cwd,
-                          capture_output=True, text=True, timeout=300)
+    return subprocess.run(
+        [sys.executable, "-m", "feeddrive.cli", "circle", *args],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
 
 
 def test_circle_command_prints_the_table_and_writes_the_report(tmp_path: Path) -> None:
@@ -206,19 +220,26 @@ def test_circle_command_prints_the_table_and_writes_the_report(tmp_path: Path) -
     G_none, G_gms = float(rows["none"][3]), float(rows["gms"][3])
     assert G_none > 2 * G_gms > 0
     assert (out / "index.html").is_file() and (out / ".feeddrive-output").is_file()
-    assert {p.name for p in out.glob("circle_*.png")} == {"circle_r5mm_F2mmin_none.png",
-                                                         "circle_r5mm_F2mmin_gms.png"}
+    assert {p.name for p in out.glob("circle_*.png")} == {
+        "circle_r5mm_F2mmin_none.png",
+        "circle_r5mm_F2mmin_gms.png",
+    }
     assert "circular hysteresis" in (out / "index.html").read_text()
     assert sorted(p.parent.name for p in out.glob("osp/*/OspSystemStructure.xml")) == [
-        f"circle_r5mm_F2mmin_{d}_{ff}" for d in ("ccw", "cw") for ff in ("gms", "none")]
+        f"circle_r5mm_F2mmin_{d}_{ff}" for d in ("ccw", "cw") for ff in ("gms", "none")
+    ]
 
 
-@pytest.mark.parametrize("args, words", [
-    (["--radius-mm", "160"], "radius 160 mm does not fit"),
-    (["--x-model", "missing.json"], "missing.json"),
-])
-def test_circle_command_bad_input_is_one_line_exit_2(tmp_path: Path, monkeypatch, capsys,
-                                                     args, words) -> None:
+@pytest.mark.parametrize(
+    "args, words",
+    [
+        (["--radius-mm", "160"], "radius 160 mm does not fit"),
+        (["--x-model", "missing.json"], "missing.json"),
+    ],
+)
+def test_circle_command_bad_input_is_one_line_exit_2(
+    tmp_path: Path, monkeypatch, capsys, args, words
+) -> None:
     monkeypatch.chdir(tmp_path)
     assert main(["circle", *args, "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
@@ -226,8 +247,9 @@ def test_circle_command_bad_input_is_one_line_exit_2(tmp_path: Path, monkeypatch
     assert not (tmp_path / "o").exists()
 
 
-@pytest.mark.parametrize("args", [["--radius-mm", "-1"], ["--direction", "up"],
-                                  ["--feed-m-min", "x"]])
+@pytest.mark.parametrize(
+    "args", [["--radius-mm", "-1"], ["--direction", "up"], ["--feed-m-min", "x"]]
+)
 def test_circle_command_bad_option_exits_2(tmp_path: Path, capsys, args) -> None:
     with pytest.raises(SystemExit) as e:
         main(["circle", *args, "--out", str(tmp_path / "o")])
@@ -244,12 +266,16 @@ def test_circle_command_refuses_a_foreign_folder(tmp_path: Path, monkeypatch, ca
 
 
 # ------------------------------------------------------------------ study kind
-STUDY = {"schema": "feeddrive.study/1", "name": "circle",
-         "experiment": {"circle": {"radius": 0.005, "feed": 0.03, "feedforward": "none",
-                                   "y_axis": "same"}},
-         "parameters": {"friction.F_c": {"relative": 0.1}},
-         "design": {"type": "oat"},
-         "metrics": ["circular_deviation", "hysteresis", "max_glitch"]}
+STUDY = {
+    "schema": "feeddrive.study/1",
+    "name": "circle",
+    "experiment": {
+        "circle": {"radius": 0.005, "feed": 0.03, "feedforward": "none", "y_axis": "same"}
+    },
+    "parameters": {"friction.F_c": {"relative": 0.1}},
+    "design": {"type": "oat"},
+    "metrics": ["circular_deviation", "hysteresis", "max_glitch"],
+}
 
 
 def test_circle_study_rows_grow_with_the_friction_level(tmp_path: Path) -> None:
@@ -265,14 +291,21 @@ def test_circle_study_rows_grow_with_the_friction_level(tmp_path: Path) -> None:
     assert 20e-6 < rows["base"]["max_glitch_m"] < rows["base"]["G_m"]
 
 
-@pytest.mark.parametrize("edit, field", [
-    ({"metrics": ["reversal_error"]}, "metrics[0]"),
-    ({"experiment": {"circle": {"radius": 0.005, "feed": 0.03, "directions": ["ccw"]}}},
-     "experiment.circle.directions"),
-    ({"experiment": {"circle": {"radius": 0.2, "feed": 0.03}}}, "experiment.circle.radius"),
-    ({"experiment": {"circle": {"radius": 0.005, "feed": 0.03, "feedforward": "magic"}}},
-     "experiment.circle.feedforward"),
-])
+@pytest.mark.parametrize(
+    "edit, field",
+    [
+        ({"metrics": ["reversal_error"]}, "metrics[0]"),
+        (
+            {"experiment": {"circle": {"radius": 0.005, "feed": 0.03, "directions": ["ccw"]}}},
+            "experiment.circle.directions",
+        ),
+        ({"experiment": {"circle": {"radius": 0.2, "feed": 0.03}}}, "experiment.circle.radius"),
+        (
+            {"experiment": {"circle": {"radius": 0.005, "feed": 0.03, "feedforward": "magic"}}},
+            "experiment.circle.feedforward",
+        ),
+    ],
+)
 def test_bad_circle_study_names_the_field(tmp_path: Path, edit, field) -> None:
     doc = {**STUDY, **edit}
     with pytest.raises(StudyError) as e:

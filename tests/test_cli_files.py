@@ -2,6 +2,7 @@
 command and output option of the parser against each of its inputs), special files (FIFOs,
 devices, symbolic link loops) refused, a bounded header read, one-line messages whatever the
 file name, and numbers in a run CSV as plain ASCII decimal/exponent only."""
+
 from __future__ import annotations
 
 import json
@@ -28,20 +29,66 @@ PAPER = paper_model()
 ROLES = cli.path_roles(cli.build_parser())
 
 #: arguments of the sub-commands that are not paths (every other argument has a role)
-NOT_PATHS = {"paper", "emps", "force", "case", "run", "radius_mm", "feed_m_min", "direction",
-             "feedforward", "mismatch", "osp", "seed", "repeats", "bootstrap", "interval_method",
-             "level",
-             "workers", "scheduler", "serial", "no_progress", "position_friction", "max_steps",
-             "force_gain", "window", "blocks", "no_closed_loop", "resume", "fmi", "format", "help",
-             "stroke", "v_max", "a_max", "u_limit", "loads", "html"}
+NOT_PATHS = {
+    "paper",
+    "emps",
+    "force",
+    "case",
+    "run",
+    "radius_mm",
+    "feed_m_min",
+    "direction",
+    "feedforward",
+    "mismatch",
+    "osp",
+    "seed",
+    "repeats",
+    "bootstrap",
+    "interval_method",
+    "level",
+    "workers",
+    "scheduler",
+    "serial",
+    "no_progress",
+    "position_friction",
+    "max_steps",
+    "force_gain",
+    "window",
+    "blocks",
+    "no_closed_loop",
+    "resume",
+    "fmi",
+    "format",
+    "help",
+    "stroke",
+    "v_max",
+    "a_max",
+    "u_limit",
+    "loads",
+    "html",
+}
 
 #: a tiny sweep (two runs of 0.2 s) on a model file beside the study
-STUDY = {"schema": "feeddrive.study/1", "name": "guard", "model": "base_model.json",
-         "experiment": {"reference": {"type": "sinusoid", "amplitude": 0.005, "period": 0.2,
-                                      "centre": 0.15, "duration": 0.2},
-                        "controller": {"type": "pid"}, "skip_start": 0.0, "half_width": 0.05},
-         "parameters": {"m": {"relative": 0.1}}, "design": {"type": "grid", "levels": 2},
-         "metrics": ["rms_error"]}
+STUDY = {
+    "schema": "feeddrive.study/1",
+    "name": "guard",
+    "model": "base_model.json",
+    "experiment": {
+        "reference": {
+            "type": "sinusoid",
+            "amplitude": 0.005,
+            "period": 0.2,
+            "centre": 0.15,
+            "duration": 0.2,
+        },
+        "controller": {"type": "pid"},
+        "skip_start": 0.0,
+        "half_width": 0.05,
+    },
+    "parameters": {"m": {"relative": 0.1}},
+    "design": {"type": "grid", "levels": 2},
+    "metrics": ["rms_error"],
+}
 
 RULE = re.compile(r"an input of this command|a folder this command reads")
 
@@ -60,8 +107,9 @@ def test_every_argument_of_every_command_has_a_role_or_is_no_path():
 
 @pytest.fixture(scope="module")
 def run_text(fmu_path):
-    run = simulate_run(PAPER, sinusoid_reference(0.5, period=0.5), current_noise=0.005, seed=5,
-                       name="a")
+    run = simulate_run(
+        PAPER, sinusoid_reference(0.5, period=0.5), current_noise=0.005, seed=5, name="a"
+    )
     return run
 
 
@@ -84,8 +132,10 @@ def _inputs(root: Path, role: str, run) -> tuple[str, list[Path]]:
     if role == cli.STUDY:
         save_model(PAPER, root / "base_model.json")
         (root / "friction_study.json").write_text(json.dumps(STUDY))
-        return str(root / "friction_study.json"), [root / "friction_study.json",
-                                                   root / "base_model.json"]
+        return str(root / "friction_study.json"), [
+            root / "friction_study.json",
+            root / "base_model.json",
+        ]
     raise AssertionError(role)
 
 
@@ -100,7 +150,7 @@ def _cases() -> list[tuple[str, str, str, int]]:
                 if role in cli.OUTPUT_ROLES:
                     continue
                 n = {cli.RUN: 2, cli.RUNS: 2, cli.FILE: 1, cli.TREE: 2, cli.STUDY: 2}[role]
-                n += orole == cli.OUT_DIR            # the folder that holds the first input
+                n += orole == cli.OUT_DIR  # the folder that holds the first input
                 cases += [(name, out, dest, k) for k in range(n)]
     return cases
 
@@ -109,8 +159,10 @@ CASES = _cases()
 
 
 def _state(root: Path) -> dict[str, tuple[int, bytes]]:
-    return {str(p.relative_to(root)): (p.lstat().st_mode, p.read_bytes() if p.is_file() else b"")
-            for p in sorted(root.rglob("*"))}
+    return {
+        str(p.relative_to(root)): (p.lstat().st_mode, p.read_bytes() if p.is_file() else b"")
+        for p in sorted(root.rglob("*"))
+    }
 
 
 def _flag(action) -> str:
@@ -137,18 +189,20 @@ def test_every_command_has_outputs_covered():
     assert covered == writers and {"identify", "diagnose", "report", "sweep", "model"} <= writers
 
 
-@pytest.mark.parametrize("name,out,dest,k", CASES,
-                         ids=[f"{c}-{o}-{d}-{k}" for c, o, d, k in CASES])
-def test_no_command_writes_over_its_inputs(tmp_path, capsys, monkeypatch, run_text, fmu_path,
-                                           name, out, dest, k):
+@pytest.mark.parametrize("name,out,dest,k", CASES, ids=[f"{c}-{o}-{d}-{k}" for c, o, d, k in CASES])
+def test_no_command_writes_over_its_inputs(
+    tmp_path, capsys, monkeypatch, run_text, fmu_path, name, out, dest, k
+):
     root = tmp_path / "in"
     values: dict[str, str] = {}
     reads: dict[str, list[Path]] = {}
     for d, role in ROLES[name].items():
         if role not in cli.OUTPUT_ROLES:
             values[d], reads[d] = _inputs(root / d, role, run_text)
-    for d, src, env in (("fmu", fmu_path, FMU_ENV),
-                        ("controller_fmu", controller_fmu_path(), CONTROLLER_FMU_ENV)):
+    for d, src, env in (
+        ("fmu", fmu_path, FMU_ENV),
+        ("controller_fmu", controller_fmu_path(), CONTROLLER_FMU_ENV),
+    ):
         (root / d).mkdir(parents=True)
         reads[d] = [Path(shutil.copy(src, root / d / Path(src).name))]
         monkeypatch.setenv(env, str(reads[d][0]))
@@ -191,7 +245,7 @@ def test_identify_out_a_link_to_an_input(tmp_path, capsys, run_text):
     before = (runs / "a.json").read_bytes()
     os.link(runs / "a.json", tmp_path / "other.json")
     (tmp_path / "link.json").symlink_to(runs / "a.json")
-    (tmp_path / "dangling.json").symlink_to(runs / "b.json")     # sidecar path of b.csv
+    (tmp_path / "dangling.json").symlink_to(runs / "b.json")  # sidecar path of b.csv
     (runs / "b.csv").write_bytes((runs / "a.csv").read_bytes())
     for out in ("other.json", "link.json", "dangling.json"):
         assert cli.main(["identify", str(runs), "--out", str(tmp_path / out)]) == 2
@@ -215,8 +269,7 @@ def _one_line(capsys, name: str) -> str:
 def test_out_a_symbolic_link_loop(tmp_path, capsys, name):
     loop = tmp_path / "loop"
     loop.symlink_to(loop)
-    values = {d: str(loop) if d == "out" else str(tmp_path / "none" / d)
-              for d in ROLES[name]}
+    values = {d: str(loop) if d == "out" else str(tmp_path / "none" / d) for d in ROLES[name]}
     assert cli.main(_argv(name, values)) == 2
     msg = _one_line(capsys, name)
     assert "symbolic link loop" in msg and str(loop) in msg
@@ -239,6 +292,7 @@ def unblock():
                     os.close(os.open(f, os.O_WRONLY | os.O_NONBLOCK))
                 except OSError:
                     pass
+
     t = threading.Thread(target=opener, daemon=True)
     t.start()
     yield fifos
@@ -267,8 +321,19 @@ def test_fifo_run_sidecar_and_model_refused(tmp_path, capsys, unblock, run_text)
     (runs / "b.csv").unlink()
     (runs / "a.json").unlink()
     _fifo(runs / "a.json", unblock)
-    assert cli.main(["diagnose", str(runs / "a.csv"), "--model", str(tmp_path / "m.json"),
-                     "--out", str(tmp_path / "d")]) == 2
+    assert (
+        cli.main(
+            [
+                "diagnose",
+                str(runs / "a.csv"),
+                "--model",
+                str(tmp_path / "m.json"),
+                "--out",
+                str(tmp_path / "d"),
+            ]
+        )
+        == 2
+    )
     msg = _one_line(capsys, "diagnose")
     assert "FIFO" in msg and str(runs / "a.json") in msg
     fm = _fifo(tmp_path / "fm.json", unblock)
@@ -315,13 +380,15 @@ def test_long_header_refused_with_a_short_message(tmp_path):
     assert len(str(e.value)) < 400 and e.value.line == 1
 
 
-@pytest.mark.parametrize("name", ["bad\nname.csv", "bad\rname.csv", "esc\x1b[2Jname.csv",
-                                  "sep\u2028name.csv", "tab\tname.csv"])
+@pytest.mark.parametrize(
+    "name",
+    ["bad\nname.csv", "bad\rname.csv", "esc\x1b[2Jname.csv", "sep\u2028name.csv", "tab\tname.csv"],
+)
 def test_message_is_one_line_whatever_the_file_name(tmp_path, capsys, name):
     d = tmp_path / ("dir\nwith newline")
     d.mkdir()
     p = d / name
-    p.write_text("time,u\n0,1\n")                       # no column x
+    p.write_text("time,u\n0,1\n")  # no column x
     assert cli.main(["validate", str(p)]) == 2
     msg = _one_line(capsys, "validate")
     assert "required column missing" in msg and "\\n" in msg
@@ -336,8 +403,18 @@ def test_message_is_one_line_whatever_the_file_name(tmp_path, capsys, name):
 
 
 GOOD_NUMBERS = ["1", "-1.5e-3", "+.5", "5.", "1E+05", "0.000", " 2.5", "3.25 ", "-0", "1e-300"]
-BAD_NUMBERS = ["0.1_2", "1_000", "\u0661.\u0665", "\u0660", "\uff11", "\u0967", "1\u00a0",
-               "0x10", "1,5e", "\u221e"]
+BAD_NUMBERS = [
+    "0.1_2",
+    "1_000",
+    "\u0661.\u0665",
+    "\u0660",
+    "\uff11",
+    "\u0967",
+    "1\u00a0",
+    "0x10",
+    "1,5e",
+    "\u221e",
+]
 
 
 def _run_csv(cells: list[str], quoted: bool = False) -> str:
@@ -435,7 +512,7 @@ def test_realdata_arrays_special_and_empty_files_refused(tmp_path, unblock):
 
 def test_output_folder_mode_kept_or_from_the_umask(tmp_path):
     ref = tmp_path / "ref"
-    ref.mkdir()                                 # what mkdir gives here (umask)
+    ref.mkdir()  # what mkdir gives here (umask)
     out = tmp_path / "o"
     with output_dir(out) as d:
         (d / "a.txt").write_text("a")

@@ -2,6 +2,7 @@
 output (a file, or a non-empty folder feeddrive did not write) before any work, with exit
 status 2 and one line naming it and ``--force``, and leaves it as it was; with ``--force`` it
 writes.  ``validate`` prints numbers or why one is missing, never "nan"."""
+
 from __future__ import annotations
 
 import json
@@ -22,12 +23,26 @@ from feeddrive.systems import sec3_system
 from feeddrive.validation.replay import ValidationReport
 
 #: a tiny sweep (two runs of 0.2 s) on a model file beside the study
-STUDY = {"schema": "feeddrive.study/1", "name": "force", "model": "base_model.json",
-         "experiment": {"reference": {"type": "sinusoid", "amplitude": 0.005, "period": 0.2,
-                                      "centre": 0.15, "duration": 0.2},
-                        "controller": {"type": "pid"}, "skip_start": 0.0, "half_width": 0.05},
-         "parameters": {"m": {"relative": 0.1}}, "design": {"type": "grid", "levels": 2},
-         "metrics": ["rms_error"]}
+STUDY = {
+    "schema": "feeddrive.study/1",
+    "name": "force",
+    "model": "base_model.json",
+    "experiment": {
+        "reference": {
+            "type": "sinusoid",
+            "amplitude": 0.005,
+            "period": 0.2,
+            "centre": 0.15,
+            "duration": 0.2,
+        },
+        "controller": {"type": "pid"},
+        "skip_start": 0.0,
+        "half_width": 0.05,
+    },
+    "parameters": {"m": {"relative": 0.1}},
+    "design": {"type": "grid", "levels": 2},
+    "metrics": ["rms_error"],
+}
 
 
 @pytest.fixture(scope="module")
@@ -35,8 +50,9 @@ def inputs(tmp_path_factory, fmu_path) -> Path:
     """A folder with a model file, one closed-loop run (and sidecar) and a study file."""
     d = tmp_path_factory.mktemp("in")
     save_model(paper_model(), d / "base_model.json")
-    run = simulate_run(paper_model(), sinusoid_reference(1.5, period=1.5), current_noise=0.005,
-                       seed=3, name="r")
+    run = simulate_run(
+        paper_model(), sinusoid_reference(1.5, period=1.5), current_noise=0.005, seed=3, name="r"
+    )
     (d / "runs").mkdir()
     write_run(run, d / "runs" / "r.csv")
     (d / "study.json").write_text(json.dumps(STUDY))
@@ -44,7 +60,9 @@ def inputs(tmp_path_factory, fmu_path) -> Path:
 
 
 def _files(root: Path) -> dict[str, bytes]:
-    return {str(p.relative_to(root)): p.read_bytes() for p in sorted(root.rglob("*")) if p.is_file()}
+    return {
+        str(p.relative_to(root)): p.read_bytes() for p in sorted(root.rglob("*")) if p.is_file()
+    }
 
 
 def _refused(argv: list[str], name: str, target: Path, capsys) -> None:
@@ -67,38 +85,60 @@ def _foreign_folder(path: Path) -> Path:
 def _argv(name: str, inputs: Path, out: Path) -> list[str]:
     """A cheap command line of ``name`` writing to ``out``."""
     d = inputs
-    return {"run": ["run", "--out", str(out)],
-            "report": ["report", str(d / "runs"), "--out", str(out)],
-            "model": ["model", "--paper", "--out", str(out)],
-            "system": ["system", "--out", str(out)],
-            "circle": ["circle", "--radius-mm", "5", "--feed-m-min", "2", "--out", str(out)],
-            "experiments": ["experiments", "--out", str(out)],
-            "identify": ["identify", str(d / "runs"), "--out", str(out)],
-            "diagnose": ["diagnose", str(d / "runs" / "r.csv"), "--model",
-                         str(d / "base_model.json"), "--out", str(out)],
-            "sweep": ["sweep", str(d / "study.json"), "--out", str(out), "--serial"],
-            "fmu": ["fmu", str(d / "base_model.json"), "--out", str(out)],
-            "plan": ["plan", "--out", str(out)]}[name]
+    return {
+        "run": ["run", "--out", str(out)],
+        "report": ["report", str(d / "runs"), "--out", str(out)],
+        "model": ["model", "--paper", "--out", str(out)],
+        "system": ["system", "--out", str(out)],
+        "circle": ["circle", "--radius-mm", "5", "--feed-m-min", "2", "--out", str(out)],
+        "experiments": ["experiments", "--out", str(out)],
+        "identify": ["identify", str(d / "runs"), "--out", str(out)],
+        "diagnose": [
+            "diagnose",
+            str(d / "runs" / "r.csv"),
+            "--model",
+            str(d / "base_model.json"),
+            "--out",
+            str(out),
+        ],
+        "sweep": ["sweep", str(d / "study.json"), "--out", str(out), "--serial"],
+        "fmu": ["fmu", str(d / "base_model.json"), "--out", str(out)],
+        "plan": ["plan", "--out", str(out)],
+    }[name]
 
 
-WRITERS = sorted(n for n, r in cli.path_roles(cli.build_parser()).items()
-                 if set(r.values()) & set(cli.OUTPUT_ROLES))
+WRITERS = sorted(
+    n
+    for n, r in cli.path_roles(cli.build_parser()).items()
+    if set(r.values()) & set(cli.OUTPUT_ROLES)
+)
 
 
 def test_the_cases_cover_every_command_that_writes(tmp_path):
-    assert set(WRITERS) == {"run", "report", "model", "system", "circle", "experiments",
-                            "identify", "diagnose", "sweep", "fmu", "plan"}
+    assert set(WRITERS) == {
+        "run",
+        "report",
+        "model",
+        "system",
+        "circle",
+        "experiments",
+        "identify",
+        "diagnose",
+        "sweep",
+        "fmu",
+        "plan",
+    }
 
 
 @pytest.mark.parametrize("name", WRITERS)
 def test_an_existing_output_is_refused_without_force(name, inputs, tmp_path, capsys):
-    if name in ("model", "identify"):           # a file
+    if name in ("model", "identify"):  # a file
         target = tmp_path / "model.json"
         target.write_text("{}\n")
-    elif name == "fmu":                         # the FMU file
+    elif name == "fmu":  # the FMU file
         target = tmp_path / "MyDrive.fmu"
         target.write_bytes(b"mine")
-    elif name == "system":                      # one of the case's files in the folder
+    elif name == "system":  # one of the case's files in the folder
         target = tmp_path / "sys"
         target.mkdir()
         (target / f"{sec3_system().name}.ssp").write_bytes(b"mine")
@@ -139,9 +179,12 @@ def test_sweep_results_kept_without_force_replaced_with_it(inputs, tmp_path, cap
 
 def test_validate_text_says_why_a_figure_is_missing(inputs):
     nan = float("nan")
-    rep = ValidationReport(run=Run(time=np.zeros(1), u=np.zeros(1), x=np.zeros(1)),
-                           model_name="paper", position=ErrorSummary(nan, nan, nan, []),
-                           force={"rms": 0.5, "peak": 1.5})
+    rep = ValidationReport(
+        run=Run(time=np.zeros(1), u=np.zeros(1), x=np.zeros(1)),
+        model_name="paper",
+        position=ErrorSummary(nan, nan, nan, []),
+        force={"rms": 0.5, "peak": 1.5},
+    )
     text = rep.text()
     assert "nan" not in text.lower()
     assert text.count("not computed: ") == 3
@@ -150,20 +193,27 @@ def test_validate_text_says_why_a_figure_is_missing(inputs):
 
 def test_validate_of_runs_without_a_reversal_or_a_reference_prints_no_nan(inputs, tmp_path, capsys):
     # a 1 s closed-loop run of a 6 s sinusoid: no reversal after the first 0.5 s
-    run = simulate_run(paper_model(), sinusoid_reference(1.0, period=6.0), current_noise=0.005,
-                       seed=4, name="short")
+    run = simulate_run(
+        paper_model(),
+        sinusoid_reference(1.0, period=6.0),
+        current_noise=0.005,
+        seed=4,
+        name="short",
+    )
     write_run(run, tmp_path / "short.csv")
     # the same run without reference nor controller: the force residual only
     write_run(replace(run, x_ref=None, meta={"name": "noref"}, path=None), tmp_path / "noref.csv")
-    for name, why in (("short", "not computed: no reversal of x_ref"),
-                      ("noref", "the closed-loop position gap is not computed")):
+    for name, why in (
+        ("short", "not computed: no reversal of x_ref"),
+        ("noref", "the closed-loop position gap is not computed"),
+    ):
         capsys.readouterr()
         assert cli.main(["validate", str(tmp_path / f"{name}.csv")]) == 0
         out = capsys.readouterr().out
         assert why in out, out
         assert not re.search(r"\bnan\b", out, re.IGNORECASE), out
-        assert re.search(r"rms \d+\.\d{3}", out), out       # the force residual [N]
-    assert re.search(r"rms: \d+\.\d\d µm", out) is None      # noref: no position figures
+        assert re.search(r"rms \d+\.\d{3}", out), out  # the force residual [N]
+    assert re.search(r"rms: \d+\.\d\d µm", out) is None  # noref: no position figures
 
 
 def test_progress_on_a_terminal_only(tmp_path, capsys, monkeypatch, fmu_path):

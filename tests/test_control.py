@@ -1,5 +1,6 @@
 """Tests of feeddrive.control: design model, state feedback + observer, ZPETC, PID,
 feedforward and the GMS friction model (pure Python, no FMU)."""
+
 from __future__ import annotations
 
 import time
@@ -26,8 +27,8 @@ from feeddrive.physics import position_maps as maps
 
 P = paper_parameters()
 TS = 5e-4
-W = 2 * np.pi / 6.0          # 6 s period
-AMP = 5e-3                   # 5 mm
+W = 2 * np.pi / 6.0  # 6 s period
+AMP = 5e-3  # 5 mm
 
 
 @pytest.fixture(scope="module")
@@ -43,7 +44,7 @@ def sine_from_rest(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarr
 
 # ------------------------------------------------------------------ design model
 def test_design_model_dc_gain_markov_and_structure(model):
-    assert model.G1 == pytest.approx(1.1260, abs=5e-5)          # MODEL.md: G(1) = 1.1260 A/V
+    assert model.G1 == pytest.approx(1.1260, abs=5e-5)  # MODEL.md: G(1) = 1.1260 A/V
     assert (model.n, model.n_dyn, model.n_delay) == (5, 4, 1)
     h = model.markov(60)
     # independent impulse response: Eq. 2 difference equation, then exact ZOH integration
@@ -51,8 +52,12 @@ def test_design_model_dc_gain_markov_and_structure(model):
     u = np.zeros(60)
     u[0] = 1.0
     for k in range(60):
-        i[k] = (1.404 * (i[k - 1] if k >= 1 else 0) - 0.4938 * (i[k - 2] if k >= 2 else 0)
-                + 0.057909 * (u[k - 2] if k >= 2 else 0) + 0.057909 * 0.7461 * (u[k - 3] if k >= 3 else 0))
+        i[k] = (
+            1.404 * (i[k - 1] if k >= 1 else 0)
+            - 0.4938 * (i[k - 2] if k >= 2 else 0)
+            + 0.057909 * (u[k - 2] if k >= 2 else 0)
+            + 0.057909 * 0.7461 * (u[k - 3] if k >= 3 else 0)
+        )
     a = P["ripple.c[0]"] / P["m"] * i
     x, v, xs = 0.0, 0.0, []
     for k in range(60):
@@ -69,8 +74,9 @@ def test_design_model_dc_gain_markov_and_structure(model):
     num, den = model.tf()
     z = np.exp(2j * np.pi * f * TS)
     # (z - 1)^2 near z = 1 costs digits in the polynomial form: rtol 1e-6
-    np.testing.assert_allclose(model.freqresp(f), np.polyval(num, z) / np.polyval(den, z),
-                               rtol=1e-6)
+    np.testing.assert_allclose(
+        model.freqresp(f), np.polyval(num, z) / np.polyval(den, z), rtol=1e-6
+    )
 
 
 def test_design_model_without_current_dynamics():
@@ -132,8 +138,9 @@ def test_margins_default_design(model):
         cl = StateSpaceController(model, [0.15], prefilter=None)
         cl.model = type(model)(**{**model.__dict__, "B": model.B * scale})
         return float(np.max(np.abs(np.linalg.eigvals(cl.closed_loop_matrix()))))
+
     assert rho(1.0) < 1 and rho(0.98 * g) < 1 < rho(1.02 * g)
-    gl = 10 ** (m.lower_gain_margin_db / 20)     # conditionally stable: gain reduction limit
+    gl = 10 ** (m.lower_gain_margin_db / 20)  # conditionally stable: gain reduction limit
     assert rho(1.02 * gl) < 1 < rho(0.98 * gl)
     # geometry at the crossover: |1 + L| = 2 sin(PM/2) >= modulus margin
     assert m.modulus_margin <= 2 * np.sin(np.radians(m.phase_margin_deg) / 2) + 1e-6
@@ -162,7 +169,7 @@ def test_step_is_fast(model):
     for k in range(12000):
         c.step(0.15, k)
     per_step = (time.perf_counter() - t0) / 12000
-    assert per_step < 10e-6          # measured ~1.3 us; generous for loaded machines
+    assert per_step < 10e-6  # measured ~1.3 us; generous for loaded machines
 
 
 def test_compiled_step_equals_matrix_form():
@@ -196,8 +203,8 @@ def test_zpetc_known_system():
 def test_zpetc_of_default_loop_is_zero_phase(model):
     c = StateSpaceController(model, [0.15], prefilter=None)
     zp = ZPETC.from_controller(c)
-    assert zp.preview == 4                       # d + s = 3 + 1
-    np.testing.assert_allclose(zp.zeros_kept, [-1.0], atol=1e-6)   # ZOH sampling zero
+    assert zp.preview == 4  # d + s = 3 + 1
+    np.testing.assert_allclose(zp.zeros_kept, [-1.0], atol=1e-6)  # ZOH sampling zero
     f = np.array([0.1, 1.0, 10.0, 100.0, 500.0])
     R = zp.tracking_response(f, TS)
     assert np.max(np.abs(np.angle(R))) < 1e-8
@@ -221,7 +228,7 @@ def test_tracking_with_and_without_zpetc(model, quantum):
         # the reference), 0.5 nm after 0.5 s (ratio ~3000)
         assert err["zpetc"] < 1e-7
         assert steady["zpetc"] < 5e-9 and steady[None] / steady["zpetc"] > 200
-    else:                        # 100 nm resolution: error < one count (66 nm vs 1.63 um)
+    else:  # 100 nm resolution: error < one count (66 nm vs 1.63 um)
         assert err["zpetc"] < 1.5e-7 and err[None] / err["zpetc"] > 8
 
 
@@ -233,26 +240,26 @@ DESIGN_PID = {"Kp": 8.0e4, "Ki": 1.0e6, "Kv": 2.0e3, "tf": 2.5e-4, "anti_windup"
 
 def test_pid_step_settles(model):
     n = 4000
-    ref = np.full(n, 0.151)                       # 1 mm step
+    ref = np.full(n, 0.151)  # 1 mm step
     c = PID.from_force_gains(model, ref, **DESIGN_PID)
     m = c.margins(model)
     assert m.gain_margin_db > 6 and m.phase_margin_deg > 30
     r = simulate_linear(model, c, n, x0=0.15, quantum=1e-7)
     e = r["x"] - 0.151
     t = np.arange(n) * TS
-    assert np.all(np.abs(e[t > 0.5]) < 20e-6)        # within 2 % after 0.5 s
-    assert np.max(np.abs(e[t > 1.5])) < 0.2e-6       # integral action: one count
-    assert e.max() < 0.4e-3                          # overshoot < 40 %
+    assert np.all(np.abs(e[t > 0.5]) < 20e-6)  # within 2 % after 0.5 s
+    assert np.max(np.abs(e[t > 1.5])) < 0.2e-6  # integral action: one count
+    assert e.max() < 0.4e-3  # overshoot < 40 %
 
 
 def test_pid_saturation_and_antiwindup(model):
     n = 8000
-    ref = np.full(n, 0.16)                        # 10 mm step with +-1 V
+    ref = np.full(n, 0.16)  # 10 mm step with +-1 V
     c = PID.from_force_gains(model, ref, u_limit=1.0, **DESIGN_PID)
     r = simulate_linear(model, c, n, x0=0.15)
     assert np.max(np.abs(r["u"])) <= 1.0 + 1e-12
     e = r["x"] - 0.16
-    assert e.max() < 2.5e-3                       # bounded overshoot (no windup runaway)
+    assert e.max() < 2.5e-3  # bounded overshoot (no windup runaway)
     assert np.max(np.abs(e[-1000:])) < 1e-7
 
 
@@ -261,7 +268,7 @@ def test_pid_saturation_and_antiwindup(model):
 @pytest.mark.parametrize("v", [1e-4, 1e-3, 2e-2, -5e-3])
 def test_gms_steady_sliding(C, T_run, v):
     prm = GMSParameters.from_params(dict(P, **{"friction.C": C}))
-    T_run = max(T_run, 5e-4 / abs(v))          # travel beyond 2 Delta_5 = 0.23 mm
+    T_run = max(T_run, 5e-4 / abs(v))  # travel beyond 2 Delta_5 = 0.23 mm
     t = np.arange(int(T_run / TS)) * TS
     F = gms_force(v * t, np.full_like(t, v), TS, prm)
     steady = np.sign(v) * prm.level(v) + prm.sigma2 * v
@@ -269,24 +276,32 @@ def test_gms_steady_sliding(C, T_run, v):
 
 
 def test_gms_asymmetry_and_effect_switches():
-    p = dict(P, **{"asymmetry.dF": 2.0, "asymmetry.dsigma2": 10.0,
-                   "effects.asymmetric_friction": True})
+    p = dict(
+        P, **{"asymmetry.dF": 2.0, "asymmetry.dsigma2": 10.0, "effects.asymmetric_friction": True}
+    )
     prm = GMSParameters.from_params(p)
     v = -3e-3
     t = np.arange(2000) * TS
     F = gms_force(v * t, np.full_like(t, v), TS, prm)
-    expect = -(21.6 + 2.0 + 4.5 * np.exp(-(3.0 / 3.1) ** 0.6)) + (54.0 + 10.0) * v
+    expect = -(21.6 + 2.0 + 4.5 * np.exp(-((3.0 / 3.1) ** 0.6))) + (54.0 + 10.0) * v
     assert F[-1] == pytest.approx(expect, rel=5e-3)
-    off = GMSParameters.from_params(dict(p, **{"effects.asymmetric_friction": False,
-                                               "effects.stribeck": False,
-                                               "effects.frictional_lag": False}))
+    off = GMSParameters.from_params(
+        dict(
+            p,
+            **{
+                "effects.asymmetric_friction": False,
+                "effects.stribeck": False,
+                "effects.frictional_lag": False,
+            },
+        )
+    )
     assert (off.dF, off.dsigma2, off.F_s, off.C) == (0.0, 0.0, 21.6, np.inf)
 
 
 def test_gms_virgin_curve_and_reversal_follow_maxwell_slip():
     prm = GMSParameters.from_params(P)
-    v = 1e-5                                     # 10 um/s: S(|v|) within 0.6 % of F_s
-    n = 60000                                    # 0.3 mm, beyond 2 Delta_5
+    v = 1e-5  # 10 um/s: S(|v|) within 0.6 % of F_s
+    n = 60000  # 0.3 mm, beyond 2 Delta_5
     t = np.arange(n) * TS
     x = v * t
     F = gms_force(x, np.full(n, v), TS, prm) - prm.viscous(v)
@@ -302,12 +317,15 @@ def test_gms_virgin_curve_and_reversal_follow_maxwell_slip():
     v2 = np.concatenate((np.full(n, v), np.full(n - 1, -v)))
     F2 = gms_force(x2, v2, TS, prm) - prm.viscous(v2)
     d = x[-1] - x2[n:]
-    masing = F2[n - 1] - 2 * sum(np.minimum(k * d / 2, nu * prm.F_s)
-                                 for k, nu in zip(prm.k, prm.nu, strict=True))
+    masing = F2[n - 1] - 2 * sum(
+        np.minimum(k * d / 2, nu * prm.F_s) for k, nu in zip(prm.k, prm.nu, strict=True)
+    )
     assert np.max(np.abs(F2[n:] - masing)) < 0.02 * prm.F_s
-    masing_S = F2[n - 1] - 2 * sum(np.minimum(k * d / 2, nu * S) for k, nu in zip(prm.k, prm.nu, strict=True))
+    masing_S = F2[n - 1] - 2 * sum(
+        np.minimum(k * d / 2, nu * S) for k, nu in zip(prm.k, prm.nu, strict=True)
+    )
     assert np.max(np.abs(F2[n:] - masing_S)) < 0.01
-    assert F2[-1] == pytest.approx(-F2[n - 1], rel=0.01)   # symmetric after 2 Delta_5
+    assert F2[-1] == pytest.approx(-F2[n - 1], rel=0.01)  # symmetric after 2 Delta_5
 
 
 def test_gms_reversal_inside_a_sample_and_stepper_agree():
@@ -324,7 +342,7 @@ def test_gms_speed():
     _t, x, v, _ = sine_from_rest(12000)
     t0 = time.perf_counter()
     gms_force(x, v, TS, P)
-    assert time.perf_counter() - t0 < 0.25     # measured ~16 ms
+    assert time.perf_counter() - t0 < 0.25  # measured ~16 ms
 
 
 # ------------------------------------------------------------------ feedforward
@@ -333,7 +351,7 @@ def test_static_friction_regularisation():
     v_eps = 3e-4
     v = np.linspace(-0.05, 0.05, 20001)
     F = static_friction(v, prm, v_eps)
-    np.testing.assert_allclose(F, -static_friction(-v, prm, v_eps), atol=1e-12)   # odd
+    np.testing.assert_allclose(F, -static_friction(-v, prm, v_eps), atol=1e-12)  # odd
     assert static_friction(0.0, prm, v_eps) == 0.0
     big = np.abs(v) >= 3 * v_eps
     np.testing.assert_allclose(F[big], prm.steady(v[big]), rtol=5e-3)
@@ -362,12 +380,12 @@ def test_feedforward_terms_and_ripple_division():
 def test_inverse_current_loop_delivers_the_current():
     rng = np.random.default_rng(0)
     i_ff = np.cumsum(rng.normal(size=500)) * 0.01 + 0.3
-    i_ff[:10] = i_ff[10]                      # starts in a steady state
+    i_ff[:10] = i_ff[10]  # starts in a steady state
     u = invert_current_loop(i_ff, P)
     i = np.zeros(500)
-    for k in range(500):   # Eq. 2 started in the steady state of u[0]
-        uk = lambda j, k=k: u[k - j] if k - j >= 0 else u[0]          # noqa: E731
-        ik = lambda j, k=k: i[k - j] if k - j >= 0 else i_ff[0]       # noqa: E731
+    for k in range(500):  # Eq. 2 started in the steady state of u[0]
+        uk = lambda j, k=k: u[k - j] if k - j >= 0 else u[0]  # noqa: E731
+        ik = lambda j, k=k: i[k - j] if k - j >= 0 else i_ff[0]  # noqa: E731
         i[k] = 1.404 * ik(1) - 0.4938 * ik(2) + 0.057909 * uk(2) + 0.057909 * 0.7461 * uk(3)
     np.testing.assert_allclose(i, i_ff, atol=1e-9)
 
@@ -378,8 +396,9 @@ def _reversal_error(model, u_ff=None) -> float:
     t, xr, _, _ = sine_from_rest(n)
     c = StateSpaceController(model, xr, u_ff=u_ff)
     g = GMSFriction(P, TS, xr[0], 0.0)
-    r = simulate_linear(model, c, n, x0=xr[0], quantum=1e-7,
-                        force=lambda k, x, v: g.step(x, v) if k else 0.0)
+    r = simulate_linear(
+        model, c, n, x0=xr[0], quantum=1e-7, force=lambda k, x, v: g.step(x, v) if k else 0.0
+    )
     sel = (t > 2.5) & (t < 3.6)
     return float(np.max(np.abs(r["x"] - xr)[sel]))
 
@@ -389,25 +408,27 @@ def test_gms_feedforward_reduces_reversal_error(model):
     e0 = _reversal_error(model)
     # the paper: 27 um without feedforward
     assert 15e-6 < e0 < 35e-6
-    nominal = dict(P)                     # feedforward model differs from the plant
+    nominal = dict(P)  # feedforward model differs from the plant
     nominal["friction.F_s"] *= 1.1
     nominal["friction.F_c"] *= 0.95
     nominal["friction.C"] *= 2.0
     for j in range(1, 6):
         nominal[f"friction.k[{j}]"] *= 1.2
-    ff = feedforward(xr, TS, nominal, FeedforwardOptions(cogging=False, ripple=False),
-                     v_ref=vr, a_ref=ar)
+    ff = feedforward(
+        xr, TS, nominal, FeedforwardOptions(cogging=False, ripple=False), v_ref=vr, a_ref=ar
+    )
     e_gms = _reversal_error(model, ff.u)
-    assert e_gms < 0.5 * e0                # measured ~6 um vs ~23 um
+    assert e_gms < 0.5 * e0  # measured ~6 um vs ~23 um
 
 
 def test_from_params_builds_model_feedforward_and_controller():
     _t, xr, vr, ar = sine_from_rest(1000)
-    c = StateSpaceController.from_params(P, xr, FeedforwardOptions(friction="gms"),
-                                         v_ref=vr, a_ref=ar)
+    c = StateSpaceController.from_params(
+        P, xr, FeedforwardOptions(friction="gms"), v_ref=vr, a_ref=ar
+    )
     ff = feedforward(xr, TS, P, FeedforwardOptions(friction="gms"), v_ref=vr, a_ref=ar)
     np.testing.assert_allclose(c.u_ff, ff.u)
     assert c.zpetc is not None and c.command.shape == xr.shape
     # at rest on the (pre-filtered) command the output is the feedforward alone
     assert c.step(float(c.command[0]), 0) == pytest.approx(ff.u[0], abs=1e-9)
-    assert abs(c.command[0] - xr[0]) < 1e-6          # the preview sees the acceleration
+    assert abs(c.command[0] - xr[0]) < 1e-6  # the preview sees the acceleration

@@ -20,6 +20,7 @@ The communication-step checks close the loop in the test (controller at 2 kHz wi
 per sample; at 1 kHz with 1, 2 or 10 steps per sample, since a 1 ms step cannot carry a 2 kHz
 controller's output).
 """
+
 from __future__ import annotations
 
 import math
@@ -30,17 +31,19 @@ import pytest
 from feeddrive.fmu import DEFAULT_FMU, Plant
 from feeddrive.harness.simulate import simulate_closed_loop
 
-pytestmark = [pytest.mark.skipif(not DEFAULT_FMU.is_file(), reason="build the FMU first: make fmu"),
-              pytest.mark.usefixtures("fmu_path")]     # on both FMI versions (conftest)
+pytestmark = [
+    pytest.mark.skipif(not DEFAULT_FMU.is_file(), reason="build the FMU first: make fmu"),
+    pytest.mark.usefixtures("fmu_path"),
+]  # on both FMI versions (conftest)
 
 TS = 5e-4
 PERIOD = 6.0
 DURATION = 6.0
-N = 12000                    # 6 s at 2 kHz
-X0 = 0.12                    # bottom reversal of x_ref = 0.15 - 0.03 cos(2 pi t / 6)
-TOL_X = 0.1e-6               # m
-TOL_F = 0.05                 # N
-ME_TOL = 1e-9                # CVode relative tolerance (1e-10 changes x by < 2e-3 µm)
+N = 12000  # 6 s at 2 kHz
+X0 = 0.12  # bottom reversal of x_ref = 0.15 - 0.03 cos(2 pi t / 6)
+TOL_X = 0.1e-6  # m
+TOL_F = 0.05  # N
+ME_TOL = 1e-9  # CVode relative tolerance (1e-10 changes x by < 2e-3 µm)
 
 
 class PID:
@@ -51,9 +54,18 @@ class PID:
     6.7e3 the plain PID (no current-loop states in the feedback) rings at the reversals.
     """
 
-    def __init__(self, kp: float = 6e5, kv: float = 4e3, ki: float = 2e7, n_per_v: float = 78.7,
-                 f_vel: float = 1000.0, amplitude: float = 0.03, period: float = PERIOD,
-                 centre: float = 0.15, Ts: float = TS) -> None:
+    def __init__(
+        self,
+        kp: float = 6e5,
+        kv: float = 4e3,
+        ki: float = 2e7,
+        n_per_v: float = 78.7,
+        f_vel: float = 1000.0,
+        amplitude: float = 0.03,
+        period: float = PERIOD,
+        centre: float = 0.15,
+        Ts: float = TS,
+    ) -> None:
         self.kp, self.kv, self.ki, self.n_per_v, self.Ts = kp, kv, ki, n_per_v, Ts
         self.alpha = math.exp(-2 * math.pi * f_vel * Ts)
         self.A, self.w, self.c = amplitude, 2 * math.pi / period, centre
@@ -79,7 +91,9 @@ class PID:
         return max(-10.0, min(10.0, F / self.n_per_v))
 
 
-def _cs_loop(tol: float, quantum: float, ctrl_Ts: float = TS, h: float = TS, **gains: float) -> np.ndarray:
+def _cs_loop(
+    tol: float, quantum: float, ctrl_Ts: float = TS, h: float = TS, **gains: float
+) -> np.ndarray:
     """Closed loop through fmi2DoStep with ``ctrl_Ts / h`` communication steps per controller
     sample; returns x and F_friction at the controller instants, shape (n + 1, 2)."""
     ctrl = PID(Ts=ctrl_Ts, **gains)
@@ -135,8 +149,10 @@ def test_cs_and_me_closed_loops_agree(cs_ideal):
     """Both interfaces each closing the loop (ideal scale): same x and friction force."""
     me = _me_loop(ME_TOL, 0.0)
     dx, dF = _dev(cs_ideal, me)
-    print(f"CS (0.5 ms) vs ME (CVode {ME_TOL:g}) closed loops: max |dx| = {dx * 1e6:.4f} µm, "
-          f"max |dF_f| = {dF:.4f} N")
+    print(
+        f"CS (0.5 ms) vs ME (CVode {ME_TOL:g}) closed loops: max |dx| = {dx * 1e6:.4f} µm, "
+        f"max |dF_f| = {dF:.4f} N"
+    )
     assert dx < TOL_X and dF < TOL_F
 
 
@@ -164,9 +180,14 @@ def test_quantised_loops_differ_only_through_the_scale():
     scale differently somewhere; the difference stays bounded (below 20 µm, the loop is stable)
     and shrinks again after the reversal (below 2 µm over the last 0.1 s)."""
     ref = _cs_loop(1e-6, 1e-7)
-    for name, other in (("CS 1e-9", _cs_loop(1e-9, 1e-7)), (f"ME {ME_TOL:g}", _me_loop(ME_TOL, 1e-7))):
+    for name, other in (
+        ("CS 1e-9", _cs_loop(1e-9, 1e-7)),
+        (f"ME {ME_TOL:g}", _me_loop(ME_TOL, 1e-7)),
+    ):
         d = np.abs(other - ref)
-        print(f"quantised loops, CS 1e-6 vs {name}: max |dx| = {d[:, 0].max() * 1e6:.3f} µm at "
-              f"t = {np.argmax(d[:, 0]) * TS:.4f} s, max |dF_f| = {d[:, 1].max():.3f} N")
+        print(
+            f"quantised loops, CS 1e-6 vs {name}: max |dx| = {d[:, 0].max() * 1e6:.3f} µm at "
+            f"t = {np.argmax(d[:, 0]) * TS:.4f} s, max |dF_f| = {d[:, 1].max():.3f} N"
+        )
         assert d[:, 0].max() < 20e-6
         assert d[-200:, 0].max() < 2e-6

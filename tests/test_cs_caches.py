@@ -9,6 +9,7 @@ force, the current and the stick/slip counts agree with the plain drive to the b
 der(friction.F) (the plain drive's from the step's own level, the restored one's from libm's
 pow/exp) within 1e-9 N/s.
 """
+
 from __future__ import annotations
 
 import math
@@ -47,10 +48,10 @@ def test_kept_values_change_nothing(path: Path) -> None:
     """One step per current-loop sample (h = Ts): to the bit."""
     plain, der_plain = _drive(path, 5e-4, False)
     fresh, der_fresh = _drive(path, 5e-4, True)
-    assert plain[-1, EXACT.index("stats.n_slip")] >= 4          # the drive breaks away and sticks again
+    assert plain[-1, EXACT.index("stats.n_slip")] >= 4  # the drive breaks away and sticks again
     np.testing.assert_array_equal(plain, fresh)
     assert np.max(np.abs(der_plain - der_fresh)) <= 1e-9
-    assert np.max(np.abs(der_plain)) > 1.0                      # the derivatives are not all ~0
+    assert np.max(np.abs(der_plain)) > 1.0  # the derivatives are not all ~0
 
 
 def test_kept_values_inside_a_step(path: Path) -> None:

@@ -9,6 +9,7 @@ scale (the quantised loop is not continuous in the trajectory, see
 test_cs_agreement.py); the scheme takes one RK4(3) step per 0.5 ms sample under the DP45's own
 error test, so against the DP45 at the same tolerance it must agree to a tenth of that.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -22,8 +23,10 @@ from feeddrive.harness.sensors import Sensors
 from feeddrive.harness.simulate import simulate_open_loop
 from feeddrive.paper import paper_parameters
 
-pytestmark = [pytest.mark.skipif(not DEFAULT_FMU.is_file(), reason="build the FMU first: make fmu"),
-              pytest.mark.usefixtures("fmu_path")]     # on both FMI versions (conftest)
+pytestmark = [
+    pytest.mark.skipif(not DEFAULT_FMU.is_file(), reason="build the FMU first: make fmu"),
+    pytest.mark.usefixtures("fmu_path"),
+]  # on both FMI versions (conftest)
 
 TS = 5e-4
 IDEAL = Sensors(quantum=0.0, current_noise=0.0)
@@ -58,11 +61,13 @@ def test_fast_path_agrees_with_me_and_with_the_adaptive_solver(changes: dict) ->
     slow = run_closed_loop({**p, **ADAPTIVE}, spec, ref, sensors=IDEAL)
     d_me = float(np.max(np.abs(fast["x"] - me["x"])))
     d_ad = float(np.max(np.abs(fast["x"] - slow["x"])))
-    print(f"fast vs ME 1e-10: {d_me * 1e6:.5f} um, fast vs adaptive: {d_ad * 1e6:.5f} um, "
-          f"rhs {int(fast['stats.n_rhs'])} vs {int(slow['stats.n_rhs'])}")
+    print(
+        f"fast vs ME 1e-10: {d_me * 1e6:.5f} um, fast vs adaptive: {d_ad * 1e6:.5f} um, "
+        f"rhs {int(fast['stats.n_rhs'])} vs {int(slow['stats.n_rhs'])}"
+    )
     assert d_me < 0.05e-6
     assert d_ad < 0.005e-6
-    assert float(fast["stats.n_rhs"]) < 0.75 * float(slow["stats.n_rhs"])   # the scheme is taken
+    assert float(fast["stats.n_rhs"]) < 0.75 * float(slow["stats.n_rhs"])  # the scheme is taken
     assert int(fast["state_events"]) == int(slow["state_events"])
 
 
@@ -78,7 +83,7 @@ def test_stiff_plant_falls_back_to_the_adaptive_solver() -> None:
     x_f, s_f = _open_loop(_params(), u)
     x_a, s_a = _open_loop(_params(**ADAPTIVE), u)
     assert s_f["stats.n_rhs"] < s_a["stats.n_rhs"]
-    assert np.max(np.abs(x_f - x_a)) < 1e-9          # 4 mm of motion: 1e-3 um
+    assert np.max(np.abs(x_f - x_a)) < 1e-9  # 4 mm of motion: 1e-3 um
 
 
 def test_exact_stick_update_at_rest() -> None:
@@ -89,9 +94,9 @@ def test_exact_stick_update_at_rest() -> None:
     p = _params(**NO_COGGING)
     x_fast, s_fast = _open_loop(p, u)
     x_ref, s_ref = _open_loop({**p, **ADAPTIVE}, u, tolerance=1e-12)
-    assert np.ptp(x_ref) > 0.5e-6                # it does move: ~1 um peak to peak
+    assert np.ptp(x_ref) > 0.5e-6  # it does move: ~1 um peak to peak
     assert s_fast["stats.n_stick"] == s_ref["stats.n_stick"] == 0 and s_fast["stats.n_slip"] == 0
-    assert s_fast["stats.n_rhs"] == 0            # every interval by the exact update
+    assert s_fast["stats.n_rhs"] == 0  # every interval by the exact update
     assert np.max(np.abs(x_fast - x_ref)) < 1e-14
 
 
@@ -101,8 +106,8 @@ def test_stick_slip_switch_inside_a_sample_is_located() -> None:
     interval to the DP45, which locates the switch), then stick again at the reversal."""
     n = 1200
     k = np.arange(n)
-    u = 0.45 * np.sin(np.pi * k / n)            # up to 35 N and back: slip, then stick at reversal
-    u[n // 2:] = -u[n // 2:]
+    u = 0.45 * np.sin(np.pi * k / n)  # up to 35 N and back: slip, then stick at reversal
+    u[n // 2 :] = -u[n // 2 :]
     p = _params(**NO_COGGING)
     x_fast, s_fast = _open_loop(p, u)
     x_ad, s_ad = _open_loop({**p, **ADAPTIVE}, u)
@@ -110,10 +115,13 @@ def test_stick_slip_switch_inside_a_sample_is_located() -> None:
     x_ref, s_ref = _open_loop({**p, **ADAPTIVE}, u, tolerance=1e-10)
     assert s_fast["stats.n_slip"] >= 10 and s_fast["stats.n_stick"] >= 10
     for s in (s_ad, s_fine, s_ref):
-        assert (s["stats.n_slip"], s["stats.n_stick"]) == (s_fast["stats.n_slip"], s_fast["stats.n_stick"])
+        assert (s["stats.n_slip"], s["stats.n_stick"]) == (
+            s_fast["stats.n_slip"],
+            s_fast["stats.n_stick"],
+        )
     assert np.ptp(x_fast) > 1e-2
-    assert np.max(np.abs(x_fast - x_ad)) < 0.002e-6      # same tolerance: the scheme adds nothing
-    assert np.max(np.abs(x_fine - x_ref)) < 1e-12        # switches located alike
+    assert np.max(np.abs(x_fast - x_ad)) < 0.002e-6  # same tolerance: the scheme adds nothing
+    assert np.max(np.abs(x_fine - x_ref)) < 1e-12  # switches located alike
 
 
 def test_static_friction_reversal_error_at_default_tolerance() -> None:
@@ -129,12 +137,14 @@ def test_static_friction_reversal_error_at_default_tolerance() -> None:
     peaks, stuck_moves = {}, {}
     for tol in (1e-6, 1e-10):
         sim = run_closed_loop(p, spec, ref, tolerance=tol)
-        peaks[tol] = float(np.abs(sim["x"] - run.x)[top - w:top + w + 1].max())
+        peaks[tol] = float(np.abs(sim["x"] - run.x)[top - w : top + w + 1].max())
         v, x = np.asarray(sim["v"]), np.asarray(sim["x"])
         both = (v[1:] == 0.0) & (v[:-1] == 0.0)
-        assert both.sum() > 100                  # stuck for > 50 ms at the reversals
+        assert both.sum() > 100  # stuck for > 50 ms at the reversals
         stuck_moves[tol] = float(np.max(np.abs(np.diff(x)[both])))
-    print(f"reversal error: default {peaks[1e-6] * 1e6:.4f} um, rtol 1e-10 {peaks[1e-10] * 1e6:.4f} um")
+    print(
+        f"reversal error: default {peaks[1e-6] * 1e6:.4f} um, rtol 1e-10 {peaks[1e-10] * 1e6:.4f} um"
+    )
     assert abs(peaks[1e-6] - peaks[1e-10]) < 0.05e-6
     assert stuck_moves[1e-6] == 0.0 and stuck_moves[1e-10] == 0.0
     # the make run table's figure: the peak of a ~46 um error between two runs whose controller

@@ -12,6 +12,7 @@
 The sanitizer builds compile the FMU's sources into the test program (``*_san``); the plain
 builds dlopen build/binaries/linux64/LinearMotorFeedDrive.so like an importer does.
 """
+
 from __future__ import annotations
 
 import json
@@ -25,19 +26,35 @@ import pytest
 REPO = Path(__file__).resolve().parents[1]
 OUT = REPO / "build" / "tests_c"
 SO = REPO / "build" / "binaries" / "linux64" / "LinearMotorFeedDrive.so"
-SAN_ENV = {"ASAN_OPTIONS": "detect_leaks=1:abort_on_error=1:halt_on_error=1",
-           "UBSAN_OPTIONS": "print_stacktrace=1:halt_on_error=1"}
-SANITIZER_MARKS = ("runtime error:", "AddressSanitizer", "LeakSanitizer", "UndefinedBehaviorSanitizer")
+SAN_ENV = {
+    "ASAN_OPTIONS": "detect_leaks=1:abort_on_error=1:halt_on_error=1",
+    "UBSAN_OPTIONS": "print_stacktrace=1:halt_on_error=1",
+}
+SANITIZER_MARKS = (
+    "runtime error:",
+    "AddressSanitizer",
+    "LeakSanitizer",
+    "UndefinedBehaviorSanitizer",
+)
 
 
 def build(*targets: str) -> None:
     """make -C tests/c the given driver binaries (plain: dlopen the .so; *_san: sanitizers)."""
-    subprocess.run(["make", "-s", "-j2", "-C", str(REPO / "tests" / "c")] + [str(OUT / t) for t in targets],
-                   check=True, capture_output=True, text=True)
+    subprocess.run(
+        ["make", "-s", "-j2", "-C", str(REPO / "tests" / "c")] + [str(OUT / t) for t in targets],
+        check=True,
+        capture_output=True,
+        text=True,
+    )
 
 
-def run(prog: str, *args: str, sanitized: bool = False, timeout: float = 600,
-        wrapper: list[str] | None = None) -> subprocess.CompletedProcess:
+def run(
+    prog: str,
+    *args: str,
+    sanitized: bool = False,
+    timeout: float = 600,
+    wrapper: list[str] | None = None,
+) -> subprocess.CompletedProcess:
     env = dict(os.environ, **SAN_ENV) if sanitized else None
     cmd = (wrapper or []) + [str(OUT / prog), "-" if sanitized else str(SO), *args]
     return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env)
@@ -97,9 +114,18 @@ def test_cycles_leak_sanitizer(sanitized):
 @pytest.mark.skipif(shutil.which("valgrind") is None, reason="valgrind is not installed")
 def test_cycles_valgrind(plain):
     """1 000 life cycles of the shared library under valgrind memcheck: no error, no leak."""
-    p = run("cycles", "1000", "--no-rss",
-            wrapper=["valgrind", "-q", "--leak-check=full", "--errors-for-leak-kinds=definite,indirect",
-                     "--error-exitcode=9"])
+    p = run(
+        "cycles",
+        "1000",
+        "--no-rss",
+        wrapper=[
+            "valgrind",
+            "-q",
+            "--leak-check=full",
+            "--errors-for-leak-kinds=definite,indirect",
+            "--error-exitcode=9",
+        ],
+    )
     assert_clean(p)
 
 
@@ -121,7 +147,13 @@ def test_threads_thread_sanitizer(fmu_path: Path):
     """The same 8 threads under ThreadSanitizer: no data race between instances."""
     build("threads_tsan")
     env = dict(os.environ, TSAN_OPTIONS="halt_on_error=1")
-    p = subprocess.run([str(OUT / "threads_tsan"), "-", "1", "8"], capture_output=True, text=True, timeout=600, env=env)
+    p = subprocess.run(
+        [str(OUT / "threads_tsan"), "-", "1", "8"],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        env=env,
+    )
     assert "ThreadSanitizer" not in p.stderr, p.stderr[-3000:]
     assert_clean(p)
 

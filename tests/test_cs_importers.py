@@ -14,6 +14,7 @@ Tolerances:
 Skipped when java or mvn is missing or `make importers` could not resolve FMI4j from Maven Central
 (the reason it wrote); the test itself runs Maven offline.
 """
+
 from __future__ import annotations
 
 import shutil
@@ -29,17 +30,21 @@ from importer_scenario import max_dev as _max_dev
 
 REPO = Path(__file__).resolve().parents[1]
 JAVA_DIR = REPO / "tests" / "java"
-TARGET = REPO / "build" / "fmi4j-target"   # Maven's build directory (pom.xml)
+TARGET = REPO / "build" / "fmi4j-target"  # Maven's build directory (pom.xml)
 
-CLASSPATH = TARGET / "classpath.txt"                 # make importers: Maven resolved and compiled
-SKIP = REPO / "build" / "importers" / "fmi4j.skip"    # make importers: why it could not
+CLASSPATH = TARGET / "classpath.txt"  # make importers: Maven resolved and compiled
+SKIP = REPO / "build" / "importers" / "fmi4j.skip"  # make importers: why it could not
 
 
 def _skip_reason() -> str | None:
     if shutil.which("java") is None or shutil.which("mvn") is None:
         return "FMI4j needs a JDK (java) and Maven (mvn); one is not installed"
     if not CLASSPATH.is_file():
-        return SKIP.read_text().strip() if SKIP.is_file() else "FMI4j is not installed: run `make importers`"
+        return (
+            SKIP.read_text().strip()
+            if SKIP.is_file()
+            else "FMI4j is not installed: run `make importers`"
+        )
     return None
 
 
@@ -48,17 +53,36 @@ pytestmark = pytest.mark.skipif(_skip_reason() is not None, reason=str(_skip_rea
 
 def _maven_classpath() -> str:
     """tests/java compiled offline (its dependencies were resolved by `make importers`)."""
-    p = subprocess.run(["mvn", "-o", "-q", "-B", "compile"], cwd=JAVA_DIR, capture_output=True, text=True,
-                       timeout=600)
-    assert p.returncode == 0, f"maven (offline) failed in {JAVA_DIR}:\n{p.stdout[-3000:]}\n{p.stderr[-3000:]}"
+    p = subprocess.run(
+        ["mvn", "-o", "-q", "-B", "compile"],
+        cwd=JAVA_DIR,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert p.returncode == 0, (
+        f"maven (offline) failed in {JAVA_DIR}:\n{p.stdout[-3000:]}\n{p.stderr[-3000:]}"
+    )
     return str(TARGET / "classes") + ":" + CLASSPATH.read_text().strip()
 
 
 @pytest.fixture(scope="module")
 def fmi4j_runs(fmu_path: Path, tmp_path_factory) -> dict[str, np.ndarray]:
     out = tmp_path_factory.mktemp("fmi4j")
-    p = subprocess.run(["java", "-cp", _maven_classpath(), "feeddrive.fmi4j.Fmi4jRun", str(fmu_path), str(out),
-                        str(SECONDS)], capture_output=True, text=True, timeout=600)
+    p = subprocess.run(
+        [
+            "java",
+            "-cp",
+            _maven_classpath(),
+            "feeddrive.fmi4j.Fmi4jRun",
+            str(fmu_path),
+            str(out),
+            str(SECONDS),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert p.returncode == 0, p.stdout[-3000:] + p.stderr[-3000:]
     print(p.stdout)
     runs = {k: np.genfromtxt(out / f"{k}.csv", delimiter=",", names=True) for k in ("cs", "me")}
@@ -79,7 +103,7 @@ def test_fmi4j_ran_the_scenario(fmi4j_runs):
         d = fmi4j_runs[k]
         assert len(d) == int(round(SECONDS / TS)) + 1
         assert np.all(np.isfinite(d["x"]))
-        assert d["x"].max() - d["x"].min() > 0.03       # it moved: tens of millimetres
+        assert d["x"].max() - d["x"].min() > 0.03  # it moved: tens of millimetres
 
 
 def test_fmi4j_cs_equals_fmpy_cs(fmi4j_runs, fmpy_runs):
@@ -88,8 +112,14 @@ def test_fmi4j_cs_equals_fmpy_cs(fmi4j_runs, fmpy_runs):
     assert dev["x"] < 1e-12 and dev["F_friction"] < 1e-8 and dev["i"] < 1e-12
 
 
-@pytest.mark.parametrize("a,b", [(("fmi4j", "me"), ("fmpy", "cs")), (("fmi4j", "me"), ("fmpy", "me")),
-                                 (("fmi4j", "cs"), ("fmpy", "me"))])
+@pytest.mark.parametrize(
+    "a,b",
+    [
+        (("fmi4j", "me"), ("fmpy", "cs")),
+        (("fmi4j", "me"), ("fmpy", "me")),
+        (("fmi4j", "cs"), ("fmpy", "me")),
+    ],
+)
 def test_me_runs_agree(fmi4j_runs, fmpy_runs, a, b):
     src = {"fmi4j": fmi4j_runs, "fmpy": fmpy_runs}
     dev = _max_dev(src[a[0]][a[1]], src[b[0]][b[1]])

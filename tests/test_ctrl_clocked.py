@@ -5,6 +5,7 @@ first.  It is the harness's run to the bit (Sec. 3 sinusoid, 100 nm scale) for t
 controller with ``delay`` 0 and 1 (and with the plant FMU as FMI 3.0 too) and for an lti
 controller; the clock's description and its
 refusals are those of the FMI 3.0 standard."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -31,16 +32,26 @@ from feeddrive.paper import paper_parameters
 
 ROOT = Path(__file__).resolve().parents[1]
 CTRL3 = ROOT / "build" / "DriveController3.fmu"
-A, P, C = 0.030, 6.0, 0.150          #: the Sec. 3 sinusoid [m], [s], [m]
+A, P, C = 0.030, 6.0, 0.150  #: the Sec. 3 sinusoid [m], [s], [m]
 
 
 def _both(spec: dict, duration: float, plant_path: Path | None = None) -> tuple[dict, dict]:
     ref = sinusoid(A, P, C, duration)
     with Plant(paper_parameters(), interface="cs") as plant:
-        h = simulate_closed_loop(plant, make_controller(spec, ref), ref.n, float(ref.x[0]), quantum=1e-7)
-    values = controller_fmu_parameters(spec, reference=sinusoid_source(A, P, C, duration), quantum=1e-7)
-    clocked = simulate_clocked(paper_parameters(), values, ref.n, float(ref.x[0]), controller_path=CTRL3,
-                               plant_path=plant_path)
+        h = simulate_closed_loop(
+            plant, make_controller(spec, ref), ref.n, float(ref.x[0]), quantum=1e-7
+        )
+    values = controller_fmu_parameters(
+        spec, reference=sinusoid_source(A, P, C, duration), quantum=1e-7
+    )
+    clocked = simulate_clocked(
+        paper_parameters(),
+        values,
+        ref.n,
+        float(ref.x[0]),
+        controller_path=CTRL3,
+        plant_path=plant_path,
+    )
     return h, clocked
 
 
@@ -82,7 +93,9 @@ def test_clock_in_the_description(fmu_path) -> None:
     md = read_model_description(str(CTRL3))
     var = {v.name: v for v in md.modelVariables}
     tick = var["tick"]
-    assert tick.type == "Clock" and tick.causality == "input" and tick.intervalVariability == "fixed"
+    assert (
+        tick.type == "Clock" and tick.causality == "input" and tick.intervalVariability == "fixed"
+    )
     assert md.coSimulation.hasEventMode and not md.coSimulation.mightReturnEarlyFromDoStep
     for name in ("x_ref", "v_ref", "a_ref", "x_meas", "u", "x_cmd", "u_ff", "r_x"):
         assert var[name].clocks == [tick], name
@@ -90,9 +103,15 @@ def test_clock_in_the_description(fmu_path) -> None:
 
 def _instance(log: list[str], event_mode: bool = True) -> tuple[FMU3Slave, dict]:
     md = read_model_description(str(CTRL3))
-    fmu = FMU3Slave(guid=md.guid, unzipDirectory=extract(str(CTRL3)), modelIdentifier=md.coSimulation.modelIdentifier,
-                    instanceName="clocked")
-    fmu.instantiate(eventModeUsed=event_mode, logMessage=lambda env, st, cat, msg: log.append(msg.decode()))
+    fmu = FMU3Slave(
+        guid=md.guid,
+        unzipDirectory=extract(str(CTRL3)),
+        modelIdentifier=md.coSimulation.modelIdentifier,
+        instanceName="clocked",
+    )
+    fmu.instantiate(
+        eventModeUsed=event_mode, logMessage=lambda env, st, cat, msg: log.append(msg.decode())
+    )
     fmu.enterInitializationMode(startTime=0.0)
     fmu.exitInitializationMode()
     return fmu, {v.name: v.valueReference for v in md.modelVariables}
@@ -104,7 +123,7 @@ def test_clock_refusals(fmu_path) -> None:
     message names the function and the rule; the interval is Ts."""
     log: list[str] = []
     fmu, vr = _instance(log)
-    fmu.setClock([vr["tick"]], [True])          # Event Mode after initialisation: the tick of t_0
+    fmu.setClock([vr["tick"]], [True])  # Event Mode after initialisation: the tick of t_0
     fmu.updateDiscreteStates()
     fmu.enterStepMode()
     with pytest.raises(FMICallException):
@@ -124,7 +143,11 @@ def test_clock_refusals(fmu_path) -> None:
     assert "fmi3UpdateDiscreteStates first" in log[-1]
     fmu.updateDiscreteStates()
     fmu.enterStepMode()
-    vrs, iv, q = (fmi3ValueReference * 1)(vr["tick"]), (fmi3Float64 * 1)(), (fmi3IntervalQualifier * 1)()
+    vrs, iv, q = (
+        (fmi3ValueReference * 1)(vr["tick"]),
+        (fmi3Float64 * 1)(),
+        (fmi3IntervalQualifier * 1)(),
+    )
     fmu.getIntervalDecimal(vrs, iv, q)
     assert iv[0] == 5e-4
     fmu.terminate()
@@ -140,10 +163,14 @@ def test_clock_refusals(fmu_path) -> None:
 def test_controller_object_names_the_failure(fmu_path) -> None:
     """A tick the FMU refuses (x_meas not finite) raises FMUError with the FMU's message, not
     fmpy's bare status."""
-    values = controller_fmu_parameters(state_space_spec(), reference=sinusoid_source(A, P, C, 0.1), quantum=1e-7)
+    values = controller_fmu_parameters(
+        state_space_spec(), reference=sinusoid_source(A, P, C, 0.1), quantum=1e-7
+    )
     with ClockedController(values, CTRL3) as c:
         c.start(0.15)
-        with pytest.raises(FMUError, match=r"controller tick at sample 1: fmi3SetFloat64: .*x_meas"):
+        with pytest.raises(
+            FMUError, match=r"controller tick at sample 1: fmi3SetFloat64: .*x_meas"
+        ):
             c.tick(float("nan"))
 
 
@@ -152,16 +179,24 @@ def test_the_tick_sample_in_any_order_of_the_event_mode(fmu_path) -> None:
     the Event Mode: u read before fmi3UpdateDiscreteStates (clock active), u read after it, or
     a u read before the clock was set (from the old x_meas) then dropped -- 20 ticks with x_meas
     moving 1 um per tick give the same u to the bit, and u moves."""
-    values = controller_fmu_parameters(state_space_spec(), reference=sinusoid_source(A, P, C, 0.1), quantum=0.0)
+    values = controller_fmu_parameters(
+        state_space_spec(), reference=sinusoid_source(A, P, C, 0.1), quantum=0.0
+    )
     x0 = float(sinusoid(A, P, C, 0.1).x[0])
     runs = []
     for order in ("get_then_update", "update_then_get", "early_get"):
         log: list[str] = []
         md = read_model_description(str(CTRL3))
-        fmu = FMU3Slave(guid=md.guid, unzipDirectory=extract(str(CTRL3)),
-                        modelIdentifier=md.coSimulation.modelIdentifier, instanceName=order)
-        fmu.instantiate(eventModeUsed=True,
-                        logMessage=lambda env, st, cat, msg, log=log: log.append(msg.decode()))
+        fmu = FMU3Slave(
+            guid=md.guid,
+            unzipDirectory=extract(str(CTRL3)),
+            modelIdentifier=md.coSimulation.modelIdentifier,
+            instanceName=order,
+        )
+        fmu.instantiate(
+            eventModeUsed=True,
+            logMessage=lambda env, st, cat, msg, log=log: log.append(msg.decode()),
+        )
         vr = {v.name: v.valueReference for v in md.modelVariables}
         set_values(fmu, md, values)
         fmu.enterInitializationMode(startTime=0.0)
@@ -186,4 +221,4 @@ def test_the_tick_sample_in_any_order_of_the_event_mode(fmu_path) -> None:
         fmu.freeInstance()
         runs.append(us)
     assert runs[0] == runs[1] == runs[2], runs
-    assert runs[0][19] != runs[0][1] and max(abs(u) for u in runs[0]) < 10.0    # moving, not clamped
+    assert runs[0][19] != runs[0][1] and max(abs(u) for u in runs[0]) < 10.0  # moving, not clamped

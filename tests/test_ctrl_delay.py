@@ -9,6 +9,7 @@ handed over after the step) with ``ctrl.delay`` 0 is the harness run with delay 
 handover is the delay -- to <= 1e-9 m without the scale's quantisation (the Jacobi clock,
 integer nanoseconds, differs from k Ts in the last bit).
 """
+
 from __future__ import annotations
 
 import warnings
@@ -33,14 +34,15 @@ from feeddrive.paper import paper_parameters
 from feeddrive.systems.closed_loop import sec3_system
 from feeddrive.systems.jacobi import simulate_jacobi
 
-A, P, C = 0.030, 6.0, 0.150          #: the Sec. 3 sinusoid [m], [s], [m]
+A, P, C = 0.030, 6.0, 0.150  #: the Sec. 3 sinusoid [m], [s], [m]
 
 
 def _harness(spec: dict, duration: float, quantum: float = 1e-7):
     ref = sinusoid(A, P, C, duration)
     with Plant(paper_parameters(), interface="cs") as plant:
-        return ref, simulate_closed_loop(plant, make_controller(spec, ref), ref.n,
-                                         float(ref.x[0]), quantum=quantum)
+        return ref, simulate_closed_loop(
+            plant, make_controller(spec, ref), ref.n, float(ref.x[0]), quantum=quantum
+        )
 
 
 def test_delay_zero_is_the_spec_without_it(fmu_path) -> None:
@@ -96,9 +98,11 @@ def test_delay_one_design_tracks_and_the_blind_design_loses_margin() -> None:
     m1 = pid0.margins(design_model(paper_parameters(), delay=1))
     # one sample of delay costs 360 f Ts degrees at the crossover
     assert m0.phase_margin_deg - m1.phase_margin_deg == pytest.approx(
-        360 * m1.crossover_hz * 5e-4, abs=1.0)
-    assert any(issubclass(x.category, PoorMarginsWarning) and "phase margin" in str(x.message)
-               for x in w)
+        360 * m1.crossover_hz * 5e-4, abs=1.0
+    )
+    assert any(
+        issubclass(x.category, PoorMarginsWarning) and "phase margin" in str(x.message) for x in w
+    )
 
 
 def test_bad_delay_refused() -> None:
@@ -113,6 +117,7 @@ def delay1_files(fmu_path, tmp_path_factory):
     """The Sec. 3 system with delay 1, no quantisation, written in its three forms, and the
     harness run it reproduces."""
     from feeddrive.systems import write_all
+
     s = sec3_system(delay=1)
     s.controller["scale.quantum"] = 0.0
     files = write_all(s, tmp_path_factory.mktemp("sys_delay1"))
@@ -125,6 +130,7 @@ def test_system_files_say_their_convention(delay1_files) -> None:
     convention; the OSP file says it; the Jacobi files carry ctrl.delay 0, the container 1."""
     import zipfile
     from xml.etree import ElementTree as ET
+
     s, files, _ = delay1_files
     with zipfile.ZipFile(files["ssp"]) as z:
         ssd = ET.fromstring(z.read("SystemStructure.ssd"))
@@ -133,7 +139,10 @@ def test_system_files_say_their_convention(delay1_files) -> None:
     assert alg.get("numWorkerThreads") == "0" and float(alg.get("baseStepSize")) == s.Ts
     conv = ssd.find(".//{https://feeddrive.invalid/ssp/delay}Delay")
     assert (conv.get("harnessDelay"), conv.get("ctrlDelay")) == ("1", "0")
-    assert 'name="ctrl.delay"' in ssv and '<ssv:Integer value="0"' in ssv.split('name="ctrl.delay"')[1][:80]
+    assert (
+        'name="ctrl.delay"' in ssv
+        and '<ssv:Integer value="0"' in ssv.split('name="ctrl.delay"')[1][:80]
+    )
     osp = files["osp"].read_text()
     assert "reproduces the harness run with delay = 1" in osp
     assert 'variable="ctrl.delay"' in osp
@@ -143,6 +152,7 @@ def test_container_fmu_with_delay_one(delay1_files) -> None:
     """fmpy's container FMU hands u over within the step: with ctrl.delay 1 it is the harness
     with delay 1 (to 1e-9 m; bitwise in practice)."""
     from feeddrive.systems import run_container
+
     s, files, h = delay1_files
     r = run_container(files["container"], s.n, s.Ts)
     assert float(np.max(np.abs(r["x"] - h["x"]))) <= 1e-9
@@ -153,6 +163,7 @@ def test_libcosim_at_ts_is_the_harness_with_delay_one(delay1_files) -> None:
     """libcosim on the OSP structure at h = Ts, ctrl.delay 0: the harness with delay 1."""
     pytest.importorskip("libcosimpy", reason="libcosimpy: python/pyproject.toml [test]")
     from feeddrive.systems import run_libcosim_osp
+
     s, files, h = delay1_files
     r = run_libcosim_osp(files["osp"].parent, s.n, s.Ts, substeps=1)
     assert float(np.nanmax(np.abs(r["x"][1:] - h["x"][1:]))) <= 1e-9
@@ -162,6 +173,7 @@ def test_libcosim_at_ts_is_the_harness_with_delay_one(delay1_files) -> None:
 def test_ecos_at_ts_is_the_harness_with_delay_one(delay1_files) -> None:
     """Ecos at h = Ts, ctrl.delay 0: the harness with delay 1."""
     from feeddrive.systems.ecos import load_ecospy, run_ecos
+
     try:
         load_ecospy()
     except ImportError as e:
@@ -180,16 +192,27 @@ def test_c_gauss_seidel_master_is_the_harness_bit_for_bit(fmu_path, delay: int) 
 
     from feeddrive.bench_c import run_two_fmus
     from feeddrive.harness.controller_fmu import ControllerFMU
+
     repo = Path(__file__).resolve().parents[1]
     host = repo / "build" / "tests_c" / "two_fmus"
-    subprocess.run(["make", "-s", "-C", str(repo / "tests" / "c"), str(host)], check=True,
-                   capture_output=True, text=True)
+    subprocess.run(
+        ["make", "-s", "-C", str(repo / "tests" / "c"), str(host)],
+        check=True,
+        capture_output=True,
+        text=True,
+    )
     spec = {**state_space_spec(), "delay": delay}
     ref, h = _harness(spec, P)
     values = controller_fmu_parameters(spec, reference=sinusoid_source(A, P, C, P), quantum=1e-7)
     with ControllerFMU(values) as c:
         typed = {k: (c.vr(k), c.vars[k].type[0], float(v)) for k, v in values.items()}
-    _, x = run_two_fmus(host, repo / "build" / "binaries" / "linux64" / "LinearMotorFeedDrive.so",
-                        repo / "build" / "controller" / "binaries" / "linux64" / "DriveController.so",
-                        typed, ref.n, float(ref.x[0]), repetitions=1)
+    _, x = run_two_fmus(
+        host,
+        repo / "build" / "binaries" / "linux64" / "LinearMotorFeedDrive.so",
+        repo / "build" / "controller" / "binaries" / "linux64" / "DriveController.so",
+        typed,
+        ref.n,
+        float(ref.x[0]),
+        repetitions=1,
+    )
     assert np.array_equal(np.asarray(x), h["x"])

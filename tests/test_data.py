@@ -1,4 +1,5 @@
 """Tests of feeddrive.data: every DATA.md rejection rule, exact round trip, the EMPS file."""
+
 from __future__ import annotations
 
 import json
@@ -10,7 +11,7 @@ import pytest
 
 from feeddrive.data import DataError, Run, load_run, load_runs, write_run
 
-SHARED = Path(__file__).resolve().parents[2] / "shared"      # ../shared beside the checkout
+SHARED = Path(__file__).resolve().parents[2] / "shared"  # ../shared beside the checkout
 EMPS = SHARED / "realdata" / "emps" / "emps_train.csv"
 
 GOOD = """time,u,i,x,x_ref,F_load
@@ -39,32 +40,55 @@ BROKEN = [
     ("missing_time_case", "Time,u,x\n0,1,0\n1,1,0\n", 1, "time", "case-sensitive"),
     ("missing_u", "time,x\n0,0\n1,0\n", 1, "u", "required column missing"),
     ("duplicate_column", "time,u,x,u\n0,1,0,1\n1,1,0,1\n", 1, "u", "duplicate"),
-    ("text_in_number", _replace_line(GOOD, 4, "0.001,abc,0.33,2e-07,4e-07,54.9"), 4, "u",
-     "not a number"),
-    ("empty_cell", _replace_line(GOOD, 3, "0.0005,0.2,,1e-07,2e-07,0.0"), 3, "i",
-     "not a number"),
+    (
+        "text_in_number",
+        _replace_line(GOOD, 4, "0.001,abc,0.33,2e-07,4e-07,54.9"),
+        4,
+        "u",
+        "not a number",
+    ),
+    ("empty_cell", _replace_line(GOOD, 3, "0.0005,0.2,,1e-07,2e-07,0.0"), 3, "i", "not a number"),
     ("nan", _replace_line(GOOD, 3, "0.0005,0.2,0.22,nan,2e-07,0.0"), 3, "x", "non-finite"),
-    ("NaN_upper", _replace_line(GOOD, 5, "0.0015,0.4,0.44,3e-07,NaN,54.9"), 5, "x_ref",
-     "non-finite"),
-    ("inf", _replace_line(GOOD, 4, "0.001,0.3,0.33,2e-07,4e-07,inf"), 4, "F_load",
-     "non-finite"),
-    ("minus_inf_time", _replace_line(GOOD, 2, "-Infinity,0.1,0.11,0.0,0.0,0.0"), 2, "time",
-     "non-finite"),
-    ("time_backwards", _replace_line(GOOD, 4, "0.0004,0.3,0.33,2e-07,4e-07,54.9"), 4, "time",
-     "backwards"),
-    ("time_equal", _replace_line(GOOD, 3, "0.0,0.2,0.22,1e-07,2e-07,0.0"), 3, "time",
-     "repeats"),
+    (
+        "NaN_upper",
+        _replace_line(GOOD, 5, "0.0015,0.4,0.44,3e-07,NaN,54.9"),
+        5,
+        "x_ref",
+        "non-finite",
+    ),
+    ("inf", _replace_line(GOOD, 4, "0.001,0.3,0.33,2e-07,4e-07,inf"), 4, "F_load", "non-finite"),
+    (
+        "minus_inf_time",
+        _replace_line(GOOD, 2, "-Infinity,0.1,0.11,0.0,0.0,0.0"),
+        2,
+        "time",
+        "non-finite",
+    ),
+    (
+        "time_backwards",
+        _replace_line(GOOD, 4, "0.0004,0.3,0.33,2e-07,4e-07,54.9"),
+        4,
+        "time",
+        "backwards",
+    ),
+    ("time_equal", _replace_line(GOOD, 3, "0.0,0.2,0.22,1e-07,2e-07,0.0"), 3, "time", "repeats"),
     ("one_row", "time,u,x\n0,1,0\n", 2, "time", "at least 2"),
     ("header_only", "time,u,x\n", 1, "time", "at least 2"),
-    ("ragged_long", _replace_line(GOOD, 3, "0.0005,0.2,0.22,1e-07,2e-07,0.0,9"), 3, "#7",
-     "7 fields"),
+    (
+        "ragged_long",
+        _replace_line(GOOD, 3, "0.0005,0.2,0.22,1e-07,2e-07,0.0,9"),
+        3,
+        "#7",
+        "7 fields",
+    ),
     ("ragged_short", _replace_line(GOOD, 4, "0.001,0.3,0.33,2e-07"), 4, "x_ref", "4 fields"),
     ("blank_line_inside", _replace_line(GOOD, 3, ""), 3, "time", "blank line"),
 ]
 
 
-@pytest.mark.parametrize("text,line,column,word", [b[1:] for b in BROKEN],
-                         ids=[b[0] for b in BROKEN])
+@pytest.mark.parametrize(
+    "text,line,column,word", [b[1:] for b in BROKEN], ids=[b[0] for b in BROKEN]
+)
 def test_broken_file_rejected_with_file_line_column(tmp_path, text, line, column, word):
     path = _write(tmp_path, text)
     with pytest.raises(DataError) as err:
@@ -128,8 +152,9 @@ def test_sidecar_loaded(tmp_path):
     assert load_run(path).meta == {"kind": "sine", "Ts": 5e-4}
 
 
-@pytest.mark.parametrize("text,line,col", [('{"kind": "sine",\n  "Ts": }', 2, 9),
-                                           ('{"kind": "sine"', 1, 16)])
+@pytest.mark.parametrize(
+    "text,line,col", [('{"kind": "sine",\n  "Ts": }', 2, 9), ('{"kind": "sine"', 1, 16)]
+)
 def test_bad_sidecar_names_json_file_line_column(tmp_path, text, line, col):
     path = _write(tmp_path, GOOD)
     jpath = tmp_path / "run.json"
@@ -157,10 +182,17 @@ def test_sidecar_not_utf8_rejected(tmp_path):
 def _random_run(rng: np.random.Generator, n: int = 500) -> Run:
     t = np.cumsum(rng.uniform(1e-5, 1e-3, n))
     vals = rng.standard_normal((5, n)) * np.logspace(-300, 300, n)  # every exponent range
-    vals[0, :3] = [5e-324, -0.0, 1.7976931348623157e308]           # subnormal, -0, max
-    return Run(time=t, u=vals[0], x=vals[1], i=vals[2], x_ref=vals[3], F_load=vals[4],
-               meta={"kind": "prbs", "gains": {"Kp": 6e5}, "seed": 7},
-               extra={"temp": rng.standard_normal(n), "tag": np.array(["a,b", 'q"t'] * (n // 2))})
+    vals[0, :3] = [5e-324, -0.0, 1.7976931348623157e308]  # subnormal, -0, max
+    return Run(
+        time=t,
+        u=vals[0],
+        x=vals[1],
+        i=vals[2],
+        x_ref=vals[3],
+        F_load=vals[4],
+        meta={"kind": "prbs", "gains": {"Kp": 6e5}, "seed": 7},
+        extra={"temp": rng.standard_normal(n), "tag": np.array(["a,b", 'q"t'] * (n // 2))},
+    )
 
 
 def test_round_trip_bit_exact(tmp_path):
@@ -189,8 +221,9 @@ def test_write_without_meta_writes_no_sidecar_and_removes_stale_one(tmp_path):
     assert path.read_text().splitlines()[0] == "time,u,x"
 
 
-@pytest.mark.parametrize("field,values,line", [("x", [0.0, np.nan, 1.0], 3),
-                                               ("time", [0.0, 1.0, 1.0], 4)])
+@pytest.mark.parametrize(
+    "field,values,line", [("x", [0.0, np.nan, 1.0], 3), ("time", [0.0, 1.0, 1.0], 4)]
+)
 def test_write_refuses_run_the_loader_would_reject(tmp_path, field, values, line):
     cols = {"time": [0.0, 1.0, 2.0], "u": [1.0, 2.0, 3.0], "x": [0.0, 0.1, 0.2]}
     cols[field] = values
@@ -228,12 +261,12 @@ def test_emps_loads_fast_without_current():
     t0 = time.perf_counter()
     run = load_run(EMPS)
     elapsed = time.perf_counter() - t0
-    assert run.n == 24841                       # README: 24 841 samples
+    assert run.n == 24841  # README: 24 841 samples
     assert not run.has_current and run.i is None
     assert run.x_ref is not None and run.F_load is None
-    assert run.Ts == pytest.approx(1e-3, rel=1e-3)   # README: Ts = 1 ms
+    assert run.Ts == pytest.approx(1e-3, rel=1e-3)  # README: Ts = 1 ms
     assert run.time[-1] == pytest.approx(24.84, abs=2e-3)
-    assert elapsed < 1.0, f"{elapsed:.3f} s"        # brief: well under a second (~0.05 s here)
+    assert elapsed < 1.0, f"{elapsed:.3f} s"  # brief: well under a second (~0.05 s here)
 
 
 @pytest.mark.parametrize("chunk", [1, 2, 3])
@@ -241,14 +274,18 @@ def test_broken_files_same_message_across_chunk_boundaries(tmp_path, monkeypatch
     # the loader reads in chunks (numpy's parser, else the csv module): tiny chunks put
     # every line on a boundary; the verdicts and lines must not change
     import feeddrive.data_csv as data_csv
+
     monkeypatch.setattr(data_csv, "_CHUNK_CHARS", 8 * chunk)
     monkeypatch.setattr(data_csv, "_CHUNK_ROWS", chunk)
     for name, text, line, column, word in BROKEN:
         path = _write(tmp_path, text, f"{name}.csv")
         with pytest.raises(DataError) as err:
             load_run(path)
-        assert (err.value.line, err.value.column[: len(column)], word in str(err.value)) \
-            == (line, column, True), (name, str(err.value))
+        assert (err.value.line, err.value.column[: len(column)], word in str(err.value)) == (
+            line,
+            column,
+            True,
+        ), (name, str(err.value))
     run = _random_run(np.random.default_rng(2), n=40)
     write_run(run, tmp_path / "rt.csv")
     back = load_run(tmp_path / "rt.csv")
@@ -274,13 +311,17 @@ def test_bom_and_non_utf8_byte(tmp_path):
         load_run(p)
 
 
-@pytest.mark.parametrize("time,line,word", [
-    (np.arange(50) * 5.0, None, "outside"),              # 5 ms steps written in ms
-    (np.arange(50) * 5e-9, None, "outside"),             # 5 ns
-    (np.r_[np.arange(30), np.arange(31, 51)] * 5e-4, 32, "differs"),   # one lost sample
-])
+@pytest.mark.parametrize(
+    "time,line,word",
+    [
+        (np.arange(50) * 5.0, None, "outside"),  # 5 ms steps written in ms
+        (np.arange(50) * 5e-9, None, "outside"),  # 5 ns
+        (np.r_[np.arange(30), np.arange(31, 51)] * 5e-4, 32, "differs"),  # one lost sample
+    ],
+)
 def test_implausible_sampling_refused(tmp_path, time, line, word):
     from feeddrive.data import check_sampling
+
     n = len(time)
     path = tmp_path / "s.csv"
     write_run(Run(time=time, u=np.zeros(n), x=np.zeros(n)), path)
@@ -289,8 +330,9 @@ def test_implausible_sampling_refused(tmp_path, time, line, word):
         check_sampling(run)
     assert err.value.line == line and err.value.column == "time" and word in str(err.value)
     assert str(path) in str(err.value)
-    ok = Run(time=np.arange(50) * 5e-4 + 1e-6 * np.sin(np.arange(50)), u=np.zeros(50),
-             x=np.zeros(50))
+    ok = Run(
+        time=np.arange(50) * 5e-4 + 1e-6 * np.sin(np.arange(50)), u=np.zeros(50), x=np.zeros(50)
+    )
     assert check_sampling(ok) == pytest.approx(5e-4, rel=0.01)
 
 
@@ -301,5 +343,5 @@ def test_trailing_blank_lines_accepted_blank_or_space_line_inside_refused(tmp_pa
         load_run(_write(tmp_path, _replace_line(GOOD, 3, "") + "\n", "b.csv"))
     with pytest.raises(DataError, match=r"line 3.*1 fields"):
         load_run(_write(tmp_path, _replace_line(GOOD, 3, "  "), "s.csv"))
-    with pytest.raises(DataError, match=r"line 6.*blank line"):      # the space line is a row
+    with pytest.raises(DataError, match=r"line 6.*blank line"):  # the space line is a row
         load_run(_write(tmp_path, GOOD + "\n  \n", "e.csv"))

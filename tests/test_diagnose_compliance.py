@@ -16,6 +16,7 @@ absorbed as mass (18.3 kg).  Asserted:
 - the same under the state-space controller on a 500 nm scale with faster moves;
 - a model that has the load names nothing.
 """
+
 from __future__ import annotations
 
 import functools
@@ -75,10 +76,26 @@ def test_identification_of_the_load_from_the_moves():
 @pytest.mark.slow
 def test_hidden_resonance_under_the_state_space_controller_on_a_coarse_scale():
     spec = state_space_spec()
-    runs = [simulate_run(TRUTH, sinusoid_reference(6.0), current_noise=0.003, quantum=5e-7,
-                         seed=95, name="ss_sinusoid", spec=spec),
-            simulate_run(TRUTH, back_and_forth([0.005, 0.02, 0.05], stroke=0.02),
-                         current_noise=0.003, quantum=5e-7, seed=96, name="ss_moves", spec=spec)]
+    runs = [
+        simulate_run(
+            TRUTH,
+            sinusoid_reference(6.0),
+            current_noise=0.003,
+            quantum=5e-7,
+            seed=95,
+            name="ss_sinusoid",
+            spec=spec,
+        ),
+        simulate_run(
+            TRUTH,
+            back_and_forth([0.005, 0.02, 0.05], stroke=0.02),
+            current_noise=0.003,
+            quantum=5e-7,
+            seed=96,
+            name="ss_moves",
+            spec=spec,
+        ),
+    ]
     diag = diagnose(runs, PAPER, max_steps=2, closed_loop=False)
     assert [(s.effect, s.decision) for s in diag.steps] == [("compliance", "missing_effect")]
     p = diag.model.parameters

@@ -11,6 +11,7 @@ A load at 190 Hz, above the band the data resolve: nothing is named (no ``mass``
 verdict names the band.  The pieces: the load filter starts in steady state, its free
 responses span any unknown start state of the load, the band of the acceleration kernel.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -140,7 +141,7 @@ def test_free_responses_span_an_unknown_start_state_of_the_load():
     Z = load_free_response(a, Ts, f, zeta)
     e = a2 - load_acceleration(a, Ts, f, zeta)
     coef, *_ = np.linalg.lstsq(Z, e, rcond=None)
-    assert np.max(np.abs(e)) > 1.0                       # the start state matters
+    assert np.max(np.abs(e)) > 1.0  # the start state matters
     assert np.max(np.abs(e - Z @ coef)) < 1e-3 * np.max(np.abs(e))
 
 

@@ -5,6 +5,7 @@ the authors' rigid IDIM-LS baseline (M 95.1 kg, Fv 203.5 N s/m, Fc 20.4 N, offse
 The numbers pinned here are what the workflow finds on the estimation run, judged on
 held-out blocks of it.
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -54,17 +55,26 @@ def test_emps_diagnosis(run, tmp_path):
     # residual energy, 1.75 -> 1.40 N; without that candidate the run ends at 1.61 N), a force
     # periodic in position (a ~2.5 mm component: one screw turn) and pre-rolling at
     # reversals, each a few % of the residual energy on held-out blocks
-    assert diag.named == ["asymmetric_friction", "position_friction", "cogging_periodic",
-                          "prerolling"]
+    assert diag.named == [
+        "asymmetric_friction",
+        "position_friction",
+        "cogging_periodic",
+        "prerolling",
+    ]
     pf = diag.steps[1]
     assert pf.decision == "missing_effect" and pf.evidence["heldout_improvement"] > 0.2
     assert pf.gap_after["force_rms_heldout_N"] < 0.85 * s.gap_after["force_rms_heldout_N"]
-    lams = [diag.model.parameters[f"cogging.lambda[{j}]"] for j in range(1, 9)
-            if diag.model.parameters[f"cogging.a[{j}]"] != 0.0]
+    lams = [
+        diag.model.parameters[f"cogging.lambda[{j}]"]
+        for j in range(1, 9)
+        if diag.model.parameters[f"cogging.a[{j}]"] != 0.0
+    ]
     assert any(2.4e-3 < lam < 2.7e-3 for lam in lams), lams
     pr = diag.steps[3]
-    assert pr.gap_after["where"]["since_reversal_0-20um"] < \
-        0.6 * pr.gap_before["where"]["since_reversal_0-20um"]
+    assert (
+        pr.gap_after["where"]["since_reversal_0-20um"]
+        < 0.6 * pr.gap_before["where"]["since_reversal_0-20um"]
+    )
     g_end = diag.steps[-1].gap_after
     assert g_end["force_rms_N"] < 0.8 * g0
     assert g_end["force_rms_heldout_N"] < 0.8 * g0

@@ -7,6 +7,7 @@ play between the stage and its scale.  None is a catalogue effect: the verdict m
 ``unexplained_residual``, the hint must name the right signature with its size, and
 model.json must hold no effect the diagnosis did not confirm.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -48,10 +49,11 @@ def _runs() -> tuple[Run, ...]:
 
 @functools.cache
 def _diag(case: str):
-    runs = {"latency": [late_position(r, 2) for r in _runs()],
-            "drift": [drifting_current(r, 0.01) for r in _runs()],
-            "play": [dataclasses.replace(r, x=play(np.asarray(r.x, float), 10e-6))
-                     for r in _runs()]}[case]
+    runs = {
+        "latency": [late_position(r, 2) for r in _runs()],
+        "drift": [drifting_current(r, 0.01) for r in _runs()],
+        "play": [dataclasses.replace(r, x=play(np.asarray(r.x, float), 10e-6)) for r in _runs()],
+    }[case]
     return diagnose(runs, PAPER, closed_loop=False)
 
 
@@ -69,10 +71,10 @@ def test_signatures_of_the_true_model_explain_nothing():
 def test_play_position_undoes_the_play_of_a_sinusoid():
     run = _runs()[0]
     x = np.asarray(run.x, dtype=float)
-    y = play(x, 10e-6)                  # 20 um of play in all
+    y = play(x, 10e-6)  # 20 um of play in all
     err = play_position(y, run.time, 20e-6) - x
     assert np.sqrt(np.mean((y - x) ** 2)) > 9e-6
-    assert np.sqrt(np.mean(err ** 2)) < 1e-6
+    assert np.sqrt(np.mean(err**2)) < 1e-6
 
 
 def test_latency_is_hinted_with_its_size():
@@ -80,10 +82,14 @@ def test_latency_is_hinted_with_its_size():
     assert v["verdict"] == "unexplained_residual", v
     h = v["hint"]
     assert h["signature"] == "timing_offset", v["hints"]
-    assert h["tau_s"] == pytest.approx(1e-3, rel=0.1) and h["tau_samples"] == pytest.approx(2, rel=0.1)
+    assert h["tau_s"] == pytest.approx(1e-3, rel=0.1) and h["tau_samples"] == pytest.approx(
+        2, rel=0.1
+    )
     assert h["share_of_excess"] > 0.7
-    assert "Hint (not a model change): a timing offset between position and force: the " \
-           "position lags the force by 1" in v["sentence"]
+    assert (
+        "Hint (not a model change): a timing offset between position and force: the "
+        "position lags the force by 1" in v["sentence"]
+    )
 
 
 def test_drift_of_the_force_constant_is_hinted_and_shows_on_the_time_axis():
@@ -117,8 +123,10 @@ def test_play_is_hinted_with_its_size():
 def test_a_narrow_band_disturbance_is_hinted_as_a_resonance_band():
     # 20 mA picked up at 45 Hz on the current measurement (1.4 N of force): no catalogue
     # effect has it; the resonance signature finds its frequency
-    runs = [dataclasses.replace(r, i=np.asarray(r.i) + 0.02 * np.sin(2 * np.pi * 45.0 * r.time))
-            for r in _runs()]
+    runs = [
+        dataclasses.replace(r, i=np.asarray(r.i) + 0.02 * np.sin(2 * np.pi * 45.0 * r.time))
+        for r in _runs()
+    ]
     res = residuals(runs, PAPER, **KW)
     found = hints(runs, PAPER, res, KW)
     best = found[0]
@@ -143,8 +151,20 @@ def test_out_of_catalogue_case_keeps_unconfirmed_fits_out_of_model_json(tmp_path
         write_run(r, paths[-1])
     save_model(PAPER, tmp_path / "paper.json")
     out = tmp_path / "out"
-    assert feeddrive_cli(["diagnose", *map(str, paths), "--model", str(tmp_path / "paper.json"),
-                          "--out", str(out), "--no-closed-loop"]) == 0
+    assert (
+        feeddrive_cli(
+            [
+                "diagnose",
+                *map(str, paths),
+                "--model",
+                str(tmp_path / "paper.json"),
+                "--out",
+                str(out),
+                "--no-closed-loop",
+            ]
+        )
+        == 0
+    )
     printed = capsys.readouterr().out
     doc = json.loads((out / "diagnosis.json").read_text())
     assert doc["verdict"]["verdict"] == "unexplained_residual"

@@ -7,6 +7,7 @@ with or without a PRBS run, the current noise must be measured from ``i - G(z) u
 without a sidecar, and each catalogue effect must be named first whether or not a PRBS run
 is in the set.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -28,7 +29,7 @@ from feeddrive.residual import force_residual
 
 PAPER = paper_model()
 P = compile(PAPER)
-WINDOW = 43                                   # the floor's window at 0.5 ms (41 + 2)
+WINDOW = 43  # the floor's window at 0.5 ms (41 + 2)
 
 
 @functools.cache
@@ -62,8 +63,9 @@ def test_stated_current_noise_and_noise_on_the_stage():
     run = _prbs()
     s_F, s_i, source = motor_force_noise(run, P, WINDOW)
     assert s_i == 0.005 and source == "sidecar sensors.current_noise" and s_F > 0.3
-    on_stage = dataclasses.replace(run, meta=dict(run.meta, sensors=dict(
-        run.meta["sensors"], noise_on_stage=True)))
+    on_stage = dataclasses.replace(
+        run, meta=dict(run.meta, sensors=dict(run.meta["sensors"], noise_on_stage=True))
+    )
     s_F, s_i, source = motor_force_noise(on_stage, P, WINDOW)
     assert s_F == 0.0 and s_i == 0.005 and "noise_on_stage" in source
 
@@ -72,8 +74,10 @@ def test_the_floor_is_the_same_with_a_prbs_run_in_the_set():
     # the true model's residual on a sinusoid and a PRBS run, the floors from the data only
     # (no sidecar noise): the PRBS run's floor is the sinusoid's within 30 % (same sensors),
     # and either residual is within 1.5 x its floor
-    runs = [_without_stated_noise(make_runs(PAPER, seed=31, cs=False)[0]),
-            _without_stated_noise(_prbs())]
+    runs = [
+        _without_stated_noise(make_runs(PAPER, seed=31, cs=False)[0]),
+        _without_stated_noise(_prbs()),
+    ]
     floors, gaps = [], []
     for run in runs:
         q = force_residual(run, PAPER)
@@ -90,12 +94,19 @@ def test_the_floor_is_the_same_with_a_prbs_run_in_the_set():
 CASES = {
     "stribeck": (PAPER, PAPER.with_effect("stribeck", False), {"seed": 14, "noise": 0.003}),
     "viscous": (PAPER, PAPER.with_effect("viscous", False), {"seed": 16}),
-    "offset_force": (PAPER.with_effect("offset_force", True, **{"offset.F": 4.0}), PAPER,
-                     {"seed": 11}),
+    "offset_force": (
+        PAPER.with_effect("offset_force", True, **{"offset.F": 4.0}),
+        PAPER,
+        {"seed": 11},
+    ),
     "mass": (PAPER, PAPER.with_effect("mass", True, m=13.0), {"seed": 12, "noise": 0.002}),
-    "asymmetric_friction": (PAPER.with_effect("asymmetric_friction", True,
-                                              **{"asymmetry.dF": 4.0, "asymmetry.dsigma2": 30.0}),
-                            PAPER, {"seed": 13, "quantum": 2e-7}),
+    "asymmetric_friction": (
+        PAPER.with_effect(
+            "asymmetric_friction", True, **{"asymmetry.dF": 4.0, "asymmetry.dsigma2": 30.0}
+        ),
+        PAPER,
+        {"seed": 13, "quantum": 2e-7},
+    ),
     "prerolling": (PAPER, PAPER.with_effect("prerolling", False), {"seed": 17}),
 }
 
@@ -123,8 +134,10 @@ def _campaign_runs(labels: tuple[str, ...]) -> list[Run]:
     out = []
     for _, label, fn in experiments.plan(False):
         if label in labels:
-            out += fn(PAPER.fmu_parameters(),
-                      dataclasses.replace(sensors, seed=experiments.run_seed(1, label)))
+            out += fn(
+                PAPER.fmu_parameters(),
+                dataclasses.replace(sensors, seed=experiments.run_seed(1, label)),
+            )
     return out
 
 
@@ -140,9 +153,10 @@ def test_a_missing_stribeck_is_named_with_the_campaign_prbs_run_in_the_set():
     assert diag.steps, diag.stop
     s = diag.steps[0]
     assert s.effect == "stribeck", (s.effect, diag.stop)
-    assert s.gap_after["force_rms_N"] <= 0.03 * s.gap_before["force_rms_N"], (s.gap_before,
-                                                                               s.gap_after)
-
+    assert s.gap_after["force_rms_N"] <= 0.03 * s.gap_before["force_rms_N"], (
+        s.gap_before,
+        s.gap_after,
+    )
 
 
 @pytest.mark.slow
@@ -155,9 +169,16 @@ def test_each_catalogue_effect_is_named_with_and_without_a_fast_run(effect):
     # named and the residual brought to near the floor
     truth, start, kw = CASES[effect]
     runs = [_without_stated_noise(r) for r in make_runs(truth, **kw)]
-    fast = _without_stated_noise(simulate_run(
-        truth, back_and_forth([0.1, 0.15], stroke=0.06), current_noise=kw.get("noise", 0.005),
-        quantum=kw.get("quantum", 1e-7), seed=kw["seed"] + 700, name="fast"))
+    fast = _without_stated_noise(
+        simulate_run(
+            truth,
+            back_and_forth([0.1, 0.15], stroke=0.06),
+            current_noise=kw.get("noise", 0.005),
+            quantum=kw.get("quantum", 1e-7),
+            seed=kw["seed"] + 700,
+            name="fast",
+        )
+    )
     _, s_i, _ = motor_force_noise(fast, P, WINDOW)
     assert s_i == pytest.approx(kw.get("noise", 0.005), rel=0.1)
     named, floors = [], []

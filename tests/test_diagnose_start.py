@@ -7,6 +7,7 @@ standstill that holds a load.  The model that made the data must name nothing, b
 ``explained`` and leave at most 1.5 x the noise floor; with the virgin start the same runs
 leave many times the floor (the start transient the estimate removes).
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -31,8 +32,9 @@ PRM = compile(PAPER).friction
 DT = 5e-4
 
 
-def _hold_then_move(hold: float = 0.3, speed: float = 5e-3, travel: float = 1e-3
-                    ) -> tuple[np.ndarray, np.ndarray]:
+def _hold_then_move(
+    hold: float = 0.3, speed: float = 5e-3, travel: float = 1e-3
+) -> tuple[np.ndarray, np.ndarray]:
     """Rest for ``hold`` s, then a 0.5 m/s^2 ramp to ``speed`` and ``travel`` of cruise."""
     t_ramp = speed / 0.5
     T = hold + t_ramp + travel / speed
@@ -69,16 +71,18 @@ def test_initial_element_forces_are_recovered_from_the_first_samples(state):
     x, v = _hold_then_move()
     lo, hi = element_bounds(PRM, float(x[0]))
     k = np.asarray(PRM.k)
-    F_true0 = {"loaded": 0.8 * hi,                                  # holding +20.9 N
-               "after_reversal": np.clip(hi - k * 60e-6, lo, hi),   # 60 um back from +slip
-               "mixed": np.array([0.5, -0.9, 0.3, 1.0, -0.4]) * hi}[state]
+    F_true0 = {
+        "loaded": 0.8 * hi,  # holding +20.9 N
+        "after_reversal": np.clip(hi - k * 60e-6, lo, hi),  # 60 um back from +slip
+        "mixed": np.array([0.5, -0.9, 0.3, 1.0, -0.4]) * hi,
+    }[state]
     F_true = gms_force(x, v, DT, PRM, F0=F_true0)
     F_virgin = gms_force(x, v, DT, PRM)
     K = _kernel()
     rng = np.random.default_rng(7)
     r_virgin = apply_kernel(F_true - F_virgin, K) + 0.01 * rng.standard_normal(len(x))
     ok = np.isfinite(r_virgin)
-    assert np.max(np.abs(r_virgin[ok])) > 1.5            # the transient the start leaves
+    assert np.max(np.abs(r_virgin[ok])) > 1.5  # the transient the start leaves
     start = initial_elements(x, v, DT, PRM, r_virgin, K)
     assert np.all(start.F0 >= lo) and np.all(start.F0 <= hi)
     assert np.sum(start.F0) == pytest.approx(np.sum(F_true0), abs=0.05)
@@ -103,8 +107,9 @@ def test_a_hold_close_to_break_away_is_recovered_between_the_search_grid_points(
     F_true = gms_force(x, v, DT, PRM, F0=F_true0)
     K = _kernel()
     rng = np.random.default_rng(7)
-    r_virgin = (apply_kernel(F_true - gms_force(x, v, DT, PRM), K)
-                + 0.01 * rng.standard_normal(len(x)))
+    r_virgin = apply_kernel(F_true - gms_force(x, v, DT, PRM), K) + 0.01 * rng.standard_normal(
+        len(x)
+    )
     ok = np.isfinite(r_virgin)
     start = initial_elements(x, v, DT, PRM, r_virgin, K)
     assert np.sum(start.F0) == pytest.approx(np.sum(F_true0), abs=0.05)
@@ -116,8 +121,12 @@ def test_the_start_search_tracks_are_the_gms_from_the_same_start():
     # the search reuses an element's track after its first slip; every start must still give
     # the GMS's own element forces (to rounding)
     t = np.arange(0.0, 1.0, DT)
-    x = np.round((0.15 + 60e-6 * np.sin(2 * np.pi * 1.5 * t)
-                  + 20e-6 * np.sin(2 * np.pi * 7 * t)) / 1e-7) * 1e-7
+    x = (
+        np.round(
+            (0.15 + 60e-6 * np.sin(2 * np.pi * 1.5 * t) + 20e-6 * np.sin(2 * np.pi * 7 * t)) / 1e-7
+        )
+        * 1e-7
+    )
     v = np.gradient(x, DT) + 1e-5 * np.random.default_rng(3).standard_normal(len(t))
     tracks = _Tracks(x, v, DT, PRM)
     lo, hi = element_bounds(PRM, float(x[0]))
@@ -138,8 +147,10 @@ def _cut(run: Run, t0: float, t1: float | None = None) -> Run:
     """The samples of ``run`` with t0 <= time < t1 (a recording started later)."""
     t = np.asarray(run.time)
     s = (t >= t0) & (t < (np.inf if t1 is None else t1))
-    cols = {c: (None if getattr(run, c) is None else np.asarray(getattr(run, c))[s])
-            for c in ("time", "u", "x", "i", "x_ref", "F_load")}
+    cols = {
+        c: (None if getattr(run, c) is None else np.asarray(getattr(run, c))[s])
+        for c in ("time", "u", "x", "i", "x_ref", "F_load")
+    }
     return dataclasses.replace(run, **cols, meta=dict(run.meta, name=f"{run.meta['name']}_cut"))
 
 
@@ -186,9 +197,8 @@ def test_a_virgin_start_leaves_the_transient_the_estimate_removes():
     ok = q.valid
     rms_virgin = float(np.sqrt(np.mean(r_v[ok] ** 2)))
     assert rms_virgin > 20 * q.rms, (rms_virgin, q.rms)
-    hold = slice(0, int(0.45 / q.Ts))                   # 0.5 s at rest before the move
-    assert float(np.median(q.F_f[hold])) == pytest.approx(float(np.median(q.F_app[hold])),
-                                                          abs=0.1)
+    hold = slice(0, int(0.45 / q.Ts))  # 0.5 s at rest before the move
+    assert float(np.median(q.F_f[hold])) == pytest.approx(float(np.median(q.F_app[hold])), abs=0.1)
 
 
 def test_identification_evaluates_the_gms_from_the_estimated_start():

@@ -6,6 +6,7 @@ estimated from the data must match it, a complete model must get nothing named, 
 effect no catalogue entry models (play between the stage and its scale) must be reported as
 an unexplained residual where it sits (at reversals, at low speed), not absorbed by a name.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -42,17 +43,19 @@ def test_position_quantum_and_force_noise_from_the_data():
     assert s == pytest.approx(0.3, rel=0.05)
 
 
-@pytest.mark.parametrize("noise, quantum, seed", [(0.005, 1e-7, 3), (0.002, 5e-8, 4),
-                                                  (0.008, 2e-7, 5)])
+@pytest.mark.parametrize(
+    "noise, quantum, seed", [(0.005, 1e-7, 3), (0.002, 5e-8, 4), (0.008, 2e-7, 5)]
+)
 def test_true_model_residual_is_the_estimated_noise_floor(noise, quantum, seed):
     # the model that made the data leaves the measurement noise only: the floor estimated
     # from the data (sidecar quantum, high-frequency current) is that residual within 25 %
-    run = simulate_run(PAPER, sinusoid_reference(6.0), current_noise=noise, quantum=quantum,
-                       seed=seed)
+    run = simulate_run(
+        PAPER, sinusoid_reference(6.0), current_noise=noise, quantum=quantum, seed=seed
+    )
     q = force_residual(run, PAPER)
     nf = noise_floor(run, q, compile(PAPER))
     assert nf.quantum_source == "sidecar" and nf.quantum_m == quantum
-    kf = 70.0                                                  # N/A around mid-stroke
+    kf = 70.0  # N/A around mid-stroke
     assert nf.force_noise_N == pytest.approx(noise * kf, rel=0.1)
     assert q.rms == pytest.approx(nf.rms(q.valid), rel=0.25)
     # without a sidecar the step comes from the data
@@ -70,19 +73,33 @@ def _p2p_reference(seed: int) -> Reference:
         x1 = xs[-1] + (d if 0.125 < xs[-1] + d < 0.175 else -d)
         refs.append(point_to_point(xs[-1], x1, speed=0.05, accel=1.0, dwell=0.3))
         xs.append(x1)
-    return Reference(refs[0].Ts, np.concatenate([r.x for r in refs]),
-                     np.concatenate([r.v for r in refs]), np.concatenate([r.a for r in refs]))
+    return Reference(
+        refs[0].Ts,
+        np.concatenate([r.x for r in refs]),
+        np.concatenate([r.v for r in refs]),
+        np.concatenate([r.a for r in refs]),
+    )
 
 
 @functools.cache
 def _three_excitations(truth_key: str) -> tuple[Run, ...]:
     truth = _TRUTHS[truth_key]
-    return (simulate_run(truth, sinusoid_reference(6.0), current_noise=0.005, seed=81,
-                         name="slow_sinusoid"),
-            simulate_run(truth, sinusoid(0.01, 1.0, 0.15, 4.0), current_noise=0.004,
-                         quantum=2e-7, seed=82, name="fast_sinusoid"),
-            simulate_run(truth, _p2p_reference(83), current_noise=0.006, seed=84,
-                         name="point_to_point"))
+    return (
+        simulate_run(
+            truth, sinusoid_reference(6.0), current_noise=0.005, seed=81, name="slow_sinusoid"
+        ),
+        simulate_run(
+            truth,
+            sinusoid(0.01, 1.0, 0.15, 4.0),
+            current_noise=0.004,
+            quantum=2e-7,
+            seed=82,
+            name="fast_sinusoid",
+        ),
+        simulate_run(
+            truth, _p2p_reference(83), current_noise=0.006, seed=84, name="point_to_point"
+        ),
+    )
 
 
 def _nu_scaled(f: float):
@@ -96,8 +113,9 @@ _TRUTHS = {"paper": PAPER, "nu0997": _nu_scaled(0.997)}
 
 
 def _nothing_named(diag):
-    assert diag.steps == [], [(s.effect, s.decision, s.evidence["explained_force_N"])
-                              for s in diag.steps]
+    assert diag.steps == [], [
+        (s.effect, s.decision, s.evidence["explained_force_N"]) for s in diag.steps
+    ]
     assert diag.verdict["verdict"] == "explained", diag.verdict
     # what is left is at the noise floor's order, and every candidate left explains less
     # than the threshold or fails the held-out test
@@ -133,8 +151,10 @@ def play(x: np.ndarray, half_width: float) -> np.ndarray:
 @functools.cache
 def _play_runs() -> tuple[Run, ...]:
     # 10 um of play (a multiple of the 100 nm step: readings stay on the scale's grid)
-    return tuple(dataclasses.replace(r, x=play(np.asarray(r.x, float), 10e-6))
-                 for r in make_runs(PAPER, seed=71, noise=0.005))
+    return tuple(
+        dataclasses.replace(r, x=play(np.asarray(r.x, float), 10e-6))
+        for r in make_runs(PAPER, seed=71, noise=0.005)
+    )
 
 
 def test_play_is_an_unexplained_residual_where_it_sits(tmp_path):
@@ -158,8 +178,22 @@ def test_play_is_an_unexplained_residual_where_it_sits(tmp_path):
         write_run(r, paths[-1])
     save_model(PAPER, tmp_path / "paper.json")
     out = tmp_path / "out"
-    assert feeddrive_cli(["diagnose", *map(str, paths), "--model", str(tmp_path / "paper.json"),
-                          "--out", str(out), "--no-closed-loop", "--max-steps", "1"]) == 0
+    assert (
+        feeddrive_cli(
+            [
+                "diagnose",
+                *map(str, paths),
+                "--model",
+                str(tmp_path / "paper.json"),
+                "--out",
+                str(out),
+                "--no-closed-loop",
+                "--max-steps",
+                "1",
+            ]
+        )
+        == 0
+    )
     doc = json.loads((out / "diagnosis.json").read_text())
     assert doc["schema"] == "feeddrive.diagnosis/2"
     assert doc["verdict"]["verdict"] == "unexplained_residual"
@@ -171,8 +205,7 @@ def test_play_is_an_unexplained_residual_where_it_sits(tmp_path):
 def test_explained_force_of_a_score_is_the_held_out_energy_drop():
     # a wrong mass: the step's explained force is the rms of what the held-out fit removed
     runs = make_runs(PAPER, seed=12, noise=0.002)
-    diag = diagnose(runs, PAPER.with_effect("mass", True, m=13.0), max_steps=1,
-                    closed_loop=False)
+    diag = diagnose(runs, PAPER.with_effect("mass", True, m=13.0), max_steps=1, closed_loop=False)
     s = diag.steps[0]
     assert s.decision == "refinement" and s.effect_was_on
     ev = s.evidence
@@ -181,10 +214,12 @@ def test_explained_force_of_a_score_is_the_held_out_energy_drop():
     assert ev["explained_force_N"] > ev["threshold_N"]
     doc = s.to_json()
     assert doc["parameters"]["m"]["change_percent"] == pytest.approx(
-        100 * (doc["parameters"]["m"]["value"] - 13.0) / 13.0)
+        100 * (doc["parameters"]["m"]["value"] - 13.0) / 13.0
+    )
     # the model force changed by what the refit removed (the mass error was all of the gap)
-    assert doc["refinement"]["force_change_rms_N"] == pytest.approx(ev["explained_force_N"],
-                                                                    rel=0.2)
+    assert doc["refinement"]["force_change_rms_N"] == pytest.approx(
+        ev["explained_force_N"], rel=0.2
+    )
 
 
 def with_resonance(run: Run, m2: float, f0: float, zeta: float) -> Run:
@@ -225,11 +260,27 @@ def test_complete_model_under_the_state_space_controller_on_a_coarse_scale():
     # controller's own high-frequency output (counted as noise: the floor errs high), and the
     # complete model still gets nothing named
     spec = state_space_spec()
-    runs = [simulate_run(PAPER, sinusoid_reference(6.0), current_noise=0.003, quantum=5e-7,
-                         seed=95, name="ss_sinusoid", spec=spec),
-            simulate_run(PAPER, back_and_forth([0.005, 0.02, 0.05], stroke=0.02),
-                         current_noise=0.003, quantum=5e-7, seed=96, name="ss_moves", spec=spec)]
+    runs = [
+        simulate_run(
+            PAPER,
+            sinusoid_reference(6.0),
+            current_noise=0.003,
+            quantum=5e-7,
+            seed=95,
+            name="ss_sinusoid",
+            spec=spec,
+        ),
+        simulate_run(
+            PAPER,
+            back_and_forth([0.005, 0.02, 0.05], stroke=0.02),
+            current_noise=0.003,
+            quantum=5e-7,
+            seed=96,
+            name="ss_moves",
+            spec=spec,
+        ),
+    ]
     diag = diagnose(runs, PAPER, closed_loop=False)
     _nothing_named(diag)
     assert all(f.quantum_m == 5e-7 for f in diag.floors)
-    assert all(f.quantisation_N > 0.02 for f in diag.floors)     # m q / sqrt(12) ||c||
+    assert all(f.quantisation_N > 0.02 for f in diag.floors)  # m q / sqrt(12) ||c||

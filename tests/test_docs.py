@@ -10,6 +10,7 @@ examples run in a scratch folder holding a copy of examples/ and the built FMUs 
 the commands write nothing into the repository. Skipped with the reason when mkdocs or
 mkdocstrings is not installed (`make` installs them: python/pyproject.toml, extra `docs`).
 """
+
 from __future__ import annotations
 
 import json
@@ -35,7 +36,9 @@ FENCE = re.compile(r"^```(?P<lang>[\w-]*)\s*$")
 
 def _env() -> dict[str, str]:
     env = dict(os.environ, NO_MKDOCS_2_WARNING="1", MPLBACKEND="Agg")
-    env["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT / "python"), env.get("PYTHONPATH")) if p)
+    env["PYTHONPATH"] = os.pathsep.join(
+        p for p in (str(ROOT / "python"), env.get("PYTHONPATH")) if p
+    )
     return env
 
 
@@ -43,10 +46,18 @@ def _env() -> dict[str, str]:
 def site(tmp_path_factory) -> Path:
     missing = [m for m in ("mkdocs", "mkdocstrings", "material") if find_spec(m) is None]
     if missing:
-        pytest.skip(f"{', '.join(missing)} not installed (pip install 'feeddrive[docs]'; make installs it)")
+        pytest.skip(
+            f"{', '.join(missing)} not installed (pip install 'feeddrive[docs]'; make installs it)"
+        )
     out = tmp_path_factory.mktemp("site")
-    p = subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", str(out)],
-                       cwd=ROOT, capture_output=True, text=True, env=_env(), timeout=600)
+    p = subprocess.run(
+        [sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", str(out)],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        env=_env(),
+        timeout=600,
+    )
     assert p.returncode == 0, p.stderr[-4000:]
     assert "WARNING" not in p.stderr, p.stderr[-4000:]
     return out
@@ -54,7 +65,9 @@ def site(tmp_path_factory) -> Path:
 
 def test_the_site_builds_strict_with_every_page(site):
     pages = sorted(f.relative_to(DOCS).with_suffix(".html") for f in DOCS.rglob("*.md"))
-    assert pages and all((site / p).is_file() for p in pages), [p for p in pages if not (site / p).is_file()]
+    assert pages and all((site / p).is_file() for p in pages), [
+        p for p in pages if not (site / p).is_file()
+    ]
     # the generated pages hold what they are generated from
     assert "friction.F_s" in (site / "parameters.html").read_text()
     assert "Plant" in (site / "api" / "fmu.html").read_text()
@@ -75,7 +88,9 @@ class _Links(HTMLParser):
             if a.get(key):
                 self.ids.add(a[key])
         for key in ("href", "src"):
-            if a.get(key) and not (tag == "link" and a.get("rel") in ("preconnect", "dns-prefetch")):
+            if a.get(key) and not (
+                tag == "link" and a.get("rel") in ("preconnect", "dns-prefetch")
+            ):
                 self.targets.append(a[key])
 
 
@@ -94,10 +109,10 @@ def broken_links(site: Path) -> list[str]:
         for target in links.targets:
             parts = urlsplit(target)
             if parts.scheme or parts.netloc or target.startswith("//"):
-                continue                                   # external: not checked here
+                continue  # external: not checked here
             if not parts.path:
                 dest = page
-            elif parts.path.startswith("/"):                # root-relative (the 404 page's)
+            elif parts.path.startswith("/"):  # root-relative (the 404 page's)
                 dest = (site / unquote(parts.path).lstrip("/")).resolve()
             else:
                 dest = (page.parent / unquote(parts.path)).resolve()
@@ -121,13 +136,16 @@ def test_every_internal_link_and_anchor_of_the_site_resolves(site):
 def test_the_link_check_finds_a_broken_link_and_anchor(site, tmp_path):
     copy = tmp_path / "site"
     shutil.copytree(site, copy)
-    (copy / "extra.html").write_text('<a href="index.html#no-such-anchor">x</a> <a href="gone.html">y</a>'
-                                     '<img src="img/none.png"> <a href="quickstart.html#install">ok</a>')
+    (copy / "extra.html").write_text(
+        '<a href="index.html#no-such-anchor">x</a> <a href="gone.html">y</a>'
+        '<img src="img/none.png"> <a href="quickstart.html#install">ok</a>'
+    )
     found = broken_links(copy)
     assert len(found) == 3, found
 
 
 # --- code examples ---------------------------------------------------------------------------
+
 
 @dataclass
 class Block:
@@ -156,7 +174,9 @@ def blocks(page: Path) -> list[Block]:
             k += 1
         prev = next((lines[j].strip() for j in range(start - 1, -1, -1) if lines[j].strip()), "")
         skip = SKIP.match(prev)
-        out.append(Block(page, start + 1, m["lang"], "\n".join(body), skip["why"] if skip else None))
+        out.append(
+            Block(page, start + 1, m["lang"], "\n".join(body), skip["why"] if skip else None)
+        )
         k += 1
     return out
 
@@ -172,22 +192,33 @@ def _commands(code: str) -> list[list[str]]:
 
 
 PAGES = sorted(DOCS.rglob("*.md"))
-RUNNABLE = [p for p in PAGES if any(b.lang in ("python", "sh", "json") and not b.skip for b in blocks(p))]
+RUNNABLE = [
+    p for p in PAGES if any(b.lang in ("python", "sh", "json") and not b.skip for b in blocks(p))
+]
 
 
 def test_every_skipped_example_says_why():
     for page in PAGES:
         for b in blocks(page):
             if b.skip is not None:
-                assert len(b.skip.split()) >= 3, f"{page}:{b.line}: give the reason and what covers it"
+                assert len(b.skip.split()) >= 3, (
+                    f"{page}:{b.line}: give the reason and what covers it"
+                )
 
 
 def test_the_block_reader_sees_skips_and_commands(tmp_path):
     page = tmp_path / "p.md"
-    page.write_text("text\n\n<!-- docs-test: skip takes an hour; test_x covers it -->\n```sh\nfeeddrive a \\\n  --b c"
-                    "   # note\nmake x\n```\n\n```python\nx = 1\n```\n")
+    page.write_text(
+        "text\n\n<!-- docs-test: skip takes an hour; test_x covers it -->\n```sh\nfeeddrive a \\\n  --b c"
+        "   # note\nmake x\n```\n\n```python\nx = 1\n```\n"
+    )
     (b1, b2) = blocks(page)
-    assert (b1.lang, b1.skip, b2.lang, b2.skip) == ("sh", "takes an hour; test_x covers it", "python", None)
+    assert (b1.lang, b1.skip, b2.lang, b2.skip) == (
+        "sh",
+        "takes an hour; test_x covers it",
+        "python",
+        None,
+    )
     assert _commands(b1.code) == [["a", "--b", "c"]]
 
 
@@ -219,6 +250,14 @@ def test_code_examples_run(page, scratch):
             json.loads(b.code)
         elif b.lang == "sh":
             for args in _commands(b.code):
-                p = subprocess.run([sys.executable, "-m", "feeddrive.cli", *args], cwd=scratch,
-                                   capture_output=True, text=True, env=_env(), timeout=600)
-                assert p.returncode == 0, f"{where}: feeddrive {shlex.join(args)}\n{p.stdout[-2000:]}{p.stderr[-2000:]}"
+                p = subprocess.run(
+                    [sys.executable, "-m", "feeddrive.cli", *args],
+                    cwd=scratch,
+                    capture_output=True,
+                    text=True,
+                    env=_env(),
+                    timeout=600,
+                )
+                assert p.returncode == 0, (
+                    f"{where}: feeddrive {shlex.join(args)}\n{p.stdout[-2000:]}{p.stderr[-2000:]}"
+                )

@@ -15,6 +15,7 @@ runtime from PyPI's ``tbb``; both in python/pyproject.toml's test extra), throug
   macro step early from a stale x_meas (a 100 um bump); it now matches to 1e-9 of the elapsed
   time, as the plant.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -27,7 +28,7 @@ from importer_scenario import COLUMNS, X0, end_of_step_to_sampled, fmpy_runs, gr
 ecos = pytest.importorskip("feeddrive.systems.ecos")
 try:
     ecos.load_ecospy()
-except ImportError as e:   # ecospy or its TBB runtime missing: python/pyproject.toml [test]
+except ImportError as e:  # ecospy or its TBB runtime missing: python/pyproject.toml [test]
     pytest.skip(f"Ecos: {e}", allow_module_level=True)
 
 
@@ -36,14 +37,14 @@ def ecos_plant(fmu_path):
     t = grid()
     r = ecos.run_ecos_plant(fmu_path, t, u_input(t), {"x": X0, "v": 0.0}, COLUMNS)
     d = {c: np.asarray(r[c]) for c in COLUMNS}
-    d["i"] = end_of_step_to_sampled(d["i"])   # read at the end of each step
+    d["i"] = end_of_step_to_sampled(d["i"])  # read at the end of each step
     return d
 
 
 def test_ecos_plant_equals_fmpy_cs(ecos_plant, fmu_path) -> None:
     ref = fmpy_runs(fmu_path)["cs"]
     assert len(ecos_plant["x"]) == len(ref["x"])
-    assert np.ptp(ecos_plant["x"]) > 0.03                 # it moved: tens of millimetres
+    assert np.ptp(ecos_plant["x"]) > 0.03  # it moved: tens of millimetres
     dev = max_dev(ecos_plant, ref)
     print("Ecos CS vs fmpy CS:", dev)
     assert dev["x"] < 1e-12 and dev["v"] < 1e-10 and dev["F_friction"] < 1e-8 and dev["i"] < 1e-12
@@ -64,6 +65,8 @@ def test_ecos_closed_loop_is_the_jacobi_master(fmu_path) -> None:
     j = simulate_jacobi(s)
     dx = float(np.max(np.abs(r["x"][1:] - j["x"][1:])))
     du = float(np.max(np.abs(r["u"][1:] - j["u"][1:])))
-    print(f"Ecos closed loop vs Jacobi master: x {dx:.3g} m, u {du:.3g} V, wall {float(r['wall']):.2f} s")
+    print(
+        f"Ecos closed loop vs Jacobi master: x {dx:.3g} m, u {du:.3g} V, wall {float(r['wall']):.2f} s"
+    )
     assert dx <= 1e-8 and np.ptp(r["x"]) > 0.05
     assert du <= 1e-9

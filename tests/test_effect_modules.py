@@ -5,6 +5,7 @@ The count is :func:`tools.effect_names.naming_files`: a file names effect ``<id>
 holds ``effects.<id>``, the id as a string literal, ``effect_<id>`` / ``EFFECT_<ID>``, or
 imports ``feeddrive.effects.<id>``.
 """
+
 from __future__ import annotations
 
 import ast
@@ -53,7 +54,8 @@ PYTHON_ALLOWANCE: dict[str, frozenset[str]] = {
     "python/feeddrive/identify/pipeline.py": frozenset({"prerolling", "mass", "position_friction"}),
     "python/feeddrive/identify/bootstrap.py": frozenset({"prerolling"}),
     "python/feeddrive/identify/position_friction.py": frozenset(
-        {"asymmetric_friction", "position_friction"}),
+        {"asymmetric_friction", "position_friction"}
+    ),
     "python/feeddrive/identify/truth_table.py": frozenset({"position_friction"}),
     "python/feeddrive/experiments/plan.py": frozenset({"stribeck", "prerolling", "mass"}),
     "python/feeddrive/experiments/campaign.py": frozenset({"stribeck", "prerolling"}),
@@ -77,15 +79,21 @@ def named() -> dict[str, list[str]]:
 def test_few_product_files_name_each_effect(named: dict[str, list[str]], eid: str) -> None:
     files = set(named[eid]) - _allowed(PYTHON_ALLOWANCE, eid)
     most = MAX_FILES if effect(eid).switchable else NO_SWITCH_FILES
-    assert len(files) <= most, f"{eid} is named in {len(files)} product files " \
-        f"(allowed {most}): {sorted(files)}"
+    assert len(files) <= most, (
+        f"{eid} is named in {len(files)} product files (allowed {most}): {sorted(files)}"
+    )
     module = f"python/feeddrive/effects/{eid}.py"
     assert module in files and "python/feeddrive/effects/__init__.py" in files
 
 
 def test_allowances_are_still_needed(named: dict[str, list[str]]) -> None:
-    stale = [f"{f}: {eid}" for allowance in (PYTHON_ALLOWANCE,)
-             for f, ids in allowance.items() for eid in sorted(ids) if f not in named[eid]]
+    stale = [
+        f"{f}: {eid}"
+        for allowance in (PYTHON_ALLOWANCE,)
+        for f, ids in allowance.items()
+        for eid in sorted(ids)
+        if f not in named[eid]
+    ]
     assert not stale, "allowances no longer needed (remove them): " + ", ".join(stale)
 
 
@@ -101,7 +109,7 @@ def test_the_count_sees_every_way_of_naming(tmp_path: Path) -> None:
         "python/feeddrive/effects/c.py": "from . import stribeck as s\n",
         "python/feeddrive/d.py": "effect_stribeck = 1\n",
         "python/feeddrive/e.py": '"""The Stribeck curve; "stribeck" in a docstring."""\n'
-                                 'name = f"stribeck_{1}"\n',
+        'name = f"stribeck_{1}"\n',
         "python/feeddrive/f.py": 'x = {"effects.stribeck": True}\n',
     }
     for rel, text in files.items():
@@ -142,8 +150,9 @@ def test_registry_and_model_description_agree() -> None:
     for e in EFFECTS:
         for p in e.parameters:
             name = p.name.replace("[j]", "[1]")
-            assert name in xml and xml[name].attrib["causality"] == "parameter", \
+            assert name in xml and xml[name].attrib["causality"] == "parameter", (
                 f"{e.id}: parameter {p.name} is no FMU parameter"
+            )
 
 
 def test_every_reference_of_the_registry_resolves() -> None:
@@ -163,8 +172,9 @@ def test_lists_of_effects_come_from_the_registry() -> None:
     assert set(MAP_EFFECTS) == {"cogging", "ripple"}
     assert {e.id for e in EFFECTS if e.position_map} == set(sum(MAP_EFFECTS.values(), ()))
     with pytest.raises(ValueError, match=r"allowed 'effects\.x' or None"):
-        Effect("x", "effects.y", False, "", (), "", EFFECTS[0].identification,
-               EFFECTS[0].candidate, ())
+        Effect(
+            "x", "effects.y", False, "", (), "", EFFECTS[0].identification, EFFECTS[0].candidate, ()
+        )
 
 
 def test_effect_modules_import_only_the_effect_type() -> None:
@@ -175,23 +185,32 @@ def test_effect_modules_import_only_the_effect_type() -> None:
         if f.name in ("__init__.py", "effect.py"):
             continue
         tree = ast.parse(f.read_text())
-        imported = [n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)
-                    and n.module != "__future__"]
+        imported = [
+            n.module
+            for n in ast.walk(tree)
+            if isinstance(n, ast.ImportFrom) and n.module != "__future__"
+        ]
         assert imported == ["effect"], f"{f.name} imports {imported}"
 
 
 @pytest.mark.parametrize("e", [e for e in EFFECTS if e.off], ids=lambda e: e.id)
 def test_off_rules_are_the_physics_of_the_switch(e: Effect) -> None:
     """An effect switched off compiles to the plant its ``off`` rule's values make with it on."""
-    v: dict[str, Any] = {**paper.paper_parameters(), "asymmetry.dF": 1.5,
-                         "asymmetry.dsigma2": 20.0, "offset.F": 3.0}
-    v.update({s.switch: True for s in EFFECTS if s.switch and s.switch != "effects.position_friction"})
+    v: dict[str, Any] = {
+        **paper.paper_parameters(),
+        "asymmetry.dF": 1.5,
+        "asymmetry.dsigma2": 20.0,
+        "offset.F": 3.0,
+    }
+    v.update(
+        {s.switch: True for s in EFFECTS if s.switch and s.switch != "effects.position_friction"}
+    )
     assert e.switch is not None
     off_v = {**v, e.switch: False}
     ruled_v = {**switched_off(off_v, [e]), e.switch: True}
     assert GMSParameters.from_params(off_v) == GMSParameters.from_params(ruled_v)
     if not all(np.isfinite(float(x)) for x in ruled_v.values()):
-        return          # C = inf: no FMU value, the GMS says all
+        return  # C = inf: no FMU value, the GMS says all
     off, ruled = compile(off_v), compile(ruled_v)
     assert off.friction == ruled.friction and off.F_offset == ruled.F_offset
     x = np.linspace(-0.01, 0.31, 97)
@@ -201,9 +220,11 @@ def test_off_rules_are_the_physics_of_the_switch(e: Effect) -> None:
 
 def test_the_catalogue_page_lists_the_registry() -> None:
     """docs/effects.md's table has one row per effect of the registry, in its order."""
-    rows = [line.split("|")[1].strip().strip("`")
-            for line in (ROOT / "docs/effects.md").read_text().splitlines()
-            if line.startswith("| `")]
+    rows = [
+        line.split("|")[1].strip().strip("`")
+        for line in (ROOT / "docs/effects.md").read_text().splitlines()
+        if line.startswith("| `")
+    ]
     assert rows == effect_ids()
 
 
@@ -212,5 +233,8 @@ def test_the_identification_report_has_a_row_per_effect() -> None:
     res.mass = object()
     rows = {r["effect"]: r for r in effect_rows(res)}
     assert list(rows) == effect_ids()
-    assert rows["mass"]["step"] == "mass: fitted" and rows["stribeck"]["step"] == "stribeck: not fitted"
+    assert (
+        rows["mass"]["step"] == "mass: fitted"
+        and rows["stribeck"]["step"] == "stribeck: not fitted"
+    )
     assert rows["offset_force"]["on"] == "no" and rows["viscous"]["step"] == "no step of its own"

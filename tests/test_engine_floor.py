@@ -2,6 +2,7 @@
 (feeddrive.systems.floor, the `make bench` rows beside the closed loop at h = Ts).  The pair
 is a loop of two gains: each instance's u = -Kp x_meas / force_per_volt of the other's u, so
 the outputs stay near 0 (loop gain (Kp/fpv)^2 < 1)."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -42,6 +43,7 @@ def test_engines_step_the_pair(ctrl_fmu_path, tmp_path) -> None:
 @pytest.fixture
 def ctrl_fmu_path(fmu_path):
     from feeddrive.harness.controller_fmu import controller_fmu_path
+
     p = controller_fmu_path()
     assert p.is_file()
     return p

@@ -1,6 +1,7 @@
 """The files of examples/ are what the docs say and they run: the fmpy script, the recording and
 its sidecar (small, made by the FMU as tools/example_run.py makes it), the model files, the
 study files (the studies of docs/studies.md), and the commands of docs/examples.md."""
+
 from __future__ import annotations
 
 import importlib.util
@@ -29,7 +30,9 @@ needs_fmu = pytest.mark.skipif(not FMU.exists(), reason="the FMU is not built (m
 
 def _env() -> dict[str, str]:
     env = dict(os.environ, MPLBACKEND="Agg")
-    env["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT / "python"), env.get("PYTHONPATH")) if p)
+    env["PYTHONPATH"] = os.pathsep.join(
+        p for p in (str(ROOT / "python"), env.get("PYTHONPATH")) if p
+    )
     return env
 
 
@@ -37,8 +40,14 @@ def _env() -> dict[str, str]:
 def test_the_fmpy_script_is_ten_lines_and_drives_the_stage(tmp_path):
     script = EX / "fmpy_simulate.py"
     assert len(script.read_text().splitlines()) <= 10
-    p = subprocess.run([sys.executable, str(script), str(FMU)], cwd=tmp_path, capture_output=True,
-                       text=True, env=_env(), timeout=300)
+    p = subprocess.run(
+        [sys.executable, str(script), str(FMU)],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        env=_env(),
+        timeout=300,
+    )
     assert p.returncode == 0, p.stderr
     found = re.search(r"x from ([\d.]+) to ([\d.]+) mm, \|v\| up to ([\d.]+) mm/s", p.stdout)
     lo, hi, vmax = map(float, found.groups())
@@ -119,8 +128,14 @@ def test_the_commands_of_the_examples_page(tmp_path):
     assert [c[0] for c in cmds] == ["validate", "sweep"]
     out = {}
     for args in cmds:
-        p = subprocess.run([sys.executable, "-m", "feeddrive.cli", *args], cwd=tmp_path, capture_output=True,
-                           text=True, env=_env(), timeout=600)
+        p = subprocess.run(
+            [sys.executable, "-m", "feeddrive.cli", *args],
+            cwd=tmp_path,
+            capture_output=True,
+            text=True,
+            env=_env(),
+            timeout=600,
+        )
         assert p.returncode == 0, p.stdout + p.stderr
         out[args[0]] = p.stdout
     # the paper's model replays the recording it made: the gap is the scale's and the noise's

@@ -2,6 +2,7 @@
 
 One quick campaign (a few seconds of simulation) on the paper's model is shared by the tests.
 """
+
 from __future__ import annotations
 
 import json
@@ -44,11 +45,16 @@ def all_runs(runs):
 def test_campaign_has_every_experiment(runs):
     names = [r.meta["name"] for r in all_runs(runs)]
     assert len(names) == len(set(names)), "file stems must be unique"
-    assert {"prbs", "force_open_loop", "variable_speed", "prerolling_A80um",
-            "prerolling_A500um"} <= set(names)
+    assert {
+        "prbs",
+        "force_open_loop",
+        "variable_speed",
+        "prerolling_A80um",
+        "prerolling_A500um",
+    } <= set(names)
     assert {f"cv_{d}1mm_s_P{P:g}" for d in "pm" for P in PAPER_LOADS} <= set(names)
     assert len(runs["cogging_ripple"]) == 6
-    assert len(runs["stribeck"]) >= 4                     # >= 2 speeds, both directions
+    assert len(runs["stribeck"]) >= 4  # >= 2 speeds, both directions
     for r in all_runs(runs):
         assert r.meta["kind"] in KINDS
 
@@ -88,7 +94,7 @@ def test_constant_speed_within_1_percent_over_cruise(runs):
         v_ref = np.diff(r.x_ref) / r.meta["Ts"]
         cruise = np.flatnonzero(np.isclose(v_ref, target, rtol=1e-6))
         assert cruise.size * r.meta["Ts"] > 1.0, r.meta["name"]
-        k = cruise[cruise.size // 10: -cruise.size // 10]     # the settled part of the cruise
+        k = cruise[cruise.size // 10 : -cruise.size // 10]  # the settled part of the cruise
         v = np.polyfit(r.time[k], r.x[k], 1)[0]
         assert v == pytest.approx(target, rel=0.01), r.meta["name"]
 
@@ -120,14 +126,14 @@ def test_prbs_is_in_u_with_its_amplitude(runs):
     assert r.meta["order"] == 11 and r.meta["prbs_period"] == 2047
     s = prbs_sequence(11, A, r.meta["periods"])
     assert r.n - k0 >= 2047
-    u = r.u[k0:k0 + s.size]
+    u = r.u[k0 : k0 + s.size]
     # the controller's reaction is low-pass (~20 Hz) and nearly uncorrelated with a white
     # sequence: the projection of u on the PRBS is the PRBS itself
     assert np.dot(u, s) / np.dot(s, s) == pytest.approx(1.0, abs=0.05)
-    assert np.std(r.u[:k0]) < 0.1 * A                    # before: only the holding controller
+    assert np.std(r.u[:k0]) < 0.1 * A  # before: only the holding controller
     jumps = np.diff(u)[np.diff(s) != 0] / np.diff(s)[np.diff(s) != 0]
     assert np.median(jumps) == pytest.approx(1.0, abs=0.05)
-    assert np.ptp(r.i[k0:]) > 0.5 * 2 * A                 # the current follows (G(1) = 1.13 A/V)
+    assert np.ptp(r.i[k0:]) > 0.5 * 2 * A  # the current follows (G(1) = 1.13 A/V)
 
 
 def test_current_is_sampled_with_eq2_delay(runs):
@@ -145,7 +151,7 @@ def test_current_is_sampled_with_eq2_delay(runs):
     assert abs(h[0]) < 0.005 and abs(h[1]) < 0.005
     assert h[2] == pytest.approx(b2, abs=0.005)
     assert h[3] == pytest.approx(a1 * b2 + b3, abs=0.005)
-    assert np.sum(h) == pytest.approx(1.126, rel=0.05)     # G(1), Eq. 2's DC gain
+    assert np.sum(h) == pytest.approx(1.126, rel=0.05)  # G(1), Eq. 2's DC gain
 
 
 def test_variable_speed_never_reverses(runs):
@@ -168,7 +174,7 @@ def test_prerolling_amplitudes(runs):
     assert A == pytest.approx(80e-6)
     # within the amplitude (+1 um = 10 quanta of closed-loop overshoot at reversals)
     assert np.max(np.abs(small.x - c)) <= A + 1e-6
-    assert np.ptp(small.x) > 1.8 * A                     # and it does move
+    assert np.ptp(small.x) > 1.8 * A  # and it does move
     # the large one travels well beyond the pre-rolling range (2 Delta_5 ~ 0.23 mm)
     assert np.ptp(large.x) > 1.9 * large.meta["amplitude"] > 0.46e-3
 
@@ -201,8 +207,9 @@ def test_seeds_reproduce_and_differ(params):
 
 
 def test_runs_within_one_experiment_get_different_noise(params):
-    runs = constant_speed_runs(params, Sensors(seed=3), speeds=(10e-3,), segment=(0.15, 0.155),
-                               dwell=0.05)
+    runs = constant_speed_runs(
+        params, Sensors(seed=3), speeds=(10e-3,), segment=(0.15, 0.155), dwell=0.05
+    )
     assert len(runs) == 2 and runs[0].meta["sensors"]["seed"] != runs[1].meta["sensors"]["seed"]
 
 
@@ -222,7 +229,7 @@ def test_bad_options_raise(params):
     with pytest.raises(ValueError, match="segment"):
         constant_speed_runs(params, Sensors(), segment=(0.2, 0.1))
     with pytest.raises(TypeError, match="model"):
-        write_campaign(None, model=42)                    # type: ignore[arg-type]
+        write_campaign(None, model=42)  # type: ignore[arg-type]
 
 
 def test_every_run_is_accepted_by_validate_and_diagnose(runs, tmp_path):
@@ -258,7 +265,9 @@ def test_repeats_give_independent_noise_and_suffixed_names(tmp_path, monkeypatch
     real_plan = campaign_mod.plan
     monkeypatch.setattr(campaign_mod, "plan", lambda quick: real_plan(quick)[:1])  # PRBS only
     one = write_campaign(tmp_path / "one", model=paper_parameters(), seed=1, quick=True)
-    three = write_campaign(tmp_path / "three", model=paper_parameters(), seed=1, quick=True, repeats=3)
+    three = write_campaign(
+        tmp_path / "three", model=paper_parameters(), seed=1, quick=True, repeats=3
+    )
     assert [p.name for p in three] == ["prbs_r1.csv.gz", "prbs_r2.csv.gz", "prbs_r3.csv.gz"]
     r0, r1, r2 = load_run(one[0]), load_run(three[0]), load_run(three[1])
     assert r1.meta["repeat"] == 1 and r2.meta["repeat"] == 2
@@ -283,17 +292,22 @@ def test_campaign_writes_gzip_runs_that_load_back_as_written(tmp_path, monkeypat
     values the campaign made within half a digit of the recording's decimals (positions
     5e-11 m, voltages and currents 5e-8), bit for bit what ``--format csv`` writes."""
     from feeddrive.data import RECORDING_DECIMALS
+
     real_plan = campaign_mod.plan
     jobs = [j for j in real_plan(True) if j[0] in ("prbs", "cogging_ripple")][:3]
     monkeypatch.setattr(campaign_mod, "plan", lambda quick: jobs)
     made = []
     real_write = campaign_mod.write_run
-    monkeypatch.setattr(campaign_mod, "write_run",
-                        lambda run, path, dec: (made.append(run), real_write(run, path, dec)))
+    monkeypatch.setattr(
+        campaign_mod,
+        "write_run",
+        lambda run, path, dec: (made.append(run), real_write(run, path, dec)),
+    )
     assert cli_main(["experiments", "--out", str(tmp_path / "gz")]) == 0
     gz = sorted((tmp_path / "gz").iterdir())
     assert [p.name for p in gz if not p.name.startswith(".")] == sorted(
-        f"{r.meta['name']}{ext}" for r in made for ext in (".csv.gz", ".json"))
+        f"{r.meta['name']}{ext}" for r in made for ext in (".csv.gz", ".json")
+    )
     for run in made:
         back = load_run(tmp_path / "gz" / f"{run.meta['name']}.csv.gz")
         assert back.meta["kind"] == run.meta["kind"] and back.n == run.n

@@ -8,6 +8,7 @@ is not the paper's: another mass, an offset force, three GMS elements, another S
 the aperiodic ripple off; without the start values the FMU runs the paper's drive and the
 positions differ by millimetres.
 """
+
 from __future__ import annotations
 
 import json
@@ -31,16 +32,29 @@ from importer_scenario import COLUMNS, X0, grid, u_input
 
 HERE = Path(__file__).resolve().parent
 
-MACHINE = {"m": 23.75, "offset.F": -2.125, "friction.N": 3, "friction.V_s": 0.0047,
-           "friction.nu[1]": 0.25, "friction.nu[2]": 0.35, "friction.nu[3]": 0.4,
-           "friction.k[1]": 8.0e5, "friction.k[2]": 2.5e5, "friction.k[3]": 6.0e4,
-           "friction.F_s": 31.5, "friction.F_c": 24.0}
+MACHINE = {
+    "m": 23.75,
+    "offset.F": -2.125,
+    "friction.N": 3,
+    "friction.V_s": 0.0047,
+    "friction.nu[1]": 0.25,
+    "friction.nu[2]": 0.35,
+    "friction.nu[3]": 0.4,
+    "friction.k[1]": 8.0e5,
+    "friction.k[2]": 2.5e5,
+    "friction.k[3]": 6.0e4,
+    "friction.F_s": 31.5,
+    "friction.F_c": 24.0,
+}
 
 
 @pytest.fixture(scope="module")
 def machine_file(tmp_path_factory) -> Path:
-    model = paper_model().with_effect("offset_force", True, **MACHINE).with_effect(
-        "ripple_aperiodic", False)
+    model = (
+        paper_model()
+        .with_effect("offset_force", True, **MACHINE)
+        .with_effect("ripple_aperiodic", False)
+    )
     model.name, model.description = "test machine", "a drive that is not the paper's"
     path = tmp_path_factory.mktemp("model") / "machine.json"
     save_model(model, path)
@@ -51,9 +65,12 @@ def machine_file(tmp_path_factory) -> Path:
 def exported(machine_file, fmu2_path, fmu3_path, tmp_path_factory) -> dict[int, Path]:
     out = tmp_path_factory.mktemp("export")
     model = load_model(machine_file)
-    return {fmi: export_fmu(model, out / f"Machine{fmi}.fmu", fmi, model_path=machine_file,
-                            source=src).fmu
-            for fmi, src in ((2, fmu2_path), (3, fmu3_path))}
+    return {
+        fmi: export_fmu(
+            model, out / f"Machine{fmi}.fmu", fmi, model_path=machine_file, source=src
+        ).fmu
+        for fmi, src in ((2, fmu2_path), (3, fmu3_path))
+    }
 
 
 def _scenario(path: Path, parameters: dict | None = None) -> dict[str, np.ndarray]:
@@ -70,8 +87,9 @@ def test_fmpy_validate_clean(exported, fmi) -> None:
 
 
 @pytest.mark.parametrize("fmi", [2, 3])
-def test_same_binaries_and_sources_start_values_and_description(exported, machine_file, fmu2_path,
-                                                                fmu3_path, fmi) -> None:
+def test_same_binaries_and_sources_start_values_and_description(
+    exported, machine_file, fmu2_path, fmu3_path, fmi
+) -> None:
     src = fmu2_path if fmi == 2 else fmu3_path
     with zipfile.ZipFile(src) as a, zipfile.ZipFile(exported[fmi]) as b:
         names = set(b.namelist())
@@ -82,7 +100,7 @@ def test_same_binaries_and_sources_start_values_and_description(exported, machin
     md = read_model_description(str(exported[fmi]))
     model = load_model(machine_file)
     assert "test machine" in md.description and "machine.json" in md.description
-    assert md.guid == read_model_description(str(src)).guid     # the binary checks it
+    assert md.guid == read_model_description(str(src)).guid  # the binary checks it
     starts = {v.name: v.start for v in md.modelVariables}
     if fmi == 2:
         for name, value in model.fmu_parameters().items():
@@ -94,15 +112,16 @@ def test_same_binaries_and_sources_start_values_and_description(exported, machin
 
 
 @pytest.mark.parametrize("fmi", [2, 3])
-def test_exported_fmu_without_parameters_is_the_model_bit_for_bit_in_fmpy(exported, machine_file,
-                                                                         fmu2_path, fmu3_path, fmi):
+def test_exported_fmu_without_parameters_is_the_model_bit_for_bit_in_fmpy(
+    exported, machine_file, fmu2_path, fmu3_path, fmi
+):
     model = load_model(machine_file)
     src = fmu2_path if fmi == 2 else fmu3_path
     want = _scenario(src, model.fmu_parameters())
     got = _scenario(exported[fmi])
     for c in COLUMNS:
         assert np.array_equal(got[c], want[c]), c
-    paper = _scenario(src)                  # the start values matter: the paper's drive differs
+    paper = _scenario(src)  # the start values matter: the paper's drive differs
     assert np.max(np.abs(paper["x"] - got["x"])) > 1e-3
 
 
@@ -112,7 +131,7 @@ def _fmipp(fmu: Path, out: Path, parameters: dict | None = None) -> dict[str, np
     if parameters is not None:
         (out / "parameters.json").write_text(json.dumps(parameters))
         cmd.append(str(out / "parameters.json"))
-    for _attempt in range(4):       # fmipp's loader aborts in ~8 % of fresh loads (test_fmipp.py)
+    for _attempt in range(4):  # fmipp's loader aborts in ~8 % of fresh loads (test_fmipp.py)
         p = subprocess.run(cmd, capture_output=True, text=True, timeout=600, cwd=HERE)
         if p.returncode == 0 or "No such node" not in p.stderr:
             break
@@ -121,8 +140,9 @@ def _fmipp(fmu: Path, out: Path, parameters: dict | None = None) -> dict[str, np
     return {c: z[c] for c in COLUMNS}
 
 
-def test_exported_fmu_without_parameters_is_the_model_bit_for_bit_in_fmipp(exported, machine_file,
-                                                                          fmu2_path, tmp_path):
+def test_exported_fmu_without_parameters_is_the_model_bit_for_bit_in_fmipp(
+    exported, machine_file, fmu2_path, tmp_path
+):
     pytest.importorskip("fmipp", reason="fmipp is not installed: run `make importers`")
     want = _fmipp(fmu2_path, tmp_path / "source", load_model(machine_file).fmu_parameters())
     got = _fmipp(exported[2], tmp_path / "exported")
@@ -136,7 +156,7 @@ def test_exported_fmu_without_parameters_is_the_model_bit_for_bit_in_fmipp(expor
 
 @pytest.mark.parametrize("fmi", [2, 3])
 def test_ssv_reads_back_the_model_values(exported, machine_file, fmi) -> None:
-    ps = read_ssv(str(exported[fmi].with_suffix(".ssv")))      # validates against SSP 1.0's schema
+    ps = read_ssv(str(exported[fmi].with_suffix(".ssv")))  # validates against SSP 1.0's schema
     model = load_model(machine_file)
     got = {p.name: p for p in ps.parameters}
     assert ps.name == "test machine" and set(got) == set(model.fmu_parameters())
@@ -161,16 +181,24 @@ def test_reset_returns_to_the_exported_start_values(exported, machine_file) -> N
         assert p.get(["m", "offset.F"]) == {"m": 23.75, "offset.F": -2.125}
 
 
-@pytest.mark.parametrize("old,line,message", [
-    (b"m 23.75", b"m -1.5", "start_values.txt line 2: m = -1.5: allowed"),
-    (b"m 23.75", b"m 1,5", "start_values.txt line 2: m = 1,5: allowed a finite number"),
-    (b"m 23.75", b"mass 20", "start_values.txt line 2: mass is not a variable of this FMU"),
-    (b"m 23.75", b"x 0.1", "start_values.txt line 2: x is not a parameter"),
-    (b"m 23.75", b"m 23.75 7", "start_values.txt line 2: expected \"name value\""),
-    (b"friction.F_c 24.0", b"friction.F_c 40.0", "friction.F_c = 40 exceeds friction.F_s = 31.5"),
-])
-def test_bad_start_value_file_fails_instantiation_naming_the_line(exported, tmp_path, old, line,
-                                                                  message):
+@pytest.mark.parametrize(
+    "old,line,message",
+    [
+        (b"m 23.75", b"m -1.5", "start_values.txt line 2: m = -1.5: allowed"),
+        (b"m 23.75", b"m 1,5", "start_values.txt line 2: m = 1,5: allowed a finite number"),
+        (b"m 23.75", b"mass 20", "start_values.txt line 2: mass is not a variable of this FMU"),
+        (b"m 23.75", b"x 0.1", "start_values.txt line 2: x is not a parameter"),
+        (b"m 23.75", b"m 23.75 7", 'start_values.txt line 2: expected "name value"'),
+        (
+            b"friction.F_c 24.0",
+            b"friction.F_c 40.0",
+            "friction.F_c = 40 exceeds friction.F_s = 31.5",
+        ),
+    ],
+)
+def test_bad_start_value_file_fails_instantiation_naming_the_line(
+    exported, tmp_path, old, line, message
+):
     bad = tmp_path / "bad.fmu"
     with zipfile.ZipFile(exported[2]) as a, zipfile.ZipFile(bad, "w") as b:
         for item in a.infolist():
@@ -191,7 +219,9 @@ def test_start_value_file_comments_and_crlf_are_read(exported, tmp_path):
         for item in a.infolist():
             data = a.read(item)
             if item.filename == f"resources/{START_VALUES}":
-                data = data.replace(b"\nm 23.75\n", b"\n# the slide with its fixture\nm 31.5  # kg\n")
+                data = data.replace(
+                    b"\nm 23.75\n", b"\n# the slide with its fixture\nm 31.5  # kg\n"
+                )
                 data = data.replace(b"\n", b"\r\n")
             b.writestr(item, data)
     with Plant(interface="cs", path=edited) as p:

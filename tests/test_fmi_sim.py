@@ -20,6 +20,7 @@ Tolerances:
 FMI 3.0: :func:`fmi_sim.run_fmi_sim` takes the FMU as a parameter and is not FMI-2 specific;
 only the FMI 2.0 FMU is tested here.
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -36,12 +37,16 @@ pytestmark = pytest.mark.skipif(EXE is None, reason=WHY)
 ME_STEPS = (2e-5, 1e-5)
 
 
-def run_scenario(fmu: Path, interface: str, out_dir: Path, step: float | None = None) -> dict[str, np.ndarray]:
+def run_scenario(
+    fmu: Path, interface: str, out_dir: Path, step: float | None = None
+) -> dict[str, np.ndarray]:
     """The importer scenario in fmi-sim: outputs on the grid, the current as the harness's i[k]."""
     t = grid()
-    run = run_fmi_sim(EXE, fmu, interface, t, {"u": u_input(t)}, {"x": X0, "v": 0.0}, out_dir, step=step)
+    run = run_fmi_sim(
+        EXE, fmu, interface, t, {"u": u_input(t)}, {"x": X0, "v": 0.0}, out_dir, step=step
+    )
     d = on_grid(run, t, COLUMNS)
-    if interface == "cs":   # read at the end of each step; ME: recorded after the event at t_k
+    if interface == "cs":  # read at the end of each step; ME: recorded after the event at t_k
         d["i"] = end_of_step_to_sampled(d["i"])
     return d
 
@@ -58,7 +63,7 @@ def fmi_sim_runs(fmu_path, tmp_path_factory) -> dict[str, dict[str, np.ndarray]]
 def test_fmi_sim_ran_the_scenario(fmi_sim_runs) -> None:
     for d in fmi_sim_runs.values():
         assert len(d["x"]) == len(grid())
-        assert np.all(np.isfinite(d["x"])) and np.ptp(d["x"]) > 0.03   # tens of millimetres
+        assert np.all(np.isfinite(d["x"])) and np.ptp(d["x"]) > 0.03  # tens of millimetres
 
 
 def test_fmi_sim_cs_equals_fmpy_cs(fmi_sim_runs, fmu_path) -> None:
@@ -75,7 +80,7 @@ def test_fmi_sim_me_euler_converges_to_fmpy_me(fmi_sim_runs, fmu_path) -> None:
     ref = _before_stop(fmpy_runs(fmu_path)["me"])
     coarse, fine = (_before_stop(fmi_sim_runs[f"me{h:g}"]) for h in ME_STEPS)
     devs = [max_dev(coarse, ref), max_dev(fine, ref)]
-    est = max_dev(coarse, fine)            # Richardson: the fine run's error, first order
+    est = max_dev(coarse, fine)  # Richardson: the fine run's error, first order
     for h, d in zip(ME_STEPS, devs, strict=True):
         print(f"fmi-sim ME (Euler, h = {h:g} s) vs fmpy ME:", d)
     print("Richardson estimate of the fine run's error:", est)

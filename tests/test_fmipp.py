@@ -21,6 +21,7 @@ keeps the first parse), and in ~8 % of fresh loads, from a read past the end of 
 derivative-index array (:data:`ABORT`); the fixture then tries again in a fresh process.  Skipped when ``make
 importers`` could not build it (the reason it wrote).
 """
+
 from __future__ import annotations
 
 import subprocess
@@ -38,7 +39,11 @@ SKIP = REPO / "build" / "importers" / "fmipp.skip"
 try:
     import fmipp  # noqa: F401  (the runs are in tests/fmipp_run.py, in their own process)
 except ImportError as e:
-    why = SKIP.read_text().strip() if SKIP.is_file() else f"fmipp is not installed ({e}): run `make importers`"
+    why = (
+        SKIP.read_text().strip()
+        if SKIP.is_file()
+        else f"fmipp is not installed ({e}): run `make importers`"
+    )
     pytest.skip(why, allow_module_level=True)
 
 
@@ -47,26 +52,33 @@ except ImportError as e:
 #: every variable after the last derivative): when that heap word happens to equal a later
 #: variable's index it asks that variable for a "derivative" attribute and aborts
 ABORT = "No such node (Real.<xmlattr>.derivative)"
-ATTEMPTS = 4    #: fresh processes; measured ~8 % of fresh loads abort (3 of 36)
+ATTEMPTS = 4  #: fresh processes; measured ~8 % of fresh loads abort (3 of 36)
 
 
 @pytest.fixture(scope="module")
 def fmipp_runs(fmu_path, tmp_path_factory) -> dict[str, dict[str, np.ndarray]]:
     for attempt in range(1, ATTEMPTS + 1):
         out = tmp_path_factory.mktemp("fmipp")
-        p = subprocess.run([sys.executable, str(HERE / "fmipp_run.py"), str(fmu_path), str(out)],
-                           capture_output=True, text=True, timeout=600, cwd=HERE)
+        p = subprocess.run(
+            [sys.executable, str(HERE / "fmipp_run.py"), str(fmu_path), str(out)],
+            capture_output=True,
+            text=True,
+            timeout=600,
+            cwd=HERE,
+        )
         if p.returncode == 0 or ABORT not in p.stderr:
             break
         print(f"fmipp attempt {attempt}: its loader aborted ({ABORT}); again in a fresh process")
-    assert p.returncode == 0, f"fmipp run failed ({p.returncode}):\n{p.stdout[-3000:]}\n{p.stderr[-3000:]}"
+    assert p.returncode == 0, (
+        f"fmipp run failed ({p.returncode}):\n{p.stdout[-3000:]}\n{p.stderr[-3000:]}"
+    )
     z = np.load(out / "fmipp.npz")
     return {k: {c: z[f"{k}_{c}"] for c in COLUMNS} for k in ("me", "cs")}
 
 
 def test_fmipp_ran_the_scenario(fmipp_runs) -> None:
     for d in fmipp_runs.values():
-        assert np.all(np.isfinite(d["x"])) and np.ptp(d["x"]) > 0.03   # tens of millimetres
+        assert np.all(np.isfinite(d["x"])) and np.ptp(d["x"]) > 0.03  # tens of millimetres
 
 
 def test_fmipp_cs_equals_fmpy_cs(fmipp_runs, fmu_path) -> None:

@@ -3,6 +3,7 @@ variable, its value and the allowed range; never a crash.  On both builds of the
 2.0 and FMI 3.0, the ``version`` parameter): raw fmpy FMU2Model / FMU2Slave calls with a
 logger callback that captures the messages (as feeddrive.fmu builds it), and fmpy's
 FMU3Model / FMU3Slave with a logMessage callback."""
+
 from __future__ import annotations
 
 import ctypes
@@ -27,10 +28,20 @@ from feeddrive.fmu import Plant
 
 FMI_ERROR = 3
 # the functions the call-sequence tests call, by version
-FN = {"2.0": {"derivatives": "fmi2GetDerivatives", "do_step": "fmi2DoStep",
-              "discrete": "fmi2NewDiscreteStates", "me_only": "fmi2NewDiscreteStates"},
-      "3.0": {"derivatives": "fmi3GetContinuousStateDerivatives", "do_step": "fmi3DoStep",
-              "discrete": "fmi3UpdateDiscreteStates", "me_only": "fmi3GetContinuousStates"}}
+FN = {
+    "2.0": {
+        "derivatives": "fmi2GetDerivatives",
+        "do_step": "fmi2DoStep",
+        "discrete": "fmi2NewDiscreteStates",
+        "me_only": "fmi2NewDiscreteStates",
+    },
+    "3.0": {
+        "derivatives": "fmi3GetContinuousStateDerivatives",
+        "do_step": "fmi3DoStep",
+        "discrete": "fmi3UpdateDiscreteStates",
+        "me_only": "fmi3GetContinuousStates",
+    },
+}
 
 
 class Raw:
@@ -48,8 +59,12 @@ class Raw:
             self.md = read_model_description(str(FMU3))
             mi = self.md.modelExchange if interface == "me" else self.md.coSimulation
             cls = FMU3Model if interface == "me" else FMU3Slave
-            self.fmu = cls(guid=self.md.guid, unzipDirectory=extract(str(FMU3)),
-                           modelIdentifier=mi.modelIdentifier, instanceName="raw3")
+            self.fmu = cls(
+                guid=self.md.guid,
+                unzipDirectory=extract(str(FMU3)),
+                modelIdentifier=mi.modelIdentifier,
+                instanceName="raw3",
+            )
             self.vars = {v.name: v for v in self.md.modelVariables}
 
     def _log(self, env, name, status, category, message) -> None:
@@ -60,8 +75,10 @@ class Raw:
 
     def fresh(self) -> Raw:
         """Free the previous instance; instantiate a new one (state Instantiated)."""
-        if self._live:     # (fmpy's freeInstance() would also unload the library)
-            getattr(self.fmu, "fmi2FreeInstance" if self.version == "2.0" else "fmi3FreeInstance")(self.fmu.component)
+        if self._live:  # (fmpy's freeInstance() would also unload the library)
+            getattr(self.fmu, "fmi2FreeInstance" if self.version == "2.0" else "fmi3FreeInstance")(
+                self.fmu.component
+            )
         self.messages = []
         if self.version == "3.0":
             self.fmu.instantiate(logMessage=self._log3)
@@ -99,7 +116,9 @@ class Raw:
         return self.vars[name].valueReference
 
     def get(self, name: str) -> float:
-        return (self.fmu.getReal if self.version == "2.0" else self.fmu.getFloat64)([self.vr(name)])[0]
+        return (self.fmu.getReal if self.version == "2.0" else self.fmu.getFloat64)(
+            [self.vr(name)]
+        )[0]
 
     def set(self, name: str, value: float) -> None:
         """Set one variable; FMI 3.0: an element ``a[k]`` of an array sets the whole array (the
@@ -147,8 +166,11 @@ class Raw:
             return f(self.fmu.component, 0.0, 1e-3, 1)
         b = [fmi3Boolean() for _ in range(3)]
         d = ctypes.c_double()
-        f.argtypes = [ctypes.c_void_p, ctypes.c_double, ctypes.c_double, fmi3Boolean] + \
-            [ctypes.POINTER(fmi3Boolean)] * 3 + [ctypes.POINTER(ctypes.c_double)]
+        f.argtypes = (
+            [ctypes.c_void_p, ctypes.c_double, ctypes.c_double, fmi3Boolean]
+            + [ctypes.POINTER(fmi3Boolean)] * 3
+            + [ctypes.POINTER(ctypes.c_double)]
+        )
         f.restype = ctypes.c_int
         return f(self.fmu.component, 0.0, 1e-3, True, *map(ctypes.byref, b), ctypes.byref(d))
 
@@ -166,7 +188,7 @@ class Raw:
 
     def close(self) -> None:
         if self._live:
-            self.fmu.freeInstance()    # the instance, then the library
+            self.fmu.freeInstance()  # the instance, then the library
             self._live = False
         if self.version == "2.0":
             self.plant._instantiated = False
@@ -216,15 +238,24 @@ def _names_value_and_range(msg: str, name: str, value: str | float, rng: str) ->
 
 # (variable, bad value, text of the allowed range)
 SET_RULES = [
-    ("m", 0.0, "(0, inf)"), ("m", -16.1, "(0, inf)"),
-    ("friction.nu[2]", 1.5, "[0, 1]"), ("friction.nu[3]", -0.1, "[0, 1]"),
-    ("friction.F_s", 0.0, "(0, inf)"), ("friction.F_s", -26.1, "(0, inf)"),
-    ("friction.V_s", 0.0, "(0, inf)"), ("friction.V_s", -0.0031, "(0, inf)"),
-    ("friction.delta", 0.0, "(0, inf)"), ("friction.delta", -0.6, "(0, inf)"),
-    ("friction.k[1]", 0.0, "(0, inf)"), ("friction.k[5]", -87660.0, "(0, inf)"),
-    ("friction.C", 0.0, "(0, inf)"), ("friction.C", -10.8, "(0, inf)"),
-    ("Ts", 0.0, "(0, inf)"), ("Ts", -5e-4, "(0, inf)"),
-    ("friction.N", 0, "[1, 10]"), ("friction.N", 11, "[1, 10]"),
+    ("m", 0.0, "(0, inf)"),
+    ("m", -16.1, "(0, inf)"),
+    ("friction.nu[2]", 1.5, "[0, 1]"),
+    ("friction.nu[3]", -0.1, "[0, 1]"),
+    ("friction.F_s", 0.0, "(0, inf)"),
+    ("friction.F_s", -26.1, "(0, inf)"),
+    ("friction.V_s", 0.0, "(0, inf)"),
+    ("friction.V_s", -0.0031, "(0, inf)"),
+    ("friction.delta", 0.0, "(0, inf)"),
+    ("friction.delta", -0.6, "(0, inf)"),
+    ("friction.k[1]", 0.0, "(0, inf)"),
+    ("friction.k[5]", -87660.0, "(0, inf)"),
+    ("friction.C", 0.0, "(0, inf)"),
+    ("friction.C", -10.8, "(0, inf)"),
+    ("Ts", 0.0, "(0, inf)"),
+    ("Ts", -5e-4, "(0, inf)"),
+    ("friction.N", 0, "[1, 10]"),
+    ("friction.N", 11, "[1, 10]"),
 ]
 
 
@@ -244,7 +275,9 @@ def test_rejected_value_is_not_kept(me: Raw) -> None:
 
 
 def _all_reals(me: Raw, causality: tuple[str, ...]) -> list[str]:
-    return [n for n, v in me.vars.items() if v.type in ("Real", "Float64") and v.causality in causality]
+    return [
+        n for n, v in me.vars.items() if v.type in ("Real", "Float64") and v.causality in causality
+    ]
 
 
 @pytest.mark.parametrize("bad", [math.nan, math.inf, -math.inf])
@@ -283,7 +316,7 @@ def test_sum_of_nu_outside_tolerance(me: Raw) -> None:
     _names_value_and_range(msg, "friction.nu[1..5]", "sum to 0.997", "1 +- 0.001")
     me.fresh()
     me.set("friction.nu[5]", 0.3825)
-    me.initialized()                          # no exception
+    me.initialized()  # no exception
 
 
 def test_coulomb_above_static(me: Raw) -> None:
@@ -303,6 +336,7 @@ def test_non_finite_start_state(me: Raw) -> None:
 
 
 # ------------------------------------------------------------------ call sequences
+
 
 def test_get_derivatives_before_initialization(me: Raw) -> None:
     me.fresh()

@@ -6,6 +6,7 @@ step's trajectory unchanged, to the bit (both builds of the plant, co-simulation
 * with earlyReturnAllowed (and eventModeUsed) the FMI 3.0 plant gives the FMI 2.0 plant's x at
   every communication point of an open-loop drive, from startTime 0 and from other start times.
 """
+
 from __future__ import annotations
 
 import math
@@ -19,7 +20,7 @@ from fmpy.fmi3 import FMU3Slave
 from feeddrive.fmu import FMUError, Plant
 from feeddrive.fmu3 import set_values
 
-H = 1e-3                      # s, communication step
+H = 1e-3  # s, communication step
 VERSIONS = ("2.0", "3.0")
 
 
@@ -30,10 +31,12 @@ def path(request, fmu2_path: Path, fmu3_path: Path) -> Path:
 
 # ------------------------------------------------------------------ refused calls change nothing
 
+
 def test_refused_tunable_set_changes_nothing(path: Path) -> None:
     """friction.F_c above friction.F_s at 0.05 s is refused (fmi2Error / fmi3Error) and the
     trajectory on to 0.15 s is the one without the attempt, to the bit (clearing the solver's
     caches at the refusal would move x by 1.6e-13 m)."""
+
     def run(attempt: bool) -> np.ndarray:
         p = Plant({}, path=path)
         p.start({"u": 1.5})
@@ -48,6 +51,7 @@ def test_refused_tunable_set_changes_nothing(path: Path) -> None:
             xs.append(p.get(["x"])["x"])
         p.close()
         return np.array(xs)
+
     np.testing.assert_array_equal(run(True), run(False))
 
 
@@ -62,6 +66,7 @@ def test_early_return_bit_identical_to_fmi2(fmu2_path: Path, fmu3_path: Path, t0
 
     def u_of(t: float) -> float:
         return 1.2 * math.sin(2 * math.pi * 3 * (t - t0))
+
     p = Plant({}, path=fmu2_path)
     p.start({"u": u_of(t0)}, t0=t0)
     x2 = [p.get(["x"])["x"]]
@@ -74,8 +79,12 @@ def test_early_return_bit_identical_to_fmi2(fmu2_path: Path, fmu3_path: Path, t0
     md = read_model_description(str(fmu3_path))
     vr = {v.name: v.valueReference for v in md.modelVariables}
     for em in (False, True):
-        f = FMU3Slave(guid=md.guid, unzipDirectory=extract(str(fmu3_path)),
-                      modelIdentifier=md.coSimulation.modelIdentifier, instanceName="er")
+        f = FMU3Slave(
+            guid=md.guid,
+            unzipDirectory=extract(str(fmu3_path)),
+            modelIdentifier=md.coSimulation.modelIdentifier,
+            instanceName="er",
+        )
         f.instantiate(eventModeUsed=em, earlyReturnAllowed=True)
         set_values(f, md, {"u": u_of(t0)})
         f.enterInitializationMode(tolerance=1e-6, startTime=t0)
@@ -100,5 +109,7 @@ def test_early_return_bit_identical_to_fmi2(fmu2_path: Path, fmu3_path: Path, t0
         f.terminate()
         f.freeInstance()
         dx = float(np.max(np.abs(np.array(x3) - np.array(x2))))
-        print(f"t0 = {t0} s, event mode {em}: {n_early} early returns, max |dx| vs FMI 2.0 = {dx:.3g} m")
+        print(
+            f"t0 = {t0} s, event mode {em}: {n_early} early returns, max |dx| vs FMI 2.0 = {dx:.3g} m"
+        )
         assert n_early > 10 and dx == 0.0

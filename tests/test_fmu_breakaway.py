@@ -11,6 +11,7 @@ must be F_s in size: the elements slip at nu_i S(|v|), and the pre-sliding speed
 r / k_5 ~ 1.1e-4 m/s gives S = 0.979 F_s, so the tolerance is 3 % of F_s.  Sharper, it
 must equal S(|v_b|) + sigma2 |v_b| + m a_b (the motion equation at that sample) to 0.5 %.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -36,8 +37,14 @@ def test_breakaway_at_static_friction_plus_cogging(paper: dict, x0: float, direc
 
     plant = me_plant({"effects.current_dynamics": False}, tolerance=1e-6)
     try:
-        run = run_law(plant, DT, int(1.3 * Fs / RATE / DT), law, {"x": x0, "F_ext": -F_cg0},
-                      stop=lambda k, y: y["n_stuck"] == 0)
+        run = run_law(
+            plant,
+            DT,
+            int(1.3 * Fs / RATE / DT),
+            law,
+            {"x": x0, "F_ext": -F_cg0},
+            stop=lambda k, y: y["n_stuck"] == 0,
+        )
     finally:
         plant.close()
     n = run["n_stuck"]
@@ -46,11 +53,14 @@ def test_breakaway_at_static_friction_plus_cogging(paper: dict, x0: float, direc
     xb, vb = run["x"][kb], run["v"][kb]
     # pre-sliding travel is Delta_5 = nu_5 F_s / k_5 = 113 um (virgin curve), in the push direction
     assert 0.8 * 113e-6 < direction * (xb - x0) < 1.1 * 113e-6
-    F_app = -float(cogging(xb, paper)) - run["F_ext"][kb - 1]     # held over the last sample
+    F_app = -float(cogging(xb, paper)) - run["F_ext"][kb - 1]  # held over the last sample
     assert np.sign(F_app) == direction
     assert abs(abs(F_app) - Fs) < 0.03 * Fs
-    S = float(stribeck_level(vb, Fs, paper["friction.F_c"], paper["friction.V_s"],
-                             paper["friction.delta"]))
+    S = float(
+        stribeck_level(
+            vb, Fs, paper["friction.F_c"], paper["friction.V_s"], paper["friction.delta"]
+        )
+    )
     dyn = direction * (S + paper["friction.sigma2"] * abs(vb)) + paper["m"] * run["a"][kb]
     assert abs(F_app - dyn) < 0.005 * Fs
     # the cogging shifts the external force at break-away: F_ext = -F_cg(x0) - F_s sgn, to

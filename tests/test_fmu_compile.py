@@ -1,4 +1,5 @@
 """The FMU carries its sources: `fmpy compile` rebuilds the binary and it simulates the same."""
+
 from __future__ import annotations
 
 import shutil
@@ -22,7 +23,9 @@ def test_fmpy_compile_rebuilds_from_sources(fmu_version, tmp_path):
     names = zipfile.ZipFile(copy).namelist()
     assert "sources/model_vars.h" in names and "sources/plant.c" in names
     fmpy_cli = Path(sys.executable).with_name("fmpy")
-    p = subprocess.run([str(fmpy_cli), "compile", str(copy)], capture_output=True, text=True, timeout=600)
+    p = subprocess.run(
+        [str(fmpy_cli), "compile", str(copy)], capture_output=True, text=True, timeout=600
+    )
     assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]
     sv = {"u": 0.4, "friction.C": 10.8}
     a = simulate_fmu(str(fmu_path), stop_time=0.2, start_values=sv, output=["x", "F_friction"])
@@ -41,10 +44,12 @@ def test_source_files_listed_in_the_model_description_are_the_sources(fmu_path):
     but the FMI 3.0 glue (fmi3*.c) plus the generated model_vars.c, and the FMU ships each of
     them in sources/."""
     import xml.etree.ElementTree as ET
+
     root_dir = Path(__file__).resolve().parents[1]
     md = ET.parse(root_dir / "modelDescription.xml").getroot()
-    expected = ({p.name for p in _plant_sources(root_dir) if not p.name.startswith("fmi3")}
-                | {"model_vars.c"})
+    expected = {p.name for p in _plant_sources(root_dir) if not p.name.startswith("fmi3")} | {
+        "model_vars.c"
+    }
     shipped = set(zipfile.ZipFile(fmu_path).namelist())
     for kind in ("ModelExchange", "CoSimulation"):
         listed = {f.get("name") for f in md.find(kind).find("SourceFiles").findall("File")}
@@ -56,6 +61,7 @@ def test_fmi3_build_description_lists_every_source(fmu3_path):
     """sources/buildDescription.xml of the FMI 3.0 FMU names every C file of fmu_src/ and the
     generated model_vars.c / model_vars3.c, and the FMU ships each of them."""
     import xml.etree.ElementTree as ET
+
     root_dir = Path(__file__).resolve().parents[1]
     z = zipfile.ZipFile(fmu3_path)
     bd = ET.fromstring(z.read("sources/buildDescription.xml"))

@@ -12,6 +12,7 @@
 - ``compliance.sensor_side = 1`` moves the encoder to the load;
 - a serialised state holds the two states (format version 2 and later).
 """
+
 from __future__ import annotations
 
 import ctypes
@@ -27,22 +28,38 @@ from feeddrive.harness.controllers import make_controller
 from feeddrive.harness.simulate import simulate_closed_loop, simulate_open_loop
 from feeddrive.physics import compile
 
-pytestmark = [pytest.mark.skipif(not DEFAULT_FMU.is_file(), reason="build the FMU first: make fmu"),
-              pytest.mark.usefixtures("fmu_path")]     # on both FMI versions (conftest)
+pytestmark = [
+    pytest.mark.skipif(not DEFAULT_FMU.is_file(), reason="build the FMU first: make fmu"),
+    pytest.mark.usefixtures("fmu_path"),
+]  # on both FMI versions (conftest)
 
 DP = ctypes.POINTER(ctypes.c_double)
-ON = {"effects.compliance": True, "compliance.m2": 2.0, "compliance.f": 40.0,
-      "compliance.zeta": 0.05}
+ON = {
+    "effects.compliance": True,
+    "compliance.m2": 2.0,
+    "compliance.f": 40.0,
+    "compliance.zeta": 0.05,
+}
 
 
-def _loop(params: dict, interface: str = "cs", duration: float = 0.6, quantum: float = 1e-7,
-          tol: float = 1e-6):
+def _loop(
+    params: dict,
+    interface: str = "cs",
+    duration: float = 0.6,
+    quantum: float = 1e-7,
+    tol: float = 1e-6,
+):
     ref = sinusoid(0.01, 0.4, 0.15, duration)
     with Plant(params, interface=interface, tolerance=tol) as p:
-        return simulate_closed_loop(p, make_controller(pid_spec(), ref), ref.n, float(ref.x[0]),
-                                    Ts=ref.Ts, quantum=quantum,
-                                    record=("x", "v", "F_friction", "x_measured", "x_load",
-                                            "v_load", "compliance.dx"))
+        return simulate_closed_loop(
+            p,
+            make_controller(pid_spec(), ref),
+            ref.n,
+            float(ref.x[0]),
+            Ts=ref.Ts,
+            quantum=quantum,
+            record=("x", "v", "F_friction", "x_measured", "x_load", "v_load", "compliance.dx"),
+        )
 
 
 def test_off_the_load_is_the_slide():
@@ -55,8 +72,11 @@ def test_off_the_load_is_the_slide():
 def test_derivatives_agree_with_the_python_mirror():
     P = compile({**ON, "compliance.zeta": 0.2})
     c = P.compliance
-    cases = [(0.15, 0.0, 0.0, 3e-6, -2e-4), (0.151, 0.02, 0.0, -8e-6, 1e-3),
-             (0.149, -0.01, 0.0, 2e-5, 5e-3)]
+    cases = [
+        (0.15, 0.0, 0.0, 3e-6, -2e-4),
+        (0.151, 0.02, 0.0, -8e-6, 1e-3),
+        (0.149, -0.01, 0.0, 2e-5, 5e-3),
+    ]
     with Plant({**ON, "compliance.zeta": 0.2}, interface="me") as p:
         p.start({"u": 0.4})
         p.update_discrete_states()
@@ -89,13 +109,19 @@ def _ringdown(f: float, zeta: float, T: float = 0.4) -> tuple[float, float]:
     params = {**ON, "compliance.f": f, "compliance.zeta": zeta, "effects.prerolling": False}
     t = np.arange(int(T / 2.5e-4) + 1) * 2.5e-4
     with Plant(params, tolerance=1e-8) as p:
-        r = simulate_open_loop(p, t, u=0.0, start_values={"x": 0.15, "compliance.dx": q0},
-                               record=("x", "v", "compliance.dx", "x_load"))
-    assert np.all(r["v"] == 0.0) and np.all(r["x"] == 0.15)      # the slide stays stuck
+        r = simulate_open_loop(
+            p,
+            t,
+            u=0.0,
+            start_values={"x": 0.15, "compliance.dx": q0},
+            record=("x", "v", "compliance.dx", "x_load"),
+        )
+    assert np.all(r["v"] == 0.0) and np.all(r["x"] == 0.15)  # the slide stays stuck
 
     def model(tt, A, fz, z, ph):
         wn = 2 * np.pi * fz
         return A * np.exp(-z * wn * tt) * np.cos(wn * np.sqrt(1 - z * z) * tt + ph)
+
     popt, _ = curve_fit(model, t, r["compliance.dx"], p0=[q0, f * 1.02, zeta * 1.1, 0.0])
     return float(popt[1]), float(popt[2])
 
@@ -169,4 +195,4 @@ def test_cs_and_me_agree_with_compliance_and_static_friction():
     me = _loop(params, "me", quantum=0.0, tol=1e-9)
     assert np.max(np.abs(cs["x"] - me["x"])) < 0.1e-6
     assert np.max(np.abs(cs["x_load"] - me["x_load"])) < 0.1e-6
-    assert cs["stats.n_stick"] > 0 and cs["stats.n_slip"] > 0       # the events happened
+    assert cs["stats.n_stick"] > 0 and cs["stats.n_slip"] > 0  # the events happened

@@ -1,4 +1,5 @@
 """Current loop (MODEL.md Eq. 2) through model exchange: exact difference equation at the samples."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -29,7 +30,7 @@ def _u_step(n: int) -> np.ndarray:
 def test_eq2_coefficients_and_dc_gain(paper: dict) -> None:
     a = [paper[f"current.a[{j}]"] for j in range(1, 6)]
     b = [paper[f"current.b[{j}]"] for j in range(6)]
-    assert np.allclose(b[:4], B_EQ2, rtol=0, atol=5e-7)     # 0.057909 * 0.7461 = 0.0432059
+    assert np.allclose(b[:4], B_EQ2, rtol=0, atol=5e-7)  # 0.057909 * 0.7461 = 0.0432059
     assert np.allclose([1.0] + [-x for x in a[:2]], A_EQ2, rtol=0, atol=1e-15)
     assert sum(b) / (1.0 - sum(a)) == pytest.approx(1.1260, abs=5e-5)
 
@@ -49,8 +50,9 @@ def test_current_equals_difference_equation_at_samples(paper: dict) -> None:
     t = np.arange(n + 1) * TS
     plant = me_plant({}, tolerance=1e-8)
     try:
-        res = simulate_open_loop(plant, t, np.append(u, u[-1]), np.append(F_ext, F_ext[-1]),
-                                 start_values={"x": X0})
+        res = simulate_open_loop(
+            plant, t, np.append(u, u[-1]), np.append(F_ext, F_ext[-1]), start_values={"x": X0}
+        )
     finally:
         plant.close()
     assert np.max(np.abs(res["i"][:n] - i_ref)) < 1e-9
@@ -83,11 +85,12 @@ def test_step_settles_at_dc_gain() -> None:
 def test_current_dynamics_off_is_dc_gain_instantly(paper: dict) -> None:
     """effects.current_dynamics = false: i = G(1) u at once, at any time."""
     g1 = sum(paper[f"current.b[{j}]"] for j in range(6)) / (
-        1.0 - sum(paper[f"current.a[{j}]"] for j in range(1, 6)))
+        1.0 - sum(paper[f"current.a[{j}]"] for j in range(1, 6))
+    )
     n = 50
     u = _u_step(n + 1)
     u[0] = 0.3
-    t = np.arange(n + 1) * 1e-3                  # no samples to keep: any grid
+    t = np.arange(n + 1) * 1e-3  # no samples to keep: any grid
     plant = me_plant({"effects.current_dynamics": False})
     try:
         F_ext = float(force_constant(X0, paper)) * g1 * u - float(cogging(X0, paper))

@@ -13,6 +13,7 @@
   every step OK and every continuous state inside its declared range, or ends a step with an
   error naming a variable.
 """
+
 from __future__ import annotations
 
 import ctypes
@@ -26,9 +27,11 @@ from fmpy.fmi1 import FMICallException
 
 from feeddrive.fmu import FMUError, Plant
 
-H = 1e-3                      # s, communication step
+H = 1e-3  # s, communication step
 DP = ctypes.POINTER(ctypes.c_double)
-STATES = ["x", "v"] + [f"friction.F[{j}]" for j in range(1, 11)] + ["compliance.dx", "compliance.dv"]
+STATES = (
+    ["x", "v"] + [f"friction.F[{j}]" for j in range(1, 11)] + ["compliance.dx", "compliance.dv"]
+)
 VERSIONS = ("2.0", "3.0")
 
 
@@ -37,7 +40,9 @@ def path(request, fmu2_path: Path, fmu3_path: Path) -> Path:
     return fmu2_path if request.param == "2.0" else fmu3_path
 
 
-def _run(path: Path, params: dict, inputs: dict, t_end: float, tolerance: float = 1e-6) -> tuple[np.ndarray, Plant]:
+def _run(
+    path: Path, params: dict, inputs: dict, t_end: float, tolerance: float = 1e-6
+) -> tuple[np.ndarray, Plant]:
     """x, v after every step of H up to t_end (raises FMUError at a refused init or step)."""
     p = Plant(params, path=path, tolerance=tolerance)
     p.start(inputs)
@@ -51,9 +56,10 @@ def _run(path: Path, params: dict, inputs: dict, t_end: float, tolerance: float 
 
 # ------------------------------------------------------------------ unstable current loop
 
+
 def _a_from_roots(roots: list[complex]) -> dict:
     """current.a[1..5] of the denominator z^n - a_1 z^(n-1) - ... - a_n with these roots."""
-    c = np.real(np.poly(roots))           # 1, c_1 .. c_n: z^n + c_1 z^(n-1) + ...
+    c = np.real(np.poly(roots))  # 1, c_1 .. c_n: z^n + c_1 z^(n-1) + ...
     a = -c[1:]
     return {f"current.a[{j}]": float(a[j - 1]) if j <= len(a) else 0.0 for j in range(1, 6)}
 
@@ -62,10 +68,17 @@ def test_unstable_current_loop_refused_at_initialisation(path: Path) -> None:
     """current.a[1] = 10 (unchecked: x = 2.5e174 m after 0.1 s) is refused at
     initialisation naming the rule; a loop with a pole pair at |z| = 1.02 is refused, one at
     |z| = 0.98 runs."""
-    for params in ({"current.a[1]": 10.0}, _a_from_roots([1.02 * np.exp(0.3j), 1.02 * np.exp(-0.3j), 0.5])):
-        with pytest.raises(FMUError, match=r"current\.a\[1\.\.5\].*the current loop is unstable.*\|z\| < 1"):
+    for params in (
+        {"current.a[1]": 10.0},
+        _a_from_roots([1.02 * np.exp(0.3j), 1.02 * np.exp(-0.3j), 0.5]),
+    ):
+        with pytest.raises(
+            FMUError, match=r"current\.a\[1\.\.5\].*the current loop is unstable.*\|z\| < 1"
+        ):
             _run(path, params, {"u": 1.0}, 0.01)
-    xv, p = _run(path, _a_from_roots([0.98 * np.exp(0.3j), 0.98 * np.exp(-0.3j), 0.5]), {"u": 1.0}, 0.01)
+    xv, p = _run(
+        path, _a_from_roots([0.98 * np.exp(0.3j), 0.98 * np.exp(-0.3j), 0.5]), {"u": 1.0}, 0.01
+    )
     p.close()
     assert np.all(np.isfinite(xv))
 
@@ -99,6 +112,7 @@ def test_current_loop_rule_agrees_with_the_roots(fmu2_path: Path) -> None:
 
 # ------------------------------------------------------------------ tolerance
 
+
 def test_solver_tol_beyond_its_declared_max(path: Path) -> None:
     """solver.tol = 0.99 (with m = 1e-3 kg: v = 3.7e298 m/s after 0.1 s) is refused naming the
     allowed (0, 0.01]; an experiment tolerance of 0.5 integrates at 0.01 (the same trajectory
@@ -113,7 +127,9 @@ def test_solver_tol_beyond_its_declared_max(path: Path) -> None:
     np.testing.assert_array_equal(loose, at_max)
 
 
-@pytest.mark.parametrize("extra", [{}, {f"friction.k[{j}]": 1e9 for j in range(1, 6)}], ids=["m", "m+k"])
+@pytest.mark.parametrize(
+    "extra", [{}, {f"friction.k[{j}]": 1e9 for j in range(1, 6)}], ids=["m", "m+k"]
+)
 def test_error_follows_the_tolerance_up_to_its_max(fmu2_path: Path, extra: dict) -> None:
     """At the stiffest declared settings (m = 1e-3 kg; with friction.k = 1e9 N/m), 0.1 s at
     u = 1 V: the velocity's error against tolerance 1e-10 stays within 2 tol (relative to
@@ -131,6 +147,7 @@ def test_error_follows_the_tolerance_up_to_its_max(fmu2_path: Path, extra: dict)
 
 # ------------------------------------------------------------------ a state leaving its range
 
+
 def test_state_leaving_its_range_ends_the_step(path: Path) -> None:
     """F_ext = 1e5 N drives |v| past its declared 1000 m/s (unchecked, to 1175 m/s): the
     step that crosses ends with an error naming v, its range and the forces; every earlier step
@@ -144,7 +161,9 @@ def test_state_leaving_its_range_ends_the_step(path: Path) -> None:
             vs.append(p.get(["v"])["v"])
     p.close()
     msg = str(e.value)
-    assert re.search(r"DoStep: v = -?1\d{3}\.\d+ m/s left its declared range \[-1000, 1000\] m/s", msg), msg
+    assert re.search(
+        r"DoStep: v = -?1\d{3}\.\d+ m/s left its declared range \[-1000, 1000\] m/s", msg
+    ), msg
     assert "F_ext = 100000 N" in msg and "a = " in msg
     assert vs and max(abs(v) for v in vs) <= 1000.0
 
@@ -158,7 +177,10 @@ def test_state_leaving_its_range_inside_a_long_step(path: Path) -> None:
     with pytest.raises(FMUError) as e:
         p.do_step(0.0, 1.0)
     p.close()
-    m = re.search(r"v = (-?[\d.]+) m/s left its declared range \[-1000, 1000\] m/s at t = ([\d.]+) s", str(e.value))
+    m = re.search(
+        r"v = (-?[\d.]+) m/s left its declared range \[-1000, 1000\] m/s at t = ([\d.]+) s",
+        str(e.value),
+    )
     assert m, str(e.value)
     assert 1000.0 < abs(float(m.group(1))) < 1002.0 and 0.2 < float(m.group(2)) < 0.3, str(e.value)
 
@@ -179,7 +201,9 @@ def test_model_exchange_state_beyond_its_range_refused(path: Path) -> None:
     bad[1] = 1500.0
     with pytest.raises(FMICallException):
         p.fmu.setContinuousStates(bad.ctypes.data_as(DP), nx)
-    assert "state v = 1500 is out of range: allowed [-1000, 1000] m/s" in p.messages[-1], p.messages[-1]
+    assert "state v = 1500 is out of range: allowed [-1000, 1000] m/s" in p.messages[-1], (
+        p.messages[-1]
+    )
     p.get_derivatives(dy1.ctypes.data_as(DP), nx)
     p.close()
     np.testing.assert_array_equal(dy1, dy0)
@@ -197,15 +221,24 @@ def test_no_rate_printed_as_inf(path: Path) -> None:
 
 # ------------------------------------------------------------------ the sweep of extreme settings
 
+
 def _declared(md) -> list:
     """parameters and inputs with a declared min and max (Real and Integer)"""
-    return [v for v in md.modelVariables if v.causality in ("parameter", "input") and v.type in ("Real", "Integer")
-            and v.min is not None and v.max is not None]
+    return [
+        v
+        for v in md.modelVariables
+        if v.causality in ("parameter", "input")
+        and v.type in ("Real", "Integer")
+        and v.min is not None
+        and v.max is not None
+    ]
 
 
 def _sweep_settings(md, n_random: int, seed: int) -> list[dict]:
     vars_ = _declared(md)
-    bools = [v.name for v in md.modelVariables if v.causality == "parameter" and v.type == "Boolean"]
+    bools = [
+        v.name for v in md.modelVariables if v.causality == "parameter" and v.type == "Boolean"
+    ]
     settings = [{v.name: float(v.min) if v.type == "Real" else int(v.min)} for v in vars_]
     settings += [{v.name: float(v.max) if v.type == "Real" else int(v.max)} for v in vars_]
     rng = np.random.default_rng(seed)
@@ -228,7 +261,7 @@ def _sweep_one(path: Path, setting: dict, ranges: dict, t_end: float) -> str:
     try:
         try:
             p.start({"u": 2.0, **inputs})
-        except Exception:    # FMUError at initialisation, fmpy's at a refused set or setup
+        except Exception:  # FMUError at initialisation, fmpy's at a refused set or setup
             return "refused" if p.messages else f"refused without a message: {setting}"
         for k in range(int(round(t_end / H))):
             p.do_step(k * H, H)
@@ -239,8 +272,9 @@ def _sweep_one(path: Path, setting: dict, ranges: dict, t_end: float) -> str:
         return "clean"
     except FMUError as e:
         msg = str(e)
-        named = re.search(r"(\S+) = \S+ .*(left its declared range|fastest rate|stiffest|no bound)", msg) or \
-            re.search(r"samples past", msg)
+        named = re.search(
+            r"(\S+) = \S+ .*(left its declared range|fastest rate|stiffest|no bound)", msg
+        ) or re.search(r"samples past", msg)
         return "step error" if named else f"step error naming no variable: {msg}"
     finally:
         p.close()
@@ -272,7 +306,9 @@ def test_extreme_settings_fmi3(fmu2_path: Path, fmu3_path: Path) -> None:
     """The FMI 3.0 build on 40 random combinations (the step and its checks are the FMI 2.0
     glue's; the settings by their FMI 2.0 names, friction.N left out): the same three outcomes."""
     md = read_model_description(str(fmu2_path))
-    ranges = {v.name: (float(v.min), float(v.max)) for v in md.modelVariables if v.name in ("x", "v")}
+    ranges = {
+        v.name: (float(v.min), float(v.max)) for v in md.modelVariables if v.name in ("x", "v")
+    }
     settings = [s for s in _sweep_settings(md, 60, seed=5)[-60:] if "friction.N" not in s][:40]
     out = [_sweep_one(fmu3_path, s, ranges, 0.05) for s in settings]
     failures = [r for r in out if r not in ("refused", "clean", "step error")]

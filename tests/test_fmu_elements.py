@@ -1,4 +1,5 @@
 """N = 1..10 GMS elements: a plant with one element and one with all ten slots in use."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -9,7 +10,7 @@ from fmu_loops import FRICTION_ONLY, PositionLoop, me_plant, run_at_speed, run_l
 
 pytestmark = pytest.mark.usefixtures("fmu_path")
 
-K10 = [1152.07e3, 377.23e3, 215.33e3, 9.39e3, 87.66e3, 5e5, 2e5, 5e4, 2e4, 1e4]   # N/m
+K10 = [1152.07e3, 377.23e3, 215.33e3, 9.39e3, 87.66e3, 5e5, 2e5, 5e4, 2e4, 1e4]  # N/m
 
 
 def _params(N: int) -> dict:
@@ -39,8 +40,9 @@ def test_ringing_uses_all_N_springs(paper: dict, N: int) -> None:
     assert np.all(run["n_stuck"] == N)
     assert run.state_events == 0
     ksum = sum(params[f"friction.k[{j}]"] for j in range(1, N + 1))
-    assert _freq(run["time"], run["x"]) == pytest.approx(np.sqrt(ksum / paper["m"]) / (2 * np.pi),
-                                                         rel=1e-3)
+    assert _freq(run["time"], run["x"]) == pytest.approx(
+        np.sqrt(ksum / paper["m"]) / (2 * np.pi), rel=1e-3
+    )
 
 
 @pytest.mark.parametrize("direction", [1, -1])
@@ -49,8 +51,14 @@ def test_steady_sliding_with_N_elements(paper: dict, N: int, direction: int) -> 
     """Sum nu = 1 with any N: steady sliding at 10 mm/s is s(v) + sigma2 v (0.5 %)."""
     run = run_at_speed(_params(N), direction * 10e-3, paper["m"])
     w = slice(-50, None)
-    exp = steady_friction(run["v"][w], paper["friction.F_s"], paper["friction.F_c"],
-                          paper["friction.V_s"], paper["friction.delta"], paper["friction.sigma2"])
+    exp = steady_friction(
+        run["v"][w],
+        paper["friction.F_s"],
+        paper["friction.F_c"],
+        paper["friction.V_s"],
+        paper["friction.delta"],
+        paper["friction.sigma2"],
+    )
     assert np.max(np.abs(run["F_friction"][w] / exp - 1.0)) < 5e-3
     assert np.max(np.abs(-run["F_ext"][w] / exp - 1.0)) < 5e-3
     assert run.stats["stats.n_slip"] == N and run["n_stuck"][-1] == 0
@@ -63,8 +71,7 @@ def test_virgin_curve_with_ten_elements(paper: dict) -> None:
     ref, knots = triangle([0.0, 60e-6], 5e-5, t_hold=0.02)
     plant = me_plant(params)
     try:
-        run = run_law(plant, 4e-3, int(knots[-1] / 4e-3), PositionLoop(ref, paper["m"]),
-                      {"x": 0.0})
+        run = run_law(plant, 4e-3, int(knots[-1] / 4e-3), PositionLoop(ref, paper["m"]), {"x": 0.0})
     finally:
         plant.close()
     k = np.array(K10)

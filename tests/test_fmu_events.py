@@ -5,6 +5,7 @@
 * Stage at rest, all elements stuck, ringing in the ~54 Hz mode: the velocity crosses zero
   twice per period, yet no state event happens (no indicator watches v while all stick).
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -29,17 +30,24 @@ def test_each_reversal_sticks_and_slips_every_element_once(paper: dict) -> None:
 
     def ref(t: float) -> tuple[float, float, float]:
         return X0 + X * np.sin(w * t), X * w * np.cos(w * t), -X * w * w * np.sin(w * t)
+
     plant = me_plant({"effects.current_dynamics": False})
     try:
-        run = run_law(plant, 2e-3, 650, PositionLoop(ref, paper["m"]), {"x": X0, "v": X * w},
-                      integers=("n_stuck", "stats.n_stick", "stats.n_slip"))
+        run = run_law(
+            plant,
+            2e-3,
+            650,
+            PositionLoop(ref, paper["m"]),
+            {"x": X0, "v": X * w},
+            integers=("n_stuck", "stats.n_stick", "stats.n_slip"),
+        )
     finally:
         plant.close()
     v, t = run["v"], run["time"]
-    assert np.max(np.abs(run["x"] - [ref(tk)[0] for tk in t])) < 2e-5       # it followed
-    rev = np.nonzero(np.sign(v[1:]) != np.sign(v[:-1]))[0]                  # v sign changes
+    assert np.max(np.abs(run["x"] - [ref(tk)[0] for tk in t])) < 2e-5  # it followed
+    rev = np.nonzero(np.sign(v[1:]) != np.sign(v[:-1]))[0]  # v sign changes
     assert len(rev) == 5
-    t_rev_ref = (np.arange(5) + 0.5) / 4.0          # reference reversals at 0.125, 0.375, ...
+    t_rev_ref = (np.arange(5) + 0.5) / 4.0  # reference reversals at 0.125, 0.375, ...
     assert np.allclose(t[rev], t_rev_ref, atol=0.01)
     stick, slip = run["stats.n_stick"], run["stats.n_slip"]
     # between reversals: the counts near the speed maxima of each half period (the first
@@ -47,7 +55,7 @@ def test_each_reversal_sticks_and_slips_every_element_once(paper: dict) -> None:
     mids = [int(round(tk / 2e-3)) for tk in [0.05, 0.25, 0.5, 0.75, 1.0, 1.25]]
     assert list(np.diff(stick[mids])) == [5] * 5
     assert list(np.diff(slip[mids])) == [5] * 5
-    assert slip[mids[0]] == 5 and stick[mids[0]] == 0    # start: the 5 virgin elements broke
+    assert slip[mids[0]] == 5 and stick[mids[0]] == 0  # start: the 5 virgin elements broke
     assert run.stats["stats.n_stick"] == 25 and run.stats["stats.n_slip"] == 30
     # one event for the sticking of all five, one per element slipping again
     assert run.state_events == 5 + 5 * (1 + 5)
@@ -56,8 +64,8 @@ def test_each_reversal_sticks_and_slips_every_element_once(paper: dict) -> None:
 def _ringing_expectation(paper: dict) -> tuple[float, float]:
     """F_cg(x0) and the expected frequency sqrt((sum k_i + dF_cg/dx) / m) / 2 pi [Hz]."""
     h = 1e-6
-    slope = float(cogging(X0 + h, paper) - cogging(X0 - h, paper)) / (2 * h)   # 3.6e3 N/m
-    ksum = sum(paper[f"friction.k[{j}]"] for j in range(1, 6))                  # 1.84e6 N/m
+    slope = float(cogging(X0 + h, paper) - cogging(X0 - h, paper)) / (2 * h)  # 3.6e3 N/m
+    ksum = sum(paper[f"friction.k[{j}]"] for j in range(1, 6))  # 1.84e6 N/m
     return float(cogging(X0, paper)), float(np.sqrt((ksum + slope) / paper["m"]) / (2 * np.pi))
 
 
@@ -73,7 +81,7 @@ def test_ringing_at_rest_has_no_state_events(paper: dict) -> None:
     < 0.4 N << nu_i F_s, so nothing may switch.  Paper model, current loop on (a time
     event every 0.5 ms), 0.5 s = 27 periods."""
     F_cg0, f_exp = _ringing_expectation(paper)
-    assert 53.8 < f_exp < 54.0                   # MODEL.md: sqrt(sum k / m) / 2 pi = 54 Hz
+    assert 53.8 < f_exp < 54.0  # MODEL.md: sqrt(sum k / m) / 2 pi = 54 Hz
     plant = me_plant({})
     try:
         run = run_law(plant, 5e-4, 1000, None, {"x": X0, "v": 1e-4, "F_ext": -F_cg0})
@@ -83,9 +91,9 @@ def test_ringing_at_rest_has_no_state_events(paper: dict) -> None:
     assert run.stats["stats.n_state_events"] == 0
     assert run.stats["stats.n_stick"] == 0 and run.stats["stats.n_slip"] == 0
     assert np.all(run["n_stuck"] == 5)
-    assert run.time_events == 999                 # the samples, nothing else
+    assert run.time_events == 999  # the samples, nothing else
     v = run["v"]
-    assert np.sum(np.sign(v[1:]) != np.sign(v[:-1])) >= 50     # it did ring through zero
+    assert np.sum(np.sign(v[1:]) != np.sign(v[:-1])) >= 50  # it did ring through zero
     assert _frequency(run["time"], run["x"]) == pytest.approx(f_exp, rel=1e-3)
 
 
@@ -93,10 +101,17 @@ def test_ringing_with_fmpy_simulate_fmu(fmu_path: Path, paper: dict) -> None:
     """The same through fmpy.simulate_fmu (ME, CVode, record_events): every event instant is
     recorded twice; the only events must be the current-loop samples k Ts."""
     F_cg0, f_exp = _ringing_expectation(paper)
-    res = fmpy.simulate_fmu(str(fmu_path), fmi_type="ModelExchange", solver="CVode",
-                            stop_time=0.25, output_interval=5e-4, relative_tolerance=1e-8,
-                            record_events=True, output=["x", "v", "n_stuck"],
-                            start_values={"x": X0, "v": 1e-4, "F_ext": -F_cg0})
+    res = fmpy.simulate_fmu(
+        str(fmu_path),
+        fmi_type="ModelExchange",
+        solver="CVode",
+        stop_time=0.25,
+        output_interval=5e-4,
+        relative_tolerance=1e-8,
+        record_events=True,
+        output=["x", "v", "n_stuck"],
+        start_values={"x": X0, "v": 1e-4, "F_ext": -F_cg0},
+    )
     t = res["time"]
     ev = t[1:][np.diff(t) == 0]
     k = ev / 5e-4

@@ -5,6 +5,7 @@ CVode) acting through F_ext on a friction-only plant (u = 0, no cogging or rippl
 constant speed F_ext = -(friction acting on the stage), so both the F_friction output
 and the force the loop must apply are compared with s(v) + sigma2 v at the measured v.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -15,14 +16,20 @@ from fmu_loops import FRICTION_ONLY, VelocityLoop, me_plant, run_law
 
 pytestmark = pytest.mark.usefixtures("fmu_path")
 
-SPEEDS = [0.5e-3, 1e-3, 3e-3, 10e-3, 50e-3, 200e-3]     # m/s
-RAMP = 0.02                                             # s, 0 -> v_ref
-DT_SLOW = 5e-3                                          # s, loop sample for C = 10.8
+SPEEDS = [0.5e-3, 1e-3, 3e-3, 10e-3, 50e-3, 200e-3]  # m/s
+RAMP = 0.02  # s, 0 -> v_ref
+DT_SLOW = 5e-3  # s, loop sample for C = 10.8
 
 
 def _expected(v: np.ndarray, p: dict) -> np.ndarray:
-    return steady_friction(v, p["friction.F_s"], p["friction.F_c"], p["friction.V_s"],
-                           p["friction.delta"], p["friction.sigma2"])
+    return steady_friction(
+        v,
+        p["friction.F_s"],
+        p["friction.F_c"],
+        p["friction.V_s"],
+        p["friction.delta"],
+        p["friction.sigma2"],
+    )
 
 
 def _slide(p: dict, v_ref: float, C: float, dt: float, T: float) -> dict:

@@ -1,6 +1,7 @@
 """Where the package finds its FMU: an explicit path, else $FEEDDRIVE_FMU, else the package's
 own copy (package data); a one-line error naming the places looked at; no path computed from
 the source tree anywhere in the package."""
+
 from __future__ import annotations
 
 import re
@@ -38,7 +39,9 @@ def test_environment_wins_over_the_package(fmu_path: Path, monkeypatch, tmp_path
 
 def test_environment_naming_no_file_is_an_error_not_a_fall_back(monkeypatch, tmp_path):
     monkeypatch.setenv("FEEDDRIVE_FMU", str(tmp_path / "nowhere.fmu"))
-    with pytest.raises(FMUNotFoundError, match=re.escape(f"FEEDDRIVE_FMU={tmp_path / 'nowhere.fmu'}: no FMU")):
+    with pytest.raises(
+        FMUNotFoundError, match=re.escape(f"FEEDDRIVE_FMU={tmp_path / 'nowhere.fmu'}: no FMU")
+    ):
         fmu_path()
 
 
@@ -62,8 +65,10 @@ def test_cli_without_an_fmu_prints_one_line_and_exits_2(monkeypatch, tmp_path, c
 
 
 def test_no_module_computes_a_path_from_its_source_file():
-    hits = [f"{p.relative_to(PACKAGE)}:{i}: {line.strip()}"
-            for p in sorted(PACKAGE.rglob("*.py"))
-            for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1)
-            if re.search(r"__file__|\.parents\[|\bREPO\b", line)]
+    hits = [
+        f"{p.relative_to(PACKAGE)}:{i}: {line.strip()}"
+        for p in sorted(PACKAGE.rglob("*.py"))
+        for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1)
+        if re.search(r"__file__|\.parents\[|\bREPO\b", line)
+    ]
     assert not hits, "\n".join(hits)

@@ -1,4 +1,5 @@
 """Cogging F_cg(x) and force constant K_f(x) (Eqs. 6-7) as the FMU evaluates them."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -43,10 +44,21 @@ def test_maps_match_python_evaluation_inside_stroke(paper: dict) -> None:
 def test_effect_switches(paper: dict, periodic: bool, aperiodic: bool) -> None:
     """cogging_/ripple_ periodic and aperiodic off drop the Fourier / polynomial part (K_f keeps c0)."""
     x = 0.2049
-    f, k, _ = _maps_at(x, {"effects.cogging_periodic": periodic, "effects.cogging_aperiodic": aperiodic,
-                           "effects.ripple_periodic": periodic, "effects.ripple_aperiodic": aperiodic})
-    assert f == pytest.approx(float(cogging(x, paper, periodic=periodic, aperiodic=aperiodic)), abs=1e-9)
-    assert k == pytest.approx(float(force_constant(x, paper, periodic=periodic, aperiodic=aperiodic)), abs=1e-9)
+    f, k, _ = _maps_at(
+        x,
+        {
+            "effects.cogging_periodic": periodic,
+            "effects.cogging_aperiodic": aperiodic,
+            "effects.ripple_periodic": periodic,
+            "effects.ripple_aperiodic": aperiodic,
+        },
+    )
+    assert f == pytest.approx(
+        float(cogging(x, paper, periodic=periodic, aperiodic=aperiodic)), abs=1e-9
+    )
+    assert k == pytest.approx(
+        float(force_constant(x, paper, periodic=periodic, aperiodic=aperiodic)), abs=1e-9
+    )
     if not periodic and not aperiodic:
         assert f == 0.0 and k == paper["ripple.c[0]"]
 

@@ -7,6 +7,7 @@
 * The per-sample trace is in ``logDebug``, which "all categories" (nCategories = 0) does
   not include; ``logEvents`` stays quiet over samples without a friction switch.
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -18,23 +19,27 @@ from fmpy.fmi2 import FMU2Model
 pytestmark = pytest.mark.usefixtures("fmu_path")
 
 
-
-
 def _events(fmu: Path, categories: list[str] | None) -> tuple[list[bool], list[str]]:
     """Start at rest, u = 0.5 V; ME event updates at t = 0, 1e-4 s (no sample) and Ts."""
     import fmpy.fmi2 as f2
+
     logged: list[str] = []
 
     def logger(env, name, status, category, message) -> None:
         logged.append(category.decode())
+
     md = read_model_description(str(fmu))
     vr = {v.name: v.valueReference for v in md.modelVariables}
     cb = f2.fmi2CallbackFunctions()
     cb.logger = f2.fmi2CallbackLoggerTYPE(logger)
     cb.allocateMemory = f2.fmi2CallbackAllocateMemoryTYPE(f2.calloc)
     cb.freeMemory = f2.fmi2CallbackFreeMemoryTYPE(f2.free)
-    m = FMU2Model(guid=md.guid, unzipDirectory=extract(str(fmu)),
-                  modelIdentifier=md.modelExchange.modelIdentifier, instanceName="flags")
+    m = FMU2Model(
+        guid=md.guid,
+        unzipDirectory=extract(str(fmu)),
+        modelIdentifier=md.modelExchange.modelIdentifier,
+        instanceName="flags",
+    )
     m.instantiate(loggingOn=True, callbacks=cb)
     if categories is not None:
         m.setDebugLogging(True, categories)
@@ -50,7 +55,7 @@ def _events(fmu: Path, categories: list[str] | None) -> tuple[list[bool], list[s
             m.setTime(t)
             m.enterEventMode()
         info = m.newDiscreteStates()
-        flags.append(bool(info[3]))      # valuesOfContinuousStatesChanged
+        flags.append(bool(info[3]))  # valuesOfContinuousStatesChanged
     m.terminate()
     m.freeInstance()
     return flags, logged
@@ -58,8 +63,8 @@ def _events(fmu: Path, categories: list[str] | None) -> tuple[list[bool], list[s
 
 def test_sample_reports_states_changed(fmu_path) -> None:
     flags, _ = _events(fmu_path, None)
-    assert flags[1] is False          # t = 1e-4 s: no sample, no switch
-    assert flags[2] is True           # t = Ts: the current-loop sample, i jumps
+    assert flags[1] is False  # t = 1e-4 s: no sample, no switch
+    assert flags[2] is True  # t = Ts: the current-loop sample, i jumps
 
 
 def test_per_sample_trace_only_in_log_debug(fmu_path) -> None:

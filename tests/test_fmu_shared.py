@@ -1,4 +1,5 @@
 """Plants of one FMU file share one extraction per process and stay independent instances."""
+
 from __future__ import annotations
 
 import gc
@@ -15,12 +16,13 @@ import pytest
 from feeddrive.fmu import Plant, unpacked
 from feeddrive.harness import make_controller, pid_spec, simulate_closed_loop, sinusoid
 
-pytestmark = pytest.mark.usefixtures("fmu_path")     # on both FMI versions (conftest)
+pytestmark = pytest.mark.usefixtures("fmu_path")  # on both FMI versions (conftest)
 
 
 def _run(plant: Plant, ref) -> np.ndarray:
-    return np.asarray(simulate_closed_loop(plant, make_controller(pid_spec(), ref), ref.n,
-                                           float(ref.x[0]))["x"])
+    return np.asarray(
+        simulate_closed_loop(plant, make_controller(pid_spec(), ref), ref.n, float(ref.x[0]))["x"]
+    )
 
 
 def test_plants_share_one_extraction(fmu_path: Path) -> None:
@@ -28,7 +30,7 @@ def test_plants_share_one_extraction(fmu_path: Path) -> None:
         assert a._dir == b._dir == unpacked(fmu_path).directory
         assert a.md is b.md
         assert os.path.isdir(a._dir)
-    assert os.path.isdir(unpacked(fmu_path).directory)    # kept for the next Plant
+    assert os.path.isdir(unpacked(fmu_path).directory)  # kept for the next Plant
 
 
 def test_instances_on_one_library_are_independent(fmu_path: Path) -> None:
@@ -39,15 +41,15 @@ def test_instances_on_one_library_are_independent(fmu_path: Path) -> None:
         alone_a = _run(p, ref)
     with Plant({"m": 30.0}, path=fmu_path) as p:
         alone_b = _run(p, ref)
-    assert np.max(np.abs(alone_a - alone_b)) > 1e-7     # the mass matters at this speed
+    assert np.max(np.abs(alone_a - alone_b)) > 1e-7  # the mass matters at this speed
     a, b = Plant({"m": 16.1}, path=fmu_path), Plant({"m": 30.0}, path=fmu_path)
     a.start({"x": 0.14})
     b.start({"x": 0.14})
-    a.close()                               # dlclose of a's reference only
+    a.close()  # dlclose of a's reference only
     both_b = _run(b, ref)
     b.close()
     np.testing.assert_array_equal(both_b, alone_b)
-    unused = Plant(path=fmu_path)          # never started
+    unused = Plant(path=fmu_path)  # never started
     unused.close()
     with Plant({"m": 16.1}, path=fmu_path) as p:
         np.testing.assert_array_equal(_run(p, ref), alone_a)
@@ -67,8 +69,10 @@ def test_a_changed_file_is_extracted_again(fmu_path: Path, tmp_path: Path) -> No
 
 
 def test_extraction_removed_at_exit(fmu_path: Path) -> None:
-    code = ("import sys; from feeddrive.fmu import Plant\n"
-            f"p = Plant(path={str(fmu_path)!r}); p.start(); print(p._dir)\n")
+    code = (
+        "import sys; from feeddrive.fmu import Plant\n"
+        f"p = Plant(path={str(fmu_path)!r}); p.start(); print(p._dir)\n"
+    )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     directory = out.stdout.strip()
     assert directory and not os.path.exists(directory)

@@ -8,6 +8,7 @@ setters check (both builds of the plant, co-simulation):
   eventModeUsed = false, and loads into one made with it;
 * a state of the previous format version is refused naming both versions.
 """
+
 from __future__ import annotations
 
 import struct
@@ -24,7 +25,7 @@ from feeddrive.fmu import Plant
 from feeddrive.fmu3 import configured, set_values
 
 H = 1e-3
-V0 = 0.0123456789             # m/s, a start velocity whose bytes are found in the state
+V0 = 0.0123456789  # m/s, a start velocity whose bytes are found in the state
 
 
 def _forge(blob: bytes, old: float, new: float) -> bytes:
@@ -33,7 +34,7 @@ def _forge(blob: bytes, old: float, new: float) -> bytes:
     size is its third u32, the CRC its last)."""
     b = bytearray(blob)
     at = b.index(struct.pack("<d", old))
-    b[at:at + 8] = struct.pack("<d", new)
+    b[at : at + 8] = struct.pack("<d", new)
     hb = struct.unpack_from("<I", b, 8)[0]
     struct.pack_into("<I", b, hb - 4, zlib.crc32(bytes(b[hb:])) & 0xFFFFFFFF)
     return bytes(b)
@@ -50,7 +51,9 @@ def test_state_beyond_its_range_refused(fmu2_path: Path, fmu3_path: Path, versio
     n_msgs = len(p.messages)
     with pytest.raises(FMICallException):
         p.deserialize_state(_forge(blob, V0, 1e300))
-    assert "state v = 1e+300 is out of range: allowed [-1000, 1000] m/s" in p.messages[-1], p.messages[n_msgs:]
+    assert "state v = 1e+300 is out of range: allowed [-1000, 1000] m/s" in p.messages[-1], (
+        p.messages[n_msgs:]
+    )
     # refused: nothing changed, the run goes on
     assert p.get(["x"])["x"] == x_before
     p.do_step(20 * H, H)
@@ -61,11 +64,18 @@ def test_state_beyond_its_range_refused(fmu2_path: Path, fmu3_path: Path, versio
 
 
 def _cs3(path: Path, log: list[str], n: int | None = None, event_mode: bool = False) -> tuple:
-    cb = {"logMessage": lambda env, st, cat, msg: log.append(msg.decode()), "eventModeUsed": event_mode}
+    cb = {
+        "logMessage": lambda env, st, cat, msg: log.append(msg.decode()),
+        "eventModeUsed": event_mode,
+    }
     if n is None:
         md = read_model_description(str(path))
-        f = FMU3Slave(guid=md.guid, unzipDirectory=extract(str(path)), modelIdentifier=md.coSimulation.modelIdentifier,
-                      instanceName="s")
+        f = FMU3Slave(
+            guid=md.guid,
+            unzipDirectory=extract(str(path)),
+            modelIdentifier=md.coSimulation.modelIdentifier,
+            instanceName="s",
+        )
         f.instantiate(**cb)
     else:
         md, f = configured(path, "CoSimulation", n, **cb)
@@ -88,8 +98,10 @@ def test_state_of_another_friction_n_refused(fmu3_path: Path) -> None:
     b.exitInitializationMode()
     with pytest.raises(FMICallException):
         b.deserializeFMUState(blob)
-    assert "friction.N = 5, this instance 9" in log[-1] and "structural parameter" in log[-1], log[-1]
-    b.doStep(0.0, 0.01)     # the instance goes on, with N = 9
+    assert "friction.N = 5, this instance 9" in log[-1] and "structural parameter" in log[-1], log[
+        -1
+    ]
+    b.doStep(0.0, 0.01)  # the instance goes on, with N = 9
     vr9 = {v.name: v.valueReference for v in md9.modelVariables}
     assert len(b.getFloat64([vr9["friction.F"]], nValues=9)) == 9
     _, c = _cs3(fmu3_path, log, n=5)
@@ -140,5 +152,8 @@ def test_previous_format_version_refused(fmu2_path: Path) -> None:
     struct.pack_into("<I", b, 4, version - 1)
     with pytest.raises(FMICallException):
         p.deserialize_state(bytes(b))
-    assert f"state format version {version - 1}, this FMU reads version {version} only" in p.messages[-1]
+    assert (
+        f"state format version {version - 1}, this FMU reads version {version} only"
+        in p.messages[-1]
+    )
     p.close()

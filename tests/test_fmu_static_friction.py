@@ -3,6 +3,7 @@
 Sliding: friction s(v) + sigma2 v.  At rest: the stage is stuck (v = 0 held, x constant)
 while |applied force| < F_s, and breaks loose when it reaches F_s.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -21,13 +22,22 @@ STATIC = {"effects.prerolling": False}
 @pytest.mark.parametrize("speed", [0.5e-3, 10e-3, 200e-3])
 def test_steady_sliding(paper: dict, speed: float, direction: int) -> None:
     v_ref = direction * speed
-    run = run_at_speed(dict(FRICTION_ONLY, **STATIC, **{"stroke.x_min": -1.0, "stroke.x_max": 1.0}),
-                       v_ref, paper["m"])
+    run = run_at_speed(
+        dict(FRICTION_ONLY, **STATIC, **{"stroke.x_min": -1.0, "stroke.x_max": 1.0}),
+        v_ref,
+        paper["m"],
+    )
     w = slice(-50, None)
     v = run["v"][w]
     assert np.all(np.abs(v / v_ref - 1.0) < 0.01)
-    exp = steady_friction(v, paper["friction.F_s"], paper["friction.F_c"], paper["friction.V_s"],
-                          paper["friction.delta"], paper["friction.sigma2"])
+    exp = steady_friction(
+        v,
+        paper["friction.F_s"],
+        paper["friction.F_c"],
+        paper["friction.V_s"],
+        paper["friction.delta"],
+        paper["friction.sigma2"],
+    )
     assert np.max(np.abs(run["F_friction"][w] / exp - 1.0)) < 5e-3
     assert np.max(np.abs(-run["F_ext"][w] / exp - 1.0)) < 5e-3
     assert run["n_stuck"][-1] == 0
@@ -77,15 +87,17 @@ def test_breaks_loose_exactly_at_static_friction(paper: dict) -> None:
 
     def F_app(t: float) -> float:
         return 0.9 * Fs + 20.0 * t
+
     plant = me_plant(dict(FRICTION_ONLY, **STATIC))
     try:
-        run = run_law(plant, dt, 250, lambda k, t, y: (0.0, -F_app(t)),
-                      {"x": x0, "F_ext": -F_app(0.0)})
+        run = run_law(
+            plant, dt, 250, lambda k, t, y: (0.0, -F_app(t)), {"x": x0, "F_ext": -F_app(0.0)}
+        )
     finally:
         plant.close()
-    kb = int(np.argmax(-run["F_ext"] >= Fs))        # first sample pushing with F_s or more
+    kb = int(np.argmax(-run["F_ext"] >= Fs))  # first sample pushing with F_s or more
     assert 0 < kb < 240
     assert np.all(run["x"][: kb + 1] == x0) and np.all(run["v"][: kb + 1] == 0.0)
-    assert np.all(run["x"][kb + 1:] > x0)
+    assert np.all(run["x"][kb + 1 :] > x0)
     assert run["n_stuck"][kb] == 1 and run["n_stuck"][kb + 1] == 0
     assert run.stats["stats.n_slip"] == 1 and run.stats["stats.n_stick"] == 0

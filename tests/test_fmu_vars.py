@@ -1,4 +1,5 @@
 """One source of truth: modelDescription.xml, the generated C table and the paper agree."""
+
 from __future__ import annotations
 
 import math
@@ -25,11 +26,18 @@ def _xml_vars() -> list[dict]:
     out = []
     for sv in root.find("ModelVariables").findall("ScalarVariable"):
         t = sv[0]
-        out.append({"name": sv.get("name"), "vr": int(sv.get("valueReference")), "type": t.tag,
-                    "causality": sv.get("causality", "local"),
-                    "variability": sv.get("variability", "continuous"),
-                    "start": t.get("start"), "unit": t.get("unit", ""),
-                    "nominal": float(t.get("nominal", "1"))})
+        out.append(
+            {
+                "name": sv.get("name"),
+                "vr": int(sv.get("valueReference")),
+                "type": t.tag,
+                "causality": sv.get("causality", "local"),
+                "variability": sv.get("variability", "continuous"),
+                "start": t.get("start"),
+                "unit": t.get("unit", ""),
+                "nominal": float(t.get("nominal", "1")),
+            }
+        )
     return out
 
 
@@ -61,16 +69,22 @@ def test_header_value_references_match_xml(gen_files: tuple[str, str]) -> None:
     for ident, size, body in groups:
         vals = [int(s.strip().rstrip("u")) for s in body.split(",")]
         assert len(vals) == int(size)
-        members = {n: vr for n, vr in by_name.items()
-                   if re.fullmatch(r"(.*)\[(\d+)\]", n) and not n.startswith("der(")
-                   and _ident(n.rsplit("[", 1)[0]) == ident}
+        members = {
+            n: vr
+            for n, vr in by_name.items()
+            if re.fullmatch(r"(.*)\[(\d+)\]", n)
+            and not n.startswith("der(")
+            and _ident(n.rsplit("[", 1)[0]) == ident
+        }
         assert members, ident
         for n, vr in members.items():
             assert vals[int(n.rsplit("[", 1)[1][:-1])] == vr, n
 
 
-ROW = re.compile(r'\{(\d+)u, "([^"]+)", \'(\w)\', \'(\w)\', \'(\w)\', ([^,]+), (\d), ([^,]+), ([^,]+), '
-                 r'"([^"]*)", ([^}]+)\}')
+ROW = re.compile(
+    r'\{(\d+)u, "([^"]+)", \'(\w)\', \'(\w)\', \'(\w)\', ([^,]+), (\d), ([^,]+), ([^,]+), '
+    r'"([^"]*)", ([^}]+)\}'
+)
 
 
 def test_c_table_rows_match_xml(gen_files: tuple[str, str]) -> None:
@@ -95,8 +109,11 @@ def test_c_table_rows_match_xml(gen_files: tuple[str, str]) -> None:
 
 
 def _xml_parameters() -> dict[str, float]:
-    return {v["name"]: _value(v["start"], v["type"]) for v in _xml_vars()
-            if v["causality"] == "parameter"}
+    return {
+        v["name"]: _value(v["start"], v["type"])
+        for v in _xml_vars()
+        if v["causality"] == "parameter"
+    }
 
 
 def test_xml_defaults_are_the_paper_parameters(paper: dict) -> None:
@@ -104,10 +121,13 @@ def test_xml_defaults_are_the_paper_parameters(paper: dict) -> None:
     missing = sorted(set(paper) - set(xp))
     assert not missing, f"paper parameters without an FMU variable: {missing}"
     extra = sorted(set(xp) - set(paper))
-    assert extra == ["solver.fast", "solver.tol"], f"FMU parameters not in paper_parameters(): {extra}"
+    assert extra == ["solver.fast", "solver.tol"], (
+        f"FMU parameters not in paper_parameters(): {extra}"
+    )
     for name, value in paper.items():
-        assert math.isclose(xp[name], float(value), rel_tol=1e-12, abs_tol=1e-300), \
+        assert math.isclose(xp[name], float(value), rel_tol=1e-12, abs_tol=1e-300), (
             f"{name}: XML start {xp[name]!r}, paper {value!r}"
+        )
 
 
 def test_fmu_binary_holds_the_paper_parameters(fmu_path: Path, paper: dict) -> None:
@@ -127,6 +147,7 @@ def test_state_nominals_come_from_the_model_description(fmu_path):
     from fmpy import read_model_description
 
     from feeddrive.fmu import Plant
+
     md = read_model_description(str(fmu_path))
     states = [d.variable.derivative for d in md.derivatives]
     expected = [float(s.nominal) if s.nominal is not None else 1.0 for s in states]
@@ -136,14 +157,14 @@ def test_state_nominals_come_from_the_model_description(fmu_path):
         p.fmu.getNominalsOfContinuousStates(buf, len(expected))
         assert list(buf) == expected
     assert expected[:2] == [1e-3, 1e-3] and expected[2:12] == [1.0] * 10
-    assert expected[12:] == [1e-5, 1e-3]      # compliance.dx [m], compliance.dv [m/s]
+    assert expected[12:] == [1e-5, 1e-3]  # compliance.dx [m], compliance.dv [m/s]
 
 
 def test_no_xml_comment_inside_model_variables() -> None:
     """Some importers (fmipp 2.1) count every child of ModelVariables, comments included, as a
     ScalarVariable: the list holds ScalarVariable elements only."""
     text = XML.read_text()
-    block = text[text.index("<ModelVariables>"):text.index("</ModelVariables>")]
+    block = text[text.index("<ModelVariables>") : text.index("</ModelVariables>")]
     assert "<!--" not in block
     children = [c.tag for c in ET.fromstring(text).find("ModelVariables")]
     assert children and set(children) == {"ScalarVariable"}

@@ -1,5 +1,6 @@
 """The closed-loop harness: controller specs both ways, the sidecar schema, the FMI fast
 path, and every controller type through `feeddrive validate` and `feeddrive diagnose`."""
+
 from __future__ import annotations
 
 import json
@@ -39,9 +40,13 @@ from feeddrive.model_file import paper_model, save_model
 from feeddrive.validation.replay import validate
 
 PAPER = paper_model()
-SPECS = {"state_space": state_space_spec(), "pid": pid_spec(), "pid_lead": pid_lead_spec(),
-         "state_space_gms_ff": state_space_spec(feedforward=FeedforwardOptions(friction="gms")),
-         "lti": cascade_lti_spec(40.0, 30.0, 0.04, 600.0, anti_windup={"pole": 0.5})}
+SPECS = {
+    "state_space": state_space_spec(),
+    "pid": pid_spec(),
+    "pid_lead": pid_lead_spec(),
+    "state_space_gms_ff": state_space_spec(feedforward=FeedforwardOptions(friction="gms")),
+    "lti": cascade_lti_spec(40.0, 30.0, 0.04, 600.0, anti_windup={"pole": 0.5}),
+}
 
 
 def test_every_registered_type_has_a_spec_here():
@@ -64,19 +69,22 @@ def test_spec_to_controller_and_back_through_json(name):
 
 def test_pid_to_spec_from_attributes():
     c = make_controller(pid_lead_spec(30.0, 90.0, Kp=1e5), sinusoid(0.01, 2.0, 0.15, 0.1))
-    del c.spec                                     # the PID's own attributes say it too
+    del c.spec  # the PID's own attributes say it too
     assert controller_spec(c) == pid_lead_spec(30.0, 90.0, Kp=1e5)
 
 
-@pytest.mark.parametrize("spec, match", [
-    ({"type": "lqr"}, "type 'lqr' is not known"),
-    ({"type": "pid", "Kv": 1, "Ki": 1, "force_per_volt": 1}, "'Kp' missing"),
-    (dict(pid_spec(), Kp="big"), "Kp = 'big'"),
-    (dict(pid_spec(), gain=1.0), r"unknown key\(s\) \['gain'\]"),
-    (dict(pid_lead_spec(), lead_zero_hz=200.0), "lead needs 0 < zero_hz < pole_hz"),
-    (dict(state_space_spec(), feedforward="gms"), "feedforward must be null or an object"),
-    (dict(state_space_spec(), quantum=1e-7), r"unknown key\(s\) \['quantum'\]"),
-])
+@pytest.mark.parametrize(
+    "spec, match",
+    [
+        ({"type": "lqr"}, "type 'lqr' is not known"),
+        ({"type": "pid", "Kv": 1, "Ki": 1, "force_per_volt": 1}, "'Kp' missing"),
+        (dict(pid_spec(), Kp="big"), "Kp = 'big'"),
+        (dict(pid_spec(), gain=1.0), r"unknown key\(s\) \['gain'\]"),
+        (dict(pid_lead_spec(), lead_zero_hz=200.0), "lead needs 0 < zero_hz < pole_hz"),
+        (dict(state_space_spec(), feedforward="gms"), "feedforward must be null or an object"),
+        (dict(state_space_spec(), quantum=1e-7), r"unknown key\(s\) \['quantum'\]"),
+    ],
+)
 def test_bad_specs_name_the_key(spec, match):
     with pytest.raises(ValueError, match=match):
         make_controller(spec, sinusoid(0.01, 2.0, 0.15, 0.1))
@@ -120,20 +128,30 @@ def test_sidecar_build_and_read():
     meta = build_sidecar("closed_loop", 5e-4, pid_spec(), s, F_load=54.9, name="r1")
     assert meta["schema"] == SCHEMA and meta["sensors"]["seed"] == 7
     side = read_sidecar(json.loads(json.dumps(meta)))
-    assert (side.experiment, side.Ts, side.controller, side.sensors, side.F_load) == \
-        ("closed_loop", 5e-4, pid_spec(), s, 54.9)
+    assert (side.experiment, side.Ts, side.controller, side.sensors, side.F_load) == (
+        "closed_loop",
+        5e-4,
+        pid_spec(),
+        s,
+        54.9,
+    )
     assert side.extra == {"name": "r1"}
     assert read_sidecar({}).controller is None and read_sidecar(None).sensors == Sensors()
     assert side.ignored == [] and side.note_line() is None
     # what is not understood is named and left out, never refused
-    for bad, named in [({"Ts": 0}, "Ts"), ({"controller": 3}, "controller"),
-                       ({"schema": "x/2"}, "'x/2'"), ({"sensors": {"seed": "a"}}, "sensors.seed"),
-                       ({"controller": {"Kp": 1}}, "controller"),
-                       ({"controller": dict(pid_spec(), law="PID")}, "controller.law")]:
+    for bad, named in [
+        ({"Ts": 0}, "Ts"),
+        ({"controller": 3}, "controller"),
+        ({"schema": "x/2"}, "'x/2'"),
+        ({"sensors": {"seed": "a"}}, "sensors.seed"),
+        ({"controller": {"Kp": 1}}, "controller"),
+        ({"controller": dict(pid_spec(), law="PID")}, "controller.law"),
+    ]:
         side = read_sidecar(bad, where="r.json")
         assert side.note_line("r.json").startswith("r.json: ") and named in side.note_line()
-    assert read_sidecar({"sensors": {"seed": "a", "quantum": 5e-8}}).sensors == \
-        Sensors(quantum=5e-8)
+    assert read_sidecar({"sensors": {"seed": "a", "quantum": 5e-8}}).sensors == Sensors(
+        quantum=5e-8
+    )
     with pytest.raises(ValueError, match="schema fields"):
         build_sidecar("x", 5e-4, None, s, schema="x/2")
 
@@ -147,7 +165,7 @@ def test_fast_path_uses_its_own_handles_and_reports_fmu_errors(fmu_path):
         np.testing.assert_allclose(io.get(), [0.15, 0.0])
         assert io.calls.do_step is not p.fmu.dll["fmi2DoStep"]
         with pytest.raises(FMUError, match="fmi2SetReal"):
-            p.raw(["x"]).set([0.2])               # a state is not settable after init
+            p.raw(["x"]).set([0.2])  # a state is not settable after init
     ref = sinusoid(0.03, 6.0, 0.15, 1.0)
     with Plant() as p:
         res = simulate_closed_loop(p, make_controller(state_space_spec(), ref), ref.n, ref.x[0])
@@ -156,8 +174,15 @@ def test_fast_path_uses_its_own_handles_and_reports_fmu_errors(fmu_path):
 
 def _write(tmp_path, name, spec, F_load=0.0):
     ref = sinusoid(0.01, 2.0, 0.15, 2.0)
-    run, _ = closed_loop_run(PAPER.fmu_parameters(), spec, ref, Sensors(seed=11),
-                             experiment="harness_test", F_load=F_load, name=name)
+    run, _ = closed_loop_run(
+        PAPER.fmu_parameters(),
+        spec,
+        ref,
+        Sensors(seed=11),
+        experiment="harness_test",
+        F_load=F_load,
+        name=name,
+    )
     path = tmp_path / f"{name}.csv"
     write_run(run, path)
     return path
@@ -170,8 +195,9 @@ def test_every_controller_type_through_validate_and_diagnose(name, tmp_path, cap
     # validate: the replay of the true model is within the sensors' effect of the run
     assert cli(["validate", str(path)]) == 0
     out = capsys.readouterr().out
-    m = re.search(r"reversal peak .*: ([\d.]+) µm\n.*elsewhere max: ([\d.]+) µm\n.*rms: ([\d.]+) µm",
-                  out)
+    m = re.search(
+        r"reversal peak .*: ([\d.]+) µm\n.*elsewhere max: ([\d.]+) µm\n.*rms: ([\d.]+) µm", out
+    )
     assert m, out
     peak, band, rms = map(float, m.groups())
     assert peak < 2.0 and band < 2.0 and 0.0 < rms < 1.0, out
@@ -184,8 +210,21 @@ def test_every_controller_type_through_validate_and_diagnose(name, tmp_path, cap
     # quantum/sqrt(12) = 29 nm
     assert gap["position_error_rms_m"] == pytest.approx(rms * 1e-6, rel=0.05, abs=3e-8)
     save_model(PAPER, tmp_path / "paper.json")
-    assert cli(["diagnose", str(path), "--model", str(tmp_path / "paper.json"),
-                "--out", str(tmp_path / "d"), "--max-steps", "1"]) == 0
+    assert (
+        cli(
+            [
+                "diagnose",
+                str(path),
+                "--model",
+                str(tmp_path / "paper.json"),
+                "--out",
+                str(tmp_path / "d"),
+                "--max-steps",
+                "1",
+            ]
+        )
+        == 0
+    )
     doc = json.loads((tmp_path / "d" / "diagnosis.json").read_text())
     assert not any("closed-loop gap not computed" in n for n in doc["notes"]), doc["notes"]
 

@@ -15,6 +15,7 @@ three times with its own noise seed.  Statistics behind the assertions:
   noise-driven spread; the percentile width from 8 replicates is off by well under a
   factor 2, so the low-noise width must be smaller for every one of them.
 """
+
 from __future__ import annotations
 
 import json
@@ -49,8 +50,10 @@ REPEATS = 3
 
 def jobs():
     yield "prbs", partial(prbs_runs, periods=1)
-    yield "maps", partial(constant_speed_runs, speeds=(20e-3,), loads=PAPER_LOADS,
-                          segment=(0.001, 0.299))
+    yield (
+        "maps",
+        partial(constant_speed_runs, speeds=(20e-3,), loads=PAPER_LOADS, segment=(0.001, 0.299)),
+    )
     yield "stribeck", partial(stribeck_runs, speeds=SPEEDS, cruise_time=1.0, min_length=3e-3)
     yield "force", partial(force_open_loop_runs, n_periods=5)
 
@@ -82,30 +85,40 @@ def _boot(runs, **kw):
 
 
 def test_uncertainty_round_trip_and_rules(tmp_path):
-    m = replace(paper_model(), uncertainty={"m": {"lo": 16.0, "hi": 16.3, "level": 0.95,
-                                                  "replicates": 20}})
+    m = replace(
+        paper_model(), uncertainty={"m": {"lo": 16.0, "hi": 16.3, "level": 0.95, "replicates": 20}}
+    )
     save_model(m, tmp_path / "m.json")
     back = load_model(tmp_path / "m.json")
     assert back.uncertainty == m.uncertainty and back == m
     doc = json.loads((tmp_path / "m.json").read_text())
-    for bad, key in ((({"nope": {"lo": 0, "hi": 1, "level": 0.9, "replicates": 2}}), "nope"),
-                     ({"m": {"lo": 2.0, "hi": 1.0, "level": 0.9, "replicates": 2}}, "hi"),
-                     ({"m": {"lo": 1.0, "hi": float("inf"), "level": 0.9, "replicates": 2}}, "hi"),
-                     ({"m": {"lo": 1.0, "hi": 2.0, "level": 1.5, "replicates": 2}}, "level"),
-                     ({"m": {"lo": 1.0, "hi": 2.0, "level": 0.9}}, "replicates")):
+    for bad, key in (
+        (({"nope": {"lo": 0, "hi": 1, "level": 0.9, "replicates": 2}}), "nope"),
+        ({"m": {"lo": 2.0, "hi": 1.0, "level": 0.9, "replicates": 2}}, "hi"),
+        ({"m": {"lo": 1.0, "hi": float("inf"), "level": 0.9, "replicates": 2}}, "hi"),
+        ({"m": {"lo": 1.0, "hi": 2.0, "level": 1.5, "replicates": 2}}, "level"),
+        ({"m": {"lo": 1.0, "hi": 2.0, "level": 0.9}}, "replicates"),
+    ):
         doc["uncertainty"] = bad
         (tmp_path / "bad.json").write_text(json.dumps(doc))
         with pytest.raises(ModelFileError, match=key):
             load_model(tmp_path / "bad.json")
     assert "uncertainty" not in json.loads(
-        (save_model(paper_model(), tmp_path / "p.json") or tmp_path / "p.json").read_text())
+        (save_model(paper_model(), tmp_path / "p.json") or tmp_path / "p.json").read_text()
+    )
 
 
-@pytest.mark.parametrize("args", (["--bootstrap", "1"], ["--bootstrap", "x"],
-                                  ["--bootstrap", "4", "--level", "1.5"],
-                                  ["--bootstrap", "4", "--workers", "0"],
-                                  ["--bootstrap", "4", "--seed", "-1"],
-                                  ["--bootstrap", "12", "--interval-method", "guess"]))
+@pytest.mark.parametrize(
+    "args",
+    (
+        ["--bootstrap", "1"],
+        ["--bootstrap", "x"],
+        ["--bootstrap", "4", "--level", "1.5"],
+        ["--bootstrap", "4", "--workers", "0"],
+        ["--bootstrap", "4", "--seed", "-1"],
+        ["--bootstrap", "12", "--interval-method", "guess"],
+    ),
+)
 def test_bad_bootstrap_arguments_exit_2(tmp_path, capsys, args):
     with pytest.raises(SystemExit) as e:
         cli.main(["identify", str(tmp_path), "--out", str(tmp_path / "m.json"), *args])
@@ -115,14 +128,29 @@ def test_bad_bootstrap_arguments_exit_2(tmp_path, capsys, args):
 
 @pytest.mark.slow
 def test_campaign_without_repeats_is_refused_with_one_line(tmp_path, quiet, capsys):
-    one = [r for r in quiet if r.meta["sensors"]["seed"] in
-           {run_seed(7, label) for label, _ in jobs()}]
+    one = [
+        r for r in quiet if r.meta["sensors"]["seed"] in {run_seed(7, label) for label, _ in jobs()}
+    ]
     with pytest.raises(ValueError, match="repeats"):
         check_campaign(one)
     for r in one:
         write_run(r, tmp_path / f"{r.meta['name']}.csv")
-    assert cli.main(["identify", str(tmp_path), "--out", str(tmp_path / "m.json"),
-                     "--bootstrap", "4", "--interval-method", "runs", "--serial"]) == 2
+    assert (
+        cli.main(
+            [
+                "identify",
+                str(tmp_path),
+                "--out",
+                str(tmp_path / "m.json"),
+                "--bootstrap",
+                "4",
+                "--interval-method",
+                "runs",
+                "--serial",
+            ]
+        )
+        == 2
+    )
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "repeats" in err
     assert not (tmp_path / "m.json").exists()
@@ -132,7 +160,7 @@ def test_campaign_without_repeats_is_refused_with_one_line(tmp_path, quiet, caps
 def test_bootstrap_covers_the_truth_and_shrinks_with_noise(noisy, quiet, fmu_path):
     truth = truth_model().parameters
     assert sorted(len(c) for c in cells(noisy)) == [REPEATS] * (len(noisy) // REPEATS)
-    exact = identify_runs(campaign(0.0, 1)).model.parameters      # the method's own error
+    exact = identify_runs(campaign(0.0, 1)).model.parameters  # the method's own error
     _base_n, boot_n = _boot(noisy, workers=2)
     _, boot_q = _boot(quiet, parallel=False)
     assert boot_n.failed == 0 and boot_q.failed == 0, boot_n.text() + boot_q.text()
@@ -142,16 +170,19 @@ def test_bootstrap_covers_the_truth_and_shrinks_with_noise(noisy, quiet, fmu_pat
     for n in WELL_DETERMINED:
         b = abs(exact[n] - truth[n])
         iv, iq = boot_n.uncertainty[n], boot_q.uncertainty[n]
-        lines.append(f"{n}: truth {truth[n]:.6g} bias {b:.3g} default noise [{iq['lo']:.6g}, "
-                     f"{iq['hi']:.6g}] 4x noise [{iv['lo']:.6g}, {iv['hi']:.6g}]")
+        lines.append(
+            f"{n}: truth {truth[n]:.6g} bias {b:.3g} default noise [{iq['lo']:.6g}, "
+            f"{iq['hi']:.6g}] 4x noise [{iv['lo']:.6g}, {iv['hi']:.6g}]"
+        )
         assert iq["lo"] - b <= truth[n] <= iq["hi"] + b, "\n".join(lines)
         assert iq["hi"] - iq["lo"] < iv["hi"] - iv["lo"], "\n".join(lines)
     print("\n".join(lines))
     # the same replicates in this process: the same resample (seed per replicate).  Not
     # bitwise: Dask's workers run BLAS single-threaded, this process multi-threaded (a
     # 1e-9 relative rounding difference); another resample differs by ~1e-4.
-    task = BootstrapTask(tuple(noisy), tuple(tuple(c) for c in cells(noisy)),
-                         tuple(boot_n.uncertainty), 3)
+    task = BootstrapTask(
+        tuple(noisy), tuple(tuple(c) for c in cells(noisy)), tuple(boot_n.uncertainty), 3
+    )
     again = run_replicates(task, [0, 5])
     for r in again:
         ref = boot_n.rows[r["replicate"]]
@@ -161,7 +192,7 @@ def test_bootstrap_covers_the_truth_and_shrinks_with_noise(noisy, quiet, fmu_pat
 
 @pytest.mark.slow
 def test_report_shows_the_intervals(quiet, tmp_path):
-    runs = quiet[: len(quiet) // REPEATS * 2]          # two repeats: a cheaper bootstrap
+    runs = quiet[: len(quiet) // REPEATS * 2]  # two repeats: a cheaper bootstrap
     base = identify_runs(runs, truth=truth_model())
     boot = run_bootstrap(runs, base.model, base.defaulted, 3, parallel=False)
     base.model = replace(base.model, uncertainty=boot.uncertainty)
@@ -185,17 +216,29 @@ def test_bootstrap_study_file_through_sweep(quiet, tmp_path, capsys):
     per replicate, the same numbers as run_bootstrap with the same seed: a replicate depends on
     (seed, r) only) and the report; a bad field or --resume is one line and exit 2."""
     import pyarrow.parquet as pq
+
     runs = quiet[: len(quiet) // REPEATS * 2]
     folder = tmp_path / "campaign"
     folder.mkdir()
     for j, r in enumerate(runs):
         write_run(r, folder / f"{j:03d}_{r.name}.csv")
-    study = {"schema": "feeddrive.study/1", "kind": "bootstrap", "name": "intervals",
-             "runs": "campaign", "replicates": 3, "seed": 3, "method": "runs"}
+    study = {
+        "schema": "feeddrive.study/1",
+        "kind": "bootstrap",
+        "name": "intervals",
+        "runs": "campaign",
+        "replicates": 3,
+        "seed": 3,
+        "method": "runs",
+    }
     (tmp_path / "boot.json").write_text(json.dumps(study))
     out = tmp_path / "out"
-    assert cli.main(["sweep", str(tmp_path / "boot.json"), "--out", str(out), "--serial",
-                     "--no-progress"]) == 0
+    assert (
+        cli.main(
+            ["sweep", str(tmp_path / "boot.json"), "--out", str(out), "--serial", "--no-progress"]
+        )
+        == 0
+    )
     text = capsys.readouterr().out
     assert "study intervals, bootstrap: 3/3 replicates" in text and "friction.F_s" in text
     model = load_model(out / "model.json")
@@ -209,9 +252,14 @@ def test_bootstrap_study_file_through_sweep(quiet, tmp_path, capsys):
         assert table[k] == [r[k] for r in ref.rows], k
     assert (out / "replicates.csv").read_text().count("\n") == 4
     assert "bootstrap intervals" in (out / "report.html").read_text()
-    for bad, fld in (({"replicates": 1}, "replicates"), ({"runs": "nowhere"}, "runs"),
-                     ({"kind": "bogus"}, "kind"), ({"level": 2}, "level"), ({"extra": 1}, "extra"),
-                     ({"method": "guess"}, "method")):
+    for bad, fld in (
+        ({"replicates": 1}, "replicates"),
+        ({"runs": "nowhere"}, "runs"),
+        ({"kind": "bogus"}, "kind"),
+        ({"level": 2}, "level"),
+        ({"extra": 1}, "extra"),
+        ({"method": "guess"}, "method"),
+    ):
         (tmp_path / "bad.json").write_text(json.dumps({**study, **bad}))
         assert cli.main(["sweep", str(tmp_path / "bad.json"), "--out", str(tmp_path / "o2")]) == 2
         err = capsys.readouterr().err.strip().splitlines()

@@ -1,5 +1,6 @@
 """identify's run classification: the sidecar's kind, else a signal test that a constant
 signal fails; a file name naming a kind must agree with the signals; the reason is kept."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -13,8 +14,15 @@ from feeddrive.identify.pipeline import classify_why, group_runs
 
 def _run(x, u, name="stray", i=None, x_ref=None, meta=None) -> Run:
     n = len(x)
-    return Run(time=np.arange(n) * 5e-4, u=u, x=x, i=i, x_ref=x_ref, meta=meta or {},
-               path=Path(f"/data/{name}.csv"))
+    return Run(
+        time=np.arange(n) * 5e-4,
+        u=u,
+        x=x,
+        i=i,
+        x_ref=x_ref,
+        meta=meta or {},
+        path=Path(f"/data/{name}.csv"),
+    )
 
 
 N = 2000
@@ -27,7 +35,7 @@ def test_constant_signals_are_not_classified():
     with pytest.raises(ValueError, match=r"stray\.csv: cannot tell.*x constant"):
         classify_why(_run(np.full(N, 0.15), PRBS_U, i=PRBS_U * 0.06))
     with pytest.raises(ValueError, match=r"prbs\.csv: cannot tell.*x constant"):
-        classify_why(_run(np.full(N, 0.15), np.zeros(N), name="prbs"))      # the name alone
+        classify_why(_run(np.full(N, 0.15), np.zeros(N), name="prbs"))  # the name alone
     with pytest.raises(ValueError, match="u is constant"):
         classify_why(_run(np.linspace(0.1, 0.2, N), np.full(N, 0.2)))
 
@@ -50,8 +58,17 @@ def test_kinds_and_reasons():
 
 def test_group_runs_says_where_each_run_went():
     why: list[str] = []
-    groups = group_runs([_run(HELD_X, PRBS_U, name="a"),
-                         _run(np.full(N, 0.15), np.zeros(N), name="b", meta={"kind": "prerolling"})],
-                        why)
-    assert [r.name for r in groups["prbs"]] == ["a"] and [r.name for r in groups["prerolling"]] == ["b"]
-    assert why[0].startswith("  a: prbs (signals: x held within") and "b: prerolling (the sidecar" in why[1]
+    groups = group_runs(
+        [
+            _run(HELD_X, PRBS_U, name="a"),
+            _run(np.full(N, 0.15), np.zeros(N), name="b", meta={"kind": "prerolling"}),
+        ],
+        why,
+    )
+    assert [r.name for r in groups["prbs"]] == ["a"] and [r.name for r in groups["prerolling"]] == [
+        "b"
+    ]
+    assert (
+        why[0].startswith("  a: prbs (signals: x held within")
+        and "b: prerolling (the sidecar" in why[1]
+    )

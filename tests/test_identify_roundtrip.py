@@ -10,6 +10,7 @@ a minute: the ripple/cogging runs cross the whole stroke at 20 mm/s instead of 1
 300 s), the Stribeck runs cruise for 1.5 s, the other runs are those of the quick campaign
 with the pre-rolling periods of 2 s.
 """
+
 from __future__ import annotations
 
 import json
@@ -56,16 +57,26 @@ def truth_model():
     p["cogging.c[1]"] *= 0.8
     p["ripple.c[0]"] = 72.0
     p["ripple.c[2]"] *= 1.2
-    return ModelFile(name="roundtrip truth", effects=paper_model().effects, parameters=p,
-                     description="paper model, perturbed")
+    return ModelFile(
+        name="roundtrip truth",
+        effects=paper_model().effects,
+        parameters=p,
+        description="paper model, perturbed",
+    )
 
 
 def roundtrip_jobs():
     yield "prbs", partial(prbs_runs, periods=1)
-    yield "maps", partial(constant_speed_runs, speeds=(MAP_SPEED,), loads=PAPER_LOADS,
-                          segment=(0.001, 0.299))
-    yield "stribeck", partial(stribeck_runs, speeds=STRIBECK_SPEEDS, cruise_time=1.5,
-                              min_length=3e-3)
+    yield (
+        "maps",
+        partial(
+            constant_speed_runs, speeds=(MAP_SPEED,), loads=PAPER_LOADS, segment=(0.001, 0.299)
+        ),
+    )
+    yield (
+        "stribeck",
+        partial(stribeck_runs, speeds=STRIBECK_SPEEDS, cruise_time=1.5, min_length=3e-3),
+    )
     yield "force", partial(force_open_loop_runs, n_periods=5)
     yield "variable", partial(variable_speed_runs, duration=2.0)
     yield "prerolling", partial(prerolling_runs, period=2.0, n_periods=2.0)
@@ -85,7 +96,7 @@ def runs_dir(tmp_path_factory, truth, fmu_path):
         for r in fn(params, Sensors(seed=run_seed(SEED, label))):
             assert r.meta["name"] not in names
             names.add(r.meta["name"])
-            write_run(r, out / f"{r.meta['name']}.csv", RECORDING_DECIMALS)   # as recorded
+            write_run(r, out / f"{r.meta['name']}.csv", RECORDING_DECIMALS)  # as recorded
     return out
 
 
@@ -104,13 +115,18 @@ def result(runs_dir, truth):
 def test_every_run_is_classified_with_and_without_sidecar(runs_dir):
     runs = load_runs(runs_dir)
     kinds = [classify(r) for r in runs]
-    assert sorted(set(kinds)) == ["constant_speed", "force_open_loop", "prbs", "prerolling",
-                                  "variable_speed"]
+    assert sorted(set(kinds)) == [
+        "constant_speed",
+        "force_open_loop",
+        "prbs",
+        "prerolling",
+        "variable_speed",
+    ]
     for r, k in zip(runs, kinds, strict=True):
         r.meta = {}
-        assert classify(r) == k, r.path          # from the file stem
+        assert classify(r) == k, r.path  # from the file stem
         r.path = None
-        assert classify(r) == k                  # from the signals alone
+        assert classify(r) == k  # from the signals alone
 
 
 def test_roundtrip_table_within_tolerances(result):
@@ -119,10 +135,22 @@ def test_roundtrip_table_within_tolerances(result):
     failed = [r.quantity for r in result.table if r.ok is False]
     assert not failed, text
     quantities = {r.quantity for r in result.table}
-    for q in ("current.a[1]", "current.a[2]", "current.b[2]", "current.b[3]",
-              "K_f(x) rms / range", "F_cg(x) rms / range", "friction.F_s", "friction.F_c",
-              "friction.V_s", "friction.delta", "friction.sigma2", "m", "friction.C",
-              "min W_i"):
+    for q in (
+        "current.a[1]",
+        "current.a[2]",
+        "current.b[2]",
+        "current.b[3]",
+        "K_f(x) rms / range",
+        "F_cg(x) rms / range",
+        "friction.F_s",
+        "friction.F_c",
+        "friction.V_s",
+        "friction.delta",
+        "friction.sigma2",
+        "m",
+        "friction.C",
+        "min W_i",
+    ):
         assert q in quantities, q
     assert not result.skipped
 
@@ -147,8 +175,13 @@ def test_cli_writes_a_loadable_model_file(model_path, result):
     assert model.name == "identified"
     for k in ("m", "friction.F_s", "friction.C", "current.a[1]", "cogging.a[1]"):
         assert model.parameters[k] == pytest.approx(result.model.parameters[k], rel=1e-12)
-    assert set(model.defaulted) <= {"offset.F", "asymmetry.dF", "asymmetry.dsigma2",
-                                    "stroke.x_min", "stroke.x_max"}
+    assert set(model.defaulted) <= {
+        "offset.F",
+        "asymmetry.dF",
+        "asymmetry.dsigma2",
+        "stroke.x_min",
+        "stroke.x_max",
+    }
 
 
 def test_sec4_with_identified_model_predicts_the_truth(model_path, truth):
@@ -168,8 +201,7 @@ def test_attraction_literal_C(result, truth):
     """C = 10.8 N/s (relaxation S/C ~ 2.5 s): a 6 s variable-speed run resolves it, with
     everything else from the round trip's identified model."""
     p = dict(truth.fmu_parameters(), **{"friction.C": 10.8})
-    run, = variable_speed_runs(p, Sensors(seed=run_seed(SEED, "C10.8")), duration=6.0,
-                               period=2.0)
+    (run,) = variable_speed_runs(p, Sensors(seed=run_seed(SEED, "C10.8")), duration=6.0, period=2.0)
     fit = identify_attraction(run, result.model.parameters)
     assert fit.resolved
     factor = max(fit.C / 10.8, 10.8 / fit.C)
@@ -183,9 +215,18 @@ def test_report_section_has_the_figures(result, tmp_path):
     identification_section(page, result)
     page.write()
     pngs = sorted(p.name for p in tmp_path.glob("*.png"))
-    for stem in ("fig05_maps", "fig06_dstft_cogging", "fig07_cogging_components",
-                 "fig08_dstft_ripple", "fig09_ripple_components", "fig10_map_fits",
-                 "fig11_elements", "fig12_stribeck", "fig13_prerolling", "sec4_comparison"):
+    for stem in (
+        "fig05_maps",
+        "fig06_dstft_cogging",
+        "fig07_cogging_components",
+        "fig08_dstft_ripple",
+        "fig09_ripple_components",
+        "fig10_map_fits",
+        "fig11_elements",
+        "fig12_stribeck",
+        "fig13_prerolling",
+        "sec4_comparison",
+    ):
         assert f"id_{stem}.png" in pngs
     html = (tmp_path / "index.html").read_text()
     assert "friction.F_s" in html and "true" in html
@@ -201,6 +242,7 @@ def test_campaign_prerolling_amplitude_lies_between_delta4_and_delta5(truth, whi
 
 def test_maps_over_too_short_a_stroke_are_refused(runs_dir):
     from feeddrive.identify.pipeline import identify_runs
+
     with pytest.raises(ValueError, match=r"position maps.*share only .* mm of stroke"):
         identify_runs(load_runs(runs_dir), min_map_span=0.5)
 
@@ -210,6 +252,7 @@ def test_truth_table_flags_a_wrong_parameter(result, truth):
     from dataclasses import replace as dc_replace
 
     from feeddrive.identify.truth_table import truth_rows
+
     off = result.model.with_effect("mass", True, m=result.model.parameters["m"] * 1.02)
     rows = truth_rows(dc_replace(result, model=off), truth)
     assert [r.quantity for r in rows if r.ok is False] == ["m"]
@@ -226,16 +269,24 @@ def test_standard_campaign_round_trip(tmp_path, fmu_path):
     res = identify_folder(runs, tmp_path / "model.json", truth=paper_model())
     print(res.text())
     assert not [r.quantity for r in res.table if r.ok is False], res.text()
-    cmp = compare_sec4(load_model(tmp_path / "model.json").fmu_parameters(),
-                       paper_model().fmu_parameters())
+    cmp = compare_sec4(
+        load_model(tmp_path / "model.json").fmu_parameters(), paper_model().fmu_parameters()
+    )
     print(cmp.text())
     assert cmp.ok
 
 
-FOREIGN_CONTROLLER = {"type": "pid", "law": "PID, lead filter on the derivative path, "
-                      "derivative low-pass", "Kp": 2.0e5, "Ki": 3.0e6, "Kd": 3.0e3,
-                      "d_lowpass_Hz": 400.0, "lead_zero_Hz": 40.0, "lead_pole_Hz": 120.0,
-                      "force_per_volt": 78.7}
+FOREIGN_CONTROLLER = {
+    "type": "pid",
+    "law": "PID, lead filter on the derivative path, derivative low-pass",
+    "Kp": 2.0e5,
+    "Ki": 3.0e6,
+    "Kd": 3.0e3,
+    "d_lowpass_Hz": 400.0,
+    "lead_zero_Hz": 40.0,
+    "lead_pole_Hz": 120.0,
+    "force_per_volt": 78.7,
+}
 
 
 def test_sidecars_of_another_program_give_the_same_model(runs_dir, model_path, tmp_path, capsys):
@@ -266,7 +317,12 @@ def test_sidecars_of_another_program_give_the_same_model(runs_dir, model_path, t
     n_runs = len(list(runs_dir.glob("*.csv")))
     assert len(lines) == n_runs and "ignored" not in plain_out
     closed = [ln for ln in lines if "no closed-loop replay" in ln]
-    assert len(closed) == sum(json.loads(p.read_text()).get("controller") is not None
-                              for p in runs_dir.glob("*.json")) > 0
+    assert (
+        len(closed)
+        == sum(
+            json.loads(p.read_text()).get("controller") is not None for p in runs_dir.glob("*.json")
+        )
+        > 0
+    )
     for ln in closed:
         assert "sensors.encoder, sensors.interpolation" in ln and "law, Kd" in ln, ln

@@ -16,6 +16,7 @@ each other)::
     <- identify, validation, diagnose, realdata, xy (the X-Y table and its circular test)
     <- study <- report <- cli, commands, bench
 """
+
 from __future__ import annotations
 
 import ast
@@ -28,19 +29,40 @@ PKG = Path(feeddrive.__file__).resolve().parent
 #: rank of each top-level module or subpackage of feeddrive (imports only to rank <= own)
 LAYERS: dict[str, int] = {
     "effects": -1,
-    "paper": 0, "data": 0, "data_csv": 0, "signals": 0, "model_description": 0, "outputs": 0, "inputs": 0,
-    "physics": 1, "plausibility": 1,
-    "model_file": 2, "fits": 2,
-    "fmu": 3, "fmu3": 3, "export_fmu": 3,
+    "paper": 0,
+    "data": 0,
+    "data_csv": 0,
+    "signals": 0,
+    "model_description": 0,
+    "outputs": 0,
+    "inputs": 0,
+    "physics": 1,
+    "plausibility": 1,
+    "model_file": 2,
+    "fits": 2,
+    "fmu": 3,
+    "fmu3": 3,
+    "export_fmu": 3,
     "control": 4,
     "harness": 5,
     "experiments": 6,
-    "residual": 7, "systems": 7,
-    "identify": 8, "validation": 8, "diagnose": 8, "realdata": 8, "xy": 8,
+    "residual": 7,
+    "systems": 7,
+    "identify": 8,
+    "validation": 8,
+    "diagnose": 8,
+    "realdata": 8,
+    "xy": 8,
     "study": 9,
     "report": 10,
-    "cli": 11, "commands": 11, "bench": 11, "bench_c": 11, "bench_campaign": 11, "bench_cli": 11,
-    "bench_study": 11, "__main__": 11,
+    "cli": 11,
+    "commands": 11,
+    "bench": 11,
+    "bench_c": 11,
+    "bench_campaign": 11,
+    "bench_cli": 11,
+    "bench_study": 11,
+    "__main__": 11,
 }
 
 
@@ -71,8 +93,11 @@ def _imports(path: Path) -> list[tuple[str, int, bool]]:
         for child in ast.iter_child_nodes(node):
             f = in_func or isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef))
             if isinstance(child, ast.Import):
-                out.extend((a.name, child.lineno, in_func) for a in child.names
-                           if a.name.split(".")[0] == "feeddrive")
+                out.extend(
+                    (a.name, child.lineno, in_func)
+                    for a in child.names
+                    if a.name.split(".")[0] == "feeddrive"
+                )
             elif isinstance(child, ast.ImportFrom):
                 target = _resolve(mod, is_pkg, child)
                 if target.split(".")[0] == "feeddrive":
@@ -93,7 +118,7 @@ def _graph() -> dict[str, set[str]]:
     g: dict[str, set[str]] = {m: set() for m in mods}
     for m, p in mods.items():
         for target, _, _ in _imports(p):
-            while target not in mods and "." in target:   # an attribute, not a module
+            while target not in mods and "." in target:  # an attribute, not a module
                 target = target.rsplit(".", 1)[0]
             if target in mods and target != m:
                 g[m].add(target)
@@ -141,8 +166,11 @@ def test_no_import_cycle() -> None:
         if v not in index:
             strong(v)
     # a package __init__ re-exporting its own modules is not a cycle of the flow
-    real = [c for c in cycles
-            if not all(x.startswith(min(c, key=len) + ".") or x == min(c, key=len) for x in c)]
+    real = [
+        c
+        for c in cycles
+        if not all(x.startswith(min(c, key=len) + ".") or x == min(c, key=len) for x in c)
+    ]
     assert not real, f"import cycles: {real}"
 
 
@@ -151,16 +179,23 @@ LAZY = {"feeddrive.cli"}
 
 
 def test_no_function_local_package_import() -> None:
-    bad = [f"{p.relative_to(PKG.parent)}:{line} imports {t}"
-           for p in sorted(PKG.rglob("*.py")) if _module_name(p) not in LAZY
-           for t, line, in_func in _imports(p) if in_func]
+    bad = [
+        f"{p.relative_to(PKG.parent)}:{line} imports {t}"
+        for p in sorted(PKG.rglob("*.py"))
+        if _module_name(p) not in LAZY
+        for t, line, in_func in _imports(p)
+        if in_func
+    ]
     assert not bad, "function-local imports of the package:\n" + "\n".join(bad)
 
 
 def _package_imports() -> list[tuple[str, str, str]]:
     """(file:line, importing module, imported module) for every import of the package."""
-    return [(f"{p.relative_to(PKG.parent)}:{line}", _module_name(p), t)
-            for p in sorted(PKG.rglob("*.py")) for t, line, _ in _imports(p)]
+    return [
+        (f"{p.relative_to(PKG.parent)}:{line}", _module_name(p), t)
+        for p in sorted(PKG.rglob("*.py"))
+        for t, line, _ in _imports(p)
+    ]
 
 
 def test_imports_point_down_the_flow() -> None:
@@ -173,11 +208,8 @@ def test_imports_point_down_the_flow() -> None:
 
 
 def test_every_module_has_a_layer() -> None:
-    missing = sorted({m.split(".")[1] for m in _graph() if m.count(".") >= 1
-                      and _layer(m) is None})
+    missing = sorted({m.split(".")[1] for m in _graph() if m.count(".") >= 1 and _layer(m) is None})
     assert not missing, f"modules with no layer in LAYERS: {missing}"
-
-
 
 
 def _stage(mod: str) -> str | None:

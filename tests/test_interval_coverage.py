@@ -10,6 +10,7 @@ estimates' scatter over the K campaigns (plus their mean error from the truth) c
 The full study (K = 20, the percentile method of whole-run resampling beside it) is
 ``make interval-coverage``; its figures are in docs/intervals.md.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -19,8 +20,7 @@ from feeddrive.study.coverage import CHECKED, coverage_study, coverage_truth, lo
 
 K, B = 8, 10
 #: the steps every campaign identifies: each must get an interval in every campaign
-ALWAYS = ("m", "friction.F_s", "friction.F_c", "friction.V_s", "friction.delta",
-          "friction.sigma2")
+ALWAYS = ("m", "friction.F_s", "friction.F_c", "friction.V_s", "friction.delta", "friction.sigma2")
 
 
 @pytest.mark.slow

@@ -2,6 +2,7 @@
 lfilter), the PID and PID-lead of the registry and a cascaded P-PI as LTI specs, the clamp
 and the back-calculation anti-windup, bad specs named, and the round trip through a run's
 sidecar."""
+
 from __future__ import annotations
 
 import json
@@ -62,8 +63,12 @@ SPECS = {
     "pid_lead_tf": pid_lti_spec(TS, tf=2e-4, lead=(40.0, 120.0), u_limit=1e9),
     # on the paper's drive: crossover 24 Hz, phase margin 31 deg, gain margin 9.3 dB, min|1+L| 0.47
     "cascade_tf": cascade_lti_spec(40.0, 30.0, 0.04, 600.0, TS, u_limit=1e9),
-    "per_input_den": lti_spec(TS, num=[[2.0e3, -1.9e3], [-3.0e3, 2.8e3, 0.0]],
-                              den=[[1.0, -0.95], [1.0, -1.2, 0.35]], u_limit=1e9),
+    "per_input_den": lti_spec(
+        TS,
+        num=[[2.0e3, -1.9e3], [-3.0e3, 2.8e3, 0.0]],
+        den=[[1.0, -0.95], [1.0, -1.2, 0.35]],
+        u_limit=1e9,
+    ),
 }
 
 
@@ -71,8 +76,15 @@ def _random_ss(n: int, seed: int = 3) -> dict:
     rng = np.random.default_rng(seed)
     A = rng.standard_normal((n, n))
     A *= 0.97 / max(abs(np.linalg.eigvals(A)))
-    return lti_spec(TS, A=A, B=rng.standard_normal((n, 2)) * 1e3,
-                    C=rng.standard_normal((1, n)), D=[[400.0, -380.0]], u_limit=1e9, x0="zero")
+    return lti_spec(
+        TS,
+        A=A,
+        B=rng.standard_normal((n, 2)) * 1e3,
+        C=rng.standard_normal((1, n)),
+        D=[[400.0, -380.0]],
+        u_limit=1e9,
+        x0="zero",
+    )
 
 
 @pytest.mark.parametrize("name", [*SPECS, "state_space_8"])
@@ -81,8 +93,9 @@ def test_unsaturated_equals_dlsim(name):
     r, y = _signals()
     u = _run(spec, r, y)
     real = lti_realisation(spec)
-    _, ud, _ = signal.dlsim((real.A, real.B, real.C, real.D, TS), np.c_[r, y],
-                            x0=real.s0 + real.s0_r * r[0])
+    _, ud, _ = signal.dlsim(
+        (real.A, real.B, real.C, real.D, TS), np.c_[r, y], x0=real.s0 + real.s0_r * r[0]
+    )
     assert _rel(u, ud[:, 0]) < REL
     if "num" in spec and not np.any(real.s0_r):
         # the transfer functions themselves, each input's filtered on its own (lfilter from a
@@ -124,7 +137,7 @@ def test_cascade_is_p_pi_with_velocity_filter():
 
 def test_clamp_and_back_calculation():
     r, y = _signals(3)
-    y = y - 0.004                                          # a large error: clamped for long
+    y = y - 0.004  # a large error: clamped for long
     spec = dict(SPECS["pid_tf"], u_limit=10.0)
     u_free = _run(spec, r, y)
     assert np.max(np.abs(u_free)) == 10.0 and np.mean(np.abs(u_free) == 10.0) > 0.2
@@ -143,8 +156,9 @@ def test_clamp_and_back_calculation():
         s = np.array(c._s)
         if s_prev is not None and abs(u) == 10.0:
             e = np.array([r[k], y[k]])
-            pred = ((real.A - np.outer(L, real.C)) @ s_prev + (real.B - np.outer(L, real.D)) @ e
-                    + L * u)
+            pred = (
+                (real.A - np.outer(L, real.C)) @ s_prev + (real.B - np.outer(L, real.D)) @ e + L * u
+            )
             np.testing.assert_allclose(s, pred, rtol=1e-9, atol=1e-9 * np.max(np.abs(s)))
         s_prev = s
     # and it winds up less: the clamped stretch after the error returns is shorter
@@ -157,8 +171,11 @@ def test_back_calculation_gain_needs_an_observable_realisation():
     with pytest.raises(ValueError, match="not observable"):
         back_calculation_gain(A, [[1.0, 1.0]], 0.5)
     L = back_calculation_gain([[0.9, 0.1], [0.0, 0.8]], [[1.0, 0.0]], 0.2)
-    assert np.allclose(np.linalg.eigvals(np.array([[0.9, 0.1], [0.0, 0.8]])
-                                         - np.outer(L, [1.0, 0.0])), 0.2, atol=1e-7)
+    assert np.allclose(
+        np.linalg.eigvals(np.array([[0.9, 0.1], [0.0, 0.8]]) - np.outer(L, [1.0, 0.0])),
+        0.2,
+        atol=1e-7,
+    )
 
 
 def test_rest_state_starts_quiet():
@@ -176,17 +193,20 @@ def test_rest_state_starts_quiet():
     np.testing.assert_allclose(A @ s + B @ [0.15, 0.15], s, atol=1e-12)
 
 
-@pytest.mark.parametrize("change,match", [
-    ({"A": [[1.0]]}, "either A, B, C, D"),
-    ({"num": [[1.0, 2.0, 3.0], [1.0]], "den": [1.0, 0.5]}, "not causal"),
-    ({"num": [[1.0]], "den": [1.0]}, "num must be"),
-    ({"Ts": 1e-3}, "not the sample time"),
-    ({"anti_windup": "yes"}, "anti_windup"),
-    ({"anti_windup": {"pole": 1.5}}, r"pole = 1.5"),
-    ({"x0": "warm"}, "x0"),
-    ({"u_limit": -1.0}, "u_limit"),
-    ({"gain": 3.0}, "unknown key"),
-])
+@pytest.mark.parametrize(
+    "change,match",
+    [
+        ({"A": [[1.0]]}, "either A, B, C, D"),
+        ({"num": [[1.0, 2.0, 3.0], [1.0]], "den": [1.0, 0.5]}, "not causal"),
+        ({"num": [[1.0]], "den": [1.0]}, "num must be"),
+        ({"Ts": 1e-3}, "not the sample time"),
+        ({"anti_windup": "yes"}, "anti_windup"),
+        ({"anti_windup": {"pole": 1.5}}, r"pole = 1.5"),
+        ({"x0": "warm"}, "x0"),
+        ({"u_limit": -1.0}, "u_limit"),
+        ({"gain": 3.0}, "unknown key"),
+    ],
+)
 def test_bad_lti_specs_are_named(change, match):
     spec = dict(SPECS["pid_tf"], **change)
     with pytest.raises(ValueError, match=match):
@@ -214,8 +234,9 @@ def test_round_trip_through_the_sidecar(name, tmp_path, fmu_path):
     spec = dict(SPECS[name], u_limit=10.0, anti_windup={"pole": 0.3})
     params = paper_model().fmu_parameters()
     ref = sinusoid(0.005, 1.0, 0.15, 1.0)
-    run, _ = closed_loop_run(params, spec, ref, Sensors(current_noise=0.0), experiment="lti_test",
-                             name=name)
+    run, _ = closed_loop_run(
+        params, spec, ref, Sensors(current_noise=0.0), experiment="lti_test", name=name
+    )
     write_run(run, tmp_path / f"{name}.csv")
     back = load_run(tmp_path / f"{name}.csv")
     side = read_run_sidecar(back)
@@ -224,8 +245,9 @@ def test_round_trip_through_the_sidecar(name, tmp_path, fmu_path):
     c2 = make_controller(side.controller, from_positions(back.x_ref, side.Ts))
     assert controller_spec(c2) == side.controller
     q = Sensors().quantise(back.x)
-    assert [c1.step(float(x), k) for k, x in enumerate(q)] == \
-        [c2.step(float(x), k) for k, x in enumerate(q)]
+    assert [c1.step(float(x), k) for k, x in enumerate(q)] == [
+        c2.step(float(x), k) for k, x in enumerate(q)
+    ]
     rep = validate(back, paper_model(), side)
     # the replay is the run itself (same controller, plant and scale): x_sim - x_meas is the
     # scale's rounding of x_meas, at most half its 100 nm quantum

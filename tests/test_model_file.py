@@ -1,4 +1,5 @@
 """Tests of feeddrive.model_file: paper round trip, strict keys and types, with_effect."""
+
 from __future__ import annotations
 
 import json
@@ -22,8 +23,12 @@ from feeddrive.paper import EFFECT_IDS, SWITCHABLE_EFFECTS, paper_parameters
 
 def _doc() -> dict:
     m = paper_model()
-    return {"name": "t", "description": "test", "effects": dict(m.effects),
-            "parameters": dict(m.parameters)}
+    return {
+        "name": "t",
+        "description": "test",
+        "effects": dict(m.effects),
+        "parameters": dict(m.parameters),
+    }
 
 
 def _write(tmp_path: Path, doc: dict | str, name: str = "model.json") -> Path:
@@ -56,7 +61,7 @@ def test_paper_round_trip_exact(tmp_path):
     save_model(m, path)
     back = load_model(path)
     assert back == m
-    for k, v in m.parameters.items():          # same bits, same type
+    for k, v in m.parameters.items():  # same bits, same type
         assert type(back.parameters[k]) is type(v) and back.parameters[k] == v, k
     assert back.defaulted == ()
     doc = json.loads(path.read_text())
@@ -71,7 +76,9 @@ def test_fmu_parameters_has_switches_but_no_mass_switch():
     assert p["effects.frictional_lag"] is True
     assert p["effects.offset_force"] is False
     assert "effects.mass" not in p
-    assert {k for k in p if k.startswith("effects.")} == {f"effects.{e}" for e in SWITCHABLE_EFFECTS}
+    assert {k for k in p if k.startswith("effects.")} == {
+        f"effects.{e}" for e in SWITCHABLE_EFFECTS
+    }
 
 
 def test_missing_parameters_filled_from_paper(tmp_path):
@@ -132,24 +139,27 @@ def test_unknown_top_level_key_rejected(tmp_path):
     assert "'effect'" in _error(_write(tmp_path, doc))
 
 
-@pytest.mark.parametrize("section,key,value,word", [
-    ("effects", "stribeck", "yes", "true or false"),
-    ("effects", "stribeck", 1, "true or false"),
-    ("parameters", "friction.N", 5.5, "integer"),
-    ("parameters", "friction.N", True, "integer"),
-    ("parameters", "m", "16.1", "number"),
-    ("parameters", "m", True, "number"),
-    ("parameters", "m", None, "number"),
-    ("parameters", "friction.C", math.nan, "finite"),
-    ("parameters", "friction.C", math.inf, "finite"),
-    ("parameters", "effects.stribeck", "on", "true or false"),
-    ("parameters", "effects.stribeck", False, "effects['stribeck'] is True"),
-    ("parameters", "effects.mass", True, "unknown effect switch"),
-])
+@pytest.mark.parametrize(
+    "section,key,value,word",
+    [
+        ("effects", "stribeck", "yes", "true or false"),
+        ("effects", "stribeck", 1, "true or false"),
+        ("parameters", "friction.N", 5.5, "integer"),
+        ("parameters", "friction.N", True, "integer"),
+        ("parameters", "m", "16.1", "number"),
+        ("parameters", "m", True, "number"),
+        ("parameters", "m", None, "number"),
+        ("parameters", "friction.C", math.nan, "finite"),
+        ("parameters", "friction.C", math.inf, "finite"),
+        ("parameters", "effects.stribeck", "on", "true or false"),
+        ("parameters", "effects.stribeck", False, "effects['stribeck'] is True"),
+        ("parameters", "effects.mass", True, "unknown effect switch"),
+    ],
+)
 def test_wrong_value_types_rejected_naming_key(tmp_path, section, key, value, word):
     doc = _doc()
     doc[section][key] = value
-    msg = _error(_write(tmp_path, doc))       # json.dumps writes NaN / Infinity literals
+    msg = _error(_write(tmp_path, doc))  # json.dumps writes NaN / Infinity literals
     assert f"{section}['{key}']" in msg and word in msg, msg
 
 
@@ -176,17 +186,21 @@ def test_with_effect_switches_and_sets_parameters():
     assert m.effects["offset_force"] is False and m.parameters["offset.F"] == 0.0  # untouched
     m3 = m.with_effect("prerolling", False)
     assert m3.fmu_parameters()["effects.prerolling"] is False
-    assert {k: v for k, v in m3.effects.items() if k != "prerolling"} == \
-        {k: v for k, v in m.effects.items() if k != "prerolling"}
+    assert {k: v for k, v in m3.effects.items() if k != "prerolling"} == {
+        k: v for k, v in m.effects.items() if k != "prerolling"
+    }
 
 
-@pytest.mark.parametrize("effect,on,params,key", [
-    ("backlash", True, {}, "effects['backlash']"),
-    ("mass", False, {}, "effects['mass']"),
-    ("viscous", True, {"friction.sigma": 1.0}, "parameters['friction.sigma']"),
-    ("viscous", True, {"friction.sigma2": math.nan}, "parameters['friction.sigma2']"),
-    ("viscous", "yes", {}, "effects['viscous']"),
-])
+@pytest.mark.parametrize(
+    "effect,on,params,key",
+    [
+        ("backlash", True, {}, "effects['backlash']"),
+        ("mass", False, {}, "effects['mass']"),
+        ("viscous", True, {"friction.sigma": 1.0}, "parameters['friction.sigma']"),
+        ("viscous", True, {"friction.sigma2": math.nan}, "parameters['friction.sigma2']"),
+        ("viscous", "yes", {}, "effects['viscous']"),
+    ],
+)
 def test_with_effect_validates(effect, on, params, key):
     with pytest.raises(ModelFileError, match=key.replace("[", r"\[").replace("]", r"\]")):
         paper_model().with_effect(effect, on, **params)
@@ -210,14 +224,22 @@ def test_direct_construction_fills_defaults():
 
 INVALID = [  # parameters, the FMU's message (fmu_src/models/plant/params.c)
     ({"m": -16.1}, "m = -16.1 is out of range: allowed (0, inf) kg"),
-    ({"friction.F_c": 30.0}, "friction.F_c = 30 exceeds friction.F_s = 26.100000000000001: "
-                             "allowed friction.F_c in [0, friction.F_s] N"),
+    (
+        {"friction.F_c": 30.0},
+        "friction.F_c = 30 exceeds friction.F_s = 26.100000000000001: "
+        "allowed friction.F_c in [0, friction.F_s] N",
+    ),
     ({"Ts": 0.0}, "Ts = 0 is out of range: allowed (0, inf) s"),
-    ({"friction.nu[5]": 0.713}, "friction.nu[1..5] sum to 1.3300000000000001: allowed 1 +- "
-                                "0.001 (Eq. 12 needs sum(nu) = 1; set friction.nu[5] = 1 - sum "
-                                "of the others)"),
-    ({"friction.sigma2": -7135.0}, "friction.sigma2 = -7135 is out of range: allowed [0, inf) "
-                                   "N.s/m"),
+    (
+        {"friction.nu[5]": 0.713},
+        "friction.nu[1..5] sum to 1.3300000000000001: allowed 1 +- "
+        "0.001 (Eq. 12 needs sum(nu) = 1; set friction.nu[5] = 1 - sum "
+        "of the others)",
+    ),
+    (
+        {"friction.sigma2": -7135.0},
+        "friction.sigma2 = -7135 is out of range: allowed [0, inf) N.s/m",
+    ),
 ]
 
 
@@ -227,14 +249,14 @@ def test_invalid_physics_refused_naming_the_file_with_the_fmus_message(tmp_path,
     doc["parameters"].update(params)
     path = _write(tmp_path, doc)
     assert _error(path) == f"{path}: {message}"
-    with pytest.raises(ModelFileError) as err:          # building one in memory, too
+    with pytest.raises(ModelFileError) as err:  # building one in memory, too
         paper_model().with_effect("mass", True, **params)
     assert str(err.value) == f"model 'paper': {message}"
 
 
 def test_save_refuses_an_edited_model_the_fmu_would_refuse(tmp_path):
     m = paper_model()
-    m.parameters["m"] = -16.1                           # edited in place, after construction
+    m.parameters["m"] = -16.1  # edited in place, after construction
     with pytest.raises(ModelFileError, match=r"out\.json: m = -16.1 is out of range"):
         save_model(m, tmp_path / "out.json")
     assert not (tmp_path / "out.json").exists()
@@ -254,22 +276,32 @@ def test_every_command_refuses_an_invalid_model_file_with_the_fmus_message(tmp_p
     bad = _write(tmp_path, doc, "bad.json")
     t = np.arange(400) * 5e-4
     run = tmp_path / "run.csv"
-    run.write_text("time,u,x\n" + "".join(f"{s:.6f},0.0,{0.15 + 1e-3 * np.sin(20 * s):.9f}\n"
-                                          for s in t))
+    run.write_text(
+        "time,u,x\n" + "".join(f"{s:.6f},0.0,{0.15 + 1e-3 * np.sin(20 * s):.9f}\n" for s in t)
+    )
     expect = f"{bad}: m = -16.1 is out of range: allowed (0, inf) kg"
-    for argv in (["validate", str(run), "--model", str(bad)],
-                 ["experiments", "--out", str(tmp_path / "exp"), "--model", str(bad)],
-                 ["identify", str(tmp_path), "--out", str(tmp_path / "id"), "--truth", str(bad)],
-                 ["diagnose", str(run), "--model", str(bad), "--out", str(tmp_path / "dg")]):
+    for argv in (
+        ["validate", str(run), "--model", str(bad)],
+        ["experiments", "--out", str(tmp_path / "exp"), "--model", str(bad)],
+        ["identify", str(tmp_path), "--out", str(tmp_path / "id"), "--truth", str(bad)],
+        ["diagnose", str(run), "--model", str(bad), "--out", str(tmp_path / "dg")],
+    ):
         assert main(argv) == 2, argv
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and err[0].endswith(expect), (argv, err)
 
 
 def test_compliance_round_trip_and_its_integer_sensor_side(tmp_path):
-    m = paper_model().with_effect("compliance", True, **{"compliance.m2": 3.5, "compliance.f": 87.5,
-                                                         "compliance.zeta": 0.12,
-                                                         "compliance.sensor_side": 1})
+    m = paper_model().with_effect(
+        "compliance",
+        True,
+        **{
+            "compliance.m2": 3.5,
+            "compliance.f": 87.5,
+            "compliance.zeta": 0.12,
+            "compliance.sensor_side": 1,
+        },
+    )
     p = tmp_path / "load.json"
     save_model(m, p)
     back = load_model(p)
@@ -283,5 +315,7 @@ def test_compliance_round_trip_and_its_integer_sensor_side(tmp_path):
     doc["parameters"]["compliance.sensor_side"] = 0.5
     assert "compliance.sensor_side" in _error(_write(tmp_path, doc))
     doc["parameters"]["compliance.sensor_side"] = 0
-    doc["parameters"]["compliance.f"] = 500.0       # the FMU's range is 20..200 Hz
-    assert "compliance.f = 500 is out of range: allowed [20, 200] Hz" in _error(_write(tmp_path, doc))
+    doc["parameters"]["compliance.f"] = 500.0  # the FMU's range is 20..200 Hz
+    assert "compliance.f = 500 is out of range: allowed [20, 200] Hz" in _error(
+        _write(tmp_path, doc)
+    )

@@ -2,6 +2,7 @@
 (what ``open`` and ``mkdir`` give), never the 0600/0700 of a temporary file or folder; checked
 with umask 022 (a colleague can read) and 077 (only the owner), for a model file, an exported
 FMU and its parameter set, and a campaign folder (the folder, its runs and sidecars)."""
+
 from __future__ import annotations
 
 import os
@@ -45,9 +46,16 @@ def test_files_and_folders_follow_the_umask(tmp_path, mask, monkeypatch, fmu2_pa
             (stage / "sub").mkdir()
             (stage / "sub" / "a.txt").write_text("a")
         runs = write_campaign(tmp_path / "runs", model=paper_parameters(), quick=True)
-    files = [tmp_path / "m.json", tmp_path / "D.fmu", tmp_path / "D.ssv",
-             tmp_path / "report" / MARKER, tmp_path / "report" / "sub" / "a.txt",
-             tmp_path / "runs" / MARKER, *runs, *(sidecar_path(r) for r in runs)]
+    files = [
+        tmp_path / "m.json",
+        tmp_path / "D.fmu",
+        tmp_path / "D.ssv",
+        tmp_path / "report" / MARKER,
+        tmp_path / "report" / "sub" / "a.txt",
+        tmp_path / "runs" / MARKER,
+        *runs,
+        *(sidecar_path(r) for r in runs),
+    ]
     for f in files:
         assert _mode(f) == file_mode, (f, oct(_mode(f)))
     for d in (tmp_path / "report", tmp_path / "report" / "sub", tmp_path / "runs"):

@@ -1,5 +1,6 @@
 """Outputs (feeddrive.outputs and the commands that use it): checked before any work, never
 over an input, one run's results per folder, atomic files, numbers range-checked."""
+
 from __future__ import annotations
 
 import json
@@ -21,12 +22,13 @@ def test_output_dir_replaces_whole_folder_and_leaves_no_stale_file(tmp_path):
     with output_dir(out) as d:
         for k in range(3):
             (d / f"step{k}.txt").write_text("x")
-    assert sorted(p.name for p in out.iterdir()) == sorted([MARKER, "step0.txt", "step1.txt",
-                                                            "step2.txt"])
-    with output_dir(out) as d:                      # a rerun that writes fewer files
+    assert sorted(p.name for p in out.iterdir()) == sorted(
+        [MARKER, "step0.txt", "step1.txt", "step2.txt"]
+    )
+    with output_dir(out) as d:  # a rerun that writes fewer files
         (d / "step0.txt").write_text("y")
     assert sorted(p.name for p in out.iterdir()) == sorted([MARKER, "step0.txt"])
-    assert [p.name for p in tmp_path.iterdir()] == ["o"]          # no staging folder left
+    assert [p.name for p in tmp_path.iterdir()] == ["o"]  # no staging folder left
 
 
 def test_output_dir_keeps_the_old_results_when_the_work_fails(tmp_path):
@@ -50,7 +52,7 @@ def test_foreign_folder_refused_unless_force(tmp_path):
         (d / "r.txt").write_text("r")
     assert not (out / "thesis.tex").exists() and (out / MARKER).is_file()
     (tmp_path / "empty").mkdir()
-    assert check_dir(tmp_path / "empty") == tmp_path / "empty"       # empty: fine
+    assert check_dir(tmp_path / "empty") == tmp_path / "empty"  # empty: fine
 
 
 def test_inputs_and_unwritable_targets_refused(tmp_path, monkeypatch):
@@ -65,7 +67,7 @@ def test_inputs_and_unwritable_targets_refused(tmp_path, monkeypatch):
         check_file(tmp_path / "D")
     (tmp_path / "f").write_text("a file")
     with pytest.raises(OutputError, match="cannot write in"):
-        check_file(tmp_path / "f" / "m.json")         # parent is a file
+        check_file(tmp_path / "f" / "m.json")  # parent is a file
     with pytest.raises(OutputError, match="not a folder"):
         check_dir(tmp_path / "f")
     monkeypatch.chdir(tmp_path / "D")
@@ -83,8 +85,12 @@ def test_write_text_is_atomic_and_leaves_no_temporary(tmp_path):
 @pytest.fixture(scope="module")
 def measured(tmp_path_factory, fmu_path):
     d = tmp_path_factory.mktemp("measured")
-    write_run(simulate_run(PAPER, sinusoid_reference(3.0, period=3.0), current_noise=0.005,
-                           seed=61, name="short"), d / "short.csv")
+    write_run(
+        simulate_run(
+            PAPER, sinusoid_reference(3.0, period=3.0), current_noise=0.005, seed=61, name="short"
+        ),
+        d / "short.csv",
+    )
     return d / "short.csv"
 
 
@@ -93,8 +99,20 @@ def test_diagnose_refuses_out_holding_its_model_before_any_work(tmp_path, capsys
     D.mkdir()
     save_model(PAPER.with_effect("prerolling", False), D / "model.json")
     before = (D / "model.json").read_bytes()
-    assert cli.main(["diagnose", str(measured), "--model", str(D / "model.json"), "--out", str(D),
-                     "--force"]) == 2
+    assert (
+        cli.main(
+            [
+                "diagnose",
+                str(measured),
+                "--model",
+                str(D / "model.json"),
+                "--out",
+                str(D),
+                "--force",
+            ]
+        )
+        == 2
+    )
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "holds an input" in err[0] and str(D) in err[0]
     assert (D / "model.json").read_bytes() == before
@@ -104,10 +122,24 @@ def test_diagnose_rerun_holds_one_runs_results(tmp_path, capsys, measured):
     save_model(PAPER, tmp_path / "paper.json")
     out = tmp_path / "o"
     out.mkdir()
-    (out / "model_step7.json").write_text("{}")           # ours from an older run
+    (out / "model_step7.json").write_text("{}")  # ours from an older run
     (out / MARKER).write_text("{}")
-    assert cli.main(["diagnose", str(measured), "--model", str(tmp_path / "paper.json"),
-                     "--out", str(out), "--max-steps", "1", "--no-closed-loop"]) == 0
+    assert (
+        cli.main(
+            [
+                "diagnose",
+                str(measured),
+                "--model",
+                str(tmp_path / "paper.json"),
+                "--out",
+                str(out),
+                "--max-steps",
+                "1",
+                "--no-closed-loop",
+            ]
+        )
+        == 0
+    )
     names = {p.name for p in out.iterdir()}
     assert "model_step7.json" not in names and {"diagnosis.json", "model.json", MARKER} <= names
     assert json.loads((out / "diagnosis.json").read_text())["steps"] == []
@@ -130,7 +162,9 @@ def test_model_and_identify_out_checked_first(tmp_path, capsys):
     (tmp_path / "dir.json").mkdir()
     assert cli.main(["model", "--paper", "--out", str(tmp_path / "dir.json")]) == 2
     assert "is a folder" in capsys.readouterr().err
-    assert cli.main(["identify", str(tmp_path / "nowhere"), "--out", str(tmp_path / "dir.json")]) == 2
+    assert (
+        cli.main(["identify", str(tmp_path / "nowhere"), "--out", str(tmp_path / "dir.json")]) == 2
+    )
     assert "is a folder" in capsys.readouterr().err
     truth = tmp_path / "t.json"
     save_model(PAPER, truth)
@@ -139,16 +173,26 @@ def test_model_and_identify_out_checked_first(tmp_path, capsys):
     assert load_model(truth).parameters == PAPER.parameters
 
 
-@pytest.mark.parametrize("option,value,word", [
-    ("--force-gain", "0", "> 0"), ("--force-gain", "-5", "> 0"), ("--force-gain", "inf", "> 0"),
-    ("--force-gain", "x", "not a number"), ("--max-steps", "0", ">= 1"),
-    ("--blocks", "1", ">= 2"), ("--window", "4", "odd integer >= 5"),
-    ("--window", "6", "odd integer >= 5"), ("--window", "3", "odd integer >= 5"),
-    ("--max-steps", "1.5", "not an integer")])
+@pytest.mark.parametrize(
+    "option,value,word",
+    [
+        ("--force-gain", "0", "> 0"),
+        ("--force-gain", "-5", "> 0"),
+        ("--force-gain", "inf", "> 0"),
+        ("--force-gain", "x", "not a number"),
+        ("--max-steps", "0", ">= 1"),
+        ("--blocks", "1", ">= 2"),
+        ("--window", "4", "odd integer >= 5"),
+        ("--window", "6", "odd integer >= 5"),
+        ("--window", "3", "odd integer >= 5"),
+        ("--max-steps", "1.5", "not an integer"),
+    ],
+)
 def test_cli_numbers_range_checked(tmp_path, capsys, option, value, word):
     with pytest.raises(SystemExit) as e:
-        cli.main(["diagnose", "r.csv", "--model", "m.json", "--out", str(tmp_path / "o"),
-                  option, value])
+        cli.main(
+            ["diagnose", "r.csv", "--model", "m.json", "--out", str(tmp_path / "o"), option, value]
+        )
     assert e.value.code == 2
     err = capsys.readouterr().err
     assert option in err and word in err and "Traceback" not in err

@@ -2,6 +2,7 @@
 installed into a fresh venv in tmp_path (dependencies from PyPI or pip's cache), runs
 `feeddrive run` from a working directory outside the checkout; without an FMU it stops with
 one line naming where it looked (exit 2, no traceback)."""
+
 from __future__ import annotations
 
 import os
@@ -21,13 +22,18 @@ pytestmark = pytest.mark.slow
 
 def _env(**extra: str) -> dict[str, str]:
     """The environment of a user of the installed package: nothing pointing into the checkout."""
-    env = {k: v for k, v in os.environ.items()
-           if k not in ("PYTHONPATH", "VIRTUAL_ENV", "FEEDDRIVE_FMU", "FEEDDRIVE_SHARED")}
+    env = {
+        k: v
+        for k, v in os.environ.items()
+        if k not in ("PYTHONPATH", "VIRTUAL_ENV", "FEEDDRIVE_FMU", "FEEDDRIVE_SHARED")
+    }
     env.update(extra)
     return env
 
 
-def _run(args: list[str], cwd: Path, env: dict[str, str], timeout: float) -> subprocess.CompletedProcess:
+def _run(
+    args: list[str], cwd: Path, env: dict[str, str], timeout: float
+) -> subprocess.CompletedProcess:
     return subprocess.run(args, cwd=cwd, env=env, capture_output=True, text=True, timeout=timeout)
 
 
@@ -36,20 +42,42 @@ def installed(tmp_path_factory, fmu_path: Path) -> tuple[Path, Path]:
     """(venv, site FMU): the wheel of a copy of python/ with the FMU, pip-installed into a new venv."""
     tmp = tmp_path_factory.mktemp("pkg")
     src = tmp / "python"
-    shutil.copytree(REPO / "python", src,
-                    ignore=shutil.ignore_patterns("__pycache__", "*.egg-info", "build", FMU_NAME))
+    shutil.copytree(
+        REPO / "python",
+        src,
+        ignore=shutil.ignore_patterns("__pycache__", "*.egg-info", "build", FMU_NAME),
+    )
     shutil.copy2(fmu_path, src / "feeddrive" / FMU_NAME)
     wheels = tmp / "wheels"
-    p = _run([sys.executable, "-m", "pip", "wheel", "-q", "--no-deps", "-w", str(wheels), str(src)],
-             tmp, _env(), 600)
+    p = _run(
+        [sys.executable, "-m", "pip", "wheel", "-q", "--no-deps", "-w", str(wheels), str(src)],
+        tmp,
+        _env(),
+        600,
+    )
     assert p.returncode == 0, p.stdout + p.stderr
     (wheel,) = wheels.glob("feeddrive-*.whl")
     env_dir = tmp / "venv"
     venv.EnvBuilder(with_pip=True).create(env_dir)
-    p = _run([str(env_dir / "bin" / "python"), "-m", "pip", "install", "-q", str(wheel)], tmp, _env(), 900)
+    p = _run(
+        [str(env_dir / "bin" / "python"), "-m", "pip", "install", "-q", str(wheel)],
+        tmp,
+        _env(),
+        900,
+    )
     assert p.returncode == 0, p.stdout + p.stderr
-    site_fmu = Path(_run([str(env_dir / "bin" / "python"), "-c",
-                          "import feeddrive.fmu as f; print(f.DEFAULT_FMU)"], tmp, _env(), 60).stdout.strip())
+    site_fmu = Path(
+        _run(
+            [
+                str(env_dir / "bin" / "python"),
+                "-c",
+                "import feeddrive.fmu as f; print(f.DEFAULT_FMU)",
+            ],
+            tmp,
+            _env(),
+            60,
+        ).stdout.strip()
+    )
     return env_dir, site_fmu
 
 
@@ -77,8 +105,10 @@ def test_installed_feeddrive_without_an_fmu_says_where_it_looked(installed, tmp_
     nowhere = tmp_path / "nowhere.fmu"
     p = _run([exe, "run", "--out", "report"], tmp_path, _env(FEEDDRIVE_FMU=str(nowhere)), 120)
     assert p.returncode == 2 and "Traceback" not in p.stderr
-    assert p.stderr.strip() == (f"feeddrive run: FEEDDRIVE_FMU={nowhere}: no FMU there (the package's "
-                                f"own copy, used when FEEDDRIVE_FMU is unset, would be {site_fmu})")
+    assert p.stderr.strip() == (
+        f"feeddrive run: FEEDDRIVE_FMU={nowhere}: no FMU there (the package's "
+        f"own copy, used when FEEDDRIVE_FMU is unset, would be {site_fmu})"
+    )
     hidden = site_fmu.with_suffix(".hidden")
     site_fmu.rename(hidden)
     try:

@@ -1,5 +1,6 @@
 """tools/patch_fmipp.py (make importers' patch of fmipp's sdist setup.py): every edit applied
 once; a setup.py without one of the texts stops with the text named."""
+
 from __future__ import annotations
 
 import sys
@@ -24,4 +25,4 @@ def test_patch_names_a_missing_text(tmp_path) -> None:
         patch(SETUP.replace(EDITS[0][0], ""))
     f = tmp_path / "setup.py"
     f.write_text("nothing to patch\n")
-    assert main([str(f)]) == 2 and f.read_text() == "nothing to patch\n"   # input left as it was
+    assert main([str(f)]) == 2 and f.read_text() == "nothing to patch\n"  # input left as it was

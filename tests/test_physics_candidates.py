@@ -1,6 +1,7 @@
 """The diagnosis never accepts a model the FMU refuses: a candidate whose identified model
 breaks a rule of fmu_src/models/plant/params.c is scored as not significant (unchecked, it would write
 friction.sigma2 = -7135 into a model file)."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -17,7 +18,7 @@ from feeddrive.report.diagnosis import write_diagnosis
 from feeddrive.residual import residuals
 
 PAPER = paper_model()
-DSIGMA = -7189.0      #: the data's viscous coefficient is the model's 54 N s/m plus this
+DSIGMA = -7189.0  #: the data's viscous coefficient is the model's 54 N s/m plus this
 
 
 def synthetic_runs() -> list[Run]:
@@ -42,8 +43,8 @@ def test_refused_candidate_is_not_significant_and_names_the_rule():
     res = residuals(synthetic_runs(), PAPER.with_effect("prerolling", False))
     ctx = Context(res, PAPER.with_effect("prerolling", False))
     s = score(ctx, viscous(ctx)[0])
-    assert s.theta[0] == pytest.approx(DSIGMA, rel=0.02)     # the fit itself is right
-    assert s.improvement > 0.5                               # and explains the residual
+    assert s.theta[0] == pytest.approx(DSIGMA, rel=0.02)  # the fit itself is right
+    assert s.improvement > 0.5  # and explains the residual
     assert s.refused is not None and s.refused.startswith("friction.sigma2 = -71")
     assert s.refused.endswith("is out of range: allowed [0, inf) N.s/m")
     assert not s.significant
@@ -54,7 +55,7 @@ def test_diagnosis_writes_only_models_the_fmu_accepts(tmp_path):
     diag = diagnose(synthetic_runs(), start, max_steps=2, closed_loop=False)
     write_diagnosis(diag, tmp_path)
     assert all(s.effect != "viscous" for s in diag.steps)
-    compile(diag.model)                                      # raises if the FMU would refuse it
+    compile(diag.model)  # raises if the FMU would refuse it
     assert diag.model.parameters["friction.sigma2"] >= 0.0
     for path in tmp_path.glob("model*.json"):
-        compile(load_model(path))                            # every model file written loads
+        compile(load_model(path))  # every model file written loads

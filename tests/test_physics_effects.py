@@ -3,6 +3,7 @@ physics (feeddrive.physics, compiled once) and the FMU in the same state agree t
 
 The state is set as the FMU's start values (x, v, friction.F[1..10], u, F_ext) and read back
 after initialisation: K_f, F_cogging, i, F_motor, F_friction, m a and the element rates."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -19,17 +20,23 @@ from feeddrive.physics import (
     karnopp_friction,
 )
 
-pytestmark = pytest.mark.usefixtures("fmu_path")     # on both FMI versions (conftest)
+pytestmark = pytest.mark.usefixtures("fmu_path")  # on both FMI versions (conftest)
 
-TOL = 1e-9          #: N (and N/A for K_f, A for i)
+TOL = 1e-9  #: N (and N/A for K_f, A for i)
 OUT = ("K_f", "F_cogging", "i", "F_motor", "F_friction", "a")
 #: Parameters that make every switch visible: asymmetry and offset non-zero.
 #: The friction-level profile (position_friction) rises over 0.05-0.25 m with a bump.
-PROFILE = {"friction_profile.x_start": 0.05, "friction_profile.x_end": 0.25,
-           "friction_profile.n": 6, **{f"friction_profile.c[{j + 1}]": c
-                                       for j, c in enumerate([0.0, 0.1, 0.45, -0.2, 0.3, 0.25])}}
-BASE = dict(paper_parameters(), **{"offset.F": 1.7, "asymmetry.dF": 1.3,
-                                   "asymmetry.dsigma2": 12.0}, **PROFILE)
+PROFILE = {
+    "friction_profile.x_start": 0.05,
+    "friction_profile.x_end": 0.25,
+    "friction_profile.n": 6,
+    **{f"friction_profile.c[{j + 1}]": c for j, c in enumerate([0.0, 0.1, 0.45, -0.2, 0.3, 0.25])},
+}
+BASE = dict(
+    paper_parameters(),
+    **{"offset.F": 1.7, "asymmetry.dF": 1.3, "asymmetry.dsigma2": 12.0},
+    **PROFILE,
+)
 
 
 def states(prm: GMSParameters, v: float, slip: tuple[int, ...], x: float = 0.0) -> np.ndarray:
@@ -47,11 +54,12 @@ def fmu_outputs(plant: Plant, start: dict) -> dict[str, float]:
     return plant.get(names)
 
 
-def python_outputs(P, x: float, v: float, F: np.ndarray, slip: tuple[int, ...], u: float,
-                   F_ext: float) -> dict[str, float]:
+def python_outputs(
+    P, x: float, v: float, F: np.ndarray, slip: tuple[int, ...], u: float, F_ext: float
+) -> dict[str, float]:
     """Eq. 1 in the given state from the compiled parameters."""
     K_f, F_cg = float(P.K_f(x)), float(P.F_cg(x))
-    i = P.current.G1 * u                      # the loop's history starts at the steady state of u
+    i = P.current.G1 * u  # the loop's history starts at the steady state of u
     F_motor = K_f * i
     F_app = float(applied_force(F_motor, F_cg, F_ext, P.F_offset))
     slipping = np.zeros(len(F), dtype=bool)
@@ -62,19 +70,35 @@ def python_outputs(P, x: float, v: float, F: np.ndarray, slip: tuple[int, ...], 
         F_f = float(np.sum(Fe) + P.friction.viscous(v))
         rates = element_rates(P.friction, v, F, slipping, d, x)
     else:
-        F_f = float(karnopp_friction(np.array([v]), np.array([F_app]), P.friction, 0.0
-                                     if v != 0 else 1e-300, np.array([x]))[0][0])
+        F_f = float(
+            karnopp_friction(
+                np.array([v]),
+                np.array([F_app]),
+                P.friction,
+                0.0 if v != 0 else 1e-300,
+                np.array([x]),
+            )[0][0]
+        )
         rates = np.zeros(len(F))
-    stuck_static = not P.prerolling and v == 0 and abs(F_app) < float(P.friction.break_away(F_app, x))
-    return {"K_f": K_f, "F_cogging": F_cg, "i": i, "F_motor": F_motor, "F_friction": F_f,
-            "ma": 0.0 if stuck_static else F_app - F_f, "rates": rates}
+    stuck_static = (
+        not P.prerolling and v == 0 and abs(F_app) < float(P.friction.break_away(F_app, x))
+    )
+    return {
+        "K_f": K_f,
+        "F_cogging": F_cg,
+        "i": i,
+        "F_motor": F_motor,
+        "F_friction": F_f,
+        "ma": 0.0 if stuck_static else F_app - F_f,
+        "rates": rates,
+    }
 
 
 CASES = [  # x [m], v [m/s], slipping elements, u [V], F_ext [N]
     (0.1234, 2e-3, (), 0.5, 0.0),
     (0.0871, -4e-3, (1,), -0.4, 2.5),
-    (0.3312, 1e-2, (0, 3), 0.2, -1.0),        # outside the stroke: maps clamped
-    (0.2001, 0.0, (), 0.25, 0.0),             # at rest
+    (0.3312, 1e-2, (0, 3), 0.2, -1.0),  # outside the stroke: maps clamped
+    (0.2001, 0.0, (), 0.25, 0.0),  # at rest
 ]
 
 
@@ -118,7 +142,7 @@ def test_current_loop_samples_python_equals_fmu(fmu_path) -> None:
             plant.set({"u": float(u[k])})
             plant.do_step((k - 1) * P.Ts, P.Ts)
             got.append(plant.get(["i"])["i"])
-    n0 = 2000                       # long enough at u[0] for the steady state (poles < 0.8)
+    n0 = 2000  # long enough at u[0] for the steady state (poles < 0.8)
     i = P.current.current(np.concatenate((np.full(n0, u[0]), u[2:])))[n0:]
     assert got[0] == pytest.approx(P.current.G1 * u[0], abs=1e-12)
     np.testing.assert_allclose(got[1:], i, rtol=0, atol=1e-12)

@@ -5,6 +5,7 @@ the plan's controller from its sidecars, 100 nm scale, 5 mA current noise on the
 write the recordings as a drive would (CSV + the plan's sidecar) and identify them as they
 are: every quantity of the truth table within the identification tolerances.
 """
+
 from __future__ import annotations
 
 import json
@@ -49,8 +50,12 @@ def truth_model() -> ModelFile:
         p[f"cogging.a[{j}]"] *= 1.1
         p[f"ripple.a[{j}]"] *= 0.85
     p["ripple.c[0]"] = 67.0
-    return ModelFile(name="plan truth", effects=paper_model().effects, parameters=p,
-                     description="paper model, perturbed")
+    return ModelFile(
+        name="plan truth",
+        effects=paper_model().effects,
+        parameters=p,
+        description="paper model, perturbed",
+    )
 
 
 def _controllers() -> list:
@@ -59,8 +64,20 @@ def _controllers() -> list:
     in z, with back-calculation anti-windup (the tight-limits plan plays the default
     ``pid_lead`` type)."""
     fpv = force_per_volt(paper_model().fmu_parameters())
-    return [pytest.param(pid_lti_spec(Kp=3e5, Kv=3.5e3, Ki=6e6, force_per_volt=fpv, lead=(40.0, 120.0),
-                                      u_limit=10.0, anti_windup={"pole": 0.5}), id="lti")]
+    return [
+        pytest.param(
+            pid_lti_spec(
+                Kp=3e5,
+                Kv=3.5e3,
+                Ki=6e6,
+                force_per_volt=fpv,
+                lead=(40.0, 120.0),
+                u_limit=10.0,
+                anti_windup={"pole": 0.5},
+            ),
+            id="lti",
+        )
+    ]
 
 
 def _plan(tmp: Path, *options: str, controller: dict | str | None = "default") -> Path:
@@ -100,12 +117,17 @@ def test_default_plan_files_sidecars_and_size(tmp_path, capsys):
         side = read_sidecar(json.loads((out / "sidecar" / f"{r.name}.json").read_text()))
         assert side.extra["kind"] == r.kind and side.Ts == 5e-4
         assert (side.controller is None) == (r.kind == "force_open_loop")
-        if r.group in groups:           # the values of one run per group read back
+        if r.group in groups:  # the values of one run per group read back
             continue
         groups.add(r.group)
         cols = read_reference(out / "reference" / f"{r.name}.csv")
-        assert list(cols) == (["time", "u"] if r.kind == "force_open_loop" else
-                              ["time", "x_ref", "u_add"] if r.kind == "prbs" else ["time", "x_ref"])
+        assert list(cols) == (
+            ["time", "u"]
+            if r.kind == "force_open_loop"
+            else ["time", "x_ref", "u_add"]
+            if r.kind == "prbs"
+            else ["time", "x_ref"]
+        )
         assert np.all(np.diff(cols["time"]) == pytest.approx(5e-4, abs=1e-12))
         for c, v in r.columns.items():
             assert np.max(np.abs(cols[c] - v)) <= (5e-11 if c == "x_ref" else 5e-8), (r.name, c)
@@ -116,8 +138,7 @@ def test_default_plan_files_sidecars_and_size(tmp_path, capsys):
 
 def test_reference_digits_follow_the_sample_time():
     assert time_decimals(5e-4) == 4 and time_decimals(1e-3) == 3 and time_decimals(62.5e-6) == 7
-    text = reference_csv({"time": np.arange(3) * 5e-4, "x_ref": np.array([0.1, -1e-10, 0.0])},
-                         5e-4)
+    text = reference_csv({"time": np.arange(3) * 5e-4, "x_ref": np.array([0.1, -1e-10, 0.0])}, 5e-4)
     assert text == "time,x_ref\n0,0.1\n0.0005,-0.0000000001\n0.001,0\n"
 
 
@@ -125,8 +146,9 @@ def test_limits_scale_the_runs(tmp_path):
     """A short stroke and a low speed: every run inside the stroke less its margins, no speed
     or acceleration above the limits, the open-loop force within --u-limit."""
     m = paper_model()
-    lim = default_limits(m, stroke=(0.05, 0.15), v_max=0.1, a_max=4.0, u_limit=6.0,
-                         loads=(40.0, 200.0))
+    lim = default_limits(
+        m, stroke=(0.05, 0.15), v_max=0.1, a_max=4.0, u_limit=6.0, loads=(40.0, 200.0)
+    )
     plan = make_plan(m, lim)
     for r in plan.runs:
         if r.closed_loop:
@@ -142,7 +164,7 @@ def test_limits_scale_the_runs(tmp_path):
     force = next(r for r in plan.runs if r.kind == "force_open_loop")
     m_, F_c = m.parameters["m"], m.parameters["friction.F_c"]
     a_net = (force.sidecar["amplitude"] * force_per_volt(m.fmu_parameters()) - F_c) / m_
-    assert a_net * force.sidecar["period"] / 4 <= 0.1 * (1 + 1e-6)       # peak speed
+    assert a_net * force.sidecar["period"] / 4 <= 0.1 * (1 + 1e-6)  # peak speed
     assert a_net * force.sidecar["period"] ** 2 / 16 >= 4e-3 * (1 - 1e-6)  # travel per swing
 
 
@@ -152,19 +174,28 @@ def test_what_cannot_be_identified_is_said_at_plan_time(tmp_path, capsys):
     printed = capsys.readouterr().out
     plan = make_plan(paper_model(), default_limits(paper_model(), stroke=(0, 0.06)))
     assert list(plan.not_identified) == ["ripple.*, cogging.* (K_f(x), F_cg(x))"]
-    assert f"need {MAP_SPAN * 1e3:g} mm" in plan.not_identified["ripple.*, cogging.* (K_f(x), F_cg(x))"]
+    assert (
+        f"need {MAP_SPAN * 1e3:g} mm"
+        in plan.not_identified["ripple.*, cogging.* (K_f(x), F_cg(x))"]
+    )
     assert printed.count("not identifiable with these limits") == 1
     page = (tmp_path / "plan" / "plan.md").read_text()
     assert "## Not identifiable with these limits" in page and "magnet pitch" in page
     assert not any(r.group == "maps" for r in plan.runs)
-    assert {r.group for r in plan.runs} == {"prbs", "stribeck", "force_open_loop",
-                                            "variable_speed", "prerolling"}
+    assert {r.group for r in plan.runs} == {
+        "prbs",
+        "stribeck",
+        "force_open_loop",
+        "variable_speed",
+        "prerolling",
+    }
     assert len({r.sidecar["speed"] for r in plan.runs if r.group == "stribeck"}) >= 6
 
 
 def test_prerolling_amplitudes_follow_the_nominal_model():
     """The small sinusoid must travel past 2 Delta_N-1 and stay below 2 Delta_N: the paper's
     80 um for the paper's model, the midpoint for a model whose elements are twice as long."""
+
     def amplitudes(model: ModelFile) -> list[float]:
         plan = make_plan(model, default_limits(model))
         return sorted(r.sidecar["amplitude"] for r in plan.runs if r.kind == "prerolling")
@@ -180,22 +211,25 @@ def test_prerolling_amplitudes_follow_the_nominal_model():
     assert delta[0] + 10e-6 < small < delta[1] - 10e-6 and large > delta[1]
 
 
-@pytest.mark.parametrize("options, option", [
-    (["--stroke", "0.1", "0.12"], "--stroke"),
-    (["--stroke", "0.2", "0.1"], "--stroke"),
-    (["--v-max", "0.0005"], "--v-max"),
-    (["--v-max", "0.03"], "--v-max"),
-    (["--a-max", "1"], "--a-max"),
-    (["--loads", "54.9,1000"], "--loads"),
-    (["--loads", "54.9,55"], "--loads"),
-    (["--u-limit", "0.6", "--loads", "5"], "--u-limit"),
-    (["--loads", "a,b"], "--loads"),
-    (["--v-max", "-1"], "--v-max"),
-])
+@pytest.mark.parametrize(
+    "options, option",
+    [
+        (["--stroke", "0.1", "0.12"], "--stroke"),
+        (["--stroke", "0.2", "0.1"], "--stroke"),
+        (["--v-max", "0.0005"], "--v-max"),
+        (["--v-max", "0.03"], "--v-max"),
+        (["--a-max", "1"], "--a-max"),
+        (["--loads", "54.9,1000"], "--loads"),
+        (["--loads", "54.9,55"], "--loads"),
+        (["--u-limit", "0.6", "--loads", "5"], "--u-limit"),
+        (["--loads", "a,b"], "--loads"),
+        (["--v-max", "-1"], "--v-max"),
+    ],
+)
 def test_limits_the_campaign_cannot_fit_are_refused(tmp_path, capsys, options, option):
     try:
         status = cli.main(["plan", "--out", str(tmp_path / "p"), *options])
-    except SystemExit as e:             # refused by the argument parser
+    except SystemExit as e:  # refused by the argument parser
         status = e.code
     assert status == 2
     err = capsys.readouterr().err.strip()
@@ -247,8 +281,10 @@ def _identify_played(tmp_path: Path, plan_dir: Path) -> object:
 @pytest.mark.parametrize("controller", _controllers())
 def test_plan_played_on_the_drive_identifies_the_truth(tmp_path, fmu_path, controller):
     plan_dir = _plan(tmp_path, "--model", str(_paper_file(tmp_path)), controller=controller)
-    assert json.loads((plan_dir / "sidecar" / "02_cv_p10mm_s_P0.json").read_text())[
-        "controller"] == controller
+    assert (
+        json.loads((plan_dir / "sidecar" / "02_cv_p10mm_s_P0.json").read_text())["controller"]
+        == controller
+    )
     res = _identify_played(tmp_path, plan_dir)
     failed = [r.quantity for r in res.table if r.ok is False]
     assert not failed, res.text()
@@ -260,10 +296,31 @@ def test_plan_played_on_the_drive_identifies_the_truth(tmp_path, fmu_path, contr
 def test_plan_with_tight_limits_identifies_the_truth(tmp_path, fmu_path):
     """100 mm of stroke, 0.1 m/s, 3 m/s^2, +-6 V, loads 40 and 150 N: the maps over 90 mm,
     the Stribeck curve from 0.3 to 60 mm/s, the mass from a smaller force."""
-    plan_dir = _plan(tmp_path, "--stroke", "0.05", "0.15", "--v-max", "0.1", "--a-max", "3.5",
-                     "--u-limit", "6", "--loads", "40,150")
-    plan = make_plan(paper_model(), default_limits(paper_model(), stroke=(0.05, 0.15), v_max=0.1,
-                                                   a_max=3.5, u_limit=6.0, loads=(40.0, 150.0)))
+    plan_dir = _plan(
+        tmp_path,
+        "--stroke",
+        "0.05",
+        "0.15",
+        "--v-max",
+        "0.1",
+        "--a-max",
+        "3.5",
+        "--u-limit",
+        "6",
+        "--loads",
+        "40,150",
+    )
+    plan = make_plan(
+        paper_model(),
+        default_limits(
+            paper_model(),
+            stroke=(0.05, 0.15),
+            v_max=0.1,
+            a_max=3.5,
+            u_limit=6.0,
+            loads=(40.0, 150.0),
+        ),
+    )
     assert not plan.not_identified
     assert max(r.sidecar.get("speed", 0) for r in plan.runs) == pytest.approx(0.06)
     res = _identify_played(tmp_path, plan_dir)

@@ -1,6 +1,7 @@
 """Runs in the wrong units and folders that identify nothing are refused with one line and
 exit status 2 by every command that reads runs; good recordings (the EMPS drive, the
 project's own runs) pass."""
+
 from __future__ import annotations
 
 import dataclasses
@@ -31,8 +32,9 @@ def _one_line_rc2(capsys, argv: list[str]) -> str:
     return lines[0]
 
 
-def _sine_run(n: int = 4000, Ts: float = 5e-4, amp: float = 0.005, period: float = 1.0,
-              current: float = 1.0) -> Run:
+def _sine_run(
+    n: int = 4000, Ts: float = 5e-4, amp: float = 0.005, period: float = 1.0, current: float = 1.0
+) -> Run:
     """A closed-loop-looking sinusoid at mid-stroke with a current and an amplifier reference."""
     t = np.arange(n) * Ts
     x = 0.15 + amp * np.sin(2 * np.pi * t / period)
@@ -79,7 +81,9 @@ def test_odrive_slow_runs_as_a_linear_axis_pass():
 @pytest.mark.parametrize("scale, unit", [(1e3, "mm"), (1e6, "um")])
 def test_positions_not_in_metres_are_refused_naming_the_unit(emps, scale, unit):
     bad = dataclasses.replace(emps, x=emps.x * scale, x_ref=emps.x_ref * scale)
-    with pytest.raises(DataError, match=rf"column 'x'.*outside the model's stroke.*positions in {unit}\?"):
+    with pytest.raises(
+        DataError, match=rf"column 'x'.*outside the model's stroke.*positions in {unit}\?"
+    ):
         check_units(bad, (-0.01, 0.3))
 
 
@@ -100,9 +104,11 @@ def test_speed_and_acceleration_beyond_any_drive_are_refused():
 def test_current_in_milliamperes_is_refused():
     r = _sine_run(current=2.0)
     bad = dataclasses.replace(r, i=r.i * 1e3)
-    with pytest.raises(DataError, match=r"column 'i'.*current -?2000 is beyond \+-1000 A.*i in mA\?"):
+    with pytest.raises(
+        DataError, match=r"column 'i'.*current -?2000 is beyond \+-1000 A.*i in mA\?"
+    ):
         check_units(bad)
-    check_units(dataclasses.replace(r, i=r.i * 0.99 * I_MAX / 2.0))      # 990 A: allowed
+    check_units(dataclasses.replace(r, i=r.i * 0.99 * I_MAX / 2.0))  # 990 A: allowed
 
 
 @pytest.fixture(scope="module")
@@ -120,10 +126,20 @@ def mm_files(tmp_path_factory, emps):
 def test_validate_diagnose_identify_refuse_mm_positions(capsys, tmp_path, mm_files):
     csv, model = mm_files
     before = csv.read_bytes()
-    for argv in (["validate", str(csv), "--model", str(model)],
-                 ["diagnose", str(csv), "--model", str(model), "--out", str(tmp_path / "d"),
-                  "--force-gain", "35.15"],
-                 ["identify", str(csv.parent), "--out", str(tmp_path / "m.json")]):
+    for argv in (
+        ["validate", str(csv), "--model", str(model)],
+        [
+            "diagnose",
+            str(csv),
+            "--model",
+            str(model),
+            "--out",
+            str(tmp_path / "d"),
+            "--force-gain",
+            "35.15",
+        ],
+        ["identify", str(csv.parent), "--out", str(tmp_path / "m.json")],
+    ):
         line = _one_line_rc2(capsys, argv)
         assert line.startswith(f"feeddrive {argv[0]}: {csv}, line ") and "column 'x'" in line, line
         assert "positions in mm?" in line, line
@@ -140,8 +156,13 @@ def test_identify_that_identifies_nothing_exits_2_with_the_reasons(capsys, tmp_p
     out = tmp_path / "model.json"
     line = _one_line_rc2(capsys, ["identify", str(runs), "--out", str(out)])
     assert line.startswith("feeddrive identify: identify: nothing identified"), line
-    for reason in ("current loop: no PRBS run", "position maps: no loaded constant-speed runs",
-                   "mass: no open-loop force run", "attraction: no variable-speed run",
-                   "pre-rolling: 1 periodic runs", "sine0 prerolling"):
+    for reason in (
+        "current loop: no PRBS run",
+        "position maps: no loaded constant-speed runs",
+        "mass: no open-loop force run",
+        "attraction: no variable-speed run",
+        "pre-rolling: 1 periodic runs",
+        "sine0 prerolling",
+    ):
         assert reason in line, line
     assert not out.exists()

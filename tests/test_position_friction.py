@@ -12,6 +12,7 @@
 - identification (feeddrive.identify.position_friction, and the pipeline when asked)
   recovers the patch from constant-speed runs within 10 % of its level change.
 """
+
 from __future__ import annotations
 
 import functools
@@ -31,7 +32,7 @@ from feeddrive.physics import FrictionProfile, compile, profile_basis
 from test_cs_agreement import PID, TOL_F, TOL_X
 from test_physics_effects import TOL, fmu_outputs, python_outputs, states
 
-pytestmark = pytest.mark.usefixtures("fmu_path")     # on both FMI versions (conftest)
+pytestmark = pytest.mark.usefixtures("fmu_path")  # on both FMI versions (conftest)
 
 #: +30 % over 40 mm (full width at half height) centred at x = 0.155 m, on 10 mm knots
 PATCH = FrictionProfile(0.11, 0.19, (0.0, 0.0, 0.0, 0.3, 0.3, 0.3, 0.3, 0.0, 0.0))
@@ -51,8 +52,8 @@ def test_profile_is_c1_constant_outside_and_in_its_hull():
         right = (ROUGH(xk + 2 * e) - ROUGH(xk + e)) / e
         left = (ROUGH(xk - e) - ROUGH(xk - 2 * e)) / e
         assert abs(right - left) < 1e-2, xk
-    assert abs(dp[5001]) < 2e-2 and abs(dp[24999]) < 2e-2      # zero slope at the ends
-    assert np.max(np.abs(dp)) > 3.0                              # (a profile that varies)
+    assert abs(dp[5001]) < 2e-2 and abs(dp[24999]) < 2e-2  # zero slope at the ends
+    assert np.max(np.abs(dp)) > 3.0  # (a profile that varies)
     assert 1 + min(ROUGH.c) <= p.min() and p.max() <= 1 + max(ROUGH.c)
     B = profile_basis(x, 0.05, 0.25, 6)
     np.testing.assert_allclose(B.sum(axis=1), 1.0, atol=1e-14)
@@ -66,19 +67,30 @@ def test_profile_is_c1_constant_outside_and_in_its_hull():
 
 
 def _params(prerolling: bool, lag: bool) -> dict:
-    return dict(paper_parameters(), **ROUGH.parameters(), **{
-        "effects.position_friction": True, "effects.prerolling": prerolling,
-        "effects.frictional_lag": lag, "effects.asymmetric_friction": True,
-        "asymmetry.dF": 1.3, "asymmetry.dsigma2": 12.0})
+    return dict(
+        paper_parameters(),
+        **ROUGH.parameters(),
+        **{
+            "effects.position_friction": True,
+            "effects.prerolling": prerolling,
+            "effects.frictional_lag": lag,
+            "effects.asymmetric_friction": True,
+            "asymmetry.dF": 1.3,
+            "asymmetry.dsigma2": 12.0,
+        },
+    )
 
 
-@pytest.mark.parametrize("prerolling, lag", [(True, True), (True, False), (False, False)],
-                         ids=["gms_lag", "gms_no_lag", "static"])
+@pytest.mark.parametrize(
+    "prerolling, lag",
+    [(True, True), (True, False), (False, False)],
+    ids=["gms_lag", "gms_no_lag", "static"],
+)
 def test_python_equals_fmu_along_a_trajectory(prerolling: bool, lag: bool, fmu_path):
     params = _params(prerolling, lag)
     P = compile(params)
     t = np.linspace(0.0, 2 * np.pi, 23)
-    xs, vs = 0.15 - 0.12 * np.cos(t), 0.05 * np.sin(t)          # 0.03..0.27 m, both directions
+    xs, vs = 0.15 - 0.12 * np.cos(t), 0.05 * np.sin(t)  # 0.03..0.27 m, both directions
     with Plant(params, interface="me", path=fmu_path) as plant:
         for k, (x, v) in enumerate(zip(xs, vs, strict=True)):
             v = 0.0 if abs(v) < 1e-12 else float(v)
@@ -94,16 +106,20 @@ def test_python_equals_fmu_along_a_trajectory(prerolling: bool, lag: bool, fmu_p
             rates = [got[f"der(friction.F[{j + 1}])"] for j in range(len(F))]
             np.testing.assert_allclose(rates, exp["rates"], rtol=1e-12, atol=TOL)
         # the profile is in the friction: the sliding level at the bump differs from p = 1
-        x_hi = 0.05 + 2 * 0.04          # knot 3: p = 1 + (0.1 + 4 * 0.45 - 0.2) / 6 = 1.283
-        assert float(P.friction.level(0.01, x_hi)) / float(P.friction.level(0.01)) == \
-            pytest.approx(1 + 1.7 / 6, rel=1e-14)
+        x_hi = 0.05 + 2 * 0.04  # knot 3: p = 1 + (0.1 + 4 * 0.45 - 0.2) / 6 = 1.283
+        assert float(P.friction.level(0.01, x_hi)) / float(P.friction.level(0.01)) == pytest.approx(
+            1 + 1.7 / 6, rel=1e-14
+        )
 
 
 def test_static_break_away_is_scaled(fmu_path):
     """At rest on the patch, 30 N holds the stage (p F_s = 33.9 N) and 35 N breaks away;
     off the patch 30 N breaks away already (F_s = 26.1 N)."""
-    params = dict(paper_parameters(), **PATCH.parameters(),
-                  **{"effects.position_friction": True, "effects.prerolling": False})
+    params = dict(
+        paper_parameters(),
+        **PATCH.parameters(),
+        **{"effects.position_friction": True, "effects.prerolling": False},
+    )
     P = compile(params)
     G = P.current.G1
     with Plant(params, interface="me", path=fmu_path) as plant:
@@ -137,7 +153,7 @@ def test_serialised_state_round_trip_with_the_effect_on(fmu_path):
         ref = steps(plant, n1, n1 + n2)
         plant.set_state(plant.deserialize_state(blob))
         again = steps(plant, n1, n1 + n2)
-    assert again == ref                                   # bit for bit
+    assert again == ref  # bit for bit
     # the state was saved on the patch's flank, after sliding over it from p = 1.05
     assert PATCH(first[0][0]) < 1.06 and PATCH(ref[0][0]) > 1.2
 
@@ -166,21 +182,30 @@ def test_model_file_round_trip(tmp_path):
     save_model(m, tmp_path / "m.json")
     back = load_model(tmp_path / "m.json")
     assert back.effects["position_friction"] is True
-    assert back.parameters == m.parameters and isinstance(back.parameters["friction_profile.n"], int)
+    assert back.parameters == m.parameters and isinstance(
+        back.parameters["friction_profile.n"], int
+    )
     assert FrictionProfile.from_params(back.parameters) == PATCH
     assert paper_model().effects["position_friction"] is False
     with pytest.raises(ValueError, match=r"friction_profile.c\[4\] = 4.5 is out of range"):
-        ModelFile(name="bad", effects=m.effects, parameters={**m.parameters,
-                                                             "friction_profile.c[4]": 4.5})
+        ModelFile(
+            name="bad", effects=m.effects, parameters={**m.parameters, "friction_profile.c[4]": 4.5}
+        )
 
 
 @functools.cache
 def _cv_runs(fmu: str) -> tuple:
     """(cached per FMU file: ``fmu`` is the module's fmu_path, the runs' FMU)"""
     truth = paper_model().with_effect("position_friction", True, **PATCH.parameters())
-    return tuple(constant_speed_runs(truth.fmu_parameters(),
-                                     Sensors(quantum=1e-7, current_noise=0.005, seed=5),
-                                     speeds=(0.01, 0.03), segment=(0.08, 0.22), dwell=0.2))
+    return tuple(
+        constant_speed_runs(
+            truth.fmu_parameters(),
+            Sensors(quantum=1e-7, current_noise=0.005, seed=5),
+            speeds=(0.01, 0.03),
+            segment=(0.08, 0.22),
+            dwell=0.2,
+        )
+    )
 
 
 def test_profile_identified_from_constant_speed_runs(fmu_path):

@@ -11,6 +11,7 @@ choices) and are set from the data's own repeatability, not from the result:
 - correlations: 0.02 -- the three 0.1 rev/s runs agree within 0.006, nocomp/comp within 0.01;
 - velocity ripple std: 5 % -- trimming 0.5 s or 1 s of start transient moves it by up to 4 %.
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -57,12 +58,15 @@ def test_loader_keeps_measured_entries_and_references_phase_to_count_zero(tmp_pa
     assert od.top_lines(spec, 1)[0].order == 7
 
 
-@pytest.mark.parametrize("bad, match", [
-    (lambda d: d[:100], r"shape \(8192,\)"),
-    (lambda d: np.where(np.arange(N) == 5, 1.0, d), "off the 16-count grid.*count 5"),
-    (lambda d: np.where(np.arange(N) == 32, np.nan, d), "non-finite current at count 32"),
-    (lambda d: np.where(np.arange(N) < 4096, 0.0, d), "sweep incomplete"),
-])
+@pytest.mark.parametrize(
+    "bad, match",
+    [
+        (lambda d: d[:100], r"shape \(8192,\)"),
+        (lambda d: np.where(np.arange(N) == 5, 1.0, d), "off the 16-count grid.*count 5"),
+        (lambda d: np.where(np.arange(N) == 32, np.nan, d), "non-finite current at count 32"),
+        (lambda d: np.where(np.arange(N) < 4096, 0.0, d), "sweep incomplete"),
+    ],
+)
 def test_loader_names_file_and_problem(tmp_path, bad, match):
     p = _write_map(tmp_path, "a_16", 16, False, _cos(7, 0.8, 0.0))
     np.save(p, bad(np.load(p)))
@@ -104,9 +108,12 @@ def test_stationarity_flags_a_line_whose_amplitude_varies(tmp_path):
     """A 28/rev line whose amplitude varies +-60 % along the revolution is not periodic: over a
     half-revolution window the modulation averages to +-0.6*2/pi; a constant 7/rev line beside
     it is periodic, although the window leaks it into the 28/rev track (and vice versa)."""
+
     def f(x):
-        return (_cos(7, 0.9, 0.2)(x)
-                + 0.5 * (1 + 0.6 * np.sin(2 * np.pi * x / N)) * np.cos(2 * np.pi * 28 * x / N))
+        return _cos(7, 0.9, 0.2)(x) + 0.5 * (1 + 0.6 * np.sin(2 * np.pi * x / N)) * np.cos(
+            2 * np.pi * 28 * x / N
+        )
+
     m = od.load_map(_write_map(tmp_path, "a_16", 16, False, f))
     s = od.stationarity(m, np.array([7, 28]), (7, 28))
     t7, t28 = s.tracks
@@ -124,25 +131,29 @@ def test_velocity_on_nonuniform_samples_is_exact_for_quadratic():
 @pytest.fixture(scope="module")
 def findings():
     if not (DATA / od.MAP_FOLDER).is_dir():
-        pytest.skip(f"measured ODrive data not found at {DATA} (expected ../shared beside the checkout)")
+        pytest.skip(
+            f"measured ODrive data not found at {DATA} (expected ../shared beside the checkout)"
+        )
     return od.analyse(DATA)
 
 
 def test_forward_map_lines(findings):
     lines = findings.lines
     assert [ln.order for ln in lines] == [7, 28, 14, 36, 12]
-    np.testing.assert_allclose([ln.amplitude for ln in lines],
-                               [0.869, 0.565, 0.351, 0.294, 0.264], rtol=0.03)
-    np.testing.assert_allclose([ln.amplitude for ln in lines],
-                               [0.87, 0.56, 0.35, 0.29, 0.26], atol=0.01)     # README
+    np.testing.assert_allclose(
+        [ln.amplitude for ln in lines], [0.869, 0.565, 0.351, 0.294, 0.264], rtol=0.03
+    )
+    np.testing.assert_allclose(
+        [ln.amplitude for ln in lines], [0.87, 0.56, 0.35, 0.29, 0.26], atol=0.01
+    )  # README
     assert findings.grid_check < 0.03
 
 
 def test_crosstalk_line_drops_without_neighbour(findings):
     assert findings.crosstalk_order == 7
     iso = {ln.order: ln.amplitude for ln in findings.isolated_lines}
-    assert iso[7] == pytest.approx(0.26, abs=0.01)                            # README
-    for ln in findings.lines[1:]:      # 28, 14, 36, 12 stay (within the iso map's own smearing)
+    assert iso[7] == pytest.approx(0.26, abs=0.01)  # README
+    for ln in findings.lines[1:]:  # 28, 14, 36, 12 stay (within the iso map's own smearing)
         assert iso[ln.order] == pytest.approx(ln.amplitude, rel=0.15)
     by_name = {t.name: t for t in findings.trials}
     assert by_name["b_16"].crosstalk.amplitude == pytest.approx(0.86, rel=0.03)
@@ -162,20 +173,20 @@ def test_dstft_periodic_and_not(findings):
     st = {s.map_name: s for s in findings.stationarity}
     for name in ("a_16", "b_16", "c_16", "d_16", "e_16r"):
         assert all(t.periodic for t in st[name].tracks), name
-        assert st[name].local_mean_drift < 0.03, name          # zero-frequency term does not drift
+        assert st[name].local_mean_drift < 0.03, name  # zero-frequency term does not drift
     a = st["a_16"]
     assert a.local_mean_range[1] - a.local_mean_range[0] > 0.1  # ... though raw DSTFT DC moves
     iso = {t.order: t for t in st["iso_16"].tracks}
     assert not iso[84].periodic and not iso[28].periodic
-    assert st["rev_16"].local_mean_drift > 0.15                 # the rev_16 sweep drifts
+    assert st["rev_16"].local_mean_drift > 0.15  # the rev_16 sweep drifts
 
 
 def test_friction_from_forward_reverse(findings):
     fr = findings.friction
     assert (fr.forward, fr.reverse) == ("c_16", "e_16r")
-    assert fr.mean_difference == pytest.approx(0.34, abs=0.01)             # README
+    assert fr.mean_difference == pytest.approx(0.34, abs=0.01)  # README
     assert 0.30 < fr.pair_means[0] and fr.pair_means[2] < 0.42
-    assert fr.difference_std < 0.5 * fr.mean_difference                 # mostly constant
+    assert fr.difference_std < 0.5 * fr.mean_difference  # mostly constant
     assert {ln.order for ln in fr.difference_lines[:2]} == {28, 36}
     assert 5 < fr.offset_counts < 10 and fr.offset_r2 > 0.4
     # what the offset leaves is white point noise (no position dependence left)
@@ -188,18 +199,18 @@ def test_slow_runs_correlation_and_ripple(findings):
     slow_n, slow_c = s["slow2_slower/nocomp"], s["slow2_slower/comp"]
     assert fast_n["speed"] == pytest.approx(0.1, rel=0.02)
     assert slow_n["speed"] == pytest.approx(0.03, rel=0.02)
-    assert fast_n["r_static"] == pytest.approx(0.79, abs=0.02)         # README 0.81
-    assert slow_n["r_static"] == pytest.approx(0.933, abs=0.02)        # README 0.94
+    assert fast_n["r_static"] == pytest.approx(0.79, abs=0.02)  # README 0.81
+    assert slow_n["r_static"] == pytest.approx(0.933, abs=0.02)  # README 0.94
     assert slow_c["r_static"] == pytest.approx(0.942, abs=0.02)
-    for g in (fast_n, fast_c, slow_n, slow_c):           # same lag at both speeds: Iq filter
+    for g in (fast_n, fast_c, slow_n, slow_c):  # same lag at both speeds: Iq filter
         assert g["r_lagged"] > 0.98 and 0.08 < g["lag_s"] < 0.12
         assert g["r_lagged_no_crosstalk"] < 0.7
     for k in ("slow2_slower/crosstalk_nocomp", "slow2_slower/crosstalk_comp"):
         assert s[k]["r_lagged_no_crosstalk"] > 0.8 > s[k]["r_lagged"] + 0.4
-    assert fast_n["velocity_std"] == pytest.approx(769, rel=0.05)      # README 714
-    assert fast_c["velocity_std"] == pytest.approx(302, rel=0.05)      # README 297
-    assert slow_n["velocity_std"] == pytest.approx(289, rel=0.05)      # README 270
-    assert slow_c["velocity_std"] == pytest.approx(164, rel=0.05)      # README 163
+    assert fast_n["velocity_std"] == pytest.approx(769, rel=0.05)  # README 714
+    assert fast_c["velocity_std"] == pytest.approx(302, rel=0.05)  # README 297
+    assert slow_n["velocity_std"] == pytest.approx(289, rel=0.05)  # README 270
+    assert slow_c["velocity_std"] == pytest.approx(164, rel=0.05)  # README 163
 
 
 def test_report_text(findings):

@@ -9,6 +9,7 @@ A full-page screenshot of each is kept under ``build/screenshots/``.
 Needs Debian's ``chromium`` and ``chromium-driver`` (``make browser`` installs them where it
 can: as root with apt-get) and selenium (the ``test`` extra); skipped with the reason otherwise.
 """
+
 from __future__ import annotations
 
 import base64
@@ -36,9 +37,17 @@ SHOTS = REPO / "build" / "screenshots"
 VIEWPORT = (1280, 900)
 
 #: the flags of a quiet headless Chromium on a closed network (no background requests)
-FLAGS = ("--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-         "--disable-background-networking", "--disable-component-update", "--disable-sync",
-         "--disable-dev-shm-usage")
+FLAGS = (
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--disable-dev-shm-usage",
+)
 
 
 def _find(*names: str) -> str | None:
@@ -56,11 +65,15 @@ DRIVER = _find("chromedriver")
 def browser():
     """One headless Chromium (through chromedriver) for the module, with a fresh profile."""
     if CHROMIUM is None or DRIVER is None:
-        pytest.skip("Chromium not installed: needs Debian's chromium and chromium-driver "
-                    "(`make browser` installs them as root with apt-get)")
-    webdriver = pytest.importorskip("selenium.webdriver",
-                                    reason="selenium not installed (pip install 'feeddrive[test]')")
+        pytest.skip(
+            "Chromium not installed: needs Debian's chromium and chromium-driver "
+            "(`make browser` installs them as root with apt-get)"
+        )
+    webdriver = pytest.importorskip(
+        "selenium.webdriver", reason="selenium not installed (pip install 'feeddrive[test]')"
+    )
     from selenium.webdriver.chrome.service import Service
+
     profile = tempfile.mkdtemp(prefix="feeddrive-chromium-")
     opts = webdriver.ChromeOptions()
     opts.binary_location = CHROMIUM
@@ -68,9 +81,10 @@ def browser():
         opts.add_argument(f)
     opts.set_capability("goog:loggingPrefs", {"browser": "ALL"})
     driver = webdriver.Chrome(service=Service(executable_path=DRIVER), options=opts)
-    driver.execute_cdp_cmd("Emulation.setDeviceMetricsOverride",
-                           {"width": VIEWPORT[0], "height": VIEWPORT[1], "deviceScaleFactor": 1,
-                            "mobile": False})
+    driver.execute_cdp_cmd(
+        "Emulation.setDeviceMetricsOverride",
+        {"width": VIEWPORT[0], "height": VIEWPORT[1], "deviceScaleFactor": 1, "mobile": False},
+    )
     yield driver
     driver.quit()
     shutil.rmtree(profile, ignore_errors=True)
@@ -79,26 +93,33 @@ def browser():
 def check_page(driver, page: Path, shot: str, shots: Path = SHOTS) -> list[str]:
     """Open ``page``; the problems found (console errors, images not loaded, wider than the
     viewport), after saving a full-page screenshot as ``<shots>/<shot>.png``."""
-    driver.get_log("browser")                   # drop what an earlier page left
+    driver.get_log("browser")  # drop what an earlier page left
     driver.get(page.resolve().as_uri())
-    problems = [f"console {e['level']}: {e['message']}" for e in driver.get_log("browser")
-                if e["level"] == "SEVERE"]
+    problems = [
+        f"console {e['level']}: {e['message']}"
+        for e in driver.get_log("browser")
+        if e["level"] == "SEVERE"
+    ]
     broken = driver.execute_script(
         "return Array.from(document.images).filter(i => !(i.complete && i.naturalWidth > 0))"
-        ".map(i => i.getAttribute('src'))")
+        ".map(i => i.getAttribute('src'))"
+    )
     problems += [f"image not loaded: {src}" for src in broken]
-    width = driver.execute_script("return Math.max(document.documentElement.scrollWidth, "
-                                  "document.body.scrollWidth)")
+    width = driver.execute_script(
+        "return Math.max(document.documentElement.scrollWidth, document.body.scrollWidth)"
+    )
     if width > VIEWPORT[0]:
         wide = driver.execute_script(
             "return Array.from(document.body.querySelectorAll('*')).filter(e => "
             f"e.getBoundingClientRect().right > {VIEWPORT[0]} || e.scrollWidth > e.clientWidth)"
             ".slice(0, 3)"
-            ".map(e => e.tagName + ' ' + Math.round(e.getBoundingClientRect().width) + ' px')")
+            ".map(e => e.tagName + ' ' + Math.round(e.getBoundingClientRect().width) + ' px')"
+        )
         problems.append(f"page {width} px wide > {VIEWPORT[0]} px: {wide}")
     shots.mkdir(parents=True, exist_ok=True)
-    png = driver.execute_cdp_cmd("Page.captureScreenshot",
-                                 {"format": "png", "captureBeyondViewport": True})
+    png = driver.execute_cdp_cmd(
+        "Page.captureScreenshot", {"format": "png", "captureBeyondViewport": True}
+    )
     (shots / f"{shot}.png").write_bytes(base64.b64decode(png["data"]))
     return problems
 
@@ -109,9 +130,11 @@ def check_page(driver, page: Path, shot: str, shots: Path = SHOTS) -> list[str]:
 def test_the_checks_find_a_broken_page(browser, tmp_path):
     """A missing image, a script error and a 2000 px table are each reported."""
     bad = tmp_path / "bad.html"
-    bad.write_text("<!DOCTYPE html><html><body><img src='missing.png'>"
-                   "<script>undefined_function()</script>"
-                   "<table><tr><td style='min-width:2000px'>wide</td></tr></table></body></html>")
+    bad.write_text(
+        "<!DOCTYPE html><html><body><img src='missing.png'>"
+        "<script>undefined_function()</script>"
+        "<table><tr><td style='min-width:2000px'>wide</td></tr></table></body></html>"
+    )
     problems = check_page(browser, bad, "bad", tmp_path)
     assert any("image not loaded: missing.png" in p for p in problems), problems
     assert any("undefined_function" in p for p in problems), problems
@@ -141,18 +164,45 @@ def _assert_page(browser, page: Path, shot: str, min_images: int) -> None:
 
 def test_circle_page(browser, tmp_path, capsys, fmu_path):
     out = tmp_path / "circle"
-    _ok(["circle", "--radius-mm", "5", "--feed-m-min", "2", "--feedforward", "none", "gms",
-         "--out", str(out)], capsys)
+    _ok(
+        [
+            "circle",
+            "--radius-mm",
+            "5",
+            "--feed-m-min",
+            "2",
+            "--feedforward",
+            "none",
+            "gms",
+            "--out",
+            str(out),
+        ],
+        capsys,
+    )
     _assert_page(browser, out / "index.html", "circle", 2)
 
 
 #: a tiny sweep (four runs of 0.2 s) on a model file beside the study
-STUDY = {"schema": "feeddrive.study/1", "name": "browser", "model": "base_model.json",
-         "experiment": {"reference": {"type": "sinusoid", "amplitude": 0.005, "period": 0.2,
-                                      "centre": 0.15, "duration": 0.2},
-                        "controller": {"type": "pid"}, "skip_start": 0.0, "half_width": 0.05},
-         "parameters": {"m": {"relative": 0.1}, "friction.F_c": {"relative": 0.1}},
-         "design": {"type": "grid", "levels": 2}, "metrics": ["rms_error", "max_error"]}
+STUDY = {
+    "schema": "feeddrive.study/1",
+    "name": "browser",
+    "model": "base_model.json",
+    "experiment": {
+        "reference": {
+            "type": "sinusoid",
+            "amplitude": 0.005,
+            "period": 0.2,
+            "centre": 0.15,
+            "duration": 0.2,
+        },
+        "controller": {"type": "pid"},
+        "skip_start": 0.0,
+        "half_width": 0.05,
+    },
+    "parameters": {"m": {"relative": 0.1}, "friction.F_c": {"relative": 0.1}},
+    "design": {"type": "grid", "levels": 2},
+    "metrics": ["rms_error", "max_error"],
+}
 
 
 def test_study_page(browser, tmp_path, capsys, fmu_path):
@@ -166,14 +216,26 @@ def test_study_page(browser, tmp_path, capsys, fmu_path):
 
 
 def test_diagnosis_page(browser, tmp_path, capsys, fmu_path):
-    run = simulate_run(paper_model(), sinusoid_reference(1.5, period=1.5), current_noise=0.005,
-                       seed=3, name="d")
+    run = simulate_run(
+        paper_model(), sinusoid_reference(1.5, period=1.5), current_noise=0.005, seed=3, name="d"
+    )
     write_run(run, tmp_path / "d.csv")
     model = paper_model()
-    model.effects["prerolling"] = False            # a model that lacks something
+    model.effects["prerolling"] = False  # a model that lacks something
     save_model(model, tmp_path / "m.json")
-    _ok(["diagnose", str(tmp_path / "d.csv"), "--model", str(tmp_path / "m.json"),
-         "--out", str(tmp_path / "diag"), "--max-steps", "1"], capsys)
+    _ok(
+        [
+            "diagnose",
+            str(tmp_path / "d.csv"),
+            "--model",
+            str(tmp_path / "m.json"),
+            "--out",
+            str(tmp_path / "diag"),
+            "--max-steps",
+            "1",
+        ],
+        capsys,
+    )
     _assert_page(browser, tmp_path / "diag" / "report.html", "diagnosis", 1)
 
 
@@ -181,13 +243,16 @@ def _identification_runs(folder: Path) -> None:
     """Short identification runs: PRBS, two loaded passes over the whole stroke (the maps
     need it), a few Stribeck speeds, open-loop force, variable speed, pre-rolling."""
     params = paper_model().fmu_parameters()
-    jobs = (partial(prbs_runs, periods=1),
-            partial(constant_speed_runs, speeds=(40e-3,), loads=PAPER_LOADS[:2],
-                    segment=(0.001, 0.299)),
-            partial(stribeck_runs, speeds=(2e-3, 20e-3), cruise_time=1.0, min_length=3e-3),
-            partial(force_open_loop_runs, n_periods=5),
-            partial(variable_speed_runs, duration=2.0),
-            partial(prerolling_runs, period=2.0, n_periods=2.0))
+    jobs = (
+        partial(prbs_runs, periods=1),
+        partial(
+            constant_speed_runs, speeds=(40e-3,), loads=PAPER_LOADS[:2], segment=(0.001, 0.299)
+        ),
+        partial(stribeck_runs, speeds=(2e-3, 20e-3), cruise_time=1.0, min_length=3e-3),
+        partial(force_open_loop_runs, n_periods=5),
+        partial(variable_speed_runs, duration=2.0),
+        partial(prerolling_runs, period=2.0, n_periods=2.0),
+    )
     folder.mkdir()
     for k, job in enumerate(jobs):
         for r in job(params, Sensors(seed=k)):

@@ -7,6 +7,7 @@ solutions, step bookkeeping, error paths, cost) and test_solver_dp45_events.c
 and with AddressSanitizer + UBSan (any memory error or undefined behaviour
 aborts with a non-zero exit status).
 """
+
 from __future__ import annotations
 
 import os
@@ -28,8 +29,15 @@ FMU_FLAGS = ["-std=c99", "-O2", "-fPIC", "-Wall", "-Wextra", "-Werror"]
 BUILDS = {
     "plain": ["-std=c99", "-Wall", "-Wextra", "-Werror", "-O2"],
     "sanitized": [
-        "-std=c99", "-Wall", "-Wextra", "-Werror", "-O1", "-g",
-        "-fsanitize=address,undefined", "-fno-sanitize-recover=all", "-fno-omit-frame-pointer",
+        "-std=c99",
+        "-Wall",
+        "-Wextra",
+        "-Werror",
+        "-O1",
+        "-g",
+        "-fsanitize=address,undefined",
+        "-fno-sanitize-recover=all",
+        "-fno-omit-frame-pointer",
     ],
 }
 
@@ -44,7 +52,9 @@ def test_solver_compiles_with_fmu_flags(tmp_path: Path) -> None:
     """The solver object builds warning-free with exactly the FMU's flags."""
     proc = subprocess.run(
         [_compiler(), *FMU_FLAGS, "-c", str(SOLVER), "-o", str(tmp_path / "solver_dp45.o")],
-        capture_output=True, text=True, timeout=120,
+        capture_output=True,
+        text=True,
+        timeout=120,
     )
     assert proc.returncode == 0, f"{SOLVER}: compile failed:\n{proc.stderr}"
 
@@ -56,9 +66,20 @@ def test_solver_c_program(tmp_path: Path, program: str, build: str) -> None:
     test_c = TEST_DIR / f"{program}.c"
     exe = tmp_path / f"{program}_{build}"
     comp = subprocess.run(
-        [_compiler(), *BUILDS[build], f"-I{SRC}", f"-I{TEST_DIR}", str(test_c), str(SOLVER),
-         "-lm", "-o", str(exe)],
-        capture_output=True, text=True, timeout=120,
+        [
+            _compiler(),
+            *BUILDS[build],
+            f"-I{SRC}",
+            f"-I{TEST_DIR}",
+            str(test_c),
+            str(SOLVER),
+            "-lm",
+            "-o",
+            str(exe),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
     )
     assert comp.returncode == 0, f"{test_c} ({build}): compile failed:\n{comp.stderr}"
 

@@ -1,6 +1,7 @@
 """Parameter studies (feeddrive.study): the study file, the samplers, a failing run as a row,
 serial = LocalCluster = external scheduler bitwise, resume, the force-residual metric, the
 report and the `feeddrive sweep` command."""
+
 from __future__ import annotations
 
 import copy
@@ -35,15 +36,26 @@ from feeddrive.study import (
 )
 from feeddrive.study.run import make_reference
 
-BASE = {"schema": "feeddrive.study/1", "name": "t",
-        "experiment": {"reference": {"type": "sinusoid", "amplitude": 0.005, "period": 0.4,
-                                     "centre": 0.15, "duration": 0.5},
-                       "controller": {"type": "pid"}, "skip_start": 0.05, "half_width": 0.05},
-        "parameters": {"friction.F_s": {"low": 20.0, "high": 32.0},
-                       "m": {"relative": 0.2}},
-        "design": {"type": "lhs", "runs": 12, "seed": 3},
-        "metrics": ["reversal_error", "rms_error", "max_error"],
-        "batch_size": 2}
+BASE = {
+    "schema": "feeddrive.study/1",
+    "name": "t",
+    "experiment": {
+        "reference": {
+            "type": "sinusoid",
+            "amplitude": 0.005,
+            "period": 0.4,
+            "centre": 0.15,
+            "duration": 0.5,
+        },
+        "controller": {"type": "pid"},
+        "skip_start": 0.05,
+        "half_width": 0.05,
+    },
+    "parameters": {"friction.F_s": {"low": 20.0, "high": 32.0}, "m": {"relative": 0.2}},
+    "design": {"type": "lhs", "runs": 12, "seed": 3},
+    "metrics": ["reversal_error", "rms_error", "max_error"],
+    "batch_size": 2,
+}
 
 
 def _write(tmp: Path, doc: dict, name: str = "study.json") -> Path:
@@ -83,8 +95,12 @@ BAD = [
     (["metrics"], ["reversal_error", "iso230"], "field metrics[1]"),
     (["parameters", "mass"], {"low": 1, "high": 2}, "field parameters['mass']"),
     (["parameters", "m"], {"low": 20, "high": 10}, "field parameters['m'].high"),
-    (["parameters", "m"], {"distribution": "nosuch", "loc": 1}, "field parameters['m'].distribution"),
-    (["parameters", "m"], {"values": [15, 16]}, "field parameters['m']"),   # values: grid only
+    (
+        ["parameters", "m"],
+        {"distribution": "nosuch", "loc": 1},
+        "field parameters['m'].distribution",
+    ),
+    (["parameters", "m"], {"values": [15, 16]}, "field parameters['m']"),  # values: grid only
     (["experiment", "reference", "type"], "circle", "field experiment.reference.type"),
     (["experiment", "reference", "period"], -1, "field experiment.reference.period"),
     (["experiment", "controller", "type"], "lqr", "field experiment.controller.type"),
@@ -107,8 +123,11 @@ def test_bad_study_file_names_file_and_field(tmp_path: Path, path, value, field)
 def test_bad_study_file_on_the_command_line(tmp_path: Path) -> None:
     p = tmp_path / "study.json"
     p.write_text('{"schema": "feeddrive.study/1",\n "design": ')
-    out = subprocess.run([sys.executable, "-m", "feeddrive.cli", "sweep", str(p), "--out",
-                          str(tmp_path / "o")], capture_output=True, text=True)
+    out = subprocess.run(
+        [sys.executable, "-m", "feeddrive.cli", "sweep", str(p), "--out", str(tmp_path / "o")],
+        capture_output=True,
+        text=True,
+    )
     assert out.returncode == 2
     assert out.stderr.strip().count("\n") == 0 and "Traceback" not in out.stderr
     assert str(p) in out.stderr and "invalid JSON at line 2" in out.stderr
@@ -136,10 +155,17 @@ def test_samplers(tmp_path: Path) -> None:
     m = np.array([c.values["m"] for c in cases(parse_study(mc, "s", tmp_path))])
     assert abs(m.mean() - 16.1) < 4 * 0.5 / math.sqrt(4000) and abs(m.std() - 0.5) < 0.03
     oat = cases(parse_study(_edit(["design"], {"type": "oat"}), "s", tmp_path))
-    assert [c.label for c in oat] == ["base", "friction.F_s=low", "friction.F_s=high", "m=low",
-                                      "m=high"]
-    assert oat[0].values == {"friction.F_s": paper_parameters()["friction.F_s"],
-                             "m": paper_parameters()["m"]}
+    assert [c.label for c in oat] == [
+        "base",
+        "friction.F_s=low",
+        "friction.F_s=high",
+        "m=low",
+        "m=high",
+    ]
+    assert oat[0].values == {
+        "friction.F_s": paper_parameters()["friction.F_s"],
+        "m": paper_parameters()["m"],
+    }
     assert oat[3].values["m"] == pytest.approx(16.1 * 0.8) and oat[3].values["friction.F_s"] == 26.1
 
 
@@ -160,8 +186,13 @@ def test_serial_local_cluster_and_scheduler_give_the_same_table(tmp_path: Path) 
     cols = study.parameter_names + study.metric_columns
     local = run_study(study, tmp_path / "local", workers=2)
     _same(serial.rows, local.rows, cols)
-    with LocalCluster(n_workers=2, threads_per_worker=1, host="127.0.0.1", scheduler_port=0,
-                      dashboard_address=None) as cluster:
+    with LocalCluster(
+        n_workers=2,
+        threads_per_worker=1,
+        host="127.0.0.1",
+        scheduler_port=0,
+        dashboard_address=None,
+    ) as cluster:
         assert cluster.scheduler_address.startswith("tcp://127.0.0.1:")
         remote = run_study(study, tmp_path / "remote", scheduler=cluster.scheduler_address)
     _same(serial.rows, remote.rows, cols)
@@ -179,7 +210,7 @@ def test_resume_computes_only_the_missing_runs(tmp_path: Path) -> None:
     full = run_study(study, tmp_path / "a", parallel=False)
     csv = tmp_path / "a" / "results.csv"
     lines = csv.read_text().splitlines()
-    csv.write_text("\n".join(lines[:3] + [lines[5][:20]]) + "\n")   # 2 rows and a torn line
+    csv.write_text("\n".join(lines[:3] + [lines[5][:20]]) + "\n")  # 2 rows and a torn line
     with pytest.raises(ValueError, match="--resume"):
         run_study(study, tmp_path / "a", parallel=False)
     res = run_study(study, tmp_path / "a", resume=True, parallel=False)
@@ -194,8 +225,9 @@ def test_force_residual_metric_and_report(tmp_path: Path) -> None:
     """Against a run measured on the paper's model, the residual is smallest at the true mass
     and grows by about |dm| * rms(a) at the ends of a one-at-a-time study."""
     ref = sinusoid(0.010, 0.5, 0.15, 1.0)
-    run, res = closed_loop_run(paper_parameters(), pid_spec(), ref,
-                               Sensors(quantum=1e-7, current_noise=0.0))
+    run, res = closed_loop_run(
+        paper_parameters(), pid_spec(), ref, Sensors(quantum=1e-7, current_noise=0.0)
+    )
     write_run(run, tmp_path / "measured.csv")
     doc = copy.deepcopy(BASE)
     doc["experiment"]["measured"] = "measured.csv"
@@ -222,9 +254,21 @@ def test_sweep_command_prints_the_sensitivity_table(tmp_path: Path) -> None:
     doc["parameters"] = {"m": {"relative": 0.2}, "friction.sigma2": {"relative": 0.5}}
     doc["experiment"]["reference"]["duration"] = 0.3
     p = _write(tmp_path, doc)
-    out = subprocess.run([sys.executable, "-m", "feeddrive.cli", "sweep", str(p), "--out",
-                          str(tmp_path / "o"), "--serial", "--no-progress"],
-                         capture_output=True, text=True)
+    out = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "feeddrive.cli",
+            "sweep",
+            str(p),
+            "--out",
+            str(tmp_path / "o"),
+            "--serial",
+            "--no-progress",
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert out.returncode == 0, out.stderr
     assert "change at low" in out.stdout and "rms_error_m" in out.stdout
     assert (tmp_path / "o" / "report.html").is_file()
@@ -245,7 +289,7 @@ def test_readme_example_study_runs(tmp_path: Path) -> None:
     section = text.split("# Parameter studies", 1)[1]
     docs = [json.loads(b.split("```", 1)[0]) for b in section.split("```json")[1:]]
     doc = next(d for d in docs if d["name"] == "friction and mass, one at a time")
-    doc["experiment"]["reference"]["duration"] = 0.6      # shorter here: one top reversal
+    doc["experiment"]["reference"]["duration"] = 0.6  # shorter here: one top reversal
     res = run_study(parse_study(doc, "docs/studies.md", tmp_path), tmp_path / "o", parallel=False)
     assert res.failed == 0 and len(res.rows) == 1 + 2 * len(doc["parameters"])
     top = [s for s in res.sensitivities if s.metric == "reversal_error_m"]
@@ -262,7 +306,7 @@ def test_a_run_equals_a_fresh_closed_loop(tmp_path: Path) -> None:
     task = RunTask.of(study)
     values = {"friction.F_s": 30.0, "m": 18.0}
     first = run_case(task, Case(0, "", values))
-    run_case(task, Case(1, "", {"friction.F_s": 10.0, "m": 18.0}))     # refused: F_s < F_c
+    run_case(task, Case(1, "", {"friction.F_s": 10.0, "m": 18.0}))  # refused: F_s < F_c
     run_case(task, Case(2, "", {"friction.F_s": 25.0, "m": 14.0}))
     again = run_case(task, Case(3, "", values))
     ref = make_reference(study.experiment.reference)

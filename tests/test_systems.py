@@ -15,6 +15,7 @@ flips a 100 nm level and grows to micrometres).  Against the harness the delay h
 measurement error v h that the loop passes on: measured 6.9 um at h = 50 us, halving with h
 (3.3 um at 25 us, 1.6 um at 12.5 us), ~0.14 um per us of delay.
 """
+
 from __future__ import annotations
 
 import zipfile
@@ -35,7 +36,7 @@ from feeddrive.systems import (
 )
 from feeddrive.systems.jacobi import simulate_jacobi
 
-TOL_EQUAL = 1e-8          #: 0.01 um, equal conventions
+TOL_EQUAL = 1e-8  #: 0.01 um, equal conventions
 libcosim = pytest.importorskip("libcosimpy", reason="libcosimpy: python/pyproject.toml [test]")
 
 
@@ -51,21 +52,27 @@ def test_files_are_standard_form(sec3) -> None:
     """The SSD validates against SSP 1.0's schema (fmpy's read_ssd), the .ssv files against
     theirs, with every start value; the OSP file names both simulators and connections."""
     s, files, _ = sec3
-    ssd = read_ssd(str(files["ssp"]))                 # validates
+    ssd = read_ssd(str(files["ssp"]))  # validates
     names = {c.name for c in ssd.system.elements}
     assert names == {"plant", "controller"}
-    assert {(c.startElement, c.startConnector, c.endElement, c.endConnector)
-            for c in ssd.system.connections} == {("plant", "x", "controller", "x_meas"),
-                                                 ("controller", "u", "plant", "u")}
+    assert {
+        (c.startElement, c.startConnector, c.endElement, c.endConnector)
+        for c in ssd.system.connections
+    } == {("plant", "x", "controller", "x_meas"), ("controller", "u", "plant", "u")}
     sv = s.start_values()
     for comp in ("plant", "controller"):
-        ps = read_ssv(str(files["ssp"]), resource=f"resources/{comp}.ssv")   # validates
+        ps = read_ssv(str(files["ssp"]), resource=f"resources/{comp}.ssv")  # validates
         assert {p.name for p in ps.parameters} == set(sv[comp])
     with zipfile.ZipFile(files["ssp"]) as z:
-        assert {"resources/LinearMotorFeedDrive.fmu", "resources/DriveController.fmu"} <= set(z.namelist())
+        assert {"resources/LinearMotorFeedDrive.fmu", "resources/DriveController.fmu"} <= set(
+            z.namelist()
+        )
     root = ET.parse(files["osp"]).getroot()
     ns = {"o": "http://opensimulationplatform.com/MSMI/OSPSystemStructure"}
-    assert {e.get("name") for e in root.findall("o:Simulators/o:Simulator", ns)} == {"plant", "controller"}
+    assert {e.get("name") for e in root.findall("o:Simulators/o:Simulator", ns)} == {
+        "plant",
+        "controller",
+    }
     assert len(root.findall("o:Connections/o:VariableConnection", ns)) == 2
     assert float(root.find("o:BaseStepSize", ns).text) == pytest.approx(s.Ts / 10)
 
@@ -76,7 +83,7 @@ def test_container_fmu_is_the_harness_run(sec3) -> None:
     s, files, ref = sec3
     r = run_container(files["container"], s.n, s.Ts)
     assert float(np.max(np.abs(r["x"] - ref["x"]))) <= TOL_EQUAL
-    assert float(np.max(np.abs(r["u"][:-1] - ref["u"][:-1]))) <= 1e-12   # ref holds u[n] = u[n-1]
+    assert float(np.max(np.abs(r["u"][:-1] - ref["u"][:-1]))) <= 1e-12  # ref holds u[n] = u[n-1]
 
 
 def test_sec4_gms_container_is_the_harness_run(fmu_path, tmp_path) -> None:

@@ -1,4 +1,5 @@
 """Closed-loop validation: the paper's Secs. 3 and 4 reproduced, the report, the CLI."""
+
 from __future__ import annotations
 
 import json
@@ -31,17 +32,21 @@ def test_sec4_no_feedforward_reversal_error_is_of_the_papers_order(job):
 
 def test_sec4_feedforward_order_at_reversal(job):
     r = _sec4(job[1])
-    no, st, gms = (r[c]["reversal_peak_um"] for c in
-                   ("no feedforward", "static friction feedforward", "GMS feedforward"))
+    no, st, gms = (
+        r[c]["reversal_peak_um"]
+        for c in ("no feedforward", "static friction feedforward", "GMS feedforward")
+    )
     assert no > st > gms
-    assert gms <= 0.6 * no          # paper: 11 um vs 27 um
+    assert gms <= 0.6 * no  # paper: 11 um vs 27 um
 
 
 def test_sec3_full_model_agrees_best_and_static_friction_doubles_the_reversal_error(job):
     rows = {r["model"]: r for r in job[1]["sec3"]}
     full = rows["full model"]
     assert full["rms_um"] == min(r["rms_um"] for r in rows.values())
-    assert rows["static friction instead of GMS"]["reversal_peak_um"] >= 2.0 * full["reversal_peak_um"]
+    assert (
+        rows["static friction instead of GMS"]["reversal_peak_um"] >= 2.0 * full["reversal_peak_um"]
+    )
     # the full model differs from its own measurement only by sensor effects: ~1 um or less
     assert full["reversal_peak_um"] < 3.0
 
@@ -49,7 +54,12 @@ def test_sec3_full_model_agrees_best_and_static_friction_doubles_the_reversal_er
 def test_report_page_has_figures_and_tables(job):
     out, _ = job
     html = (out / "index.html").read_text()
-    for name in ("fig14_top_reversal.png", "fig16_feedforward.png", "sec4_reversals.png", "sec3_error.png"):
+    for name in (
+        "fig14_top_reversal.png",
+        "fig16_feedforward.png",
+        "sec4_reversals.png",
+        "sec3_error.png",
+    ):
         assert (out / name).stat().st_size > 10_000
         assert name in html
     assert "GMS feedforward" in html and "<table>" in html

@@ -8,6 +8,7 @@ a registry symbol ``effect_<id>`` / ``EFFECT_<ID>``, or (Python) imports the eff
 
 Usage: ``python tools/effect_names.py [ROOT]`` prints the count and the files per effect.
 """
+
 from __future__ import annotations
 
 import ast
@@ -32,14 +33,20 @@ def product_files(root: Path) -> list[Path]:
         if p.is_file():
             out.append(p)
         elif p.is_dir():
-            out += [f for f in p.rglob("*") if f.is_file() and f.suffix in suffixes
-                    and "__pycache__" not in f.parts]
+            out += [
+                f
+                for f in p.rglob("*")
+                if f.is_file() and f.suffix in suffixes and "__pycache__" not in f.parts
+            ]
     return sorted(out)
 
 
 def _text_patterns(effect_id: str, literal: bool) -> re.Pattern[str]:
-    parts = [rf"\beffects\.{effect_id}\b", rf"\beffect_{effect_id}\b",
-             rf"\bEFFECT_{effect_id.upper()}\b"]
+    parts = [
+        rf"\beffects\.{effect_id}\b",
+        rf"\beffect_{effect_id}\b",
+        rf"\bEFFECT_{effect_id.upper()}\b",
+    ]
     if literal:
         parts.append(rf"([\"']){effect_id}\1")
     return re.compile("|".join(parts))
@@ -60,8 +67,11 @@ def _python_names(tree: ast.AST, module: str, is_pkg: bool) -> set[str]:
         if isinstance(node, ast.Constant) and isinstance(node.value, str):
             out.add(node.value)
         elif isinstance(node, ast.Import):
-            out.update(a.name.removeprefix("feeddrive.effects.") for a in node.names
-                       if a.name.startswith("feeddrive.effects."))
+            out.update(
+                a.name.removeprefix("feeddrive.effects.")
+                for a in node.names
+                if a.name.startswith("feeddrive.effects.")
+            )
         elif isinstance(node, ast.ImportFrom):
             if node.level:
                 base = module.split(".") if is_pkg else module.split(".")[:-1]
@@ -101,6 +111,7 @@ def main(argv: list[str]) -> int:
     root = Path(argv[0]) if argv else Path(__file__).resolve().parents[1]
     sys.path.insert(0, str(root / "python"))
     from feeddrive.effects import effect_ids
+
     for e, files in naming_files(root, effect_ids()).items():
         print(f"{e:20s} {len(files):2d}  " + " ".join(files))
     return 0

@@ -9,6 +9,7 @@ so that the CSV stays small (< 200 KB).
 
 Usage: example_run.py [OUT.csv]   (default examples/runs/sinusoid.csv)
 """
+
 from __future__ import annotations
 
 import sys
@@ -28,9 +29,12 @@ DIGITS = {"time": 7, "u": 5, "i": 5, "x": 9, "x_ref": 8, "F_load": 6}
 def example_run() -> Run:
     """The example recording (deterministic: fixed noise seed)."""
     ref = sinusoid(0.010, 2.0, 0.150, 2.0)
-    run = closed_loop_measurement(paper_model().fmu_parameters(), Sensors(seed=7), ref,
-                                  {"name": "sinusoid", "amplitude": 0.010,
-                                   "period": 2.0, "centre": 0.150})
+    run = closed_loop_measurement(
+        paper_model().fmu_parameters(),
+        Sensors(seed=7),
+        ref,
+        {"name": "sinusoid", "amplitude": 0.010, "period": 2.0, "centre": 0.150},
+    )
     cols = {k: (None if v is None else np.round(v, DIGITS[k])) for k, v in run.columns().items()}
     return Run(**cols, meta=run.meta)
 

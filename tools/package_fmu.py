@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
 """Zip modelDescription.xml, the shared libraries (one per platform) and the C sources into an FMU."""
+
 from __future__ import annotations
 
 import argparse
@@ -11,14 +12,27 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--xml", required=True)
     ap.add_argument("--so", required=True)
-    ap.add_argument("--sources", nargs="+", required=True,
-                    help="folders whose *.c/*.h (or single files) go to sources/")
+    ap.add_argument(
+        "--sources",
+        nargs="+",
+        required=True,
+        help="folders whose *.c/*.h (or single files) go to sources/",
+    )
     ap.add_argument("--out", required=True)
-    ap.add_argument("--platform", default="linux64",
-                    help="binaries/ folder of --so: linux64 (FMI 2.0), x86_64-linux (FMI 3.0)")
-    ap.add_argument("--binary", nargs=2, action="append", default=[], metavar=("PLATFORM", "FILE"),
-                    help="a further binary and its binaries/ folder, e.g. win64 X.dll (FMI 2.0), "
-                         "x86_64-windows X.dll (FMI 3.0); repeatable")
+    ap.add_argument(
+        "--platform",
+        default="linux64",
+        help="binaries/ folder of --so: linux64 (FMI 2.0), x86_64-linux (FMI 3.0)",
+    )
+    ap.add_argument(
+        "--binary",
+        nargs=2,
+        action="append",
+        default=[],
+        metavar=("PLATFORM", "FILE"),
+        help="a further binary and its binaries/ folder, e.g. win64 X.dll (FMI 2.0), "
+        "x86_64-windows X.dll (FMI 3.0); repeatable",
+    )
     a = ap.parse_args()
     binaries = [(a.platform, Path(a.so))] + [(plat, Path(f)) for plat, f in a.binary]
     platforms = [plat for plat, _ in binaries]

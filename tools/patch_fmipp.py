@@ -9,6 +9,7 @@
 Every replaced text must be found exactly once, so a changed sdist stops the build with the
 text that is missing.  Usage: python tools/patch_fmipp.py path/to/setup.py
 """
+
 from __future__ import annotations
 
 import sys
@@ -18,8 +19,10 @@ EDITS = (
     ("    ( 'USE_SUNDIALS', None ),\n", ""),
     (", '-DUSE_SUNDIALS' ]", " ]"),
     ("    '-lsundials_cvode',\n    '-lsundials_nvecserial'\n", ""),
-    ("      import_wrapper,\n      export_wrapper,\n      fmi2_frontend,\n      fmi1_frontend_lib\n",
-     "      import_wrapper,\n"),
+    (
+        "      import_wrapper,\n      export_wrapper,\n      fmi2_frontend,\n      fmi1_frontend_lib\n",
+        "      import_wrapper,\n",
+    ),
 )
 
 
@@ -27,7 +30,9 @@ def patch(text: str) -> str:
     """``text`` with every edit of EDITS applied; ValueError naming an edit not found once."""
     for old, new in EDITS:
         if text.count(old) != 1:
-            raise ValueError(f"fmipp setup.py: expected once, found {text.count(old)} times: {old!r}")
+            raise ValueError(
+                f"fmipp setup.py: expected once, found {text.count(old)} times: {old!r}"
+            )
         text = text.replace(old, new)
     return text
 

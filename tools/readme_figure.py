@@ -5,6 +5,7 @@ reproduction (feeddrive.experiments.sec3.reproduce), at a size for a web page.
 
 Usage: readme_figure.py [OUT.png]
 """
+
 from __future__ import annotations
 
 import sys

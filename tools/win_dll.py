@@ -11,6 +11,7 @@ runtime and KERNEL32 only.
 Usage: win_dll.py --cc x86_64-w64-mingw32-gcc --out X.dll --exports fmi2 -- CFLAGS... SOURCES...
 (arguments after ``--`` ending in ``.c`` are sources, the others compiler flags).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -22,7 +23,9 @@ from pathlib import Path
 
 # what a DLL of the FMUs may import: the Windows C runtime (msvcrt or the UCRT's api sets) and
 # KERNEL32 (which the C runtime start-up code of every DLL needs)
-ALLOWED_IMPORTS = re.compile(r"^(kernel32\.dll|msvcrt\.dll|ucrtbase\.dll|api-ms-win-crt-[a-z0-9-]+\.dll)$", re.I)
+ALLOWED_IMPORTS = re.compile(
+    r"^(kernel32\.dll|msvcrt\.dll|ucrtbase\.dll|api-ms-win-crt-[a-z0-9-]+\.dll)$", re.I
+)
 
 
 def tool(cc: str, name: str) -> str:
@@ -55,16 +58,20 @@ def pe_imports_exports(objdump: str, dll: Path) -> tuple[list[str], list[str]]:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     ap.add_argument("--cc", default="x86_64-w64-mingw32-gcc")
     ap.add_argument("--out", required=True, type=Path)
-    ap.add_argument("--exports", required=True, help="prefix of the exported functions: fmi2 or fmi3")
+    ap.add_argument(
+        "--exports", required=True, help="prefix of the exported functions: fmi2 or fmi3"
+    )
     ap.add_argument("rest", nargs=argparse.REMAINDER, help="-- compiler flags and sources")
     a = ap.parse_args()
     rest = a.rest[1:] if a.rest[:1] == ["--"] else a.rest
     sources = [Path(s).resolve() for s in rest if s.endswith(".c")]
     flags: list[str] = []
-    for s in rest:   # include folders made absolute: the compiler runs in a scratch folder
+    for s in rest:  # include folders made absolute: the compiler runs in a scratch folder
         if s.endswith(".c"):
             continue
         if flags and flags[-1] == "-I":
@@ -87,24 +94,47 @@ def main() -> None:
         for o in objs:
             run([objcopy, "--remove-section", ".drectve", str(o)])
         pat = re.compile(rf"^{re.escape(a.exports)}[A-Z]\w*$")
-        syms = sorted({parts[2] for line in run([nm, "-g", "--defined-only", *map(str, objs)]).splitlines()
-                       if len(parts := line.split()) == 3 and parts[1] == "T" and pat.match(parts[2])})
+        syms = sorted(
+            {
+                parts[2]
+                for line in run([nm, "-g", "--defined-only", *map(str, objs)]).splitlines()
+                if len(parts := line.split()) == 3 and parts[1] == "T" and pat.match(parts[2])
+            }
+        )
         if not syms:
             sys.exit(f"error: win_dll.py: the sources define no {a.exports}* function")
         deffile = work / "exports.def"
         deffile.write_text("EXPORTS\n" + "".join(f"    {s}\n" for s in syms))
         tmp_dll = work / a.out.name
-        run([a.cc, "-shared", "-static-libgcc", "-s", "-Wl,--no-undefined", "-o", str(tmp_dll),
-             *map(str, objs), str(deffile), "-lm"])
+        run(
+            [
+                a.cc,
+                "-shared",
+                "-static-libgcc",
+                "-s",
+                "-Wl,--no-undefined",
+                "-o",
+                str(tmp_dll),
+                *map(str, objs),
+                str(deffile),
+                "-lm",
+            ]
+        )
         imports, exports = pe_imports_exports(objdump, tmp_dll)
         bad = [d for d in imports if not ALLOWED_IMPORTS.match(d)]
         if bad:
-            sys.exit(f"error: {a.out} imports {', '.join(bad)}: allowed only KERNEL32 and the C runtime")
+            sys.exit(
+                f"error: {a.out} imports {', '.join(bad)}: allowed only KERNEL32 and the C runtime"
+            )
         if sorted(exports) != syms:
-            sys.exit(f"error: {a.out} exports {len(exports)} names, expected the {len(syms)} {a.exports}* functions")
+            sys.exit(
+                f"error: {a.out} exports {len(exports)} names, expected the {len(syms)} {a.exports}* functions"
+            )
         tmp_dll.replace(a.out)
-    print(f"wrote {a.out} ({a.out.stat().st_size} bytes; imports {', '.join(imports)}; "
-          f"{len(syms)} {a.exports}* exports)")
+    print(
+        f"wrote {a.out} ({a.out.stat().st_size} bytes; imports {', '.join(imports)}; "
+        f"{len(syms)} {a.exports}* exports)"
+    )
 
 
 if __name__ == "__main__":

@@ -17,6 +17,7 @@ parameter of another model description (the plant's) under PREFIX with value ref
 OFFSET + its own, and writes the merged OUTDIR/modelDescription.xml: the plant's parameters
 keep the plant's XML as their one source of truth.
 """
+
 from __future__ import annotations
 
 import re
@@ -48,8 +49,9 @@ def import_parameters(root: ET.Element, other_xml: str, prefix: str, offset: int
         mv.append(sv)
 
 
-def main(xml_path: str, outdir: str, prefix: str = "MODEL",
-         imports: tuple[str, str, int] | None = None) -> None:
+def main(
+    xml_path: str, outdir: str, prefix: str = "MODEL", imports: tuple[str, str, int] | None = None
+) -> None:
     tree = ET.parse(xml_path)
     root = tree.getroot()
     if imports is not None:
@@ -75,11 +77,21 @@ def main(xml_path: str, outdir: str, prefix: str = "MODEL",
         mn, mx = typ_el.get("min"), typ_el.get("max")
         caus = sv.get("causality", "local")
         var = sv.get("variability", "continuous")
-        rows.append((vr, name, typ[0], caus[0] if caus != "calculatedParameter" else "c", var[0],
-                     c_double(start, typ) if start is not None else "0.0", 1 if start is not None else 0,
-                     c_double(mn, typ) if mn is not None else "-HUGE_VAL",
-                     c_double(mx, typ) if mx is not None else "HUGE_VAL",
-                     typ_el.get("unit", ""), repr(float(typ_el.get("nominal", "1")))))
+        rows.append(
+            (
+                vr,
+                name,
+                typ[0],
+                caus[0] if caus != "calculatedParameter" else "c",
+                var[0],
+                c_double(start, typ) if start is not None else "0.0",
+                1 if start is not None else 0,
+                c_double(mn, typ) if mn is not None else "-HUGE_VAL",
+                c_double(mx, typ) if mx is not None else "HUGE_VAL",
+                typ_el.get("unit", ""),
+                repr(float(typ_el.get("nominal", "1"))),
+            )
+        )
         defines.append(f"#define VR_{c_ident(name)} {vr}u")
         m = re.fullmatch(r"(.*)\[(\d+)\]", name)
         if m and not name.startswith("der("):
@@ -87,32 +99,41 @@ def main(xml_path: str, outdir: str, prefix: str = "MODEL",
     for unk in root.find("ModelStructure").find("Derivatives").findall("Unknown"):
         der_sv = svs[int(unk.get("index")) - 1]
         states.append(index_of[int(der_sv[0].get("derivative"))])
-    der_vrs = [int(svs[int(u.get("index")) - 1].get("valueReference"))
-               for u in root.find("ModelStructure").find("Derivatives").findall("Unknown")]
+    der_vrs = [
+        int(svs[int(u.get("index")) - 1].get("valueReference"))
+        for u in root.find("ModelStructure").find("Derivatives").findall("Unknown")
+    ]
     nvr = max(r[0] for r in rows) + 1
     out = Path(outdir)
     out.mkdir(parents=True, exist_ok=True)
-    h = [f"/* Generated from {Path(xml_path).name} by gen_vars.py: do not edit. */",
-         "#ifndef MODEL_VARS_H", "#define MODEL_VARS_H", "",
-         f'#define MODEL_GUID "{guid}"',
-         f"#define MODEL_NVR {nvr}u      /* value references 0..MODEL_NVR-1 */",
-         f"#define MODEL_NVARS {len(rows)}",
-         f"#define MODEL_NX {len(states)}       /* continuous states */",
-         f"#define MODEL_NZ {nz}       /* event indicators */", "",
-         "typedef struct {",
-         "    unsigned vr; const char *name;",
-         "    char type;          /* 'R' Real, 'I' Integer, 'B' Boolean */",
-         "    char causality;     /* 'p' parameter, 'i' input, 'o' output, 'l' local */",
-         "    char variability;   /* 'f' fixed, 't' tunable, 'd' discrete, 'c' continuous */",
-         "    double start; int has_start; double min, max; const char *unit;",
-         "    double nominal;     /* the XML's nominal attribute (1 when absent) */",
-         "} model_var_t;", "",
-         "extern const model_var_t MODEL_VARS[MODEL_NVARS];",
-         "extern const short MODEL_VR_INDEX[MODEL_NVR];   /* vr -> row of MODEL_VARS, -1 if none */",
-         "extern const unsigned MODEL_STATE_VR[MODEL_NX];  /* continuous states in order */",
-         "extern const unsigned MODEL_DER_VR[MODEL_NX];    /* their derivatives */",
-         "/* nominal value of continuous state j (from the XML) */",
-         "#define MODEL_STATE_NOMINAL(j) (MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]].nominal)", ""]
+    h = [
+        f"/* Generated from {Path(xml_path).name} by gen_vars.py: do not edit. */",
+        "#ifndef MODEL_VARS_H",
+        "#define MODEL_VARS_H",
+        "",
+        f'#define MODEL_GUID "{guid}"',
+        f"#define MODEL_NVR {nvr}u      /* value references 0..MODEL_NVR-1 */",
+        f"#define MODEL_NVARS {len(rows)}",
+        f"#define MODEL_NX {len(states)}       /* continuous states */",
+        f"#define MODEL_NZ {nz}       /* event indicators */",
+        "",
+        "typedef struct {",
+        "    unsigned vr; const char *name;",
+        "    char type;          /* 'R' Real, 'I' Integer, 'B' Boolean */",
+        "    char causality;     /* 'p' parameter, 'i' input, 'o' output, 'l' local */",
+        "    char variability;   /* 'f' fixed, 't' tunable, 'd' discrete, 'c' continuous */",
+        "    double start; int has_start; double min, max; const char *unit;",
+        "    double nominal;     /* the XML's nominal attribute (1 when absent) */",
+        "} model_var_t;",
+        "",
+        "extern const model_var_t MODEL_VARS[MODEL_NVARS];",
+        "extern const short MODEL_VR_INDEX[MODEL_NVR];   /* vr -> row of MODEL_VARS, -1 if none */",
+        "extern const unsigned MODEL_STATE_VR[MODEL_NX];  /* continuous states in order */",
+        "extern const unsigned MODEL_DER_VR[MODEL_NX];    /* their derivatives */",
+        "/* nominal value of continuous state j (from the XML) */",
+        "#define MODEL_STATE_NOMINAL(j) (MODEL_VARS[MODEL_VR_INDEX[MODEL_STATE_VR[j]]].nominal)",
+        "",
+    ]
     h += defines
     h.append("")
     for g, members in groups.items():
@@ -124,14 +145,25 @@ def main(xml_path: str, outdir: str, prefix: str = "MODEL",
     idx = [-1] * nvr
     for n, r in enumerate(rows):
         idx[r[0]] = n
-    c = [f"/* Generated from {Path(xml_path).name} by gen_vars.py: do not edit. */",
-         "#include <math.h>", '#include "model_vars.h"', "",
-         "const model_var_t MODEL_VARS[MODEL_NVARS] = {"]
+    c = [
+        f"/* Generated from {Path(xml_path).name} by gen_vars.py: do not edit. */",
+        "#include <math.h>",
+        '#include "model_vars.h"',
+        "",
+        "const model_var_t MODEL_VARS[MODEL_NVARS] = {",
+    ]
     for r in rows:
-        c.append(f'    {{{r[0]}u, "{r[1]}", \'{r[2]}\', \'{r[3]}\', \'{r[4]}\', {r[5]}, {r[6]}, {r[7]}, {r[8]}, "{r[9]}", {r[10]}}},')
-    c += ["};", "", "const short MODEL_VR_INDEX[MODEL_NVR] = {" + ", ".join(map(str, idx)) + "};",
-          "const unsigned MODEL_STATE_VR[MODEL_NX] = {" + ", ".join(f"{v}u" for v in states) + "};",
-          "const unsigned MODEL_DER_VR[MODEL_NX] = {" + ", ".join(f"{v}u" for v in der_vrs) + "};", ""]
+        c.append(
+            f"    {{{r[0]}u, \"{r[1]}\", '{r[2]}', '{r[3]}', '{r[4]}', {r[5]}, {r[6]}, {r[7]}, {r[8]}, \"{r[9]}\", {r[10]}}},"
+        )
+    c += [
+        "};",
+        "",
+        "const short MODEL_VR_INDEX[MODEL_NVR] = {" + ", ".join(map(str, idx)) + "};",
+        "const unsigned MODEL_STATE_VR[MODEL_NX] = {" + ", ".join(f"{v}u" for v in states) + "};",
+        "const unsigned MODEL_DER_VR[MODEL_NX] = {" + ", ".join(f"{v}u" for v in der_vrs) + "};",
+        "",
+    ]
     (out / "model_vars.c").write_text("\n".join(c))
     _write_effects([r[1] for r in rows], Path(xml_path).name, out)
 
@@ -144,11 +176,15 @@ def effect_ids(names: list[str]) -> list[str]:
 def _write_effects(names: list[str], src: str, out: Path) -> None:
     """model_effects.h: MODEL_NEFFECTS and the X-macro MODEL_EFFECTS(X) of the effect ids."""
     ids = effect_ids(names)
-    h = [f"/* Generated from {src} by gen_vars.py: do not edit. */",
-         "#ifndef MODEL_EFFECTS_H", "#define MODEL_EFFECTS_H", "",
-         f"#define MODEL_NEFFECTS {len(ids)}",
-         "/* X(id) for every effect switch effects.<id>, in the XML's order */",
-         "#define MODEL_EFFECTS(X) \\"]
+    h = [
+        f"/* Generated from {src} by gen_vars.py: do not edit. */",
+        "#ifndef MODEL_EFFECTS_H",
+        "#define MODEL_EFFECTS_H",
+        "",
+        f"#define MODEL_NEFFECTS {len(ids)}",
+        "/* X(id) for every effect switch effects.<id>, in the XML's order */",
+        "#define MODEL_EFFECTS(X) \\",
+    ]
     h += [f"    X({i}) \\" for i in ids]
     h += ["", "#endif", ""]
     (out / "model_effects.h").write_text("\n".join(h))
@@ -164,12 +200,20 @@ def _write(root: ET.Element, src: str, outdir: str, prefix: str) -> None:
         t = sv[0]
         start, mn, mx = t.get("start"), t.get("min"), t.get("max")
         caus = sv.get("causality", "local")
-        rows.append((vr, name, t.tag[0], caus[0] if caus != "calculatedParameter" else "c",
-                     sv.get("variability", "continuous")[0],
-                     c_double(start, t.tag) if start is not None else "0.0",
-                     1 if start is not None else 0,
-                     c_double(mn, t.tag) if mn is not None else "-HUGE_VAL",
-                     c_double(mx, t.tag) if mx is not None else "HUGE_VAL", t.get("unit", "")))
+        rows.append(
+            (
+                vr,
+                name,
+                t.tag[0],
+                caus[0] if caus != "calculatedParameter" else "c",
+                sv.get("variability", "continuous")[0],
+                c_double(start, t.tag) if start is not None else "0.0",
+                1 if start is not None else 0,
+                c_double(mn, t.tag) if mn is not None else "-HUGE_VAL",
+                c_double(mx, t.tag) if mx is not None else "HUGE_VAL",
+                t.get("unit", ""),
+            )
+        )
         defines.append(f"#define {vrp}_{c_ident(name)} {vr}u")
         m1 = re.fullmatch(r"(.*)\[(\d+)\]", name)
         m2 = re.fullmatch(r"(.*)\[(\d+),(\d+)\]", name)
@@ -179,20 +223,27 @@ def _write(root: ET.Element, src: str, outdir: str, prefix: str) -> None:
             groups2.setdefault(m2.group(1), {})[(int(m2.group(2)), int(m2.group(3)))] = vr
     nvr = max(r[0] for r in rows) + 1
     P = prefix
-    h = [f"/* Generated from {src} by gen_vars.py: do not edit. */",
-         f"#ifndef {P}_VARS_H", f"#define {P}_VARS_H", "",
-         f'#define {P}_GUID "{root.get("guid")}"',
-         f"#define {P}_NVR {nvr}u      /* value references 0..{P}_NVR-1 */",
-         f"#define {P}_NVARS {len(rows)}", "",
-         "typedef struct {",
-         "    unsigned vr; const char *name;",
-         "    char type;          /* 'R' Real, 'I' Integer, 'B' Boolean */",
-         "    char causality;     /* 'p' parameter, 'i' input, 'o' output, 'l' local */",
-         "    char variability;   /* 'f' fixed, 't' tunable, 'd' discrete, 'c' continuous */",
-         "    double start; int has_start; double min, max; const char *unit;",
-         f"}} {low}_var_t;", "",
-         f"extern const {low}_var_t {P}_VARS[{P}_NVARS];",
-         f"extern const short {P}_VR_INDEX[{P}_NVR];   /* vr -> row of {P}_VARS, -1 if none */", ""]
+    h = [
+        f"/* Generated from {src} by gen_vars.py: do not edit. */",
+        f"#ifndef {P}_VARS_H",
+        f"#define {P}_VARS_H",
+        "",
+        f'#define {P}_GUID "{root.get("guid")}"',
+        f"#define {P}_NVR {nvr}u      /* value references 0..{P}_NVR-1 */",
+        f"#define {P}_NVARS {len(rows)}",
+        "",
+        "typedef struct {",
+        "    unsigned vr; const char *name;",
+        "    char type;          /* 'R' Real, 'I' Integer, 'B' Boolean */",
+        "    char causality;     /* 'p' parameter, 'i' input, 'o' output, 'l' local */",
+        "    char variability;   /* 'f' fixed, 't' tunable, 'd' discrete, 'c' continuous */",
+        "    double start; int has_start; double min, max; const char *unit;",
+        f"}} {low}_var_t;",
+        "",
+        f"extern const {low}_var_t {P}_VARS[{P}_NVARS];",
+        f"extern const short {P}_VR_INDEX[{P}_NVR];   /* vr -> row of {P}_VARS, -1 if none */",
+        "",
+    ]
     h += defines
     h.append("")
     for g, members in groups.items():
@@ -202,10 +253,13 @@ def _write(root: ET.Element, src: str, outdir: str, prefix: str) -> None:
     for g, members in groups2.items():
         ni = max(i for i, _ in members) + 1
         nj = max(j for _, j in members) + 1
-        arr = ", ".join("{" + ", ".join(str(members.get((i, j), 0xFFFFFFFF)) + "u"
-                                         for j in range(nj)) + "}" for i in range(ni))
-        h.append(f"static const unsigned {vrp}A2_{c_ident(g)}[{ni}][{nj}] = {{{arr}}};  "
-                 f"/* {g}[i,j] */")
+        arr = ", ".join(
+            "{" + ", ".join(str(members.get((i, j), 0xFFFFFFFF)) + "u" for j in range(nj)) + "}"
+            for i in range(ni)
+        )
+        h.append(
+            f"static const unsigned {vrp}A2_{c_ident(g)}[{ni}][{nj}] = {{{arr}}};  /* {g}[i,j] */"
+        )
     h += ["", "#endif", ""]
     out = Path(outdir)
     out.mkdir(parents=True, exist_ok=True)
@@ -213,12 +267,18 @@ def _write(root: ET.Element, src: str, outdir: str, prefix: str) -> None:
     idx = [-1] * nvr
     for n, r in enumerate(rows):
         idx[r[0]] = n
-    c = [f"/* Generated from {src} by gen_vars.py: do not edit. */",
-         "#include <math.h>", f'#include "{low}_vars.h"', "",
-         f"const {low}_var_t {P}_VARS[{P}_NVARS] = {{"]
+    c = [
+        f"/* Generated from {src} by gen_vars.py: do not edit. */",
+        "#include <math.h>",
+        f'#include "{low}_vars.h"',
+        "",
+        f"const {low}_var_t {P}_VARS[{P}_NVARS] = {{",
+    ]
     for r in rows:
-        c.append(f'    {{{r[0]}u, "{r[1]}", \'{r[2]}\', \'{r[3]}\', \'{r[4]}\', {r[5]}, {r[6]}, '
-                 f'{r[7]}, {r[8]}, "{r[9]}"}},')
+        c.append(
+            f"    {{{r[0]}u, \"{r[1]}\", '{r[2]}', '{r[3]}', '{r[4]}', {r[5]}, {r[6]}, "
+            f'{r[7]}, {r[8]}, "{r[9]}"}},'
+        )
     c += ["};", "", f"const short {P}_VR_INDEX[{P}_NVR] = {{" + ", ".join(map(str, idx)) + "};", ""]
     (out / f"{low}_vars.c").write_text("\n".join(c))
 

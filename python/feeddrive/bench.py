@@ -3,6 +3,7 @@ campaign), written as a Markdown table.
 
 Not a test: it measures and prints (targets from the developers' guide are shown beside the
 measured figures; a miss is reported, not hidden)."""
+
 from __future__ import annotations
 
 import argparse
@@ -59,54 +60,95 @@ def python_rows(repeats: int = 5) -> tuple[list[tuple[str, str, str]], dict]:
     dF = float(np.max(np.abs(res_cs["F_friction"] - res_ref["F_friction"])))
     dx_me = float(np.max(np.abs(res_me["x"] - res_ref["x"])))
     n = ref.n
-    calls = 3 * n   # set inputs, doStep, get outputs per sample
+    calls = 3 * n  # set inputs, doStep, get outputs per sample
     rows = [
-        (f"6 s closed loop from Python, CS (best of {repeats})",
-         f"{w_cs * 1e3:.0f} ms wall, {6.0 / w_cs:.0f}x real time", "<= 200 ms (>= 30x)"),
+        (
+            f"6 s closed loop from Python, CS (best of {repeats})",
+            f"{w_cs * 1e3:.0f} ms wall, {6.0 / w_cs:.0f}x real time",
+            "<= 200 ms (>= 30x)",
+        ),
         ("  median of the repeats", f"{statistics.median(walls) * 1e3:.0f} ms", ""),
         ("  FMI calls per run (CS)", f"{calls} ({calls / n:.0f} per sample)", ""),
         ("  friction switch events per run", f"{int(res_cs['state_events'])}", ""),
-        ("  integrator steps / RHS evaluations", f"{int(res_cs['stats.n_steps'])} / {int(res_cs['stats.n_rhs'])}", ""),
-        ("6 s closed loop from Python, ME + fmpy CVode (rtol 1e-6)", f"{w_me:.2f} s wall", "reference path"),
-        ("accuracy: CS (tol 1e-6) vs ME CVode rtol 1e-10, max abs(dx)", f"{dx * 1e6:.3f} um", "<= 0.5 um"),
+        (
+            "  integrator steps / RHS evaluations",
+            f"{int(res_cs['stats.n_steps'])} / {int(res_cs['stats.n_rhs'])}",
+            "",
+        ),
+        (
+            "6 s closed loop from Python, ME + fmpy CVode (rtol 1e-6)",
+            f"{w_me:.2f} s wall",
+            "reference path",
+        ),
+        (
+            "accuracy: CS (tol 1e-6) vs ME CVode rtol 1e-10, max abs(dx)",
+            f"{dx * 1e6:.3f} um",
+            "<= 0.5 um",
+        ),
         ("accuracy: CS vs ME rtol 1e-10, max abs(dF_friction)", f"{dF:.3f} N", ""),
         ("accuracy: ME rtol 1e-6 vs ME rtol 1e-10, max abs(dx)", f"{dx_me * 1e6:.3f} um", ""),
     ]
     return rows, {"wall_cs": w_cs, "dx": dx, "res_cs": res_cs}
 
 
-def two_fmu_rows(wall_python: float, res_python: dict, repeats: int = 5,
-                 host: Path | None = None, plant_library: Path | None = None,
-                 controller_library: Path | None = None) -> list[tuple[str, str, str]]:
+def two_fmu_rows(
+    wall_python: float,
+    res_python: dict,
+    repeats: int = 5,
+    host: Path | None = None,
+    plant_library: Path | None = None,
+    controller_library: Path | None = None,
+) -> list[tuple[str, str, str]]:
     """The same 6 s loop as controller FMU + plant FMU, stepped from Python and,
     with the ``two_fmus`` C host, from C."""
     ref = sinusoid(0.030, 6.0, 0.150, 6.0)
-    values = controller_fmu_parameters(state_space_spec(), quantum=1e-7,
-                                       reference=sinusoid_source(0.030, 6.0, 0.150, 6.0))
-    runs = [simulate_two_fmus(paper_parameters(), values, ref.n, float(ref.x[0]))
-            for _ in range(repeats)]
+    values = controller_fmu_parameters(
+        state_space_spec(), quantum=1e-7, reference=sinusoid_source(0.030, 6.0, 0.150, 6.0)
+    )
+    runs = [
+        simulate_two_fmus(paper_parameters(), values, ref.n, float(ref.x[0]))
+        for _ in range(repeats)
+    ]
     wall = min(float(r["wall"]) for r in runs)
     dx = float(np.max(np.abs(runs[0]["x"] - res_python["x"])))
-    rows = [(f"6 s closed loop, controller FMU + plant FMU stepped from Python (best of {repeats})",
-             f"{wall * 1e3:.0f} ms wall, {wall / wall_python:.2f} x the Python-controller run", ""),
-            ("  agreement with the Python-controller run, max abs(dx)", f"{dx * 1e6:.3g} um", "<= 0.01 um")]
+    rows = [
+        (
+            f"6 s closed loop, controller FMU + plant FMU stepped from Python (best of {repeats})",
+            f"{wall * 1e3:.0f} ms wall, {wall / wall_python:.2f} x the Python-controller run",
+            "",
+        ),
+        (
+            "  agreement with the Python-controller run, max abs(dx)",
+            f"{dx * 1e6:.3g} um",
+            "<= 0.01 um",
+        ),
+    ]
     if host is None or plant_library is None or controller_library is None:
         return rows + [("  from C", "not measured (no --two-fmus host given)", "")]
     with ControllerFMU(values) as c:
         typed = {k: (c.vr(k), c.vars[k].type[0], float(v)) for k, v in values.items()}
-    fig, x = run_two_fmus(host, plant_library, controller_library, typed, ref.n, float(ref.x[0]),
-                          repeats)
+    fig, x = run_two_fmus(
+        host, plant_library, controller_library, typed, ref.n, float(ref.x[0]), repeats
+    )
     w = fig["wall_s_best"]
     dxc = float(np.max(np.abs(np.asarray(x) - res_python["x"])))
     return rows + [
-        (f"6 s closed loop, controller FMU + plant FMU stepped from C (best of {repeats})",
-         f"{w * 1e3:.1f} ms wall, {w / wall_python:.3f} x the Python-controller run",
-         "<= 1/3"),
-        ("  agreement with the Python-controller run, max abs(dx)", f"{dxc * 1e6:.3g} um", "<= 0.01 um")]
+        (
+            f"6 s closed loop, controller FMU + plant FMU stepped from C (best of {repeats})",
+            f"{w * 1e3:.1f} ms wall, {w / wall_python:.3f} x the Python-controller run",
+            "<= 1/3",
+        ),
+        (
+            "  agreement with the Python-controller run, max abs(dx)",
+            f"{dxc * 1e6:.3g} um",
+            "<= 0.01 um",
+        ),
+    ]
 
 
-def c_rows(bench_cs: Path, cycles: Path | None, library: Path,
-           repeats: int = 5) -> list[tuple[str, str, str]]:
+def c_rows(
+    bench_cs: Path, cycles: Path | None, library: Path, repeats: int = 5
+) -> list[tuple[str, str, str]]:
     """Figures of the C hosts (built by `make bench`): co-simulation from C with the per-sample
     scheme (``solver.fast``, the default) and with the adaptive DP45 throughout, doStep latency,
     instructions per sample (callgrind), memory."""
@@ -114,31 +156,61 @@ def c_rows(bench_cs: Path, cycles: Path | None, library: Path,
     a = run_bench_cs(bench_cs, library, repeats, "adaptive")
     wall, wall_a = f["wall_s_best"], a["wall_s_best"]
     rows = [
-        (f"6 s closed loop from C through fmi2DoStep, per-sample scheme (best of {repeats})",
-         f"{wall * 1e3:.1f} ms wall, {6.0 / wall:.0f}x real time", "<= 3 ms (>= 2000x)"),
-        (f"  same, its floor on a loaded machine: each 50-sample chunk's fastest of the {repeats} "
-         "repetitions, summed",
-         f"{f['wall_s_floor'] * 1e3:.1f} ms wall, {6.0 / f['wall_s_floor']:.0f}x real time", "<= 3 ms (>= 2000x)"),
-        ("  same, adaptive DP45 throughout (solver.fast = false)",
-         f"{wall_a * 1e3:.1f} ms wall, {6.0 / wall_a:.0f}x real time", ""),
-        ("  steps / RHS evaluations / friction events (scheme; adaptive)",
-         f"{f['solver_steps']} / {f['rhs_evaluations']} / {f['state_events']}; "
-         f"{a['solver_steps']} / {a['rhs_evaluations']} / {a['state_events']}", ""),
-        ("  friction events per simulated s / per wall s", f"{f['state_events_per_sim_s']:.1f} / "
-         f"{f['state_events_per_wall_s']:.0f}", ""),
+        (
+            f"6 s closed loop from C through fmi2DoStep, per-sample scheme (best of {repeats})",
+            f"{wall * 1e3:.1f} ms wall, {6.0 / wall:.0f}x real time",
+            "<= 3 ms (>= 2000x)",
+        ),
+        (
+            f"  same, its floor on a loaded machine: each 50-sample chunk's fastest of the {repeats} "
+            "repetitions, summed",
+            f"{f['wall_s_floor'] * 1e3:.1f} ms wall, {6.0 / f['wall_s_floor']:.0f}x real time",
+            "<= 3 ms (>= 2000x)",
+        ),
+        (
+            "  same, adaptive DP45 throughout (solver.fast = false)",
+            f"{wall_a * 1e3:.1f} ms wall, {6.0 / wall_a:.0f}x real time",
+            "",
+        ),
+        (
+            "  steps / RHS evaluations / friction events (scheme; adaptive)",
+            f"{f['solver_steps']} / {f['rhs_evaluations']} / {f['state_events']}; "
+            f"{a['solver_steps']} / {a['rhs_evaluations']} / {a['state_events']}",
+            "",
+        ),
+        (
+            "  friction events per simulated s / per wall s",
+            f"{f['state_events_per_sim_s']:.1f} / {f['state_events_per_wall_s']:.0f}",
+            "",
+        ),
     ]
     ipc = {m: instructions_per_sample(bench_cs, library, m) for m in ("fast", "adaptive")}
     if ipc["fast"] is not None and ipc["adaptive"] is not None:
-        rows.append(("  instructions per sample (callgrind: fmi2DoStep + fmi2GetReal + fmi2SetReal)",
-                     f"{ipc['fast']:.0f} (adaptive: {ipc['adaptive']:.0f})", ""))
+        rows.append(
+            (
+                "  instructions per sample (callgrind: fmi2DoStep + fmi2GetReal + fmi2SetReal)",
+                f"{ipc['fast']:.0f} (adaptive: {ipc['adaptive']:.0f})",
+                "",
+            )
+        )
     else:
         rows.append(("  instructions per sample", "not measured (valgrind not installed)", ""))
     rows += [
-        ("one 0.5 ms fmi2DoStep: median (scheme; adaptive)",
-         f"{f['dostep_us_median']:.2f} us; {a['dostep_us_median']:.2f} us", ""),
-        ("one 0.5 ms fmi2DoStep: 99th percentile (scheme; adaptive)",
-         f"{f['dostep_us_p99']:.2f} us; {a['dostep_us_p99']:.2f} us", "< 20 us"),
-        ("one 0.5 ms fmi2DoStep: maximum (includes scheduler preemption)", f"{f['dostep_us_max']:.1f} us", ""),
+        (
+            "one 0.5 ms fmi2DoStep: median (scheme; adaptive)",
+            f"{f['dostep_us_median']:.2f} us; {a['dostep_us_median']:.2f} us",
+            "",
+        ),
+        (
+            "one 0.5 ms fmi2DoStep: 99th percentile (scheme; adaptive)",
+            f"{f['dostep_us_p99']:.2f} us; {a['dostep_us_p99']:.2f} us",
+            "< 20 us",
+        ),
+        (
+            "one 0.5 ms fmi2DoStep: maximum (includes scheduler preemption)",
+            f"{f['dostep_us_max']:.1f} us",
+            "",
+        ),
     ]
     if cycles is None:
         return rows + [("memory", "not measured (no --cycles host given)", "")]
@@ -147,11 +219,21 @@ def c_rows(bench_cs: Path, cycles: Path | None, library: Path,
     except (RuntimeError, FileNotFoundError) as e:
         return rows + [("memory", f"not measured ({e})", "")]
     if "peak_bytes" in m:
-        rows.append(("memory of one instance (peak held through the FMI callbacks, incl. an FMU state copy)",
-                     f"{m['peak_bytes'] / 1024:.1f} KiB", "< 64 KiB"))
+        rows.append(
+            (
+                "memory of one instance (peak held through the FMI callbacks, incl. an FMU state copy)",
+                f"{m['peak_bytes'] / 1024:.1f} KiB",
+                "< 64 KiB",
+            )
+        )
     if "rss_growth_kib" in m:
-        rows.append(("resident memory growth over 10 000 instantiate/simulate/free cycles",
-                     f"{m['rss_growth_kib']} KiB", "no growth"))
+        rows.append(
+            (
+                "resident memory growth over 10 000 instantiate/simulate/free cycles",
+                f"{m['rss_growth_kib']} KiB",
+                "no growth",
+            )
+        )
     return rows
 
 
@@ -170,26 +252,50 @@ def fast_path_rows() -> list[tuple[str, str, str]]:
         slow = run_closed_loop({**p, "solver.fast": False}, spec, ref, sensors=ideal)
         d = float(np.max(np.abs(fast["x"] - me["x"])))
         d_a = float(np.max(np.abs(slow["x"] - me["x"])))
-        rows.append((f"accuracy of the per-sample scheme (tol 1e-6), {name}, quantiser off, vs ME rtol 1e-10, "
-                     "max abs(dx)", f"{d * 1e6:.5f} um (adaptive DP45: {d_a * 1e6:.5f} um)", "<= 0.05 um"))
-    run, _ = closed_loop_run(paper_parameters(), spec, ref, Sensors(seed=3), experiment="sec3_sinusoid")
+        rows.append(
+            (
+                f"accuracy of the per-sample scheme (tol 1e-6), {name}, quantiser off, vs ME rtol 1e-10, "
+                "max abs(dx)",
+                f"{d * 1e6:.5f} um (adaptive DP45: {d_a * 1e6:.5f} um)",
+                "<= 0.05 um",
+            )
+        )
+    run, _ = closed_loop_run(
+        paper_parameters(), spec, ref, Sensors(seed=3), experiment="sec3_sinusoid"
+    )
     top, w = int(np.argmax(ref.x)), int(round(0.3 / ref.Ts))
     p = {**paper_parameters(), "effects.prerolling": False}
-    peak = {tol: float(np.abs(run_closed_loop(p, spec, ref, tolerance=tol)["x"] - run.x)[top - w:top + w + 1].max())
-            for tol in (1e-6, 1e-10)}
-    rows.append(("static-friction stick case (Sec. 3 'static friction instead of GMS', top-reversal error): "
-                 "default tol 1e-6 vs 1e-10", f"{peak[1e-6] * 1e6:.4f} vs {peak[1e-10] * 1e6:.4f} um "
-                 f"(difference {abs(peak[1e-6] - peak[1e-10]) * 1e6:.4f} um)", "<= 0.05 um"))
+    peak = {
+        tol: float(
+            np.abs(run_closed_loop(p, spec, ref, tolerance=tol)["x"] - run.x)[
+                top - w : top + w + 1
+            ].max()
+        )
+        for tol in (1e-6, 1e-10)
+    }
+    rows.append(
+        (
+            "static-friction stick case (Sec. 3 'static friction instead of GMS', top-reversal error): "
+            "default tol 1e-6 vs 1e-10",
+            f"{peak[1e-6] * 1e6:.4f} vs {peak[1e-10] * 1e6:.4f} um "
+            f"(difference {abs(peak[1e-6] - peak[1e-10]) * 1e6:.4f} um)",
+            "<= 0.05 um",
+        )
+    )
     return rows
 
 
-_LOAD_CHILD = ("import sys, time; from feeddrive.data import load_run; t0 = time.perf_counter(); "
-               "run = load_run(sys.argv[1]); print(time.perf_counter() - t0, run.n)")
+_LOAD_CHILD = (
+    "import sys, time; from feeddrive.data import load_run; t0 = time.perf_counter(); "
+    "run = load_run(sys.argv[1]); print(time.perf_counter() - t0, run.n)"
+)
 # a small interpreter between us and the loader: a child's ru_maxrss starts at its parent's
 # resident size (Linux carries it over fork and exec), so the loader is not our child
-_MEASURE = ("import resource, subprocess, sys; out = subprocess.run([sys.executable, '-c', "
-            "sys.argv[1], sys.argv[2]], check=True, capture_output=True, text=True).stdout; "
-            "print(out.strip(), resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)")
+_MEASURE = (
+    "import resource, subprocess, sys; out = subprocess.run([sys.executable, '-c', "
+    "sys.argv[1], sys.argv[2]], check=True, capture_output=True, text=True).stdout; "
+    "print(out.strip(), resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)"
+)
 
 
 def load_rows(rows: int = 2_500_000) -> list[tuple[str, str, str]]:
@@ -199,20 +305,38 @@ def load_rows(rows: int = 2_500_000) -> list[tuple[str, str, str]]:
     rng = np.random.default_rng(0)
     t = np.arange(rows) * 5e-4
     x = 0.15 + 0.03 * np.sin(2 * np.pi * t / 6.0) + 1e-7 * rng.standard_normal(rows)
-    run = Run(time=t, u=rng.standard_normal(rows), i=rng.standard_normal(rows), x=x,
-              x_ref=x + 1e-6 * rng.standard_normal(rows), F_load=np.full(rows, 54.9))
+    run = Run(
+        time=t,
+        u=rng.standard_normal(rows),
+        i=rng.standard_normal(rows),
+        x=x,
+        x_ref=x + 1e-6 * rng.standard_normal(rows),
+        F_load=np.full(rows, 54.9),
+    )
     with tempfile.TemporaryDirectory(prefix="feeddrive_bench_") as d:
         path = Path(d) / "big.csv"
         write_run(run, path)
         del run, t, x
         size = path.stat().st_size
-        out = subprocess.run([sys.executable, "-c", _MEASURE, _LOAD_CHILD, str(path)], check=True,
-                             capture_output=True, text=True).stdout.split()
+        out = subprocess.run(
+            [sys.executable, "-c", _MEASURE, _LOAD_CHILD, str(path)],
+            check=True,
+            capture_output=True,
+            text=True,
+        ).stdout.split()
     wall, n, peak_kib = float(out[0]), int(out[1]), int(out[2])
-    return [(f"load_run of a {size / 1e6:.0f} MB CSV ({n} rows, 6 columns)",
-             f"{wall:.2f} s, {size / 1e6 / wall:.0f} MB/s", ""),
-            ("  peak resident memory of the loading process",
-             f"{peak_kib / 1024:.0f} MiB ({peak_kib * 1024 / size:.2f}x the file)", "<= 3x the file")]
+    return [
+        (
+            f"load_run of a {size / 1e6:.0f} MB CSV ({n} rows, 6 columns)",
+            f"{wall:.2f} s, {size / 1e6 / wall:.0f} MB/s",
+            "",
+        ),
+        (
+            "  peak resident memory of the loading process",
+            f"{peak_kib / 1024:.0f} MiB ({peak_kib * 1024 / size:.2f}x the file)",
+            "<= 3x the file",
+        ),
+    ]
 
 
 def _floor(measure, n: int, repeats: int) -> tuple[float, str]:
@@ -224,7 +348,9 @@ def _floor(measure, n: int, repeats: int) -> tuple[float, str]:
     return w, f"{w * 1e3:.0f} ms, {w / n * 1e6:.1f} us per step"
 
 
-def engine_rows(wall_python: float, res_python: dict, repeats: int = 5) -> list[tuple[str, str, str]]:
+def engine_rows(
+    wall_python: float, res_python: dict, repeats: int = 5
+) -> list[tuple[str, str, str]]:
     """The 6 s loop with the controller FMU in engines at h = Ts (the system with one sample
     of computation delay, which the Jacobi engines' handover is): libcosim (OSP structure,
     simulate_until) and fmpy's container FMU (simulate_fmu), each beside the engine's own
@@ -234,26 +360,49 @@ def engine_rows(wall_python: float, res_python: dict, repeats: int = 5) -> list[
         files = write_all(s, Path(tmp) / "loop")
         try:
             w_lc = min(time_libcosim_osp(files["osp"].parent, s.stop_time) for _ in range(repeats))
-            lc = (f"{w_lc * 1e3:.0f} ms wall, {w_lc / wall_python:.2f} x the Python-controller run, "
-                  f"{w_lc / s.n * 1e6:.1f} us per step", "<= 1/3 where the floor allows")
+            lc = (
+                f"{w_lc * 1e3:.0f} ms wall, {w_lc / wall_python:.2f} x the Python-controller run, "
+                f"{w_lc / s.n * 1e6:.1f} us per step",
+                "<= 1/3 where the floor allows",
+            )
         except ImportError:
-            w_lc, lc = float("nan"), ("not measured (libcosimpy not installed: pip install 'python[test]')", "")
+            w_lc, lc = (
+                float("nan"),
+                ("not measured (libcosimpy not installed: pip install 'python[test]')", ""),
+            )
         w_fl, fl = _floor(lambda n: time_libcosim_pair(Path(tmp) / "pair", n, s.Ts), s.n, repeats)
-        _, fl0 = _floor(lambda n: time_libcosim_pair_ssp(Path(tmp) / "pair_ssp", n, s.Ts), s.n,
-                        repeats)
+        _, fl0 = _floor(
+            lambda n: time_libcosim_pair_ssp(Path(tmp) / "pair_ssp", n, s.Ts), s.n, repeats
+        )
         runs = [run_container(files["container"], s.n, s.Ts) for _ in range(repeats)]
     w_c = min(float(r["wall"]) for r in runs)
-    rows = [(f"6 s closed loop (delay 1), controller FMU in libcosim (OSP, h = Ts, best of {repeats})",
-             *lc),
-            ("  libcosim's floor: a trivial pair of FMUs (two gains), h = Ts, same steps",
-             fl + (f"; the loop beyond it: {(w_lc - w_fl) * 1e3:.0f} ms" if w_lc == w_lc and w_fl == w_fl
-                   else ""), ""),
-            ("  libcosim's floor without worker threads: the pair as SSP, numWorkerThreads = 0",
-             fl0 + " (the loop's SSP cannot run so in libcosimpy 0.0.6: its x, v start values "
-             "are refused as non-inputs)", ""),
-            (f"same, fmpy container FMU under simulate_fmu (step Ts, ctrl.delay 1, best of {repeats})",
-             f"{w_c * 1e3:.0f} ms wall, {w_c / wall_python:.2f} x the Python-controller run",
-             "<= 1/3")]
+    rows = [
+        (
+            f"6 s closed loop (delay 1), controller FMU in libcosim (OSP, h = Ts, best of {repeats})",
+            *lc,
+        ),
+        (
+            "  libcosim's floor: a trivial pair of FMUs (two gains), h = Ts, same steps",
+            fl
+            + (
+                f"; the loop beyond it: {(w_lc - w_fl) * 1e3:.0f} ms"
+                if w_lc == w_lc and w_fl == w_fl
+                else ""
+            ),
+            "",
+        ),
+        (
+            "  libcosim's floor without worker threads: the pair as SSP, numWorkerThreads = 0",
+            fl0 + " (the loop's SSP cannot run so in libcosimpy 0.0.6: its x, v start values "
+            "are refused as non-inputs)",
+            "",
+        ),
+        (
+            f"same, fmpy container FMU under simulate_fmu (step Ts, ctrl.delay 1, best of {repeats})",
+            f"{w_c * 1e3:.0f} ms wall, {w_c / wall_python:.2f} x the Python-controller run",
+            "<= 1/3",
+        ),
+    ]
     return rows
 
 
@@ -263,49 +412,81 @@ def ecos_rows(wall_python: float, repeats: int = 3) -> list[tuple[str, str, str]
     s = sec3_system(delay=1)
     try:
         w = min(time_ecos(s) for _ in range(repeats))
-        cell = (f"{w * 1e3:.0f} ms wall, {w / wall_python:.2f} x the Python-controller run, "
-                f"{w / s.n * 1e6:.1f} us per step", "<= 1/3 where the floor allows")
+        cell = (
+            f"{w * 1e3:.0f} ms wall, {w / wall_python:.2f} x the Python-controller run, "
+            f"{w / s.n * 1e6:.1f} us per step",
+            "<= 1/3 where the floor allows",
+        )
     except ImportError as e:
         w, cell = float("nan"), (f"not measured ({e})", "")
     w_fl, fl = _floor(lambda n: time_ecos_pair(n, s.Ts), s.n, repeats)
-    return [(f"same, Ecos (h = Ts, ctrl.delay 0, step_until, best of {repeats})", *cell),
-            ("  Ecos's floor: the trivial pair, h = Ts, same steps",
-             fl + (f"; the loop beyond it: {(w - w_fl) * 1e3:.0f} ms" if w == w and w_fl == w_fl
-                   else ""), "")]
+    return [
+        (f"same, Ecos (h = Ts, ctrl.delay 0, step_until, best of {repeats})", *cell),
+        (
+            "  Ecos's floor: the trivial pair, h = Ts, same steps",
+            fl
+            + (
+                f"; the loop beyond it: {(w - w_fl) * 1e3:.0f} ms"
+                if w == w and w_fl == w_fl
+                else ""
+            ),
+            "",
+        ),
+    ]
 
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--out", default="build/bench.md")
     ap.add_argument("--repeats", type=int, default=5)
-    ap.add_argument("--bench-cs", default=None, help="the built tests/c bench_cs host (`make bench` passes it)")
+    ap.add_argument(
+        "--bench-cs", default=None, help="the built tests/c bench_cs host (`make bench` passes it)"
+    )
     ap.add_argument("--cycles", default=None, help="the built tests/c cycles host (memory figures)")
     ap.add_argument("--library", default=None, help="the FMU's shared library the C hosts load")
     ap.add_argument("--two-fmus", default=None, help="the built tests/c two_fmus host")
-    ap.add_argument("--controller-library", default=None, help="the controller FMU's shared library")
+    ap.add_argument(
+        "--controller-library", default=None, help="the controller FMU's shared library"
+    )
     ap.add_argument("--study-runs", type=int, default=1000, help="runs of the benchmark study")
     a = ap.parse_args(argv)
     if a.bench_cs and not a.library:
         ap.error("--bench-cs needs --library (the FMU's .so)")
-    study = study_rows(a.study_runs)   # first: a worker's peak RSS counts from this process's
+    study = study_rows(a.study_runs)  # first: a worker's peak RSS counts from this process's
     rows = help_rows(a.repeats)
     rows += load_rows()
     py_rows, figs = python_rows(a.repeats)
     rows += py_rows
-    rows += two_fmu_rows(figs["wall_cs"], figs["res_cs"], a.repeats,
-                         *(Path(p) if p else None for p in (a.two_fmus, a.library, a.controller_library)))
+    rows += two_fmu_rows(
+        figs["wall_cs"],
+        figs["res_cs"],
+        a.repeats,
+        *(Path(p) if p else None for p in (a.two_fmus, a.library, a.controller_library)),
+    )
     rows += study
     rows += engine_rows(figs["wall_cs"], figs["res_cs"], a.repeats)
     rows += fast_path_rows()
     rows += ecos_rows(figs["wall_cs"], min(a.repeats, 3))
     rows += campaign_rows()
     if a.bench_cs:
-        rows += c_rows(Path(a.bench_cs), Path(a.cycles) if a.cycles else None, Path(a.library), a.repeats)
+        rows += c_rows(
+            Path(a.bench_cs), Path(a.cycles) if a.cycles else None, Path(a.library), a.repeats
+        )
     else:
-        rows.append(("C benchmark hosts", "not measured (no --bench-cs given; `make bench` builds and passes it)", ""))
-    lines = [f"# feeddrive benchmark ({platform.node()}, {platform.machine()}, {os.cpu_count()} cores, "
-             f"{time.strftime('%Y-%m-%d %H:%M')}, load average {os.getloadavg()[0]:.1f})", "",
-             "| what | measured | target |", "|---|---|---|"]
+        rows.append(
+            (
+                "C benchmark hosts",
+                "not measured (no --bench-cs given; `make bench` builds and passes it)",
+                "",
+            )
+        )
+    lines = [
+        f"# feeddrive benchmark ({platform.node()}, {platform.machine()}, {os.cpu_count()} cores, "
+        f"{time.strftime('%Y-%m-%d %H:%M')}, load average {os.getloadavg()[0]:.1f})",
+        "",
+        "| what | measured | target |",
+        "|---|---|---|",
+    ]
     lines += [f"| {a_} | {b} | {c} |" for a_, b, c in rows]
     text = "\n".join(lines) + "\n"
     Path(a.out).parent.mkdir(parents=True, exist_ok=True)

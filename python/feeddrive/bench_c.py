@@ -11,6 +11,7 @@ many instantiate/simulate/free cycles.  ``run_two_fmus`` runs ``two_fmus``: the 
 as controller FMU + plant FMU stepped from C.  All take the paths of the built executables; nothing
 here builds or locates them.
 """
+
 from __future__ import annotations
 
 import json
@@ -26,7 +27,10 @@ BENCH_SAMPLES = 12_000
 
 def _run(exe: Path, library: Path, *args: str) -> str:
     """Stdout of ``exe library args...``; one-line errors naming the missing file or the failure."""
-    for need, what in ((exe, "C benchmark host (`make bench` builds it)"), (library, "FMU shared library")):
+    for need, what in (
+        (exe, "C benchmark host (`make bench` builds it)"),
+        (library, "FMU shared library"),
+    ):
         if not Path(need).is_file():
             raise FileNotFoundError(f"{need}: no {what} there")
     p = subprocess.run([str(exe), str(library), *args], capture_output=True, text=True, check=False)
@@ -35,8 +39,9 @@ def _run(exe: Path, library: Path, *args: str) -> str:
     return p.stdout
 
 
-def run_bench_cs(exe: str | Path, library: str | Path, repetitions: int = 5,
-                 solver: str | None = None) -> dict[str, float]:
+def run_bench_cs(
+    exe: str | Path, library: str | Path, repetitions: int = 5, solver: str | None = None
+) -> dict[str, float]:
     """Run the ``bench_cs`` host ``exe`` on ``library`` (the FMU's .so); its JSON figures as a dict.
 
     ``solver``: ``"fast"`` or ``"adaptive"`` sets ``solver.fast``; None keeps the FMU's default.
@@ -53,12 +58,31 @@ def instructions_per_sample(exe: str | Path, library: str | Path, solver: str) -
         return None
     with tempfile.TemporaryDirectory() as d:
         out = Path(d) / "callgrind.out"
-        subprocess.run(["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}", str(exe),
-                        str(library), "1", solver], capture_output=True, check=True)
-        text = subprocess.run(["callgrind_annotate", "--inclusive=yes", str(out)], capture_output=True,
-                              text=True, check=True).stdout
-    total = sum(int(m.group(1).replace(",", "")) for m in
-                re.finditer(r"^\s*([\d,]+) .*:(?:fmi2DoStep|fmi2GetReal|fmi2SetReal) \[", text, re.M))
+        subprocess.run(
+            [
+                "valgrind",
+                "--tool=callgrind",
+                f"--callgrind-out-file={out}",
+                str(exe),
+                str(library),
+                "1",
+                solver,
+            ],
+            capture_output=True,
+            check=True,
+        )
+        text = subprocess.run(
+            ["callgrind_annotate", "--inclusive=yes", str(out)],
+            capture_output=True,
+            text=True,
+            check=True,
+        ).stdout
+    total = sum(
+        int(m.group(1).replace(",", ""))
+        for m in re.finditer(
+            r"^\s*([\d,]+) .*:(?:fmi2DoStep|fmi2GetReal|fmi2SetReal) \[", text, re.M
+        )
+    )
     return total / BENCH_SAMPLES if total else None
 
 
@@ -83,20 +107,30 @@ def run_cycles(exe: str | Path, library: str | Path, cycles: int = 10_000) -> di
 
 def markdown(fig: dict[str, float]) -> str:
     """The ``bench_cs`` figures as a markdown table."""
-    rows = [("CS real-time factor, 30 mm / 6 s closed loop from C", f"{fig['real_time_factor']:.0f}x"),
-            ("friction state events per simulated second", f"{fig['state_events_per_sim_s']:.1f}"),
-            ("friction state events per wall-clock second", f"{fig['state_events_per_wall_s']:.0f}"),
-            ("all events (incl. current-loop samples) per wall-clock second",
-             f"{fig['events_per_wall_s']:.3g}"),
-            ("fmi2DoStep of 0.5 ms, median", f"{fig['dostep_us_median']:.2f} µs"),
-            ("fmi2DoStep of 0.5 ms, 99th percentile", f"{fig['dostep_us_p99']:.2f} µs"),
-            ("fmi2DoStep of 0.5 ms, maximum", f"{fig['dostep_us_max']:.1f} µs")]
+    rows = [
+        ("CS real-time factor, 30 mm / 6 s closed loop from C", f"{fig['real_time_factor']:.0f}x"),
+        ("friction state events per simulated second", f"{fig['state_events_per_sim_s']:.1f}"),
+        ("friction state events per wall-clock second", f"{fig['state_events_per_wall_s']:.0f}"),
+        (
+            "all events (incl. current-loop samples) per wall-clock second",
+            f"{fig['events_per_wall_s']:.3g}",
+        ),
+        ("fmi2DoStep of 0.5 ms, median", f"{fig['dostep_us_median']:.2f} µs"),
+        ("fmi2DoStep of 0.5 ms, 99th percentile", f"{fig['dostep_us_p99']:.2f} µs"),
+        ("fmi2DoStep of 0.5 ms, maximum", f"{fig['dostep_us_max']:.1f} µs"),
+    ]
     return "| quantity | value |\n|---|---|\n" + "\n".join(f"| {a} | {b} |" for a, b in rows) + "\n"
 
 
-def run_two_fmus(exe: str | Path, plant_library: str | Path, controller_library: str | Path,
-                 controller_values: dict[str, tuple[int, str, float]], n: int, x0: float,
-                 repetitions: int = 5) -> tuple[dict[str, float], list[float]]:
+def run_two_fmus(
+    exe: str | Path,
+    plant_library: str | Path,
+    controller_library: str | Path,
+    controller_values: dict[str, tuple[int, str, float]],
+    n: int,
+    x0: float,
+    repetitions: int = 5,
+) -> tuple[dict[str, float], list[float]]:
     """Run the ``two_fmus`` host (controller FMU + plant FMU stepped from C).
 
     ``controller_values``: name -> (value reference, "R"/"I"/"B", value).  Returns the JSON
@@ -106,8 +140,18 @@ def run_two_fmus(exe: str | Path, plant_library: str | Path, controller_library:
         raise FileNotFoundError(f"{controller_library}: no controller FMU shared library there")
     with tempfile.TemporaryDirectory() as d:
         params, out = Path(d) / "params.txt", Path(d) / "x.txt"
-        params.write_text("".join(f"{vr} {t} {float(v)!r}\n" for vr, t, v in controller_values.values()))
-        text = _run(Path(exe), Path(plant_library), str(controller_library), str(params), str(int(n)),
-                    repr(float(x0)), str(out), str(int(repetitions)))
+        params.write_text(
+            "".join(f"{vr} {t} {float(v)!r}\n" for vr, t, v in controller_values.values())
+        )
+        text = _run(
+            Path(exe),
+            Path(plant_library),
+            str(controller_library),
+            str(params),
+            str(int(n)),
+            repr(float(x0)),
+            str(out),
+            str(int(repetitions)),
+        )
         x = [float(v) for v in out.read_text().split()]
     return json.loads(text.strip().splitlines()[-1]), x

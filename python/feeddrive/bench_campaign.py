@@ -1,5 +1,6 @@
 """`make bench` row of the default identification campaign: what `feeddrive experiments`
 writes (size on disk, compressed and as plain CSV) and how long it takes."""
+
 from __future__ import annotations
 
 import struct
@@ -38,8 +39,12 @@ def campaign_rows(seed: int = 1) -> list[tuple[str, str, str]]:
         plain = size - sum(p.stat().st_size for p in runs) + sum(_plain_size(p) for p in runs)
         largest = max(runs, key=lambda p: p.stat().st_size)
         ok = "met" if size <= CAMPAIGN_TARGET_BYTES else "MISSED"
-        return [(f"default campaign (`feeddrive experiments`, {len(runs)} runs, .csv.gz)",
-                 f"{size / 1e6:.1f} MB ({ok}), {plain / 1e6:.0f} MB as plain CSV (--format csv)",
-                 f"<= {CAMPAIGN_TARGET_BYTES / 1e6:.0f} MB"),
-                ("  its largest run", f"{largest.name}: {largest.stat().st_size / 1e6:.1f} MB", ""),
-                ("  wall time of the campaign (simulation and writing)", f"{wall:.0f} s", "")]
+        return [
+            (
+                f"default campaign (`feeddrive experiments`, {len(runs)} runs, .csv.gz)",
+                f"{size / 1e6:.1f} MB ({ok}), {plain / 1e6:.0f} MB as plain CSV (--format csv)",
+                f"<= {CAMPAIGN_TARGET_BYTES / 1e6:.0f} MB",
+            ),
+            ("  its largest run", f"{largest.name}: {largest.stat().st_size / 1e6:.1f} MB", ""),
+            ("  wall time of the campaign (simulation and writing)", f"{wall:.0f} s", ""),
+        ]

@@ -5,6 +5,7 @@ the same loop (the target: at most twice that).
 ``python -m feeddrive.bench_cli`` prints the table; :func:`help_rows` gives the rows of
 ``make bench``.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -52,11 +53,19 @@ def help_rows(repeats: int = 5) -> list[tuple[str, str, str]]:
     slow = max(walls, key=lambda c: walls[c])
     target = f"<= {TARGET_RATIO:g}x import numpy"
     every = ", ".join(f"{n} {w * 1e3:.0f}" for n, w in walls.items())
-    return [(f"python -c \"import numpy\" (fresh interpreter, median of {repeats})",
-             f"{numpy * 1e3:.0f} ms", ""),
-            ("feeddrive --help", f"{top * 1e3:.0f} ms, {top / numpy:.2f}x import numpy", target),
-            (f"feeddrive CMD --help, the slowest ({slow}); every command [ms]: {every}",
-             f"{walls[slow] * 1e3:.0f} ms, {walls[slow] / numpy:.2f}x import numpy", target)]
+    return [
+        (
+            f'python -c "import numpy" (fresh interpreter, median of {repeats})',
+            f"{numpy * 1e3:.0f} ms",
+            "",
+        ),
+        ("feeddrive --help", f"{top * 1e3:.0f} ms, {top / numpy:.2f}x import numpy", target),
+        (
+            f"feeddrive CMD --help, the slowest ({slow}); every command [ms]: {every}",
+            f"{walls[slow] * 1e3:.0f} ms, {walls[slow] / numpy:.2f}x import numpy",
+            target,
+        ),
+    ]
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -3,6 +3,7 @@ FMU extraction against one extraction per instance (as every Plant did before), 
 1 000-run study on LocalClusters of 1 and 2 workers (runs/s, per-run cost, scheduler and
 batching overhead, peak memory per worker, the share of their cores the workers got on a
 machine others use too, speed-up)."""
+
 from __future__ import annotations
 
 import gc
@@ -46,8 +47,12 @@ def _own_extraction_instance() -> tuple[FMU2Slave, str, dict]:
     md = read_model_description(str(fmu_path()))
     d = tempfile.mkdtemp(prefix="feeddrive_bench_")
     extract(str(fmu_path()), d)
-    fmu = FMU2Slave(guid=md.guid, unzipDirectory=d, modelIdentifier=md.coSimulation.modelIdentifier,
-                    instanceName="bench")
+    fmu = FMU2Slave(
+        guid=md.guid,
+        unzipDirectory=d,
+        modelIdentifier=md.coSimulation.modelIdentifier,
+        instanceName="bench",
+    )
     fmu.instantiate()
     fmu.setupExperiment(startTime=0.0)
     fmu.enterInitializationMode()
@@ -93,28 +98,49 @@ def _free_own(obj: tuple[FMU2Slave, str, dict]) -> None:
     shutil.rmtree(obj[1], ignore_errors=True)
 
 
-STUDY_BENCH = {"schema": "feeddrive.study/1", "name": "bench",
-               "experiment": {"reference": {"type": "sinusoid", "amplitude": 0.002,
-                                            "period": 0.2, "centre": 0.15, "duration": 0.2},
-                              "controller": {"type": "pid"}, "half_width": 0.02},
-               "parameters": {"m": {"relative": 0.2}, "friction.F_s": {"low": 22.0, "high": 32.0},
-                              "friction.sigma2": {"relative": 0.5}},
-               "design": {"type": "lhs", "seed": 1},
-               "metrics": ["reversal_error", "rms_error", "max_error"]}
+STUDY_BENCH = {
+    "schema": "feeddrive.study/1",
+    "name": "bench",
+    "experiment": {
+        "reference": {
+            "type": "sinusoid",
+            "amplitude": 0.002,
+            "period": 0.2,
+            "centre": 0.15,
+            "duration": 0.2,
+        },
+        "controller": {"type": "pid"},
+        "half_width": 0.02,
+    },
+    "parameters": {
+        "m": {"relative": 0.2},
+        "friction.F_s": {"low": 22.0, "high": 32.0},
+        "friction.sigma2": {"relative": 0.5},
+    },
+    "design": {"type": "lhs", "seed": 1},
+    "metrics": ["reversal_error", "rms_error", "max_error"],
+}
 
 
 def study_rows(n_runs: int = 1000) -> list[tuple[str, str, str]]:
     """Plant memory and start time (shared extraction vs one per instance) and a study of
     ``n_runs`` 0.2 s closed loops on LocalClusters of 1 and 2 workers (started beforehand)."""
-    with multiprocessing.get_context("spawn").Pool(1) as pool:    # a fresh process each
+    with multiprocessing.get_context("spawn").Pool(1) as pool:  # a fresh process each
         kib_own, ms_own = pool.apply(_per_instance, (True,))
     with multiprocessing.get_context("spawn").Pool(1) as pool:
         kib, ms = pool.apply(_per_instance, (False,))
-    rows = [("Plant: memory per live instance, shared extraction (one extraction per FMU file)",
-             f"{kib:.0f} KiB (one extraction per instance, as before: {kib_own:.0f} KiB)",
-             "<= 64 KiB"),
-            ("Plant: create + start + close, shared extraction",
-             f"{ms:.1f} ms (one extraction per instance: {ms_own:.1f} ms)", "")]
+    rows = [
+        (
+            "Plant: memory per live instance, shared extraction (one extraction per FMU file)",
+            f"{kib:.0f} KiB (one extraction per instance, as before: {kib_own:.0f} KiB)",
+            "<= 64 KiB",
+        ),
+        (
+            "Plant: create + start + close, shared extraction",
+            f"{ms:.1f} ms (one extraction per instance: {ms_own:.1f} ms)",
+            "",
+        ),
+    ]
     doc = dict(STUDY_BENCH, design={"type": "lhs", "runs": n_runs, "seed": 1})
     study = parse_study(doc, "bench study", Path("."))
     walls: dict[int, float] = {}
@@ -123,10 +149,11 @@ def study_rows(n_runs: int = 1000) -> list[tuple[str, str, str]]:
     try:
         for workers in (1, 2):
             t0 = time.perf_counter()
-            with LocalCluster(n_workers=workers, threads_per_worker=1, dashboard_address=None,
-                              host="127.0.0.1") as cluster:
+            with LocalCluster(
+                n_workers=workers, threads_per_worker=1, dashboard_address=None, host="127.0.0.1"
+            ) as cluster:
                 with cluster.get_client() as client:
-                    client.run(_peak_rss_kib)          # workers import feeddrive (warm-up)
+                    client.run(_peak_rss_kib)  # workers import feeddrive (warm-up)
                     cpu0 = sum(client.run(_cpu_s).values())
                 start = time.perf_counter() - t0
                 res = run_study(study, out_root / str(workers), scheduler=cluster.scheduler_address)
@@ -138,18 +165,32 @@ def study_rows(n_runs: int = 1000) -> list[tuple[str, str, str]]:
             walls[workers] = res.wall_s
             run_cost = sum(r["wall_s"] for r in res.rows) / len(res.rows)
             overhead = (workers * res.wall_s / len(res.rows) - run_cost) / run_cost
-            rows.append((f"study of {n_runs} runs (0.2 s closed loop each, PID, LHS), "
-                         f"{workers} local worker{'s' if workers > 1 else ''}",
-                         f"{res.wall_s:.1f} s, {n_runs / res.wall_s:.0f} runs/s, "
-                         f"{res.failed} failed (cluster start + worker imports {start:.1f} s, not "
-                         f"counted); the workers had {share:.0%} of their cores", ""))
-            rows.append(("  per-run cost in the worker (wall / CPU) / scheduler + batching overhead",
-                         f"{run_cost * 1e3:.1f} / {cpu_per_run[workers] * 1e3:.1f} ms / "
-                         f"{overhead:.1%} of a run", "< 5 %"))
+            rows.append(
+                (
+                    f"study of {n_runs} runs (0.2 s closed loop each, PID, LHS), "
+                    f"{workers} local worker{'s' if workers > 1 else ''}",
+                    f"{res.wall_s:.1f} s, {n_runs / res.wall_s:.0f} runs/s, "
+                    f"{res.failed} failed (cluster start + worker imports {start:.1f} s, not "
+                    f"counted); the workers had {share:.0%} of their cores",
+                    "",
+                )
+            )
+            rows.append(
+                (
+                    "  per-run cost in the worker (wall / CPU) / scheduler + batching overhead",
+                    f"{run_cost * 1e3:.1f} / {cpu_per_run[workers] * 1e3:.1f} ms / "
+                    f"{overhead:.1%} of a run",
+                    "< 5 %",
+                )
+            )
             rows.append(("  peak resident memory per worker", f"{peak / 1024:.0f} MiB", ""))
     finally:
         shutil.rmtree(out_root, ignore_errors=True)
-    rows.append(("study speed-up, 2 workers over 1 (with whole cores: 2 x the ratio of CPU per run)",
-                 f"{walls[1] / walls[2]:.2f}x ({2 * cpu_per_run[1] / cpu_per_run[2]:.2f}x)",
-                 ">= 1.8x"))
+    rows.append(
+        (
+            "study speed-up, 2 workers over 1 (with whole cores: 2 x the ratio of CPU per run)",
+            f"{walls[1] / walls[2]:.2f}x ({2 * cpu_per_run[1] / cpu_per_run[2]:.2f}x)",
+            ">= 1.8x",
+        )
+    )
     return rows

@@ -17,6 +17,7 @@ other scripts).  The writer refuses a run the loader would reject and writes flo
 with ``repr`` (the shortest string that round-trips a float64 exactly).  The reading of the
 CSV text (chunks, number syntax, header and value checks) is :mod:`feeddrive.data_csv`.
 """
+
 from __future__ import annotations
 
 import csv
@@ -45,11 +46,30 @@ from .data_csv import (
 )
 from .inputs import InputFileError, read_text
 
-__all__ = ["KNOWN_COLUMNS", "MAX_ABS", "MAX_HEADER_BYTES", "MAX_LINE_CHARS", "MIN_ROWS",
-           "RECORDING_DECIMALS", "REQUIRED_COLUMNS", "RUN_SUFFIXES", "SAMPLE_JITTER",
-           "SAMPLE_STEP_RANGE", "DataError", "Run", "fixed_text", "time_text",
-           "check_plausible", "check_sampling", "load_run", "load_runs", "run_files",
-           "run_stem", "sidecar_path", "write_run"]
+__all__ = [
+    "KNOWN_COLUMNS",
+    "MAX_ABS",
+    "MAX_HEADER_BYTES",
+    "MAX_LINE_CHARS",
+    "MIN_ROWS",
+    "RECORDING_DECIMALS",
+    "REQUIRED_COLUMNS",
+    "RUN_SUFFIXES",
+    "SAMPLE_JITTER",
+    "SAMPLE_STEP_RANGE",
+    "DataError",
+    "Run",
+    "fixed_text",
+    "time_text",
+    "check_plausible",
+    "check_sampling",
+    "load_run",
+    "load_runs",
+    "run_files",
+    "run_stem",
+    "sidecar_path",
+    "write_run",
+]
 
 _OPTIONAL_COLUMNS = tuple(c for c in KNOWN_COLUMNS if c not in REQUIRED_COLUMNS)
 
@@ -87,7 +107,9 @@ class Run:
         self.extra = {str(k): np.asarray(v) for k, v in self.extra.items()}
         for k, v in self.extra.items():
             if k in KNOWN_COLUMNS:
-                raise ValueError(f"Run: extra column {k!r} clashes with a column of the recording format")
+                raise ValueError(
+                    f"Run: extra column {k!r} clashes with a column of the recording format"
+                )
             if v.ndim != 1:
                 raise ValueError(f"Run: extra column {k!r} must be 1-D, got shape {v.shape}")
         n = len(self.time)
@@ -134,11 +156,12 @@ def sidecar_path(path: str | Path) -> Path:
     return path.with_name(run_stem(path) + ".json")
 
 
-
 def _no_constant(path: Path):
     """json ``parse_constant`` hook: NaN and Infinity are not JSON (RFC 8259)."""
+
     def hook(name: str) -> Any:
         raise DataError(path, None, None, f"{name} is not a JSON number (non-finite value)")
+
     return hook
 
 
@@ -155,13 +178,15 @@ def _load_sidecar(csv_path: Path) -> dict:
     try:
         meta = json.loads(text, parse_constant=_no_constant(jpath))
     except json.JSONDecodeError as e:
-        raise DataError(jpath, e.lineno, None,
-                        f"invalid sidecar JSON at column {e.colno}: {e.msg}") from None
+        raise DataError(
+            jpath, e.lineno, None, f"invalid sidecar JSON at column {e.colno}: {e.msg}"
+        ) from None
     except RecursionError:
         raise DataError(jpath, None, None, "sidecar JSON nested too deeply") from None
     if not isinstance(meta, dict):
-        raise DataError(jpath, 1, None,
-                        f"sidecar JSON must be an object, got {type(meta).__name__}")
+        raise DataError(
+            jpath, 1, None, f"sidecar JSON must be an object, got {type(meta).__name__}"
+        )
     return meta
 
 
@@ -214,14 +239,23 @@ def check_sampling(run: Run) -> float:
     Ts = float(np.median(dt))
     lo, hi = SAMPLE_STEP_RANGE
     if not lo <= Ts <= hi:
-        raise DataError(path, None, "time", f"median sample step {Ts:g} s is outside {lo:g} .. "
-                        f"{hi:g} s (time must be in seconds)")
+        raise DataError(
+            path,
+            None,
+            "time",
+            f"median sample step {Ts:g} s is outside {lo:g} .. {hi:g} s (time must be in seconds)",
+        )
     dev = np.abs(dt - Ts)
     k = int(np.argmax(dev))
     if dev[k] > SAMPLE_JITTER * Ts:
-        raise DataError(path, k + 3, "time", f"sample step {float(dt[k]):g} s after line {k + 2} "
-                        f"differs from the median step {Ts:g} s by more than "
-                        f"{SAMPLE_JITTER:.0%} (sampling must be uniform)")
+        raise DataError(
+            path,
+            k + 3,
+            "time",
+            f"sample step {float(dt[k]):g} s after line {k + 2} "
+            f"differs from the median step {Ts:g} s by more than "
+            f"{SAMPLE_JITTER:.0%} (sampling must be uniform)",
+        )
     return Ts
 
 
@@ -238,16 +272,25 @@ def check_plausible(run: Run) -> float:
     file, the line and the column."""
     path = run.path if run.path is not None else Path(run.name or "run")
     if run.n < MIN_ROWS:
-        raise DataError(path, run.n + 1, "time", f"{run.n} data rows; the tools need at least "
-                        f"{MIN_ROWS} (a few acceleration windows)")
+        raise DataError(
+            path,
+            run.n + 1,
+            "time",
+            f"{run.n} data rows; the tools need at least {MIN_ROWS} (a few acceleration windows)",
+        )
     for name, arr in run.columns().items():
         if name not in KNOWN_COLUMNS:
             continue
         big = np.flatnonzero(np.abs(arr) > MAX_ABS)
         if big.size:
             k = int(big[0])
-            raise DataError(path, k + 2, name, f"value {float(arr[k])!r} is beyond +-{MAX_ABS:g} "
-                            "(no physical signal; its square overflows)")
+            raise DataError(
+                path,
+                k + 2,
+                name,
+                f"value {float(arr[k])!r} is beyond +-{MAX_ABS:g} "
+                "(no physical signal; its square overflows)",
+            )
     if np.ptp(run.x) == 0 and np.ptp(run.u) == 0:
         raise DataError(path, None, "x", "x and u are constant: the run carries no information")
     return check_sampling(run)
@@ -264,14 +307,20 @@ def run_files(folder: str | Path) -> list[Path]:
     folder = Path(folder)
     if not folder.is_dir():
         raise NotADirectoryError(f"{folder}: not a directory")
-    paths = sorted({p for end in RUN_SUFFIXES for p in folder.glob(f"*{end}")},
-                   key=lambda p: p.name)
+    paths = sorted(
+        {p for end in RUN_SUFFIXES for p in folder.glob(f"*{end}")}, key=lambda p: p.name
+    )
     seen: dict[str, Path] = {}
     for p in paths:
         other = seen.setdefault(run_stem(p), p)
         if other != p:
-            raise DataError(p, None, None, f"{other.name} is the same run's name: keep one "
-                            f"of the two (they would share the sidecar {run_stem(p)}.json)")
+            raise DataError(
+                p,
+                None,
+                None,
+                f"{other.name} is the same run's name: keep one "
+                f"of the two (they would share the sidecar {run_stem(p)}.json)",
+            )
     return paths
 
 
@@ -312,7 +361,7 @@ MAX_TIME_DECIMALS = 12
 def fixed_text(values: np.ndarray, decimals: int) -> list[str]:
     """``values`` rounded to ``decimals`` places, as the shortest fixed-point text (no trailing
     zeros, no exponent, no "-0")."""
-    rounded = np.round(np.asarray(values, dtype=float), decimals) + 0.0     # -0.0 -> 0.0
+    rounded = np.round(np.asarray(values, dtype=float), decimals) + 0.0  # -0.0 -> 0.0
     if decimals <= 0:
         return [f"{v:.0f}" for v in rounded.tolist()]
     return [f"{v:.{decimals}f}".rstrip("0").rstrip(".") for v in rounded.tolist()]
@@ -327,8 +376,10 @@ def time_text(time: np.ndarray) -> list[str]:
     if len(t) >= 2:
         ts = float(np.median(np.diff(t)))
         if ts > 0:
-            d = next((d for d in range(MAX_TIME_DECIMALS + 1)
-                      if abs(round(ts, d) - ts) <= 1e-9 * ts), None)
+            d = next(
+                (d for d in range(MAX_TIME_DECIMALS + 1) if abs(round(ts, d) - ts) <= 1e-9 * ts),
+                None,
+            )
             if d is not None and np.max(np.abs(np.round(t, d) - t)) <= 1e-6 * ts:
                 return fixed_text(t, d)
     return list(map(repr, t.tolist()))
@@ -354,8 +405,9 @@ def write_run(run: Run, path: str | Path, decimals: Mapping[str, int] | None = N
     _check_values(path, {k: v for k, v in cols.items() if k in KNOWN_COLUMNS}, None)
     for name in cols:
         if not name.strip() or name != name.strip():
-            raise DataError(path, 1, name, "column names must be non-empty without "
-                            "surrounding spaces")
+            raise DataError(
+                path, 1, name, "column names must be non-empty without surrounding spaces"
+            )
     jpath = sidecar_path(path)
     meta_text = None
     if run.meta:
@@ -375,6 +427,7 @@ def write_run(run: Run, path: str | Path, decimals: Mapping[str, int] | None = N
         if c in decimals:
             return fixed_text(cols[c], decimals[c])
         return list(map(repr, cols[c].tolist()))
+
     text_cols = [text(c) for c in names]
     buf = io.StringIO(newline="")
     writer = csv.writer(buf, lineterminator="\n")

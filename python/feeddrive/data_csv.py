@@ -14,6 +14,7 @@ streamed through :mod:`gzip` with the same chunks, rules and messages as a plain
 numbers count the decompressed text); a file that is no valid gzip stream, or ends early,
 raises :class:`DataError` naming it.
 """
+
 from __future__ import annotations
 
 import codecs
@@ -49,7 +50,7 @@ def run_stem(path: str | Path) -> str:
     name = Path(path).name
     for end in sorted(RUN_SUFFIXES, key=len, reverse=True):
         if name.lower().endswith(end) and len(name) > len(end):
-            return name[:-len(end)]
+            return name[: -len(end)]
     return Path(path).stem
 
 
@@ -77,6 +78,7 @@ def _short(text: str, n: int = 80) -> str:
     """``text`` cut to ``n`` characters (with "...") for a message."""
     return text if len(text) <= n else text[:n] + "..."
 
+
 def _decode_error(path: Path, e: UnicodeDecodeError) -> DataError:
     """The file's first invalid byte as a DataError with its line (reads the bytes again, in
     blocks: the memory stays bounded whatever the file's size)."""
@@ -89,8 +91,9 @@ def _decode_error(path: Path, e: UnicodeDecodeError) -> DataError:
             except UnicodeDecodeError as err:
                 at = max(0, min(err.start - len(err.object) + len(block), len(block)))
                 line += block[:at].count(b"\n")
-                return DataError(path, line, None,
-                                 f"not UTF-8 text (byte {offset + at}: {err.reason})")
+                return DataError(
+                    path, line, None, f"not UTF-8 text (byte {offset + at}: {err.reason})"
+                )
             line += block.count(b"\n")
             offset += len(block)
     return DataError(path, None, None, f"not UTF-8 text ({e.reason})")
@@ -130,7 +133,7 @@ def _open_bytes(path: Path) -> IO[bytes] | gzip.GzipFile:
     if not is_compressed(path):
         return f
     try:
-        if not f.read(2):               # gzip reads an empty file as an empty stream
+        if not f.read(2):  # gzip reads an empty file as an empty stream
             raise gzip.BadGzipFile("empty file")
         f.seek(0)
         return _Gzip(f)
@@ -151,8 +154,9 @@ _GZIP_ERRORS = (gzip.BadGzipFile, EOFError, zlib.error)
 
 def _gzip_error(path: Path, e: BaseException) -> DataError:
     what = str(e) or type(e).__name__
-    return DataError(path, None, None, f"not a valid gzip file ({what}): a .gz recording is "
-                     "gzip-compressed CSV")
+    return DataError(
+        path, None, None, f"not a valid gzip file ({what}): a .gz recording is gzip-compressed CSV"
+    )
 
 
 #: the header row must end within this many bytes (a few KiB of column names; a file without
@@ -161,16 +165,20 @@ MAX_HEADER_BYTES = 1 << 16
 
 #: a number: plain ASCII decimal with an optional exponent, or the words nan/inf (refused
 #: later as non-finite, with that message), spaces or tabs around
-_NUMBER = (r"[ \t]*[+-]?(?:(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?"
-           r"|(?i:nan|inf|infinity))[ \t]*")
+_NUMBER = (
+    r"[ \t]*[+-]?(?:(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?"
+    r"|(?i:nan|inf|infinity))[ \t]*"
+)
 _NUMBER_RE = re.compile(_NUMBER)
 #: the ASCII characters that Python's float() or numpy's parser take in a number beyond
 #: :data:`_NUMBER` ('_' between digits, control characters as spaces) and the quote: a text
 #: that is ASCII and holds none of them is read by both parsers exactly as the syntax says
 #: (any other character makes the number unreadable to them)
 _NOT_IN_NUMBERS = '_"\x00\x0b\x0c\x1c\x1d\x1e\x1f'
-_NUMBER_RULE = ("numbers are plain ASCII decimal: digits 0-9, one '.', an optional exponent "
-                "e/E (no '_', no digits of other scripts)")
+_NUMBER_RULE = (
+    "numbers are plain ASCII decimal: digits 0-9, one '.', an optional exponent "
+    "e/E (no '_', no digits of other scripts)"
+)
 
 
 def _check_header_bytes(path: Path) -> None:
@@ -180,9 +188,14 @@ def _check_header_bytes(path: Path) -> None:
         head = f.read(MAX_HEADER_BYTES)
     end = min((k for k in (head.find(b"\n"), head.find(b"\r")) if k >= 0), default=-1)
     if end < 0 and len(head) == MAX_HEADER_BYTES:
-        raise DataError(path, 1, None, f"no line end in the first {MAX_HEADER_BYTES} bytes: the "
-                        "header row of a recording CSV is one short line of column names (starts "
-                        f"{_short(head[:40].decode('utf-8', 'replace'), 40)!r})")
+        raise DataError(
+            path,
+            1,
+            None,
+            f"no line end in the first {MAX_HEADER_BYTES} bytes: the "
+            "header row of a recording CSV is one short line of column names (starts "
+            f"{_short(head[:40].decode('utf-8', 'replace'), 40)!r})",
+        )
     if b"\0" in (head if end < 0 else head[:end]):
         raise DataError(path, 1, None, "NUL byte in the header row: not a text CSV")
 
@@ -199,8 +212,12 @@ def _floats(cells: tuple[str, ...] | list[str]) -> np.ndarray | None:
     if not cells:
         return np.empty(0)
     joined = ",".join(cells)
-    if joined.count(",") != len(cells) - 1 or "\n" in joined or "\r" in joined \
-            or not _ascii_plain(joined):
+    if (
+        joined.count(",") != len(cells) - 1
+        or "\n" in joined
+        or "\r" in joined
+        or not _ascii_plain(joined)
+    ):
         return None
     try:
         return np.array(cells, dtype=float)
@@ -213,8 +230,12 @@ MAX_LINE_CHARS = 1 << 22
 
 
 def _too_long(path: Path, line: int) -> DataError:
-    return DataError(path, line, None, f"line longer than {MAX_LINE_CHARS} characters: not a "
-                     "recording row (not read further)")
+    return DataError(
+        path,
+        line,
+        None,
+        f"line longer than {MAX_LINE_CHARS} characters: not a recording row (not read further)",
+    )
 
 
 def _line_chunks(f, path: Path) -> Iterator[list[str]]:
@@ -229,14 +250,16 @@ def _line_chunks(f, path: Path) -> Iterator[list[str]]:
         lines = (carry + block).splitlines(keepends=True)
         carry = ""
         if block and lines and (lines[-1][-1] not in "\r\n" or lines[-1][-1] == "\r"):
-            carry = lines.pop()         # may go on in the next block (a "\r\n" cut in two too)
+            carry = lines.pop()  # may go on in the next block (a "\r\n" cut in two too)
             if len(carry) > MAX_LINE_CHARS:
                 raise _too_long(path, done + len(lines) + 1)
         if not lines and not block:
             return
         # only the first line holds the carry; the others fit in the block
-        if lines and (len(lines[0]) > MAX_LINE_CHARS
-                      or (len(block) > MAX_LINE_CHARS and max(map(len, lines)) > MAX_LINE_CHARS)):
+        if lines and (
+            len(lines[0]) > MAX_LINE_CHARS
+            or (len(block) > MAX_LINE_CHARS and max(map(len, lines)) > MAX_LINE_CHARS)
+        ):
             k = next(k for k, ln in enumerate(lines) if len(ln) > MAX_LINE_CHARS)
             raise _too_long(path, done + k + 1)
         done += len(lines)
@@ -271,27 +294,36 @@ def _read_plain(path: Path) -> tuple[list[str], dict[str, np.ndarray]]:
         for lines in chunks:
             text = "".join(lines)
             if not _ascii_plain(text):
-                raise _NotPlain             # quotes, '_', other digits: the strict reader
+                raise _NotPlain  # quotes, '_', other digits: the strict reader
             try:
-                a = np.loadtxt(lines, delimiter=",", comments=None, dtype=float, ndmin=2) \
-                    if not text.isspace() else np.empty((0, len(names)))
+                a = (
+                    np.loadtxt(lines, delimiter=",", comments=None, dtype=float, ndmin=2)
+                    if not text.isspace()
+                    else np.empty((0, len(names)))
+                )
             except ValueError:
                 raise _NotPlain from None
             if a.shape[1:] != (len(names),):
                 raise _NotPlain
-            if a.shape[0] != len(lines):     # blank lines: only at the end of the file
+            if a.shape[0] != len(lines):  # blank lines: only at the end of the file
                 k = a.shape[0]
-                if any(ln in _BLANK for ln in lines[:k]) or any(ln not in _BLANK for ln in lines[k:]) \
-                        or any(ln not in _BLANK for rest in chunks for ln in rest):
+                if (
+                    any(ln in _BLANK for ln in lines[:k])
+                    or any(ln not in _BLANK for ln in lines[k:])
+                    or any(ln not in _BLANK for rest in chunks for ln in rest)
+                ):
                     raise _NotPlain
             parts.append(a)
-    cols = {n: np.concatenate([p[:, k] for p in parts]) if parts else np.empty(0)
-            for k, n in enumerate(names)}
+    cols = {
+        n: np.concatenate([p[:, k] for p in parts]) if parts else np.empty(0)
+        for k, n in enumerate(names)
+    }
     return names, cols
 
 
-def _read_strict(path: Path) -> tuple[list[str], dict[str, np.ndarray], dict[str, np.ndarray],
-                                      list[int]]:
+def _read_strict(
+    path: Path,
+) -> tuple[list[str], dict[str, np.ndarray], dict[str, np.ndarray], list[int]]:
     """Exact path (csv module, streaming, chunks of records): header, known columns as
     float64, other columns (float when every cell is a number, else str), each row's line."""
     known: dict[str, list[np.ndarray]] = {}
@@ -317,11 +349,14 @@ def _read_strict(path: Path) -> tuple[list[str], dict[str, np.ndarray], dict[str
                 if blank_at is not None:
                     raise DataError(path, blank_at, names[0], "blank line inside the data")
                 if len(row) != width:
-                    col = names[len(row)] if len(row) < width else f"#{width + 1} (beyond the header)"
-                    raise DataError(path, reader.line_num, col,
-                                    f"{len(row)} fields, the header has {width}")
+                    col = (
+                        names[len(row)] if len(row) < width else f"#{width + 1} (beyond the header)"
+                    )
+                    raise DataError(
+                        path, reader.line_num, col, f"{len(row)} fields, the header has {width}"
+                    )
                 rows.append(row)
-                rows_at.append(reader.line_num)   # last physical line of the record
+                rows_at.append(reader.line_num)  # last physical line of the record
                 if len(rows) == _CHUNK_ROWS:
                     _take_chunk(path, names, rows, rows_at, known, text)
                     lines += rows_at
@@ -340,8 +375,14 @@ def _read_strict(path: Path) -> tuple[list[str], dict[str, np.ndarray], dict[str
     return names, cols, extra, lines
 
 
-def _take_chunk(path: Path, names: list[str], rows: list[list[str]], rows_at: list[int],
-                known: dict[str, list[np.ndarray]], text: dict[str, list[str]]) -> None:
+def _take_chunk(
+    path: Path,
+    names: list[str],
+    rows: list[list[str]],
+    rows_at: list[int],
+    known: dict[str, list[np.ndarray]],
+    text: dict[str, list[str]],
+) -> None:
     if not rows:
         return
     for name, cells in zip(names, zip(*rows, strict=True), strict=True):
@@ -358,20 +399,23 @@ def _check_header(path: Path, header: list[str]) -> list[str]:
         if not name:
             raise DataError(path, 1, f"#{k + 1}", "empty column name in the header")
         if name in seen:
-            raise DataError(path, 1, name,
-                            f"duplicate column name (fields {seen[name] + 1} and {k + 1})")
+            raise DataError(
+                path, 1, name, f"duplicate column name (fields {seen[name] + 1} and {k + 1})"
+            )
         seen[name] = k
     for req in REQUIRED_COLUMNS:
         if req not in seen:
             hint = [n for n in names if n.lower() == req.lower()]
             extra = f" (found {hint[0]!r}: names are case-sensitive)" if hint else ""
-            raise DataError(path, 1, req,
-                            f"required column missing; header has {','.join(names)}{extra}")
+            raise DataError(
+                path, 1, req, f"required column missing; header has {','.join(names)}{extra}"
+            )
     return names
 
 
-def _to_float(path: Path, column: str, cells: tuple[str, ...] | list[str],
-              lines: list[int]) -> np.ndarray:
+def _to_float(
+    path: Path, column: str, cells: tuple[str, ...] | list[str], lines: list[int]
+) -> np.ndarray:
     floats = _floats(cells)
     if floats is not None:
         return floats
@@ -383,8 +427,10 @@ def _to_float(path: Path, column: str, cells: tuple[str, ...] | list[str],
 
 def _check_values(path: Path, cols: dict[str, np.ndarray], lines: list[int] | None) -> None:
     """Finite known columns, strictly increasing time, at least 2 rows."""
+
     def line_of(k: int) -> int:
         return lines[k] if lines is not None else k + 2
+
     n = len(cols["time"])
     if n < 2:
         last = line_of(n - 1) if n else 1
@@ -396,21 +442,30 @@ def _check_values(path: Path, cols: dict[str, np.ndarray], lines: list[int] | No
         bad = np.flatnonzero(~np.isfinite(arr))
         if bad.size:
             k = int(bad[0])
-            raise DataError(path, line_of(k), name, f"non-finite value {float(arr[k])!r}"
-                            + (f" ({bad.size} in this column)" if bad.size > 1 else ""))
+            raise DataError(
+                path,
+                line_of(k),
+                name,
+                f"non-finite value {float(arr[k])!r}"
+                + (f" ({bad.size} in this column)" if bad.size > 1 else ""),
+            )
     t = cols["time"]
     back = np.flatnonzero(np.diff(t) <= 0)
     if back.size:
         k = int(back[0]) + 1
         what = "repeats" if t[k] == t[k - 1] else "goes backwards"
-        raise DataError(path, line_of(k), "time",
-                        f"time {what}: {float(t[k])!r} after {float(t[k - 1])!r} on line {line_of(k - 1)}; "
-                        "time must increase strictly")
+        raise DataError(
+            path,
+            line_of(k),
+            "time",
+            f"time {what}: {float(t[k])!r} after {float(t[k - 1])!r} on line {line_of(k - 1)}; "
+            "time must increase strictly",
+        )
 
 
-
-def read_columns(path: Path) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray],
-                                      list[int] | None]:
+def read_columns(
+    path: Path,
+) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray], list[int] | None]:
     """The run CSV at ``path`` as (the format's columns, other columns, each row's line or None
     when row k is line k + 2); the values are not checked yet (:func:`_check_values`).
 
@@ -434,5 +489,5 @@ def read_columns(path: Path) -> tuple[dict[str, np.ndarray], dict[str, np.ndarra
     else:
         cols = {n: v for n, v in every.items() if n in KNOWN_COLUMNS}
         extra = {n: v for n, v in every.items() if n not in KNOWN_COLUMNS}
-        return cols, extra, None            # plain file: row k is line k + 2
+        return cols, extra, None  # plain file: row k is line k + 2
     return cols, extra, lines

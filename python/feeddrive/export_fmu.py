@@ -16,6 +16,7 @@ Beside the ``.fmu`` goes ``<stem>.ssv``, an SSP 1.0 parameter set (``ssv:Paramet
 same values, with their units, for co-simulation engines that take one.  fmpy does the unzip
 (:func:`fmpy.extract`) and the zip (:func:`fmpy.util.create_zip_archive`); lxml edits the XML.
 """
+
 from __future__ import annotations
 
 import datetime as dt
@@ -115,8 +116,10 @@ def _set_start3(root: etree._Element, values: dict[str, Value], src: Path) -> No
 def _all_found(values: dict[str, Value], found: set[str], src: Path) -> None:
     missing = [n for n in values if n not in found]
     if missing:
-        raise ValueError(f"{src}: has no parameter {missing[0]!r} of the model file "
-                         f"({len(missing)} missing): export from the FMU of this feeddrive")
+        raise ValueError(
+            f"{src}: has no parameter {missing[0]!r} of the model file "
+            f"({len(missing)} missing): export from the FMU of this feeddrive"
+        )
 
 
 def _describe(model: ModelFile, model_path: Path | None) -> str:
@@ -124,8 +127,10 @@ def _describe(model: ModelFile, model_path: Path | None) -> str:
     if model_path is None:
         return f"Identified machine {what} (feeddrive fmu)"
     date = dt.datetime.fromtimestamp(model_path.stat().st_mtime, dt.UTC)
-    return (f"Identified machine {what}; model file {model_path.name} of "
-            f"{date.strftime('%Y-%m-%dT%H:%M:%SZ')} (feeddrive fmu)")
+    return (
+        f"Identified machine {what}; model file {model_path.name} of "
+        f"{date.strftime('%Y-%m-%dT%H:%M:%SZ')} (feeddrive fmu)"
+    )
 
 
 def _edit_description(xml: Path, model: ModelFile, model_path: Path | None, src: Path) -> None:
@@ -136,9 +141,10 @@ def _edit_description(xml: Path, model: ModelFile, model_path: Path | None, src:
         _set_start3(root, values, src)
     else:
         _set_start2(root, values, src)
-    root.set("description", f"{_describe(model, model_path)}. Built on: {root.get('description', '')}")
-    root.set("generationDateAndTime",
-             dt.datetime.now(dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ"))
+    root.set(
+        "description", f"{_describe(model, model_path)}. Built on: {root.get('description', '')}"
+    )
+    root.set("generationDateAndTime", dt.datetime.now(dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ"))
     tree.write(str(xml), encoding="UTF-8", xml_declaration=True)
 
 
@@ -152,8 +158,10 @@ def start_values_text(model: ModelFile, model_path: Path | None = None) -> str:
 def _units(xml: Path) -> tuple[dict[str, str], dict[str, dict[str, str]]]:
     """variable (FMI 2.0 name) -> unit, and unit -> its base-unit exponents, from the FMU's XML."""
     root = etree.parse(str(xml)).getroot()
-    units = {u.get("name"): dict(b.attrib) if (b := u.find("BaseUnit")) is not None else {}
-             for u in root.iter("Unit")}
+    units = {
+        u.get("name"): dict(b.attrib) if (b := u.find("BaseUnit")) is not None else {}
+        for u in root.iter("Unit")
+    }
     of: dict[str, str] = {}
     if root.get("fmiVersion", "").startswith("3"):
         for v in root.find("ModelVariables"):
@@ -171,8 +179,9 @@ def ssv_bytes(model: ModelFile, xml: Path) -> bytes:
     """The SSP 1.0 parameter set of ``model`` (FMI 2.0 names; array elements of an FMI 3.0
     FMU as ``name[k]``), each Real with its unit, the units defined by their SI base units."""
     of, units = _units(xml)
-    root = etree.Element(f"{{{SSV}}}ParameterSet", nsmap={"ssv": SSV, "ssc": SSC},
-                         version="1.0", name=model.name)
+    root = etree.Element(
+        f"{{{SSV}}}ParameterSet", nsmap={"ssv": SSV, "ssc": SSC}, version="1.0", name=model.name
+    )
     if model.description:
         root.set("description", model.description)
     params = etree.SubElement(root, f"{{{SSV}}}Parameters")
@@ -195,12 +204,17 @@ def ssv_bytes(model: ModelFile, xml: Path) -> bytes:
         us = etree.SubElement(root, f"{{{SSV}}}Units")
         for u in used:
             ue = etree.SubElement(us, f"{{{SSC}}}Unit", name=u)
-            etree.SubElement(ue, f"{{{SSC}}}BaseUnit",
-                             {k: v for k, v in units.get(u, {}).items() if k in _BASE_UNITS})
+            etree.SubElement(
+                ue,
+                f"{{{SSC}}}BaseUnit",
+                {k: v for k, v in units.get(u, {}).items() if k in _BASE_UNITS},
+            )
     return etree.tostring(root, encoding="UTF-8", xml_declaration=True, pretty_print=True)
 
 
-def check_outputs(out: str | Path, inputs: list[str | Path | None], force: bool) -> tuple[Path, Path]:
+def check_outputs(
+    out: str | Path, inputs: list[str | Path | None], force: bool
+) -> tuple[Path, Path]:
     """The FMU and parameter-set paths for ``out``, checked before any work: a ``.fmu`` name,
     neither an input, neither existing unless ``force``."""
     out = Path(out)
@@ -214,9 +228,15 @@ def check_outputs(out: str | Path, inputs: list[str | Path | None], force: bool)
     return out, ssv
 
 
-def export_fmu(model: ModelFile, out: str | Path, fmi: int = 2, *,
-               model_path: str | Path | None = None, force: bool = False,
-               source: str | Path | None = None) -> Exported:
+def export_fmu(
+    model: ModelFile,
+    out: str | Path,
+    fmi: int = 2,
+    *,
+    model_path: str | Path | None = None,
+    force: bool = False,
+    source: str | Path | None = None,
+) -> Exported:
     """Write ``model`` as the plant FMU ``out`` (FMI ``fmi``: 2 or 3) and ``<stem>.ssv``.
 
     ``model_path``: the model file (named in the description, with its date); ``source``: the
@@ -236,8 +256,9 @@ def export_fmu(model: ModelFile, out: str | Path, fmi: int = 2, *,
             raise ValueError(f"{src}: fmiVersion {version}, not FMI {fmi}")
         _edit_description(xml, model, model_path, src)
         (unzipped / "resources").mkdir(exist_ok=True)
-        (unzipped / "resources" / START_VALUES).write_text(start_values_text(model, model_path),
-                                                           encoding="utf-8", newline="\n")
+        (unzipped / "resources" / START_VALUES).write_text(
+            start_values_text(model, model_path), encoding="utf-8", newline="\n"
+        )
         ssv_data = ssv_bytes(model, xml)
         write_with(fmu, lambda p: create_zip_archive(p, unzipped), [model_path, src])
     write_with(ssv, lambda p: p.write_bytes(ssv_data), [model_path, src])
@@ -250,9 +271,21 @@ def fmu_command(model_path: str | Path, out: str | Path, fmi: int = 2, force: bo
     check_outputs(out, [model_path, source_fmu(fmi)], force)
     model = load_model(model_path)
     done = export_fmu(model, out, fmi, model_path=model_path, force=force)
-    return (f"wrote {done.fmu} (FMI {fmi}.0, model {model.name!r}: {len(model.fmu_parameters())} "
-            f"start values) and {done.ssv} (SSP parameter set)")
+    return (
+        f"wrote {done.fmu} (FMI {fmi}.0, model {model.name!r}: {len(model.fmu_parameters())} "
+        f"start values) and {done.ssv} (SSP parameter set)"
+    )
 
 
-__all__ = ["Exported", "START_VALUES", "check_outputs", "export_fmu", "fmu_command", "literal",
-           "source_fmu", "ssv_bytes", "ssv_path", "start_values_text"]
+__all__ = [
+    "Exported",
+    "START_VALUES",
+    "check_outputs",
+    "export_fmu",
+    "fmu_command",
+    "literal",
+    "source_fmu",
+    "ssv_bytes",
+    "ssv_path",
+    "start_values_text",
+]

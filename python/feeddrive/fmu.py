@@ -22,6 +22,7 @@ the same file counts references, fmpy's ``freeInstance`` drops one, and the cach
 for the process).  The extractions are
 removed when the process that made them exits.
 """
+
 from __future__ import annotations
 
 import atexit
@@ -88,7 +89,7 @@ class _ExtractionCache:
     def __init__(self) -> None:
         self._lock = threading.Lock()
         self._entries: dict[tuple[str, int, int], Unpacked] = {}
-        self._owner = os.getpid()      # a forked child must not remove its parent's folders
+        self._owner = os.getpid()  # a forked child must not remove its parent's folders
         atexit.register(self.clear)
 
     def get(self, path: Path) -> Unpacked:
@@ -102,9 +103,12 @@ class _ExtractionCache:
                 extract(str(path), directory)
                 ids = {i.modelIdentifier for i in (md.coSimulation, md.modelExchange) if i}
                 plat = platform_tuple if md.fmiVersion.startswith("3") else fmpy_platform
-                libs = tuple(ctypes.CDLL(os.path.join(directory, "binaries", plat,
-                                                      i + sharedLibraryExtension))
-                             for i in sorted(ids))
+                libs = tuple(
+                    ctypes.CDLL(
+                        os.path.join(directory, "binaries", plat, i + sharedLibraryExtension)
+                    )
+                    for i in sorted(ids)
+                )
                 hit = Unpacked(path, directory, md, {v.name: v for v in md.modelVariables}, libs)
                 self._entries[key] = hit
             return hit
@@ -167,9 +171,14 @@ class Plant:
         reads 0 (the FMI 2.0 FMU's unused slots hold 0 too).
     """
 
-    def __init__(self, parameters: Mapping[str, float | int | bool] | None = None,
-                 interface: str = "cs", tolerance: float = 1e-6,
-                 path: str | Path | None = None, log: bool = False) -> None:
+    def __init__(
+        self,
+        parameters: Mapping[str, float | int | bool] | None = None,
+        interface: str = "cs",
+        tolerance: float = 1e-6,
+        path: str | Path | None = None,
+        log: bool = False,
+    ) -> None:
         if interface not in ("cs", "me"):
             raise ValueError(f"interface = {interface!r}: allowed 'cs' or 'me'")
         self.path = fmu_path(path)
@@ -179,9 +188,11 @@ class Plant:
         shared = unpacked(self.path)
         self.fmi_version = fmi_version(self.path)
         self.messages: list[str] = []
-        self._fmi: _Version = (fmu3.FMI3(self.path, shared, self.parameters, self.messages)
-                               if self.fmi_version.startswith("3")
-                               else _FMI2(self.path, shared, self.messages))
+        self._fmi: _Version = (
+            fmu3.FMI3(self.path, shared, self.parameters, self.messages)
+            if self.fmi_version.startswith("3")
+            else _FMI2(self.path, shared, self.messages)
+        )
         self.md = self._fmi.md
         self.vars = self._fmi.vars
         for name in self.parameters:
@@ -190,13 +201,16 @@ class Plant:
         self._dir = shared.directory
         self._log = log
         self.fmu = self._fmi.wrapper_class(interface)(
-            guid=self.md.guid, unzipDirectory=self._dir,
-            modelIdentifier=self.md.coSimulation.modelIdentifier if interface == "cs"
+            guid=self.md.guid,
+            unzipDirectory=self._dir,
+            modelIdentifier=self.md.coSimulation.modelIdentifier
+            if interface == "cs"
             else self.md.modelExchange.modelIdentifier,
-            instanceName="feeddrive")
+            instanceName="feeddrive",
+        )
         self._fmi.fmu = self.fmu
         self._instantiated = False
-        self.generation = 0     #: counts instances: +1 at every start() and close()
+        self.generation = 0  #: counts instances: +1 at every start() and close()
 
     # ------------------------------------------------------------------ helpers
     def vr(self, name: str) -> int:
@@ -205,13 +219,17 @@ class Plant:
             return int(self.vars[name].valueReference)
         except KeyError:
             if self._fmi.element(name) is not None:
-                raise KeyError(f"{name!r} is an element of an FMI 3.0 array of {self.path.name}: "
-                               "use get()/set()") from None
+                raise KeyError(
+                    f"{name!r} is an element of an FMI 3.0 array of {self.path.name}: "
+                    "use get()/set()"
+                ) from None
             raise KeyError(f"{name!r} is not a variable of {self.path.name}") from None
 
     def _check(self, ok: bool, what: str) -> None:
         if not ok:
-            raise FMUError(f"{what} failed: " + (self.messages[-1] if self.messages else "no message"))
+            raise FMUError(
+                f"{what} failed: " + (self.messages[-1] if self.messages else "no message")
+            )
 
     def set(self, values: Mapping[str, float | int | bool]) -> None:
         """Set variables by name (parameters before initialisation, tunables and inputs later)."""
@@ -221,8 +239,12 @@ class Plant:
         """Current values of variables by name."""
         return self._fmi.get(names)
 
-    def start(self, start_values: Mapping[str, float] | None = None, t0: float = 0.0,
-              stop_time: float | None = None) -> None:
+    def start(
+        self,
+        start_values: Mapping[str, float] | None = None,
+        t0: float = 0.0,
+        stop_time: float | None = None,
+    ) -> None:
         """Instantiate, set parameters and start values, initialise (time ``t0``)."""
         if self._instantiated:
             self._fmi.free()
@@ -243,7 +265,9 @@ class Plant:
         try:
             return self._fmi.do_step(t, h)
         except Exception as e:
-            raise FMUError(f"doStep at t = {t}: " + (self.messages[-1] if self.messages else str(e))) from None
+            raise FMUError(
+                f"doStep at t = {t}: " + (self.messages[-1] if self.messages else str(e))
+            ) from None
 
     def update_discrete_states(self) -> tuple[Any, ...]:
         """Model exchange, event mode: fmi2NewDiscreteStates / fmi3UpdateDiscreteStates as
@@ -289,7 +313,7 @@ class Plant:
                 self.fmu.terminate()
             except Exception:
                 pass
-            self.fmu.freeInstance()            # fmi2FreeInstance, then dlclose
+            self.fmu.freeInstance()  # fmi2FreeInstance, then dlclose
             self._instantiated = False
             self.generation += 1
 
@@ -338,7 +362,7 @@ class _Version(Protocol):
     def vars(self) -> Mapping[str, ScalarVariable]:
         """The variables of :attr:`md` by name."""
 
-    fmu: Any     #: fmpy's wrapper of the library, given by the Plant that made it
+    fmu: Any  #: fmpy's wrapper of the library, given by the Plant that made it
 
     def wrapper_class(self, interface: str) -> Any:
         """fmpy's wrapper class for ``interface`` (``"cs"``, ``"me"``)."""
@@ -408,8 +432,9 @@ class _FMI2:
     def wrapper_class(self, interface: str) -> Any:
         return FMU2Slave if interface == "cs" else FMU2Model
 
-    def _logger(self, env: object, name: object, status: object, category: object,
-                message: object) -> None:  # fmpy callback
+    def _logger(
+        self, env: object, name: object, status: object, category: object, message: object
+    ) -> None:  # fmpy callback
         self.messages.append(message.decode() if isinstance(message, bytes) else str(message))
 
     def element(self, name: str) -> tuple[ScalarVariable, int] | None:
@@ -428,8 +453,10 @@ class _FMI2:
                 elif v.type == "Boolean":
                     self.fmu.setBoolean([v.valueReference], [bool(value)])
             except Exception as e:  # fmpy raises on fmi2Error
-                raise FMUError(f"setting {name} = {value!r}: "
-                               + (self.messages[-1] if self.messages else str(e))) from None
+                raise FMUError(
+                    f"setting {name} = {value!r}: "
+                    + (self.messages[-1] if self.messages else str(e))
+                ) from None
 
     def get(self, names: Sequence[str]) -> dict[str, float]:
         out = {}
@@ -448,7 +475,7 @@ class _FMI2:
 
     def instantiate(self, log: bool) -> None:
         cb = fmi2CallbackFunctions()
-        self._logger_c = fmi2CallbackLoggerTYPE(self._logger)   # kept alive with the instance
+        self._logger_c = fmi2CallbackLoggerTYPE(self._logger)  # kept alive with the instance
         cb.logger = self._logger_c
         cb.allocateMemory = defaultCallbacks.allocateMemory
         cb.freeMemory = defaultCallbacks.freeMemory
@@ -463,8 +490,9 @@ class _FMI2:
         try:
             self.fmu.exitInitializationMode()
         except Exception:
-            raise FMUError("initialisation failed: "
-                           + (self.messages[-1] if self.messages else "")) from None
+            raise FMUError(
+                "initialisation failed: " + (self.messages[-1] if self.messages else "")
+            ) from None
 
     def do_step(self, t: float, h: float) -> bool:
         self.fmu.doStep(currentCommunicationPoint=t, communicationStepSize=h)
@@ -505,11 +533,13 @@ def _load_raw_handles(dll: ctypes.CDLL) -> tuple[Callable[..., int], ...]:
     """fmi2DoStep, fmi2GetReal, fmi2SetReal of ``dll`` with our own ctypes signatures."""
     ptr, n = ctypes.c_void_p, ctypes.c_size_t
     sigs: tuple[tuple[str, list[Any]], ...] = (
-            ("fmi2DoStep", [ptr, ctypes.c_double, ctypes.c_double, ctypes.c_int]),
-            ("fmi2GetReal", [ptr, ptr, n, ptr]), ("fmi2SetReal", [ptr, ptr, n, ptr]))
+        ("fmi2DoStep", [ptr, ctypes.c_double, ctypes.c_double, ctypes.c_int]),
+        ("fmi2GetReal", [ptr, ptr, n, ptr]),
+        ("fmi2SetReal", [ptr, ptr, n, ptr]),
+    )
     out = []
     for name, argtypes in sigs:
-        f = dll[name]            # a new function object: fmpy's own handle is left alone
+        f = dll[name]  # a new function object: fmpy's own handle is left alone
         f.restype = ctypes.c_int
         f.argtypes = argtypes
         out.append(f)
@@ -557,7 +587,7 @@ class RawIO:
         """The calls on the plant's current instance: after a restart the arrays are re-bound
         to the new instance (never a freed one); after close() an FMUError."""
         if self._generation != self.plant.generation:
-            self.calls = self.plant.raw_calls()      # FMUError when the plant is closed
+            self.calls = self.plant.raw_calls()  # FMUError when the plant is closed
             self._generation = self.plant.generation
         return self.calls
 

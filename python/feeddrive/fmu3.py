@@ -9,6 +9,7 @@ runs the FMU as it is at its default ``friction.N``; for another N, :func:`confi
 instance and the model description that ``simulate_fmu(..., model_description=md,
 fmu_instance=fmu)`` then runs.
 """
+
 from __future__ import annotations
 
 import copy
@@ -46,16 +47,19 @@ def with_dimension(md: ModelDescription, n: int) -> ModelDescription:
     var.start = str(int(n))
     for v in md.modelVariables:
         if v.dimensions:
-            v.shape = tuple(int(n) if d.valueReference == var.valueReference else int(d.start)
-                            for d in v.dimensions)
+            v.shape = tuple(
+                int(n) if d.valueReference == var.valueReference else int(d.start)
+                for d in v.dimensions
+            )
             if v.start is not None and len(str(v.start).split()) > 1:
                 v.start = " ".join(str(v.start).split()[: int(np.prod(v.shape))])
     md.numberOfContinuousStates = sum(int(np.prod(u.variable.shape)) for u in md.derivatives)
     return md
 
 
-def configured(path: str | Path, interface: str, n: int, **instantiate: object
-               ) -> tuple[ModelDescription, FMU3Model | FMU3Slave]:
+def configured(
+    path: str | Path, interface: str, n: int, **instantiate: object
+) -> tuple[ModelDescription, FMU3Model | FMU3Slave]:
     """An instance of the FMI 3.0 FMU at ``path`` with ``friction.N = n`` (state Instantiated)
     and its model description, for ``fmpy.simulate_fmu(path, model_description=md,
     fmu_instance=fmu)``.  ``instantiate``: fmpy's instantiate() arguments (``logMessage``,
@@ -70,8 +74,12 @@ def configured(path: str | Path, interface: str, n: int, **instantiate: object
     md = with_dimension(read_model_description(str(path)), n)
     cls = FMU3Model if interface == "ModelExchange" else FMU3Slave
     mi = md.modelExchange if interface == "ModelExchange" else md.coSimulation
-    fmu = cls(guid=md.guid, unzipDirectory=extract(str(path)), modelIdentifier=mi.modelIdentifier,
-              instanceName="feeddrive")
+    fmu = cls(
+        guid=md.guid,
+        unzipDirectory=extract(str(path)),
+        modelIdentifier=mi.modelIdentifier,
+        instanceName="feeddrive",
+    )
     fmu.instantiate(**instantiate)
     vr = next(v.valueReference for v in md.modelVariables if v.name == N_NAME)
     fmu.enterConfigurationMode()
@@ -80,8 +88,9 @@ def configured(path: str | Path, interface: str, n: int, **instantiate: object
     return md, fmu
 
 
-def fmi3_values(md: ModelDescription, values: dict[str, float | int | bool]
-                ) -> dict[str, float | int | bool | list[Any]]:
+def fmi3_values(
+    md: ModelDescription, values: dict[str, float | int | bool]
+) -> dict[str, float | int | bool | list[Any]]:
     """FMI 2.0 names and values (``friction.nu[2]``, ...) as the FMI 3.0 variables of ``md``:
     the elements of an array of dimension N gathered into one list (elements not given keep
     their start values; elements past N are dropped: they do not act on the model).  Raises
@@ -102,14 +111,18 @@ def fmi3_values(md: ModelDescription, values: dict[str, float | int | bool]
             continue
         cur = out.get(base)
         if not isinstance(cur, list):
-            cur = out[base] = ([var._python_type(s) for s in str(var.start).split()] if var.start
-                               else [var._python_type(0)] * n)
+            cur = out[base] = (
+                [var._python_type(s) for s in str(var.start).split()]
+                if var.start
+                else [var._python_type(0)] * n
+            )
         cur[k - 1] = value
     return out
 
 
-def set_values(fmu: FMU3Model | FMU3Slave, md: ModelDescription,
-               values: dict[str, float | int | bool]) -> None:
+def set_values(
+    fmu: FMU3Model | FMU3Slave, md: ModelDescription, values: dict[str, float | int | bool]
+) -> None:
     """Set ``values`` (FMI 2.0 or FMI 3.0 names, :func:`fmi3_values`) on ``fmu`` by type;
     ``friction.N`` must equal the instance's (it is set in Configuration Mode, :func:`configured`)."""
     by_name = {v.name: v for v in md.modelVariables}
@@ -117,8 +130,10 @@ def set_values(fmu: FMU3Model | FMU3Slave, md: ModelDescription,
         var = by_name[name]
         if name == N_NAME:
             if isinstance(value, list) or int(value) != int(var.start):
-                raise ValueError(f"{N_NAME} = {value}: this instance was configured with {var.start} "
-                                 "(use configured(path, interface, N))")
+                raise ValueError(
+                    f"{N_NAME} = {value}: this instance was configured with {var.start} "
+                    "(use configured(path, interface, N))"
+                )
             continue
         vals = list(value) if isinstance(value, list) else [value]
         getattr(fmu, "set" + var.type)([var.valueReference], [var._python_type(x) for x in vals])
@@ -156,7 +171,9 @@ def raw_handles3(dll: ctypes.CDLL) -> tuple[Callable[..., int], ...]:
         f.restype = ctypes.c_int
         f.argtypes = [ptr, ptr, n, ptr, n]
 
-    def do_step(c: int, t: float, h: float, no_set_prior: int, _keep: object = (flags, last)) -> int:
+    def do_step(
+        c: int, t: float, h: float, no_set_prior: int, _keep: object = (flags, last)
+    ) -> int:
         # _keep: the output buffers live as long as the function (their addresses are passed)
         return do(c, t, h, bool(no_set_prior), a_event, a_term, a_early, a_last)
 
@@ -185,8 +202,13 @@ class FMI3:
     configured with the Plant's ``friction.N``; FMI 2.0 element names (``friction.F[3]``)
     reach the elements of the FMI 3.0 arrays."""
 
-    def __init__(self, path: Path, shared: Extraction,
-                 parameters: Mapping[str, float | int | bool], messages: list[str]) -> None:
+    def __init__(
+        self,
+        path: Path,
+        shared: Extraction,
+        parameters: Mapping[str, float | int | bool],
+        messages: list[str],
+    ) -> None:
         self.path = path
         self.messages = messages
         self._default_n = int(shared.vars[N_NAME].start)
@@ -197,14 +219,15 @@ class FMI3:
             raise ValueError(f"{path.name}: {e}") from None
         self.vars = {v.name: v for v in self.md.modelVariables}
         self.fmu: Any = None
-        self._arrays: dict[str, list[Any]] = {}   # array values set so far (before initialisation)
+        self._arrays: dict[str, list[Any]] = {}  # array values set so far (before initialisation)
         self._initialised = False
 
     def wrapper_class(self, interface: str) -> Any:
         return _Slave3 if interface == "cs" else _Model3
 
-    def _logger(self, env: object, status: object, category: object,
-                message: object) -> None:  # fmpy's FMI 3.0 callback
+    def _logger(
+        self, env: object, status: object, category: object, message: object
+    ) -> None:  # fmpy's FMI 3.0 callback
         self.messages.append(message.decode() if isinstance(message, bytes) else str(message))
 
     def element(self, name: str) -> tuple[ModelVariable, int] | None:
@@ -219,13 +242,19 @@ class FMI3:
         if self._initialised:
             return list(get([var.valueReference], nValues=n))
         if var.name not in self._arrays:
-            start = [var._python_type(x) for x in str(var.start).split()] if var.start is not None else []
+            start = (
+                [var._python_type(x) for x in str(var.start).split()]
+                if var.start is not None
+                else []
+            )
             if len(start) < n:
                 try:
                     start = list(get([var.valueReference], nValues=n))
                 except Exception:
-                    raise FMUError(f"{var.name}: no start values for friction.N = {n} elements "
-                                   "(set all of them)") from None
+                    raise FMUError(
+                        f"{var.name}: no start values for friction.N = {n} elements "
+                        "(set all of them)"
+                    ) from None
             self._arrays[var.name] = start[:n]
         return self._arrays[var.name]
 
@@ -240,22 +269,27 @@ class FMI3:
                 var, index = hit
             if name == N_NAME:
                 if int(value) != int(var.start):
-                    raise FMUError(f"setting {name} = {value!r}: the FMI 3.0 instance was configured "
-                                   f"with {var.start} (a structural parameter: pass it to Plant)")
+                    raise FMUError(
+                        f"setting {name} = {value!r}: the FMI 3.0 instance was configured "
+                        f"with {var.start} (a structural parameter: pass it to Plant)"
+                    )
                 continue
             if index is None:
                 vals = list(value) if isinstance(value, (list, tuple, np.ndarray)) else [value]
             else:
                 vals = self._array(var)
                 if index > len(vals):
-                    continue              # an FMI 2.0 slot past friction.N: no element here
+                    continue  # an FMI 2.0 slot past friction.N: no element here
                 vals[index - 1] = var._python_type(value)
             try:
-                getattr(self.fmu, "set" + var.type)([var.valueReference],
-                                                    [var._python_type(x) for x in vals])
+                getattr(self.fmu, "set" + var.type)(
+                    [var.valueReference], [var._python_type(x) for x in vals]
+                )
             except Exception as e:  # fmpy raises on fmi3Error
-                raise FMUError(f"setting {name} = {value!r}: "
-                               + (self.messages[-1] if self.messages else str(e))) from None
+                raise FMUError(
+                    f"setting {name} = {value!r}: "
+                    + (self.messages[-1] if self.messages else str(e))
+                ) from None
 
     def get(self, names: Sequence[str]) -> dict[str, float]:
         out = {}
@@ -269,8 +303,11 @@ class FMI3:
                 raise KeyError(f"{name!r} is not a variable of {self.path.name}")
             var, index = hit
             n = int(np.prod(var.shape))
-            out[name] = (getattr(self.fmu, "get" + var.type)([var.valueReference], nValues=n)[index - 1]
-                         if index <= n else var._python_type(0))
+            out[name] = (
+                getattr(self.fmu, "get" + var.type)([var.valueReference], nValues=n)[index - 1]
+                if index <= n
+                else var._python_type(0)
+            )
         return out
 
     def free(self) -> None:
@@ -293,8 +330,9 @@ class FMI3:
             self.fmu.enterInitializationMode(tolerance=tolerance, startTime=t0, stopTime=stop_time)
             self.fmu.exitInitializationMode()
         except Exception:
-            raise FMUError("initialisation failed: "
-                           + (self.messages[-1] if self.messages else "")) from None
+            raise FMUError(
+                "initialisation failed: " + (self.messages[-1] if self.messages else "")
+            ) from None
         self._initialised = True
         self._arrays = {}
 
@@ -354,7 +392,7 @@ class _SharedFunctions:
         key = (type(self).__mro__[2].__name__, self.dll._name)
         table = _FMI3_FUNCTIONS.get(key)
         if table is None:
-            super()._loadFunctions()       # type: ignore[misc]
+            super()._loadFunctions()  # type: ignore[misc]
             _FMI3_FUNCTIONS[key] = self._functions
         else:
             self._functions = table

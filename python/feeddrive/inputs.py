@@ -9,6 +9,7 @@
 - :func:`one_line` escapes the control characters of a text (a newline in a file name would
   split a one-line message) the way ``repr`` does.
 """
+
 from __future__ import annotations
 
 import errno
@@ -20,9 +21,13 @@ from typing import IO
 #: largest JSON file read whole (model, study, sidecar) [bytes]
 MAX_TEXT_BYTES = 16 << 20
 
-_KINDS = ((stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
-          (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
-          (stat.S_ISSOCK, "a socket"))
+_KINDS = (
+    (stat.S_ISDIR, "a folder"),
+    (stat.S_ISFIFO, "a FIFO (named pipe)"),
+    (stat.S_ISCHR, "a character device"),
+    (stat.S_ISBLK, "a block device"),
+    (stat.S_ISSOCK, "a socket"),
+)
 
 
 class InputFileError(ValueError):
@@ -85,8 +90,9 @@ def read_text(path: str | Path, limit: int = MAX_TEXT_BYTES, encoding: str = "ut
     with open_input(path, encoding=None) as f:
         raw = f.read(limit + 1)
     if len(raw) > limit:
-        raise InputFileError(path, f"is larger than {limit >> 20} MiB: not a JSON document "
-                                   "of this kind")
+        raise InputFileError(
+            path, f"is larger than {limit >> 20} MiB: not a JSON document of this kind"
+        )
     return raw.decode(encoding).replace("\r\n", "\n").replace("\r", "\n")
 
 

@@ -4,6 +4,7 @@ modelDescription.xml is the one list of variables (the C table is generated from
 time); the Python side reads the same file out of the FMU the package loads, so the units and
 the declared ``min``/``max`` of :mod:`feeddrive.physics.params` are the FMU's own.
 """
+
 from __future__ import annotations
 
 import math
@@ -48,13 +49,17 @@ def fmu_path(path: str | Path | None = None) -> Path:
     if env:
         p = Path(env)
         if not p.is_file():
-            raise FMUNotFoundError(f"{FMU_ENV}={env}: no FMU there (the package's own copy, "
-                                   f"used when {FMU_ENV} is unset, would be {DEFAULT_FMU})")
+            raise FMUNotFoundError(
+                f"{FMU_ENV}={env}: no FMU there (the package's own copy, "
+                f"used when {FMU_ENV} is unset, would be {DEFAULT_FMU})"
+            )
         return p
     if not DEFAULT_FMU.is_file():
-        raise FMUNotFoundError(f"no FMU: none in the package ({DEFAULT_FMU}) and {FMU_ENV} is not "
-                               f"set; build it with `make fmu` in the checkout or set {FMU_ENV} "
-                               f"to a LinearMotorFeedDrive.fmu")
+        raise FMUNotFoundError(
+            f"no FMU: none in the package ({DEFAULT_FMU}) and {FMU_ENV} is not "
+            f"set; build it with `make fmu` in the checkout or set {FMU_ENV} "
+            f"to a LinearMotorFeedDrive.fmu"
+        )
     return DEFAULT_FMU
 
 
@@ -89,9 +94,14 @@ def _read(path: str, mtime: float) -> dict[str, Variable]:
     for sv in root.iter("ScalarVariable"):
         typed = next(iter(sv))
         out[sv.get("name", "")] = Variable(
-            name=sv.get("name", ""), kind=typed.tag, causality=sv.get("causality", "local"),
-            variability=sv.get("variability", "continuous"), unit=typed.get("unit", ""),
-            lo=_number(typed.get("min"), -math.inf), hi=_number(typed.get("max"), math.inf))
+            name=sv.get("name", ""),
+            kind=typed.tag,
+            causality=sv.get("causality", "local"),
+            variability=sv.get("variability", "continuous"),
+            unit=typed.get("unit", ""),
+            lo=_number(typed.get("min"), -math.inf),
+            hi=_number(typed.get("max"), math.inf),
+        )
     return out
 
 
@@ -125,8 +135,11 @@ def _read3(root: ElementTree.Element) -> dict[str, Variable]:
     """FMI 3.0 variables under their FMI 2.0 names: an array of dimension ``friction.N``
     as its elements ``friction.F[1]`` ... up to the structural parameter's ``max``."""
     mv = list(root.iterfind("ModelVariables/*"))
-    size = {v.get("valueReference"): int(v.get("max", v.get("start", "1")))
-            for v in mv if v.get("causality") == "structuralParameter"}
+    size = {
+        v.get("valueReference"): int(v.get("max", v.get("start", "1")))
+        for v in mv
+        if v.get("causality") == "structuralParameter"
+    }
     out: dict[str, Variable] = {}
     for v in mv:
         kind = _KIND3.get(v.tag, v.tag)
@@ -144,9 +157,15 @@ def _read3(root: ElementTree.Element) -> dict[str, Variable]:
 
 def _variable3(v: ElementTree.Element, name: str, kind: str) -> Variable:
     """The FMI 3.0 variable ``v`` (or one element of it) as ``name``."""
-    return Variable(name=name, kind=kind, causality=v.get("causality", "local"),
-                    variability=v.get("variability", "continuous"), unit=v.get("unit", ""),
-                    lo=_number(v.get("min"), -math.inf), hi=_number(v.get("max"), math.inf))
+    return Variable(
+        name=name,
+        kind=kind,
+        causality=v.get("causality", "local"),
+        variability=v.get("variability", "continuous"),
+        unit=v.get("unit", ""),
+        lo=_number(v.get("min"), -math.inf),
+        hi=_number(v.get("max"), math.inf),
+    )
 
 
 def variables(fmu: str | Path | None = None) -> dict[str, Variable]:

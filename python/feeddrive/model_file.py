@@ -32,6 +32,7 @@ Rules (checked by :func:`load_model`, every error names the file and the key):
   (fmu_src/models/plant/params.c and the effect files of fmu_src/physics/), so a model the FMU
   would refuse is refused here, naming the file (or the model) first.
 """
+
 from __future__ import annotations
 
 import difflib
@@ -55,11 +56,12 @@ _PAPER = paper_parameters()
 #: Every FMU parameter a model file may set (effect switches excluded), in FMU order.
 PARAMETER_NAMES: tuple[str, ...] = tuple(k for k in _PAPER if not k.startswith("effects."))
 #: Parameters that are integers in the FMU.
-INTEGER_PARAMETERS: frozenset[str] = frozenset({"friction.N", "friction_profile.n",
-                                                "compliance.sensor_side"})
+INTEGER_PARAMETERS: frozenset[str] = frozenset(
+    {"friction.N", "friction_profile.n", "compliance.sensor_side"}
+)
 _TOP_KEYS = ("name", "description", "effects", "parameters", "uncertainty")
 _INTERVAL_KEYS = ("lo", "hi", "level", "replicates")
-_INTERVAL_OPTIONAL = ("method", "bias")     #: how the interval was made; the bias it corrects
+_INTERVAL_OPTIONAL = ("method", "bias")  #: how the interval was made; the bias it corrects
 _METHODS = ("parametric", "runs")
 
 
@@ -84,20 +86,22 @@ def _check_effects(raw: Any, src: str) -> dict[str, bool]:
         raise ModelFileError(src, "'effects'", f"must be an object, got {type(raw).__name__}")
     for eid, on in raw.items():
         if eid not in EFFECT_IDS:
-            raise ModelFileError(src, f"effects[{eid!r}]",
-                                 "unknown effect id" + _suggest(eid, EFFECT_IDS))
+            raise ModelFileError(
+                src, f"effects[{eid!r}]", "unknown effect id" + _suggest(eid, EFFECT_IDS)
+            )
         if not isinstance(on, bool):
-            raise ModelFileError(src, f"effects[{eid!r}]",
-                                 f"must be true or false, got {on!r}")
+            raise ModelFileError(src, f"effects[{eid!r}]", f"must be true or false, got {on!r}")
     missing = [e for e in EFFECT_IDS if e not in raw]
     if missing:
-        raise ModelFileError(src, f"effects[{missing[0]!r}]",
-                             f"missing effect id(s) {', '.join(missing)}: every id of "
-                             "the effect catalogue must be listed")
+        raise ModelFileError(
+            src,
+            f"effects[{missing[0]!r}]",
+            f"missing effect id(s) {', '.join(missing)}: every id of "
+            "the effect catalogue must be listed",
+        )
     for e in ALWAYS_ON:
         if raw[e] is not True:
-            raise ModelFileError(src, f"effects[{e!r}]",
-                                 f"must be true (the {e} is always on)")
+            raise ModelFileError(src, f"effects[{e!r}]", f"must be true (the {e} is always on)")
     return {e: raw[e] for e in EFFECT_IDS}
 
 
@@ -114,29 +118,39 @@ def _check_value(name: str, value: Any, src: str) -> Value:
     return float(value)
 
 
-def _check_parameters(raw: Any, effects: dict[str, bool], src: str
-                      ) -> tuple[dict[str, Value], tuple[str, ...]]:
+def _check_parameters(
+    raw: Any, effects: dict[str, bool], src: str
+) -> tuple[dict[str, Value], tuple[str, ...]]:
     """Validated parameters in FMU order, and the names filled from the paper."""
     if not isinstance(raw, dict):
-        raise ModelFileError(src, "'parameters'",
-                             f"must be an object, got {type(raw).__name__}")
+        raise ModelFileError(src, "'parameters'", f"must be an object, got {type(raw).__name__}")
     given: dict[str, Value] = {}
     for name, value in raw.items():
         if name.startswith("effects."):
-            eid = name[len("effects."):]
+            eid = name[len("effects.") :]
             if eid not in SWITCHABLE_EFFECTS:
-                raise ModelFileError(src, f"parameters[{name!r}]", "unknown effect switch"
-                                     + _suggest(eid, SWITCHABLE_EFFECTS))
+                raise ModelFileError(
+                    src,
+                    f"parameters[{name!r}]",
+                    "unknown effect switch" + _suggest(eid, SWITCHABLE_EFFECTS),
+                )
             if not isinstance(value, bool):
-                raise ModelFileError(src, f"parameters[{name!r}]",
-                                     f"must be true or false, got {value!r}")
+                raise ModelFileError(
+                    src, f"parameters[{name!r}]", f"must be true or false, got {value!r}"
+                )
             if value != effects[eid]:
-                raise ModelFileError(src, f"parameters[{name!r}]",
-                                     f"is {value} but effects[{eid!r}] is {effects[eid]}")
+                raise ModelFileError(
+                    src,
+                    f"parameters[{name!r}]",
+                    f"is {value} but effects[{eid!r}] is {effects[eid]}",
+                )
             continue
         if name not in _PAPER:
-            raise ModelFileError(src, f"parameters[{name!r}]", "unknown parameter name"
-                                 + _suggest(name, PARAMETER_NAMES))
+            raise ModelFileError(
+                src,
+                f"parameters[{name!r}]",
+                "unknown parameter name" + _suggest(name, PARAMETER_NAMES),
+            )
         given[name] = _check_value(name, value, src)
     filled = tuple(n for n in PARAMETER_NAMES if n not in given)
     return {n: given[n] if n in given else _PAPER[n] for n in PARAMETER_NAMES}, filled
@@ -150,18 +164,28 @@ def _check_uncertainty(raw: Any, src: str) -> dict[str, dict[str, Any]]:
     for name, iv in raw.items():
         key = f"uncertainty[{name!r}]"
         if name not in _PAPER or name.startswith("effects."):
-            raise ModelFileError(src, key, "not a parameter of the file"
-                                 + _suggest(name, PARAMETER_NAMES))
+            raise ModelFileError(
+                src, key, "not a parameter of the file" + _suggest(name, PARAMETER_NAMES)
+            )
         if not isinstance(iv, dict):
             raise ModelFileError(src, key, f"must be an object, got {type(iv).__name__}")
         bad = sorted((set(iv) - set(_INTERVAL_OPTIONAL)) ^ set(_INTERVAL_KEYS))
         if bad:
-            raise ModelFileError(src, f"{key}[{bad[0]!r}]", "unknown or missing key (needs "
-                                 + ", ".join(_INTERVAL_KEYS) + "; may have "
-                                 + ", ".join(_INTERVAL_OPTIONAL) + ")")
+            raise ModelFileError(
+                src,
+                f"{key}[{bad[0]!r}]",
+                "unknown or missing key (needs "
+                + ", ".join(_INTERVAL_KEYS)
+                + "; may have "
+                + ", ".join(_INTERVAL_OPTIONAL)
+                + ")",
+            )
         if "method" in iv and iv["method"] not in _METHODS:
-            raise ModelFileError(src, f"{key}['method']", f"must be one of {', '.join(_METHODS)}, "
-                                 f"got {iv['method']!r}")
+            raise ModelFileError(
+                src,
+                f"{key}['method']",
+                f"must be one of {', '.join(_METHODS)}, got {iv['method']!r}",
+            )
         b = iv.get("bias", 0.0)
         if isinstance(b, bool) or not isinstance(b, (int, float)) or not math.isfinite(b):
             raise ModelFileError(src, f"{key}['bias']", f"must be a finite number, got {b!r}")
@@ -170,14 +194,20 @@ def _check_uncertainty(raw: Any, src: str) -> dict[str, dict[str, Any]]:
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
                 raise ModelFileError(src, f"{key}[{k!r}]", f"must be a finite number, got {v!r}")
         if not iv["lo"] <= iv["hi"]:
-            raise ModelFileError(src, f"{key}['hi']", f"must be >= lo = {iv['lo']!r}, got {iv['hi']!r}")
+            raise ModelFileError(
+                src, f"{key}['hi']", f"must be >= lo = {iv['lo']!r}, got {iv['hi']!r}"
+            )
         if not 0 < iv["level"] < 1:
             raise ModelFileError(src, f"{key}['level']", f"must be in (0, 1), got {iv['level']!r}")
         r = iv["replicates"]
         if isinstance(r, bool) or not isinstance(r, int) or r < 1:
             raise ModelFileError(src, f"{key}['replicates']", f"must be an integer >= 1, got {r!r}")
-        out[name] = {"lo": float(iv["lo"]), "hi": float(iv["hi"]), "level": float(iv["level"]),
-                     "replicates": r}
+        out[name] = {
+            "lo": float(iv["lo"]),
+            "hi": float(iv["hi"]),
+            "level": float(iv["level"]),
+            "replicates": r,
+        }
         if "method" in iv:
             out[name]["method"] = str(iv["method"])
         if "bias" in iv:
@@ -219,14 +249,14 @@ class ModelFile:
         if not isinstance(self.name, str):
             raise ModelFileError(src, "'name'", f"must be a string, got {self.name!r}")
         if not isinstance(self.description, str):
-            raise ModelFileError(src, "'description'",
-                                 f"must be a string, got {self.description!r}")
+            raise ModelFileError(
+                src, "'description'", f"must be a string, got {self.description!r}"
+            )
         self.effects = _check_effects(dict(self.effects), src)
         self.parameters, filled = _check_parameters(dict(self.parameters), self.effects, src)
         _check_physics(self.effects, self.parameters, src)
         self.uncertainty = _check_uncertainty(dict(self.uncertainty), src)
-        self.defaulted = tuple(n for n in PARAMETER_NAMES
-                               if n in filled or n in self.defaulted)
+        self.defaulted = tuple(n for n in PARAMETER_NAMES if n in filled or n in self.defaulted)
 
     def fmu_parameters(self) -> dict[str, Value]:
         """Every FMU parameter by name: ``parameters`` plus the ``effects.<id>`` switches
@@ -243,8 +273,9 @@ class ModelFile:
         """
         src = f"model {self.name!r}"
         if effect not in EFFECT_IDS:
-            raise ModelFileError(src, f"effects[{effect!r}]",
-                                 "unknown effect id" + _suggest(effect, EFFECT_IDS))
+            raise ModelFileError(
+                src, f"effects[{effect!r}]", "unknown effect id" + _suggest(effect, EFFECT_IDS)
+            )
         if not isinstance(on, bool):
             raise ModelFileError(src, f"effects[{effect!r}]", f"must be a bool, got {on!r}")
         effects = dict(self.effects)
@@ -252,17 +283,25 @@ class ModelFile:
         parameters = dict(self.parameters)
         parameters.update(params)
         set_now = set(params)
-        return replace(self, effects=effects, parameters=parameters,
-                       defaulted=tuple(n for n in self.defaulted if n not in set_now))
+        return replace(
+            self,
+            effects=effects,
+            parameters=parameters,
+            defaulted=tuple(n for n in self.defaulted if n not in set_now),
+        )
 
 
 def paper_model() -> ModelFile:
     """The paper's model (Villegas et al. 2014): its effects on, offset and asymmetry off,
     every parameter from ``feeddrive.paper.paper_parameters()``."""
     effects = {e.id: e.in_paper for e in EFFECTS}
-    return ModelFile(name="paper", effects=effects, parameters=paper_parameters(),
-                     description="Villegas et al. 2014, Tables 1-3 and Eq. 2, in SI "
-                                 "(nu_5 from Eq. 18, C = 1.08e4 N/s, see docs/model.md)")
+    return ModelFile(
+        name="paper",
+        effects=effects,
+        parameters=paper_parameters(),
+        description="Villegas et al. 2014, Tables 1-3 and Eq. 2, in SI "
+        "(nu_5 from Eq. 18, C = 1.08e4 N/s, see docs/model.md)",
+    )
 
 
 def _no_duplicates(src: str):
@@ -273,6 +312,7 @@ def _no_duplicates(src: str):
                 raise ModelFileError(src, repr(k), "duplicate key")
             out[k] = v
         return out
+
     return hook
 
 
@@ -294,16 +334,18 @@ def load_model(path: str | Path) -> ModelFile:
     try:
         raw = json.loads(text, object_pairs_hook=_no_duplicates(src))
     except json.JSONDecodeError as e:
-        raise ModelFileError(src, None, f"invalid JSON at line {e.lineno}, column {e.colno}: "
-                                        f"{e.msg}") from None
+        raise ModelFileError(
+            src, None, f"invalid JSON at line {e.lineno}, column {e.colno}: {e.msg}"
+        ) from None
     except RecursionError:
         raise ModelFileError(src, None, "JSON nested too deeply") from None
     if not isinstance(raw, dict):
         raise ModelFileError(src, None, f"must be a JSON object, got {type(raw).__name__}")
     for k in raw:
         if k not in _TOP_KEYS:
-            raise ModelFileError(src, repr(k), "unknown top-level key (allowed: "
-                                 + ", ".join(_TOP_KEYS) + ")")
+            raise ModelFileError(
+                src, repr(k), "unknown top-level key (allowed: " + ", ".join(_TOP_KEYS) + ")"
+            )
     if "effects" not in raw:
         raise ModelFileError(src, "'effects'", "missing")
     name = raw.get("name", path.stem)
@@ -315,8 +357,14 @@ def load_model(path: str | Path) -> ModelFile:
     parameters, filled = _check_parameters(raw.get("parameters", {}), effects, src)
     _check_physics(effects, parameters, src)
     uncertainty = _check_uncertainty(raw.get("uncertainty", {}), src)
-    return ModelFile(name=name, effects=effects, parameters=parameters,
-                     description=description, defaulted=filled, uncertainty=uncertainty)
+    return ModelFile(
+        name=name,
+        effects=effects,
+        parameters=parameters,
+        description=description,
+        defaulted=filled,
+        uncertainty=uncertainty,
+    )
 
 
 def save_model(model: ModelFile, path: str | Path, inputs: tuple[str | Path, ...] = ()) -> None:
@@ -326,11 +374,15 @@ def save_model(model: ModelFile, path: str | Path, inputs: tuple[str | Path, ...
     The file is replaced atomically (:func:`feeddrive.outputs.write_text`); ``path`` must be
     none of ``inputs`` (:class:`feeddrive.outputs.OutputError`)."""
     src = str(path)
-    effects = _check_effects(dict(model.effects), src)      # the model may have been edited
+    effects = _check_effects(dict(model.effects), src)  # the model may have been edited
     parameters, _ = _check_parameters(dict(model.parameters), effects, src)
     _check_physics(effects, parameters, src)
-    doc: dict[str, Any] = {"name": model.name, "description": model.description,
-                           "effects": effects, "parameters": parameters}
+    doc: dict[str, Any] = {
+        "name": model.name,
+        "description": model.description,
+        "effects": effects,
+        "parameters": parameters,
+    }
     uncertainty = _check_uncertainty(dict(model.uncertainty), src)
     if uncertainty:
         doc["uncertainty"] = uncertainty

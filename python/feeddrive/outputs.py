@@ -21,6 +21,7 @@ every command before the command starts; :func:`check_file` and :func:`check_dir
 
 Every refusal is an :class:`OutputError` (a ValueError) naming the path and the rule.
 """
+
 from __future__ import annotations
 
 import errno
@@ -63,9 +64,13 @@ class Reads:
     trees: tuple[Path, ...] = ()
 
     @classmethod
-    def of(cls, files: Iterable[str | Path | None] = (), runs: Iterable[str | Path | None] = (),
-           run_folders: Iterable[str | Path | None] = (),
-           trees: Iterable[str | Path | None] = ()) -> Reads:
+    def of(
+        cls,
+        files: Iterable[str | Path | None] = (),
+        runs: Iterable[str | Path | None] = (),
+        run_folders: Iterable[str | Path | None] = (),
+        trees: Iterable[str | Path | None] = (),
+    ) -> Reads:
         """The files and folders given, each run CSV with its sidecar path (whether or not the
         sidecar exists: a file written there would become one), every ``*.csv`` and ``*.csv.gz`` of each run
         folder with its sidecar path (and the folder itself)."""
@@ -94,8 +99,9 @@ def _same_file(a: Path, b: Path) -> bool:
         return False
 
 
-def check_not_input(target: str | Path, inputs: Reads | Iterable[str | Path | None],
-                    folder: bool) -> Path:
+def check_not_input(
+    target: str | Path, inputs: Reads | Iterable[str | Path | None], folder: bool
+) -> Path:
     """The guard of every output: raise :class:`OutputError` when writing the file (or, with
     ``folder``, replacing the folder) ``target`` could change something the command reads
     (rules in the module docstring).  Returns ``target``'s real path."""
@@ -104,12 +110,15 @@ def check_not_input(target: str | Path, inputs: Reads | Iterable[str | Path | No
         mode: int | None = os.stat(target).st_mode
     except OSError as e:
         if e.errno == errno.ELOOP:
-            raise OutputError(f"{target}: is a symbolic link loop; give a path that "
-                              "resolves") from None
-        mode = None         # missing, or a folder that cannot be made: the caller says which
+            raise OutputError(
+                f"{target}: is a symbolic link loop; give a path that resolves"
+            ) from None
+        mode = None  # missing, or a folder that cannot be made: the caller says which
     if mode is not None and not (stat.S_ISREG(mode) or stat.S_ISDIR(mode)):
-        raise OutputError(f"{target}: exists and is neither a regular file nor a folder "
-                          "(a FIFO, a device, a socket); write elsewhere")
+        raise OutputError(
+            f"{target}: exists and is neither a regular file nor a folder "
+            "(a FIFO, a device, a socket); write elsewhere"
+        )
     res = _real(target)
     reads = _reads(inputs)
     for path, how in reads.files:
@@ -117,16 +126,20 @@ def check_not_input(target: str | Path, inputs: Reads | Iterable[str | Path | No
         if res == real or _same_file(target, path):
             raise OutputError(f"{target}: is {how}an input of this command; write elsewhere")
         if folder and _inside(real, res):
-            raise OutputError(f"{target}: holds an input of this command ({path}); "
-                              "its contents would be replaced: write elsewhere")
+            raise OutputError(
+                f"{target}: holds an input of this command ({path}); "
+                "its contents would be replaced: write elsewhere"
+            )
     for tree in reads.trees:
         real = _real(tree)
         if _inside(res, real):
-            raise OutputError(f"{target}: is inside {tree}, a folder this command reads; "
-                              "write elsewhere")
+            raise OutputError(
+                f"{target}: is inside {tree}, a folder this command reads; write elsewhere"
+            )
         if folder and _inside(real, res):
-            raise OutputError(f"{target}: holds {tree}, a folder this command reads; "
-                              "write elsewhere")
+            raise OutputError(
+                f"{target}: holds {tree}, a folder this command reads; write elsewhere"
+            )
     return res
 
 
@@ -168,8 +181,11 @@ def _temporary_beside(target: Path) -> tuple[int, Path]:
             continue
 
 
-def write_with(target: str | Path, write: Callable[[Path], object],
-               inputs: Reads | Iterable[str | Path | None] = ()) -> Path:
+def write_with(
+    target: str | Path,
+    write: Callable[[Path], object],
+    inputs: Reads | Iterable[str | Path | None] = (),
+) -> Path:
     """Write ``target`` atomically through ``write(tmp)``, which fills the temporary file
     ``tmp`` beside it (then renamed over ``target``: a reader sees the old or the new file);
     a file replaced keeps its permission bits, a new one gets those of ``open`` (0666 less the
@@ -190,12 +206,15 @@ def write_with(target: str | Path, write: Callable[[Path], object],
     return target
 
 
-def write_text(target: str | Path, text: str,
-               inputs: Reads | Iterable[str | Path | None] = ()) -> Path:
+def write_text(
+    target: str | Path, text: str, inputs: Reads | Iterable[str | Path | None] = ()
+) -> Path:
     """Write ``text`` to ``target`` atomically (:func:`write_with`)."""
+
     def write(tmp: Path) -> None:
         with open(tmp, "w", encoding="utf-8", newline="") as f:
             f.write(text)
+
     return write_with(target, write, inputs)
 
 
@@ -204,8 +223,9 @@ def is_ours(folder: str | Path) -> bool:
     return (Path(folder) / MARKER).is_file()
 
 
-def check_dir(target: str | Path, inputs: Reads | Iterable[str | Path | None] = (),
-              force: bool = False) -> Path:
+def check_dir(
+    target: str | Path, inputs: Reads | Iterable[str | Path | None] = (), force: bool = False
+) -> Path:
     """Check that ``target`` may receive one run's results (rules in the module docstring;
     ``inputs``: paths, or a :class:`Reads`).
 
@@ -219,9 +239,11 @@ def check_dir(target: str | Path, inputs: Reads | Iterable[str | Path | None] = 
         if not target.is_dir():
             raise OutputError(f"{target}: exists and is not a folder")
         if not force and not is_ours(target) and any(target.iterdir()):
-            raise OutputError(f"{target}: is a non-empty folder not written by feeddrive "
-                              f"(no {MARKER}); empty it, choose another, or give --force "
-                              "to replace it")
+            raise OutputError(
+                f"{target}: is a non-empty folder not written by feeddrive "
+                f"(no {MARKER}); empty it, choose another, or give --force "
+                "to replace it"
+            )
     _probe(res.parent, str(target))
     return target
 
@@ -243,8 +265,12 @@ def _stage_dir(target: Path) -> Path:
 
 
 @contextmanager
-def output_dir(target: str | Path, inputs: Reads | Iterable[str | Path | None] = (),
-               force: bool = False, what: str = "feeddrive") -> Iterator[Path]:
+def output_dir(
+    target: str | Path,
+    inputs: Reads | Iterable[str | Path | None] = (),
+    force: bool = False,
+    what: str = "feeddrive",
+) -> Iterator[Path]:
     """A fresh temporary folder beside ``target`` to write into; moved into place on success.
 
     ``what`` is recorded in the marker file.  On an exception the temporary folder is
@@ -255,8 +281,9 @@ def output_dir(target: str | Path, inputs: Reads | Iterable[str | Path | None] =
     stage = _stage_dir(target)
     try:
         yield stage
-        (stage / MARKER).write_text(json.dumps({"written_by": "feeddrive", "what": what}) + "\n",
-                                    encoding="utf-8")
+        (stage / MARKER).write_text(
+            json.dumps({"written_by": "feeddrive", "what": what}) + "\n", encoding="utf-8"
+        )
         old = None
         if target.exists():
             old = Path(tempfile.mkdtemp(prefix=f".{target.name}.old-", dir=parent))

@@ -24,6 +24,7 @@ and each is crossed by a factor of 1000 when the unit is wrong:
 The one line names the file, the column, the value, the rule and the likely unit mistake
 (the factor of 1000 that would bring the run inside the rule).
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -77,32 +78,50 @@ def check_units(run: Run, stroke: tuple[float, float] = STROKE) -> None:
     out = np.flatnonzero((x < x_lo) | (x > x_hi))
     if out.size:
         k = int(out[np.argmax(np.abs(x[out]))])
-        unit = _unit_guess(max(abs(x[k] - lo), abs(x[k] - hi)), (STROKE_MARGIN + 1) * span,
-                           ("mm", "um", "nm"))
-        raise DataError(path, k + 2, "x", f"position {x[k]:g} m is far outside the model's stroke "
-                        f"{lo:g} .. {hi:g} m (allowed {x_lo:g} .. {x_hi:g} m): positions in {unit}? "
-                        "the recording format (docs/data-format.md) wants metres")
+        unit = _unit_guess(
+            max(abs(x[k] - lo), abs(x[k] - hi)), (STROKE_MARGIN + 1) * span, ("mm", "um", "nm")
+        )
+        raise DataError(
+            path,
+            k + 2,
+            "x",
+            f"position {x[k]:g} m is far outside the model's stroke "
+            f"{lo:g} .. {hi:g} m (allowed {x_lo:g} .. {x_hi:g} m): positions in {unit}? "
+            "the recording format (docs/data-format.md) wants metres",
+        )
     n = _window(run)
     dt = run.time[n:] - run.time[:-n]
     v = (x[n:] - x[:-n]) / dt
     k = int(np.argmax(np.abs(v)))
     if abs(v[k]) > V_MAX:
         unit = _unit_guess(v[k], V_MAX, ("mm", "um", "nm"))
-        raise DataError(path, k + 2, "x", f"speed {abs(v[k]):.4g} m/s between lines {k + 2} and "
-                        f"{k + n + 2} is beyond {V_MAX:g} m/s (no feed drive moves that fast): "
-                        f"positions in {unit}? the recording format (docs/data-format.md) wants metres")
+        raise DataError(
+            path,
+            k + 2,
+            "x",
+            f"speed {abs(v[k]):.4g} m/s between lines {k + 2} and "
+            f"{k + n + 2} is beyond {V_MAX:g} m/s (no feed drive moves that fast): "
+            f"positions in {unit}? the recording format (docs/data-format.md) wants metres",
+        )
     if run.n > 2 * n:
         t = np.asarray(run.time, dtype=float)
-        h1, h2 = t[n:-n] - t[:-2 * n], t[2 * n:] - t[n:-n]
-        a = 2.0 * ((x[2 * n:] - x[n:-n]) / h2 - (x[n:-n] - x[:-2 * n]) / h1) / (h1 + h2)
+        h1, h2 = t[n:-n] - t[: -2 * n], t[2 * n :] - t[n:-n]
+        a = 2.0 * ((x[2 * n :] - x[n:-n]) / h2 - (x[n:-n] - x[: -2 * n]) / h1) / (h1 + h2)
         k = int(np.argmax(np.abs(a)))
         if abs(a[k]) > A_MAX:
             unit = _unit_guess(a[k], A_MAX, ("mm", "um", "nm"))
-            raise DataError(path, k + n + 2, "x", f"acceleration {abs(a[k]):.4g} m/s^2 around line "
-                            f"{k + n + 2} is beyond {A_MAX:g} m/s^2 (no feed drive accelerates "
-                            f"that hard): positions in {unit}? the recording format (docs/data-format.md) wants metres")
-    for name, limit, units, si in (("i", I_MAX, ("mA", "uA"), "amperes"),
-                                   ("u", U_MAX, ("mV", "uV"), "volts")):
+            raise DataError(
+                path,
+                k + n + 2,
+                "x",
+                f"acceleration {abs(a[k]):.4g} m/s^2 around line "
+                f"{k + n + 2} is beyond {A_MAX:g} m/s^2 (no feed drive accelerates "
+                f"that hard): positions in {unit}? the recording format (docs/data-format.md) wants metres",
+            )
+    for name, limit, units, si in (
+        ("i", I_MAX, ("mA", "uA"), "amperes"),
+        ("u", U_MAX, ("mV", "uV"), "volts"),
+    ):
         arr = getattr(run, name)
         if arr is None:
             continue
@@ -110,6 +129,11 @@ def check_units(run: Run, stroke: tuple[float, float] = STROKE) -> None:
         if abs(arr[k]) > limit:
             unit = _unit_guess(arr[k], limit, units)
             what = "current" if name == "i" else "amplifier reference"
-            raise DataError(path, k + 2, name, f"{what} {arr[k]:g} is beyond +-{limit:g} "
-                            f"{'A' if name == 'i' else 'V'} (no feed-drive amplifier gives that): "
-                            f"{name} in {unit}? the recording format (docs/data-format.md) wants {si}")
+            raise DataError(
+                path,
+                k + 2,
+                name,
+                f"{what} {arr[k]:g} is beyond +-{limit:g} "
+                f"{'A' if name == 'i' else 'V'} (no feed-drive amplifier gives that): "
+                f"{name} in {unit}? the recording format (docs/data-format.md) wants {si}",
+            )

@@ -36,6 +36,7 @@ Eq. 1 evaluated on the measured trajectory::
 Positive r means the model leaves more net force than the measured acceleration shows: a
 resistive force is missing (a positive offset gives r = +offset).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -77,19 +78,19 @@ class RunResidual:
 
     name: str
     Ts: float
-    K: np.ndarray                 #: smoothing kernel of the acceleration estimate
+    K: np.ndarray  #: smoothing kernel of the acceleration estimate
     time: np.ndarray
-    x: np.ndarray                 #: measured position [m] (maps and friction use it as is)
-    v: np.ndarray                 #: velocity [m/s] (the acceleration's smoother)
-    a: np.ndarray                 #: acceleration [m/s^2] (NaN near the ends)
-    i: np.ndarray | None          #: current used [A] (midpoint of the held samples) or None
-    F_motor: np.ndarray           #: K_f(x) i or gain u [N]
-    F_app: np.ndarray             #: F_motor - F_cg - F_load - offset [N]
-    F_f: np.ndarray               #: model friction along the motion [N]
-    stuck: np.ndarray             #: bool, static model's stuck samples
-    r: np.ndarray                 #: force residual [N] (NaN near the ends)
-    valid: np.ndarray             #: bool, samples where r is defined
-    force_source: str             #: where F_motor came from
+    x: np.ndarray  #: measured position [m] (maps and friction use it as is)
+    v: np.ndarray  #: velocity [m/s] (the acceleration's smoother)
+    a: np.ndarray  #: acceleration [m/s^2] (NaN near the ends)
+    i: np.ndarray | None  #: current used [A] (midpoint of the held samples) or None
+    F_motor: np.ndarray  #: K_f(x) i or gain u [N]
+    F_app: np.ndarray  #: F_motor - F_cg - F_load - offset [N]
+    F_f: np.ndarray  #: model friction along the motion [N]
+    stuck: np.ndarray  #: bool, static model's stuck samples
+    r: np.ndarray  #: force residual [N] (NaN near the ends)
+    valid: np.ndarray  #: bool, samples where r is defined
+    force_source: str  #: where F_motor came from
     start: GMSStart | None = None  #: estimated GMS state at the first sample (pre-rolling on)
     #: the velocity the model's friction saw [m/s] (:func:`friction_velocity` with pre-rolling
     #: on, else ``v``)
@@ -121,8 +122,9 @@ def run_force_gain(run: Run, force_gain: float | None) -> float | None:
         raise ValueError(f"{run_label(run)}: meta['force_gain'] = {g!r} is not a number") from None
 
 
-def motor_force(run: Run, P: PlantParameters, x: np.ndarray, force_gain: float | None
-                ) -> tuple[np.ndarray, np.ndarray | None, str]:
+def motor_force(
+    run: Run, P: PlantParameters, x: np.ndarray, force_gain: float | None
+) -> tuple[np.ndarray, np.ndarray | None, str]:
     """F_motor at the samples (midpoint of held values), the current used, and its source."""
     kf = P.K_f(x)
     if run.i is not None:
@@ -132,13 +134,22 @@ def motor_force(run: Run, P: PlantParameters, x: np.ndarray, force_gain: float |
     if gain is not None:
         return gain * held_current(run.u), None, f"no current measured: F = {gain:g} N/V * u"
     i = held_current(P.current.current(run.u))
-    how = "G(z) u (model's current loop)" if P.current.dynamics else \
-        "G(1) u (model's static current-loop gain)"
+    how = (
+        "G(z) u (model's current loop)"
+        if P.current.dynamics
+        else "G(1) u (model's static current-loop gain)"
+    )
     return kf * i, i, f"no current measured: i = {how}, F = K_f(x) i"
 
 
-def model_friction(P: PlantParameters, x: np.ndarray, v: np.ndarray, F_app: np.ndarray, Ts: float,
-                   v_stick: float = DEFAULT_V_STICK) -> tuple[np.ndarray, np.ndarray]:
+def model_friction(
+    P: PlantParameters,
+    x: np.ndarray,
+    v: np.ndarray,
+    F_app: np.ndarray,
+    Ts: float,
+    v_stick: float = DEFAULT_V_STICK,
+) -> tuple[np.ndarray, np.ndarray]:
     """The model's friction along a motion (the GMS from the virgin start) and the static
     model's stuck mask."""
     if P.prerolling:
@@ -146,8 +157,9 @@ def model_friction(P: PlantParameters, x: np.ndarray, v: np.ndarray, F_app: np.n
     return karnopp_friction(v, F_app, P.friction, v_stick, x)
 
 
-def load_start_response(r: np.ndarray, a: np.ndarray, Ts: float, f: float, zeta: float
-                        ) -> np.ndarray:
+def load_start_response(
+    r: np.ndarray, a: np.ndarray, Ts: float, f: float, zeta: float
+) -> np.ndarray:
     """The part of a residual ``r`` that the load's unknown state at the first sample with an
     acceleration explains: the least-squares combination of the two free responses of the
     load filter (:func:`feeddrive.physics.load_free_response`) started there [N]."""
@@ -160,9 +172,14 @@ def load_start_response(r: np.ndarray, a: np.ndarray, Ts: float, f: float, zeta:
     return out
 
 
-def force_residual(run: Run, model: ModelFile, window: int | None = None,
-                   polyorder: int = DEFAULT_POLYORDER, force_gain: float | None = None,
-                   v_stick: float = DEFAULT_V_STICK) -> RunResidual:
+def force_residual(
+    run: Run,
+    model: ModelFile,
+    window: int | None = None,
+    polyorder: int = DEFAULT_POLYORDER,
+    force_gain: float | None = None,
+    v_stick: float = DEFAULT_V_STICK,
+) -> RunResidual:
     """The force residual of ``model`` along ``run`` (see the module docstring).
 
     Parameters
@@ -192,8 +209,10 @@ def force_residual(run: Run, model: ModelFile, window: int | None = None,
     c = P.compliance
     if c.on:
         if c.sensor_side != 0:
-            raise ValueError(f"model {model.name!r}: compliance.sensor_side = {c.sensor_side}: the "
-                             "force residual needs the encoder on the slide (allowed 0)")
+            raise ValueError(
+                f"model {model.name!r}: compliance.sensor_side = {c.sensor_side}: the "
+                "force residual needs the encoder on the slide (allowed 0)"
+            )
         r = r - c.m2 * load_acceleration(a, Ts, c.f, c.zeta)
     start = None
     if P.prerolling:
@@ -201,10 +220,28 @@ def force_residual(run: Run, model: ModelFile, window: int | None = None,
     if c.on:
         r = r - load_start_response(r, a, Ts, c.f, c.zeta)
     valid = np.isfinite(r)
-    return RunResidual(name=run.name or label, Ts=Ts, K=K, time=np.asarray(run.time, float),
-                       x=xs, v=v, a=a, i=i, F_motor=F_motor, F_app=F_app, F_f=F_f, stuck=stuck,
-                       r=r, valid=valid, force_source=source, start=start, v_f=v_f, F_load=F_load,
-                       u=np.asarray(run.u, float), x_meas=x_meas)
+    return RunResidual(
+        name=run.name or label,
+        Ts=Ts,
+        K=K,
+        time=np.asarray(run.time, float),
+        x=xs,
+        v=v,
+        a=a,
+        i=i,
+        F_motor=F_motor,
+        F_app=F_app,
+        F_f=F_f,
+        stuck=stuck,
+        r=r,
+        valid=valid,
+        force_source=source,
+        start=start,
+        v_f=v_f,
+        F_load=F_load,
+        u=np.asarray(run.u, float),
+        x_meas=x_meas,
+    )
 
 
 def residuals(runs: list[Run], model: ModelFile, **kw) -> list[RunResidual]:

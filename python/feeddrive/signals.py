@@ -5,6 +5,7 @@ The savgol second-derivative filter c equals the central second difference follo
 smoothing kernel K (K = double cumulative sum of c, length window - 2, sum 1); filtering the
 force side of Eq. 1 with the same K makes both sides see exactly the same averaging.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -27,8 +28,10 @@ def sample_time(time: np.ndarray, rel_tol: float = 0.01, label: str = "run") -> 
         raise ValueError(f"{label}: fewer than 2 samples")
     Ts = float(np.median(dt))
     if np.max(np.abs(dt - Ts)) > rel_tol * Ts:
-        raise ValueError(f"{label}: time is not uniformly sampled (Ts = {Ts:g} s, "
-                         f"steps from {dt.min():g} to {dt.max():g} s)")
+        raise ValueError(
+            f"{label}: time is not uniformly sampled (Ts = {Ts:g} s, "
+            f"steps from {dt.min():g} to {dt.max():g} s)"
+        )
     return Ts
 
 
@@ -40,8 +43,9 @@ def odd_window(window: int, n: int | None = None) -> int:
     return max(w, 3)
 
 
-def matched_acceleration(x: np.ndarray, Ts: float, window: int, polyorder: int = 3
-                         ) -> tuple[np.ndarray, np.ndarray]:
+def matched_acceleration(
+    x: np.ndarray, Ts: float, window: int, polyorder: int = 3
+) -> tuple[np.ndarray, np.ndarray]:
     """Savitzky-Golay acceleration and the smoothing kernel it applies to the true acceleration.
 
     The savgol second-derivative filter c equals the central second difference followed by
@@ -53,10 +57,11 @@ def matched_acceleration(x: np.ndarray, Ts: float, window: int, polyorder: int =
     w = odd_window(window, len(x))
     c = savgol_coeffs(w, min(max(polyorder, 2), w - 1), deriv=2, delta=Ts, use="conv")
     K = np.cumsum(np.cumsum(c))[:-2] * Ts**2
-    a = savgol_filter(np.asarray(x, dtype=float), w, min(max(polyorder, 2), w - 1),
-                      deriv=2, delta=Ts)
+    a = savgol_filter(
+        np.asarray(x, dtype=float), w, min(max(polyorder, 2), w - 1), deriv=2, delta=Ts
+    )
     h = w // 2
-    a[:h] = a[len(a) - h:] = np.nan
+    a[:h] = a[len(a) - h :] = np.nan
     return a, K
 
 
@@ -65,5 +70,5 @@ def apply_kernel(y: np.ndarray, K: np.ndarray) -> np.ndarray:
     y = np.asarray(y, dtype=float)
     out = np.convolve(y, K, mode="same")
     h = len(K) // 2 + 1
-    out[:h] = out[len(out) - h:] = np.nan
+    out[:h] = out[len(out) - h :] = np.nan
     return out

@@ -1,5 +1,6 @@
 """What the commands share: the usage error, progress bars on stderr (quiet off a terminal or
 with ``--no-progress``), the check of an output file (``--force``)."""
+
 from __future__ import annotations
 
 import argparse
@@ -36,8 +37,9 @@ class stages:
 
     def __enter__(self) -> stages:
         if self.enabled:
-            self.bar = tqdm(desc=self.desc, unit="stage",
-                            bar_format="{desc}: {n} stages, {elapsed} {postfix}")
+            self.bar = tqdm(
+                desc=self.desc, unit="stage", bar_format="{desc}: {n} stages, {elapsed} {postfix}"
+            )
         return self
 
     def __call__(self, name: str) -> None:

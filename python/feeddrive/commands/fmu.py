@@ -1,4 +1,5 @@
 """`feeddrive fmu`: a model file written as its own plant FMU and an SSP parameter set."""
+
 from __future__ import annotations
 
 import argparse

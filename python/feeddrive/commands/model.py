@@ -1,4 +1,5 @@
 """`feeddrive model`: write a model file (the paper's full model, or the EMPS baseline)."""
+
 from __future__ import annotations
 
 import argparse
@@ -16,10 +17,12 @@ def main(a: argparse.Namespace) -> int:
         raise UsageError("give one of --paper and --emps")
     if a.paper:
         save_model(paper_model(), out)
-        print(f"wrote {out}: the paper's full model; edit its \"effects\" map for reduced models")
+        print(f'wrote {out}: the paper\'s full model; edit its "effects" map for reduced models')
     elif a.emps:
         save_model(emps_baseline_model(), out)
-        print(f"wrote {out}: the EMPS authors' rigid baseline (use --force-gain 35.15 with its runs)")
+        print(
+            f"wrote {out}: the EMPS authors' rigid baseline (use --force-gain 35.15 with its runs)"
+        )
     else:
         raise UsageError("give --paper (the paper's full model) or --emps (EMPS baseline)")
     return 0

@@ -1,4 +1,5 @@
 """`feeddrive run`: the main job (the paper's Secs. 3 and 4 reproduced, the report written, its tables printed)."""
+
 from __future__ import annotations
 
 import argparse
@@ -14,11 +15,16 @@ from .common import progress_enabled
 
 def main(a: argparse.Namespace) -> int:
     """Run ``feeddrive run`` with the parsed arguments ``a``; returns the exit status."""
-    fmu_path()      # no FMU: one line before the job starts
+    fmu_path()  # no FMU: one line before the job starts
     check_dir(Path(a.out), [a.runs, a.shared], a.force)
     for run in load_runs(a.runs) if a.runs else ():
-        check_run(run)      # a bad run: one line now, not after the reproductions
-    main_job(Path(a.out), print_tables=True, runs_dir=Path(a.runs) if a.runs else None,
-             shared_dir=Path(a.shared) if a.shared else None, force=a.force,
-             progress=progress_enabled(a))
+        check_run(run)  # a bad run: one line now, not after the reproductions
+    main_job(
+        Path(a.out),
+        print_tables=True,
+        runs_dir=Path(a.runs) if a.runs else None,
+        shared_dir=Path(a.shared) if a.shared else None,
+        force=a.force,
+        progress=progress_enabled(a),
+    )
     return 0

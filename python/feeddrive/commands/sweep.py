@@ -1,4 +1,5 @@
 """`feeddrive sweep`: a parameter study (or a bootstrap study) on Dask, its table and report."""
+
 from __future__ import annotations
 
 import argparse
@@ -17,15 +18,25 @@ def main(a: argparse.Namespace) -> int:
     """Run ``feeddrive sweep`` with the parsed arguments ``a``; returns the exit status."""
     study = load_study_file(a.study)
     if a.force and a.resume:
-        raise UsageError("give one of --force (start again, replacing --out) and --resume "
-                         "(keep the finished rows)")
+        raise UsageError(
+            "give one of --force (start again, replacing --out) and --resume "
+            "(keep the finished rows)"
+        )
     if isinstance(study, BootstrapStudy):
         if a.resume:
-            raise UsageError(f"--resume: {a.study} is a bootstrap study (kind 'bootstrap'), written "
-                             "whole at the end; run it again without --resume")
-        boot = run_bootstrap_study(study, a.out, scheduler=a.scheduler, workers=a.workers,
-                                   parallel=not a.serial, progress=progress_enabled(a),
-                                   force=a.force)
+            raise UsageError(
+                f"--resume: {a.study} is a bootstrap study (kind 'bootstrap'), written "
+                "whole at the end; run it again without --resume"
+            )
+        boot = run_bootstrap_study(
+            study,
+            a.out,
+            scheduler=a.scheduler,
+            workers=a.workers,
+            parallel=not a.serial,
+            progress=progress_enabled(a),
+            force=a.force,
+        )
         report = write_bootstrap_report(boot, a.out)
         print(boot.summary())
         print(f"wrote {report}")
@@ -34,16 +45,31 @@ def main(a: argparse.Namespace) -> int:
     if a.force and out.exists():
         check_dir(out, study_reads(a.study), force=True)
         shutil.rmtree(out)
-    elif (out.is_dir() and any(out.iterdir())
-          and not any((out / n).exists() for n in (CSV_NAME, IDENTITY_NAME))):
-        raise UsageError(f"{out}: is a non-empty folder without a study's results; give --force "
-                         "to replace it, or another --out")
+    elif (
+        out.is_dir()
+        and any(out.iterdir())
+        and not any((out / n).exists() for n in (CSV_NAME, IDENTITY_NAME))
+    ):
+        raise UsageError(
+            f"{out}: is a non-empty folder without a study's results; give --force "
+            "to replace it, or another --out"
+        )
     try:
-        res = run_study(study, a.out, scheduler=a.scheduler, workers=a.workers, resume=a.resume,
-                        progress=progress_enabled(a), parallel=not a.serial)
+        res = run_study(
+            study,
+            a.out,
+            scheduler=a.scheduler,
+            workers=a.workers,
+            resume=a.resume,
+            progress=progress_enabled(a),
+            parallel=not a.serial,
+        )
     except KeyboardInterrupt:
-        print(f"feeddrive sweep: interrupted; the finished runs are in {a.out / 'results.csv'}: "
-              f"run again with --resume", file=sys.stderr)
+        print(
+            f"feeddrive sweep: interrupted; the finished runs are in {a.out / 'results.csv'}: "
+            f"run again with --resume",
+            file=sys.stderr,
+        )
         return 130
     report = write_study_report(res, a.out)
     print(res.summary())

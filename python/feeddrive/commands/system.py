@@ -1,4 +1,5 @@
 """`feeddrive system`: the closed loop written as SSP, OSP and container FMU (and run in the engines)."""
+
 from __future__ import annotations
 
 import argparse
@@ -14,9 +15,12 @@ from .common import stages
 
 def systems() -> dict[str, Callable]:
     """The closed loops ``feeddrive system --case`` writes, by name."""
-    return {"sec3": sec3_system, "sec4_gms": lambda: sec4_system("gms"),
-            "sec4_static": lambda: sec4_system("static"),
-            "sec3_delay1": lambda: sec3_system(delay=1)}
+    return {
+        "sec3": sec3_system,
+        "sec4_gms": lambda: sec4_system("gms"),
+        "sec4_static": lambda: sec4_system("static"),
+        "sec3_delay1": lambda: sec3_system(delay=1),
+    }
 
 
 def main(a: argparse.Namespace) -> int:
@@ -24,8 +28,15 @@ def main(a: argparse.Namespace) -> int:
     fmu_path()
     system = systems()[a.case]()
     out = Path(a.out)
-    there = [p for p in (out / f"{system.name}.ssp", out / f"{system.name}_osp",
-                         out / f"{system.name}_container.fmu") if p.exists()]
+    there = [
+        p
+        for p in (
+            out / f"{system.name}.ssp",
+            out / f"{system.name}_osp",
+            out / f"{system.name}_container.fmu",
+        )
+        if p.exists()
+    ]
     if there and not a.force:
         raise OutputError(f"{there[0]}: exists; give --force to replace it, or another --out")
     with stages("system", a) as stage:

@@ -1,4 +1,5 @@
 """`feeddrive validate`: replay a measured run through model and controller and print the gap."""
+
 from __future__ import annotations
 
 import argparse

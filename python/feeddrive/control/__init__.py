@@ -11,6 +11,7 @@ feedforward) are given as arrays at construction, so ``step`` only indexes them.
 - :mod:`feedforward`: inertia, cogging, ripple, offset and friction (static / GMS) feedforward.
 - :mod:`margins`: gain / phase / modulus margins from a loop frequency response.
 """
+
 from .design_model import DesignModel, design_model, simulate_linear
 from .feedforward import (
     Feedforward,
@@ -26,8 +27,22 @@ from .pid import PID
 from .state_space import StateSpaceController, default_observer_poles, default_poles
 from .zpetc import ZPETC
 
-__all__ = ["DesignModel", "design_model",
-           "simulate_linear", "Feedforward", "FeedforwardOptions", "feedforward",
-           "invert_current_loop", "reference_derivatives", "static_friction", "LTIController", "Margins",
-           "loop_margins", "PID",
-           "StateSpaceController", "default_observer_poles", "default_poles", "ZPETC"]
+__all__ = [
+    "DesignModel",
+    "design_model",
+    "simulate_linear",
+    "Feedforward",
+    "FeedforwardOptions",
+    "feedforward",
+    "invert_current_loop",
+    "reference_derivatives",
+    "static_friction",
+    "LTIController",
+    "Margins",
+    "loop_margins",
+    "PID",
+    "StateSpaceController",
+    "default_observer_poles",
+    "default_poles",
+    "ZPETC",
+]

@@ -12,6 +12,7 @@ so the design model has 5 states.  The current i[k] is held between samples (it 
 system), so the series connection is exact for the plant's linear part: the "e^{-sTs}" of the
 continuous description is the delay already contained in G(z).
 """
+
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
@@ -90,8 +91,9 @@ class DesignModel:
         return ss_freqresp(self.A, self.B, self.C, self.D, self.Ts, f)
 
 
-def ss_freqresp(A: np.ndarray, B: np.ndarray, C: np.ndarray, D: np.ndarray, Ts: float,
-                f: np.ndarray) -> np.ndarray:
+def ss_freqresp(
+    A: np.ndarray, B: np.ndarray, C: np.ndarray, D: np.ndarray, Ts: float, f: np.ndarray
+) -> np.ndarray:
     """C (zI - A)^-1 B + D at z = exp(j 2 pi f Ts) for a SISO discrete system (vectorised)."""
     z = np.exp(1j * 2.0 * np.pi * np.asarray(f, dtype=float) * Ts)
     n = A.shape[0]
@@ -116,8 +118,10 @@ def design_model(params: Mapping[str, float], delay: int = 0) -> DesignModel:
             raise KeyError(f"design_model.py: parameter {key!r} missing")
     m, Ts, K_f0 = float(params["m"]), float(params["Ts"]), float(params["ripple.c[0]"])
     if m <= 0 or Ts <= 0 or K_f0 <= 0:
-        raise ValueError(f"design_model.py: need m > 0, Ts > 0, ripple.c[0] > 0 "
-                         f"(got m={m}, Ts={Ts}, ripple.c[0]={K_f0})")
+        raise ValueError(
+            f"design_model.py: need m > 0, Ts > 0, ripple.c[0] > 0 "
+            f"(got m={m}, Ts={Ts}, ripple.c[0]={K_f0})"
+        )
     loop = CurrentLoop.from_parameters(params)
     if not any(loop.b):
         raise ValueError("design_model.py: current.b[0..5] are all zero, G(z) = 0")
@@ -125,28 +129,39 @@ def design_model(params: Mapping[str, float], delay: int = 0) -> DesignModel:
     G1 = float(num.sum() / den.sum())
     # mechanical part: i -> [x, v]
     Am, Bm, _, _, _ = signal.cont2discrete(
-        (np.array([[0.0, 1.0], [0.0, 0.0]]), np.array([[0.0], [K_f0 / m]]),
-         np.array([[1.0, 0.0]]), np.zeros((1, 1))), Ts, method="zoh")
+        (
+            np.array([[0.0, 1.0], [0.0, 0.0]]),
+            np.array([[0.0], [K_f0 / m]]),
+            np.array([[1.0, 0.0]]),
+            np.zeros((1, 1)),
+        ),
+        Ts,
+        method="zoh",
+    )
     # G(z) = z^-d0 B'(z^-1)/A(z^-1); keep one sample of it in G' (strictly proper) if d0 >= 1
     d0 = int(np.argmax(num != 0.0))
     d_g = max(d0 - 1, 0)
-    num_g = num[d_g:]                         # G' = z^-(d0-d_g) B'/A in powers of z^-1
-    d = d_g + delay                           # input delays: G's beyond G', the controller's
+    num_g = num[d_g:]  # G' = z^-(d0-d_g) B'/A in powers of z^-1
+    d = d_g + delay  # input delays: G's beyond G', the controller's
     L = max(len(num_g), len(den))
     num_g = np.pad(num_g, (0, L - len(num_g)))
-    den_g = np.pad(den, (0, L - len(den)))    # same length -> descending powers of z
+    den_g = np.pad(den, (0, L - len(den)))  # same length -> descending powers of z
     if L > 1:
         Ag, Bg, Cg, Dg = signal.tf2ss(np.trim_zeros(num_g, "f"), den_g)
     else:
-        Ag, Bg, Cg, Dg = (np.zeros((0, 0)), np.zeros((0, 1)), np.zeros((1, 0)),
-                          np.array([[num_g[0] / den_g[0]]]))
+        Ag, Bg, Cg, Dg = (
+            np.zeros((0, 0)),
+            np.zeros((0, 1)),
+            np.zeros((1, 0)),
+            np.array([[num_g[0] / den_g[0]]]),
+        )
     ng = Ag.shape[0]
     n_dyn = 2 + ng
     Ap = np.zeros((n_dyn, n_dyn))
     Ap[:2, :2] = Am
     Ap[:2, 2:] = Bm @ Cg
     Ap[2:, 2:] = Ag
-    Bp = np.vstack([Bm @ Dg, Bg])             # input: u[k-d]
+    Bp = np.vstack([Bm @ Dg, Bg])  # input: u[k-d]
     n = n_dyn + d
     A = np.zeros((n, n))
     B = np.zeros((n, 1))
@@ -154,7 +169,7 @@ def design_model(params: Mapping[str, float], delay: int = 0) -> DesignModel:
     if d == 0:
         B[:n_dyn] = Bp
     else:
-        A[:n_dyn, n - 1:n] = Bp               # u[k-d] is the last delay state
+        A[:n_dyn, n - 1 : n] = Bp  # u[k-d] is the last delay state
         B[n_dyn, 0] = 1.0
         for j in range(1, d):
             A[n_dyn + j, n_dyn + j - 1] = 1.0
@@ -165,8 +180,21 @@ def design_model(params: Mapping[str, float], delay: int = 0) -> DesignModel:
     g_den = np.pad(den, (0, Lg - len(den)))
     tf_num = np.convolve(0.5 * Ts**2 * K_f0 / m * np.array([1.0, 1.0]), g_num)
     tf_den = np.convolve(np.array([1.0, -2.0, 1.0] + [0.0] * delay), g_den)
-    return DesignModel(A=A, B=B, C=C, D=np.zeros((1, 1)), Ts=Ts, n_dyn=n_dyn, n_delay=d,
-                       K_f0=K_f0, m=m, G1=G1, tf_num=tf_num, tf_den=tf_den, delay=delay)
+    return DesignModel(
+        A=A,
+        B=B,
+        C=C,
+        D=np.zeros((1, 1)),
+        Ts=Ts,
+        n_dyn=n_dyn,
+        n_delay=d,
+        K_f0=K_f0,
+        m=m,
+        G1=G1,
+        tf_num=tf_num,
+        tf_den=tf_den,
+        delay=delay,
+    )
 
 
 class SteppedController(Protocol):
@@ -177,10 +205,14 @@ class SteppedController(Protocol):
     def step(self, x_meas: float, k: int) -> float: ...
 
 
-def simulate_linear(model: DesignModel, controller: SteppedController, n_steps: int, x0: float = 0.0,
-                    quantum: float | None = None,
-                    force: Callable[[int, float, float], float] | Sequence[float] | None = None,
-                    ) -> dict[str, np.ndarray]:
+def simulate_linear(
+    model: DesignModel,
+    controller: SteppedController,
+    n_steps: int,
+    x0: float = 0.0,
+    quantum: float | None = None,
+    force: Callable[[int, float, float], float] | Sequence[float] | None = None,
+) -> dict[str, np.ndarray]:
     """Run ``controller`` (``reset()``/``step(x_meas, k)``) in closed loop with the design model.
 
     Parameters
@@ -199,9 +231,16 @@ def simulate_linear(model: DesignModel, controller: SteppedController, n_steps: 
     """
     A, B = model.A, model.B
     # a force held over the sample acts on the ZOH double integrator 1/(m s^2)
-    _, Bm, *_ = signal.cont2discrete((np.array([[0.0, 1.0], [0.0, 0.0]]),
-                                      np.array([[0.0], [1.0 / model.m]]),
-                                      np.eye(2), np.zeros((2, 1))), model.Ts, method="zoh")
+    _, Bm, *_ = signal.cont2discrete(
+        (
+            np.array([[0.0, 1.0], [0.0, 0.0]]),
+            np.array([[0.0], [1.0 / model.m]]),
+            np.eye(2),
+            np.zeros((2, 1)),
+        ),
+        model.Ts,
+        method="zoh",
+    )
     Bf = np.zeros(model.n)
     Bf[:2] = -Bm[:, 0]
     X = np.zeros(model.n)

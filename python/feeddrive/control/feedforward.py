@@ -29,6 +29,7 @@ parameters off by 5-20 % ~3.5 um.
 Every term uses the *nominal* parameters passed in (FMU names, SI; ``effects.<id>``
 switches of that dict respected), which need not equal the simulated plant's.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -41,7 +42,7 @@ from scipy import signal
 
 from ..physics import GMSParameters, PlantParameters, compile, gms_force
 
-DEFAULT_V_EPS = 3e-4   #: m/s (~ V_s/10), regularisation speed of the static-friction sign
+DEFAULT_V_EPS = 3e-4  #: m/s (~ V_s/10), regularisation speed of the static-friction sign
 
 
 #: the friction terms of the feedforward
@@ -87,8 +88,9 @@ def reference_derivatives(x_ref: ArrayLike, Ts: float) -> tuple[np.ndarray, np.n
     return v, np.gradient(v, Ts)
 
 
-def static_friction(v: ArrayLike, prm: GMSParameters, v_eps: float = DEFAULT_V_EPS,
-                    x: ArrayLike | None = None) -> np.ndarray:
+def static_friction(
+    v: ArrayLike, prm: GMSParameters, v_eps: float = DEFAULT_V_EPS, x: ArrayLike | None = None
+) -> np.ndarray:
     """Regularised Eq. 12: S(|v|) tanh(v / v_eps) + sigma2 v [N] (asymmetry by side of v;
     the level at x, p(x) S, with ``position_friction`` and the positions given)."""
     if not v_eps > 0:
@@ -97,8 +99,9 @@ def static_friction(v: ArrayLike, prm: GMSParameters, v_eps: float = DEFAULT_V_E
     return prm.level(v, x) * np.tanh(v / v_eps) + prm.viscous(v)
 
 
-def invert_current_loop(i_ff: ArrayLike, params: Mapping[str, float] | PlantParameters
-                        ) -> np.ndarray:
+def invert_current_loop(
+    i_ff: ArrayLike, params: Mapping[str, float] | PlantParameters
+) -> np.ndarray:
     """u such that Eq. 2 gives exactly i_ff (needs d0 samples of preview; i_ff held at the end).
 
     G = z^-d0 B'(z^-1)/A(z^-1), u[k] = (A/B')(z^-1) i_ff[k + d0].  B' must be minimum phase.
@@ -110,8 +113,10 @@ def invert_current_loop(i_ff: ArrayLike, params: Mapping[str, float] | PlantPara
     Bp = num[d0:]
     zeros = np.roots(Bp) if len(Bp) > 1 else np.zeros(0)
     if np.any(np.abs(zeros) >= 1.0):
-        raise ValueError(f"feedforward.py: current.b gives non-minimum-phase zeros {zeros}; "
-                         "use current_loop='dc'")
+        raise ValueError(
+            f"feedforward.py: current.b gives non-minimum-phase zeros {zeros}; "
+            "use current_loop='dc'"
+        )
     ip = np.concatenate((i, np.full(d0, i[-1])))
     zi = signal.lfilter_zi(den, Bp) * i[0] if max(len(den), len(Bp)) > 1 else None
     if zi is None:
@@ -120,9 +125,14 @@ def invert_current_loop(i_ff: ArrayLike, params: Mapping[str, float] | PlantPara
     return u[d0:]
 
 
-def feedforward(x_ref: ArrayLike, Ts: float, params: Mapping[str, float],
-                options: FeedforwardOptions = FeedforwardOptions(),
-                v_ref: ArrayLike | None = None, a_ref: ArrayLike | None = None) -> Feedforward:
+def feedforward(
+    x_ref: ArrayLike,
+    Ts: float,
+    params: Mapping[str, float],
+    options: FeedforwardOptions = FeedforwardOptions(),
+    v_ref: ArrayLike | None = None,
+    a_ref: ArrayLike | None = None,
+) -> Feedforward:
     """Feedforward voltage for the reference ``x_ref`` sampled at ``Ts``.
 
     Parameters
@@ -154,8 +164,9 @@ def feedforward(x_ref: ArrayLike, Ts: float, params: Mapping[str, float],
     elif options.friction == "gms":
         forces["friction"] = gms_force(x, v, Ts, P.friction)
     elif options.friction != "none":
-        raise ValueError(f"feedforward.py: friction must be 'none', 'static' or 'gms', "
-                         f"got {options.friction!r}")
+        raise ValueError(
+            f"feedforward.py: friction must be 'none', 'static' or 'gms', got {options.friction!r}"
+        )
     total = np.zeros_like(x)
     for f in forces.values():
         total = total + f
@@ -167,6 +178,7 @@ def feedforward(x_ref: ArrayLike, Ts: float, params: Mapping[str, float],
     elif options.current_loop == "inverse":
         u = invert_current_loop(total / K_f, P)
     else:
-        raise ValueError(f"feedforward.py: current_loop must be 'dc' or 'inverse', "
-                         f"got {options.current_loop!r}")
+        raise ValueError(
+            f"feedforward.py: current_loop must be 'dc' or 'inverse', got {options.current_loop!r}"
+        )
     return Feedforward(u=u, forces=forces, K_f=K_f, G1=G1)

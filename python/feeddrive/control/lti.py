@@ -30,6 +30,7 @@ Transfer functions in z (``num``/``den`` coefficient lists in descending powers 
 state-space realisation with :func:`tf_to_ss`.  :func:`pid_tf` and :func:`cascade_tf` build
 the PID with filtered derivative and lead, and the cascaded P-PI with a velocity filter.
 """
+
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
@@ -58,8 +59,9 @@ def _aligned(p: np.ndarray, m: int, what: str) -> np.ndarray:
     """``p`` (descending powers of z) as ``m`` coefficients; ValueError when of higher degree."""
     p = np.trim_zeros(p, "f")
     if p.size > m:
-        raise ValueError(f"lti: {what} has degree {p.size - 1} > the denominator's {m - 1} "
-                         "(not causal)")
+        raise ValueError(
+            f"lti: {what} has degree {p.size - 1} > the denominator's {m - 1} (not causal)"
+        )
     return np.concatenate([np.zeros(m - p.size), p])
 
 
@@ -72,8 +74,9 @@ def _add(*polys: np.ndarray) -> np.ndarray:
     return out
 
 
-def tf_to_ss(num: Sequence[ArrayLike], den: ArrayLike | Sequence[ArrayLike]
-             ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def tf_to_ss(
+    num: Sequence[ArrayLike], den: ArrayLike | Sequence[ArrayLike]
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(A, B, C, D) of u = N_r(z)/D_r(z) x_ref + N_y(z)/D_y(z) x_meas.
 
     Parameters
@@ -89,11 +92,13 @@ def tf_to_ss(num: Sequence[ArrayLike], den: ArrayLike | Sequence[ArrayLike]
     if len(num) != 2:
         raise ValueError(f"lti: num must be [num for x_ref, num for x_meas], got {len(num)} lists")
     nr, ny = _poly(num[0], "num[0]"), _poly(num[1], "num[1]")
-    dens = cast(Sequence[ArrayLike], den)       # one list of numbers, or two lists
+    dens = cast(Sequence[ArrayLike], den)  # one list of numbers, or two lists
     if len(dens) and np.ndim(dens[0]) > 0:
         if len(dens) != 2:
-            raise ValueError(f"lti: den must be one list or [den for x_ref, den for x_meas], "
-                             f"got {len(dens)} lists")
+            raise ValueError(
+                f"lti: den must be one list or [den for x_ref, den for x_meas], "
+                f"got {len(dens)} lists"
+            )
         dr = np.trim_zeros(_poly(dens[0], "den[0]"), "f")
         dy = np.trim_zeros(_poly(dens[1], "den[1]"), "f")
         if dr.size == 0 or dy.size == 0:
@@ -107,9 +112,13 @@ def tf_to_ss(num: Sequence[ArrayLike], den: ArrayLike | Sequence[ArrayLike]
             raise ValueError("lti: den is zero")
     nums = np.vstack([_aligned(p, d.size, w) for p, w in ((nr, "num[0]"), (ny, "num[1]"))])
     if d.size == 1:
-        return (np.zeros((0, 0)), np.zeros((0, 2)), np.zeros((1, 0)),
-                (nums[:, 0] / d[0]).reshape(1, 2))
-    At, Bt, Ct, Dt = signal.tf2ss(nums, d)           # one input, two outputs: transpose
+        return (
+            np.zeros((0, 0)),
+            np.zeros((0, 2)),
+            np.zeros((1, 0)),
+            (nums[:, 0] / d[0]).reshape(1, 2),
+        )
+    At, Bt, Ct, Dt = signal.tf2ss(nums, d)  # one input, two outputs: transpose
     return At.T.copy(), Ct.T.copy(), Bt.T.copy(), Dt.T.copy()
 
 
@@ -127,8 +136,10 @@ def back_calculation_gain(A: ArrayLike, C: ArrayLike, pole: float = 0.0) -> np.n
         raise ValueError(f"lti: anti-windup pole = {pole!r}: allowed [0, 1)")
     O = np.vstack([C @ np.linalg.matrix_power(A, k) for k in range(n)])
     if np.linalg.matrix_rank(O) < n:
-        raise ValueError("lti: anti-windup: (A, C) is not observable; give the gain L "
-                         "explicitly or a minimal realisation")
+        raise ValueError(
+            "lti: anti-windup: (A, C) is not observable; give the gain L "
+            "explicitly or a minimal realisation"
+        )
     phi = np.linalg.matrix_power(A - pole * np.eye(n), n)
     e = np.zeros(n)
     e[-1] = 1.0
@@ -162,8 +173,9 @@ def _sum(terms: list[tuple[float, str]]) -> str:
     return " + ".join(["0.0"] + [f"{float(c)!r}*{v}" for c, v in terms])
 
 
-def compile_lti_step(A: np.ndarray, B: np.ndarray, C: np.ndarray, D: np.ndarray,
-                     L: np.ndarray, u_limit: float) -> StepFunction:
+def compile_lti_step(
+    A: np.ndarray, B: np.ndarray, C: np.ndarray, D: np.ndarray, L: np.ndarray, u_limit: float
+) -> StepFunction:
     """``step(s, r, y, u_ff) -> u`` updating the state list ``s`` in place, with the
     operations of the controller FMU in the same order (every term, left to right)."""
     n = A.shape[0]
@@ -171,15 +183,24 @@ def compile_lti_step(A: np.ndarray, B: np.ndarray, C: np.ndarray, D: np.ndarray,
     lines = ["def step(s, r, y, uff):"]
     if n:
         lines.append(f"    {', '.join(names)}{',' if n == 1 else ''} = s")
-    lines.append("    v = " + _sum([(C[0, j], names[j]) for j in range(n)]
-                                   + [(D[0, 0], "r"), (D[0, 1], "y")]))
+    lines.append(
+        "    v = "
+        + _sum([(C[0, j], names[j]) for j in range(n)] + [(D[0, 0], "r"), (D[0, 1], "y")])
+    )
     lim = float(u_limit)
-    lines += ["    w = v + uff",
-              f"    u = {lim!r} if w > {lim!r} else ({-lim!r} if w < {-lim!r} else w)",
-              "    c = u - w"]
+    lines += [
+        "    w = v + uff",
+        f"    u = {lim!r} if w > {lim!r} else ({-lim!r} if w < {-lim!r} else w)",
+        "    c = u - w",
+    ]
     for i in range(n):
-        lines.append(f"    s[{i}] = " + _sum([(A[i, j], names[j]) for j in range(n)]
-                                            + [(B[i, 0], "r"), (B[i, 1], "y"), (L[i], "c")]))
+        lines.append(
+            f"    s[{i}] = "
+            + _sum(
+                [(A[i, j], names[j]) for j in range(n)]
+                + [(B[i, 0], "r"), (B[i, 1], "y"), (L[i], "c")]
+            )
+        )
     lines.append("    return u")
     src = "\n".join(lines)
     namespace: dict[str, object] = {}
@@ -200,18 +221,29 @@ class LTIController:
     u_ff : voltage added to the output per sample (zero beyond its end), or None.
     """
 
-    def __init__(self, reference: ArrayLike, A: ArrayLike, B: ArrayLike, C: ArrayLike,
-                 D: ArrayLike, u_limit: float, L: ArrayLike | None = None,
-                 s0: ArrayLike | None = None, s0_r: ArrayLike | None = None,
-                 u_ff: ArrayLike | None = None) -> None:
+    def __init__(
+        self,
+        reference: ArrayLike,
+        A: ArrayLike,
+        B: ArrayLike,
+        C: ArrayLike,
+        D: ArrayLike,
+        u_limit: float,
+        L: ArrayLike | None = None,
+        s0: ArrayLike | None = None,
+        s0_r: ArrayLike | None = None,
+        u_ff: ArrayLike | None = None,
+    ) -> None:
         self.A = np.atleast_2d(np.asarray(A, dtype=float))
         n = self.A.shape[0] if self.A.size else 0
         self.A = self.A.reshape(n, n)
         self.B = np.asarray(B, dtype=float).reshape(n, 2)
         self.C = np.asarray(C, dtype=float).reshape(1, n)
         self.D = np.asarray(D, dtype=float).reshape(1, 2)
-        vec = [np.zeros(n) if v is None else np.asarray(v, dtype=float).reshape(n)
-               for v in (L, s0, s0_r)]
+        vec = [
+            np.zeros(n) if v is None else np.asarray(v, dtype=float).reshape(n)
+            for v in (L, s0, s0_r)
+        ]
         self.L, self.s0, self.s0_r = vec
         if not (u_limit > 0 and np.isfinite(u_limit)):
             raise ValueError(f"lti: u_limit = {u_limit!r} must be a finite number > 0 [V]")
@@ -246,9 +278,15 @@ class LTIController:
         return self._step(self._s, r, y, uff)
 
 
-def pid_tf(Kp: float, Kv: float, Ki: float, force_per_volt: float, Ts: float, tf: float = 0.0,
-           lead: tuple[float, float] | None = None
-           ) -> tuple[list[list[float]], list[float]]:
+def pid_tf(
+    Kp: float,
+    Kv: float,
+    Ki: float,
+    force_per_volt: float,
+    Ts: float,
+    tf: float = 0.0,
+    lead: tuple[float, float] | None = None,
+) -> tuple[list[list[float]], list[float]]:
     """``(num, den)`` of the force-equivalent PID of :class:`~feeddrive.control.pid.PID`
     (gains Kp [N/m], Kv [N s/m], Ki [N/(m s)]; derivative filter ``tf`` [s]; lead
     (zero_hz, pole_hz) on the force command, Tustin) as transfer functions in z on the error
@@ -256,9 +294,9 @@ def pid_tf(Kp: float, Kv: float, Ki: float, force_per_volt: float, Ts: float, tf
 
     Integrator Ts/(1 - z^-1) (backward Euler, the current error included), derivative
     Kv (1 - z^-1)/(tf + Ts - tf z^-1) (backward difference through the filter)."""
-    z1 = np.array([1.0, -1.0])                       # 1 - z^-1 (times z: descending powers)
+    z1 = np.array([1.0, -1.0])  # 1 - z^-1 (times z: descending powers)
     a = tf / (tf + Ts)
-    dD = np.array([1.0, -a])                         # 1 - a z^-1
+    dD = np.array([1.0, -a])  # 1 - a z^-1
     # F/e = Kp + Ki Ts/(1 - z^-1) + Kv/(tf + Ts) (1 - z^-1)/(1 - a z^-1), over the common
     # denominator (1 - z^-1)(1 - a z^-1)
     num = _add(Kp * np.polymul(z1, dD), Ki * Ts * dD, Kv / (tf + Ts) * np.polymul(z1, z1))
@@ -271,8 +309,9 @@ def pid_tf(Kp: float, Kv: float, Ki: float, force_per_volt: float, Ts: float, tf
     return [num.tolist(), (-num).tolist()], den.tolist()
 
 
-def cascade_tf(Kx: float, Kv: float, Ti: float, f_velocity: float, Ts: float
-               ) -> tuple[list[list[float]], list[float]]:
+def cascade_tf(
+    Kx: float, Kv: float, Ti: float, f_velocity: float, Ts: float
+) -> tuple[list[list[float]], list[float]]:
     """``(num, den)`` of the cascaded P-PI position controller with a velocity filter:
 
         v_ref = Kx (x_ref - x_meas)                          position P [1/s]
@@ -282,7 +321,7 @@ def cascade_tf(Kx: float, Kv: float, Ti: float, f_velocity: float, Ts: float
 
     over the common denominator (1 - z^-1)(1 - a z^-1) (order 2)."""
     a = float(np.exp(-2 * np.pi * f_velocity * Ts))
-    pi_num = Kv * np.array([1.0 + Ts / Ti, -1.0])    # Kv (1 + Ts/Ti - z^-1)
+    pi_num = Kv * np.array([1.0 + Ts / Ti, -1.0])  # Kv (1 + Ts/Ti - z^-1)
     vel_num = (1.0 - a) / Ts * np.array([1.0, -1.0])
     vel_den = np.array([1.0, -a])
     num_r = Kx * np.polymul(pi_num, vel_den)

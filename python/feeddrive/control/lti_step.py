@@ -14,6 +14,7 @@ For speed (a controller step must cost about a microsecond, MODEL-harness budget
 matrices are unrolled into straight-line Python source with the coefficients as float
 literals (exact ``repr`` round trip) and compiled once; zero coefficients are skipped.
 """
+
 from __future__ import annotations
 
 from collections.abc import Callable
@@ -28,9 +29,17 @@ def _affine(terms: list[tuple[float, str]]) -> str:
     return " + ".join(parts) if parts else "0.0"
 
 
-def compile_step(Ac: np.ndarray, By: np.ndarray, Br: np.ndarray, Bu: np.ndarray,
-                 Cc: np.ndarray, Dy: float, Dr: float,
-                 u_min: float = -np.inf, u_max: float = np.inf) -> StepFunction:
+def compile_step(
+    Ac: np.ndarray,
+    By: np.ndarray,
+    Br: np.ndarray,
+    Bu: np.ndarray,
+    Cc: np.ndarray,
+    Dy: float,
+    Dr: float,
+    u_min: float = -np.inf,
+    u_max: float = np.inf,
+) -> StepFunction:
     """Return ``step(s, y, r, u_ff) -> u`` that updates the state list ``s`` in place.
 
     Parameters
@@ -48,16 +57,24 @@ def compile_step(Ac: np.ndarray, By: np.ndarray, Br: np.ndarray, Bu: np.ndarray,
     lines = ["def step(s, y, r, uff):"]
     if n:
         lines.append(f"    {', '.join(names)}{',' if n == 1 else ''} = s")
-    lines.append("    u = " + _affine([(Cc[j], names[j]) for j in range(n)]
-                                    + [(float(Dy), "y"), (float(Dr), "r")]) + " + uff")
+    lines.append(
+        "    u = "
+        + _affine([(Cc[j], names[j]) for j in range(n)] + [(float(Dy), "y"), (float(Dr), "r")])
+        + " + uff"
+    )
     if np.isfinite(u_max):
         lines.append(f"    if u > {float(u_max)!r}: u = {float(u_max)!r}")
     if np.isfinite(u_min):
         lines.append(f"    if u < {float(u_min)!r}: u = {float(u_min)!r}")
     lines.append("    w = u - uff")
     for i in range(n):
-        lines.append(f"    s[{i}] = " + _affine([(Ac[i, j], names[j]) for j in range(n)]
-                                              + [(By[i], "y"), (Br[i], "r"), (Bu[i], "w")]))
+        lines.append(
+            f"    s[{i}] = "
+            + _affine(
+                [(Ac[i, j], names[j]) for j in range(n)]
+                + [(By[i], "y"), (Br[i], "r"), (Bu[i], "w")]
+            )
+        )
     lines.append("    return u")
     src = "\n".join(lines)
     namespace: dict[str, object] = {}

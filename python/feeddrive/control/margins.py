@@ -6,6 +6,7 @@ crossovers (L real and negative) and split into the upper margin (|L| < 1 there:
 the gain may grow) and the lower margin (|L| > 1 there: how much it may shrink, present for
 conditionally stable loops such as a double integrator with integral action).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -80,20 +81,24 @@ def loop_margins(f: np.ndarray, L: np.ndarray) -> Margins:
     for fc, i, t in _crossings(f, np.log(mag)):
         j = min(i + 1, len(f) - 1)
         Lc = L[i] + t * (L[j] - L[i])
-        p = 180.0 - abs(np.degrees(np.angle(Lc)))   # angular distance of L from -1
+        p = 180.0 - abs(np.degrees(np.angle(Lc)))  # angular distance of L from -1
         if p < pm:
             pm, pm_f = p, fc
-    return Margins(gain_margin_db=float(gm), gain_margin_hz=float(gm_f),
-                   lower_gain_margin_db=float(lgm), lower_gain_margin_hz=float(lgm_f),
-                   phase_margin_deg=float(pm), crossover_hz=float(pm_f),
-                   modulus_margin=float(np.min(np.abs(1.0 + L))))
+    return Margins(
+        gain_margin_db=float(gm),
+        gain_margin_hz=float(gm_f),
+        lower_gain_margin_db=float(lgm),
+        lower_gain_margin_hz=float(lgm_f),
+        phase_margin_deg=float(pm),
+        crossover_hz=float(pm_f),
+        modulus_margin=float(np.min(np.abs(1.0 + L))),
+    )
 
 
 def frequency_grid(Ts: float, f_min: float = 0.01, n: int = 20000) -> np.ndarray:
     """Log-spaced grid from ``f_min`` to just below the Nyquist frequency, plus Nyquist [Hz]."""
     f_nyq = 0.5 / Ts
-    return np.concatenate((np.logspace(np.log10(f_min), np.log10(f_nyq * 0.99999), n - 1),
-                           [f_nyq]))
+    return np.concatenate((np.logspace(np.log10(f_min), np.log10(f_nyq * 0.99999), n - 1), [f_nyq]))
 
 
 #: margins below which a loop is called poorly damped: gain 6 dB, phase 30 deg, |1 + L| 0.5
@@ -105,11 +110,15 @@ def poor_margins(m: Margins) -> list[str]:
     :data:`POOR_PHASE_DEG`, :data:`POOR_MODULUS`), one phrase each."""
     out = []
     if m.gain_margin_db < POOR_GAIN_DB:
-        out.append(f"gain margin {m.gain_margin_db:.1f} dB < {POOR_GAIN_DB:g} dB "
-                   f"(at {m.gain_margin_hz:.0f} Hz)")
+        out.append(
+            f"gain margin {m.gain_margin_db:.1f} dB < {POOR_GAIN_DB:g} dB "
+            f"(at {m.gain_margin_hz:.0f} Hz)"
+        )
     if m.phase_margin_deg < POOR_PHASE_DEG:
-        out.append(f"phase margin {m.phase_margin_deg:.1f} deg < {POOR_PHASE_DEG:g} deg "
-                   f"(crossover {m.crossover_hz:.0f} Hz)")
+        out.append(
+            f"phase margin {m.phase_margin_deg:.1f} deg < {POOR_PHASE_DEG:g} deg "
+            f"(crossover {m.crossover_hz:.0f} Hz)"
+        )
     if m.modulus_margin < POOR_MODULUS:
         out.append(f"modulus margin {m.modulus_margin:.2f} < {POOR_MODULUS:g}")
     return out

@@ -18,6 +18,7 @@ The plain PID cannot take the state-feedback design's gains (6e5/6.7e3/2e7 assum
 observer): with the current loop's 1.5-sample lag it oscillates, so :data:`DEFAULT_GAINS`
 has a ~20 Hz crossover (Kv/m = 186 rad/s).
 """
+
 from __future__ import annotations
 
 from typing import Any
@@ -32,14 +33,16 @@ from .margins import Margins, frequency_grid, loop_margins
 #: Force-equivalent gains of the default PID [N/m, N s/m, N/(m s)] and its scale [N/V].
 DEFAULT_GAINS: dict[str, float] = {"Kp": 2.0e5, "Kv": 3.0e3, "Ki": 3.0e6}
 DEFAULT_FORCE_PER_VOLT: float = 78.7
-DEFAULT_U_LIMIT: float = 10.0      #: amplifier reference range +- [V]
+DEFAULT_U_LIMIT: float = 10.0  #: amplifier reference range +- [V]
 
 
 def lead_coefficients(zero_hz: float, pole_hz: float, Ts: float) -> tuple[np.ndarray, np.ndarray]:
     """Tustin discretisation (b, a) of (1 + s/w_z)/(1 + s/w_p), unit gain at DC."""
     if not (0 < zero_hz < pole_hz < 0.5 / Ts):
-        raise ValueError(f"pid.py: lead needs 0 < zero_hz < pole_hz < Nyquist "
-                         f"(got {zero_hz}, {pole_hz}, Nyquist {0.5 / Ts:g} Hz)")
+        raise ValueError(
+            f"pid.py: lead needs 0 < zero_hz < pole_hz < Nyquist "
+            f"(got {zero_hz}, {pole_hz}, Nyquist {0.5 / Ts:g} Hz)"
+        )
     wz, wp = 2 * np.pi * zero_hz, 2 * np.pi * pole_hz
     b, a = signal.bilinear([1.0 / wz, 1.0], [1.0 / wp, 1.0], fs=1.0 / Ts)
     return b / a[0], a / a[0]
@@ -61,18 +64,28 @@ class PID:
     u_ff : feedforward voltage per sample (zero beyond its end), or None.
     """
 
-    def __init__(self, reference: ArrayLike, Ts: float = 5e-4, Kp: float = DEFAULT_GAINS["Kp"],
-                 Kv: float = DEFAULT_GAINS["Kv"], Ki: float = DEFAULT_GAINS["Ki"],
-                 force_per_volt: float = DEFAULT_FORCE_PER_VOLT,
-                 u_limit: float = DEFAULT_U_LIMIT, tf: float = 0.0, anti_windup: bool = False,
-                 lead: tuple[float, float] | None = None, u_ff: ArrayLike | None = None) -> None:
+    def __init__(
+        self,
+        reference: ArrayLike,
+        Ts: float = 5e-4,
+        Kp: float = DEFAULT_GAINS["Kp"],
+        Kv: float = DEFAULT_GAINS["Kv"],
+        Ki: float = DEFAULT_GAINS["Ki"],
+        force_per_volt: float = DEFAULT_FORCE_PER_VOLT,
+        u_limit: float = DEFAULT_U_LIMIT,
+        tf: float = 0.0,
+        anti_windup: bool = False,
+        lead: tuple[float, float] | None = None,
+        u_ff: ArrayLike | None = None,
+    ) -> None:
         if not Ts > 0 or not tf >= 0:
             raise ValueError(f"pid.py: need Ts > 0 and tf >= 0 (got Ts={Ts}, tf={tf})")
         if min(Kp, Kv, Ki) < 0:
             raise ValueError(f"pid.py: gains must be >= 0 (got Kp={Kp}, Kv={Kv}, Ki={Ki})")
         if not force_per_volt > 0 or not u_limit > 0:
-            raise ValueError(f"pid.py: need force_per_volt > 0 and u_limit > 0 "
-                             f"(got {force_per_volt}, {u_limit})")
+            raise ValueError(
+                f"pid.py: need force_per_volt > 0 and u_limit > 0 (got {force_per_volt}, {u_limit})"
+            )
         self.x_ref = np.asarray(reference, dtype=float).copy()
         if self.x_ref.ndim != 1 or self.x_ref.size == 0:
             raise ValueError("pid.py: reference must be a non-empty 1-D array")

@@ -23,6 +23,7 @@ at 15 Hz; the current-loop poles and the delay pole stay where they are (0.702 +
 Ki ~ 2.2e7 N/(m s) (a design of the paper's order: 6e5, 6.7e3, 2e7).  Observer: mechanical pair at
 200 Hz with damping 0.7, current-loop states at z = 0.2 and 0.1.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
@@ -44,7 +45,7 @@ DEFAULT_MECH_REAL_HZ = 15.0
 DEFAULT_OBS_HZ = 200.0
 DEFAULT_OBS_ZETA = 0.7
 DEFAULT_OBS_CURRENT = (0.2, 0.1)
-DEFAULT_U_LIMITS = (-10.0, 10.0)   #: amplifier reference range [V]
+DEFAULT_U_LIMITS = (-10.0, 10.0)  #: amplifier reference range [V]
 
 
 def s_to_z(s: ArrayLike, Ts: float) -> np.ndarray:
@@ -72,7 +73,7 @@ def _pair_and_real(f_hz: float, zeta: float, f_real_hz: float) -> np.ndarray:
 
 
 def _current_loop_poles(model: DesignModel) -> np.ndarray:
-    Ag = model.A[2:model.n_dyn, 2:model.n_dyn]
+    Ag = model.A[2 : model.n_dyn, 2 : model.n_dyn]
     return np.linalg.eigvals(Ag) if Ag.size else np.zeros(0)
 
 
@@ -81,9 +82,12 @@ def _delay_poles(d: int) -> np.ndarray:
     return np.linspace(0.0, 0.02 * (d - 1), d) if d > 0 else np.zeros(0)
 
 
-def default_poles(model: DesignModel, f_hz: float = DEFAULT_MECH_HZ,
-                  zeta: float = DEFAULT_MECH_ZETA, f_real_hz: float = DEFAULT_MECH_REAL_HZ
-                  ) -> np.ndarray:
+def default_poles(
+    model: DesignModel,
+    f_hz: float = DEFAULT_MECH_HZ,
+    zeta: float = DEFAULT_MECH_ZETA,
+    f_real_hz: float = DEFAULT_MECH_REAL_HZ,
+) -> np.ndarray:
     """Closed-loop poles (z) for the augmented model [X, q] (n + 1 poles).
 
     Mechanical (x, v, q): a pair at ``f_hz`` with damping ``zeta`` and a real pole at
@@ -93,9 +97,12 @@ def default_poles(model: DesignModel, f_hz: float = DEFAULT_MECH_HZ,
     return np.concatenate((mech, _current_loop_poles(model), _delay_poles(model.n_delay)))
 
 
-def default_observer_poles(model: DesignModel, f_hz: float = DEFAULT_OBS_HZ,
-                           zeta: float = DEFAULT_OBS_ZETA,
-                           current_poles: tuple[float, float] = DEFAULT_OBS_CURRENT) -> np.ndarray:
+def default_observer_poles(
+    model: DesignModel,
+    f_hz: float = DEFAULT_OBS_HZ,
+    zeta: float = DEFAULT_OBS_ZETA,
+    current_poles: tuple[float, float] = DEFAULT_OBS_CURRENT,
+) -> np.ndarray:
     """Estimator poles (z) for the dynamic states [x, v, xi] (``n_dyn`` poles).
 
     Mechanical pair at ``f_hz`` with damping ``zeta``; the current-loop states get real poles
@@ -104,8 +111,11 @@ def default_observer_poles(model: DesignModel, f_hz: float = DEFAULT_OBS_HZ,
     """
     mech = s_to_z(_pair_and_real(f_hz, zeta, f_hz)[:2], model.Ts)
     ng = model.n_dyn - 2
-    cur = np.linspace(current_poles[0], current_poles[1], ng) if ng > 1 else \
-        np.full(ng, 0.5 * (current_poles[0] + current_poles[1]))
+    cur = (
+        np.linspace(current_poles[0], current_poles[1], ng)
+        if ng > 1
+        else np.full(ng, 0.5 * (current_poles[0] + current_poles[1]))
+    )
     return np.concatenate((mech, cur))
 
 
@@ -113,8 +123,9 @@ def _place(A: np.ndarray, B: np.ndarray, poles: np.ndarray, what: str) -> np.nda
     """``scipy.signal.place_poles`` with a check that eig(A - B K) are the requested poles."""
     n = A.shape[0]
     if len(poles) != n:
-        raise ValueError(f"state_space.py: {what}: {len(poles)} poles given, the model has {n} "
-                         f"states")
+        raise ValueError(
+            f"state_space.py: {what}: {len(poles)} poles given, the model has {n} states"
+        )
     K = signal.place_poles(A, B, poles).gain_matrix
     got = np.sort_complex(np.linalg.eigvals(A - B @ K))
     want = np.sort_complex(np.asarray(poles, dtype=complex))
@@ -144,17 +155,25 @@ class StateSpaceController:
         |z| is below this (see :class:`zpetc.ZPETC`).
     """
 
-    def __init__(self, model: DesignModel, reference: ArrayLike, *,
-                 poles: Sequence[complex] | np.ndarray | None = None,
-                 observer_poles: Sequence[complex] | np.ndarray | None = None,
-                 u_ff: ArrayLike | None = None,
-                 u_limits: tuple[float, float] = DEFAULT_U_LIMITS,
-                 prefilter: str | None = "zpetc", zpetc_radius: float = 0.9) -> None:
+    def __init__(
+        self,
+        model: DesignModel,
+        reference: ArrayLike,
+        *,
+        poles: Sequence[complex] | np.ndarray | None = None,
+        observer_poles: Sequence[complex] | np.ndarray | None = None,
+        u_ff: ArrayLike | None = None,
+        u_limits: tuple[float, float] = DEFAULT_U_LIMITS,
+        prefilter: str | None = "zpetc",
+        zpetc_radius: float = 0.9,
+    ) -> None:
         self.model = model
         self.Ts = model.Ts
         self.poles = np.asarray(default_poles(model) if poles is None else poles, dtype=complex)
-        self.observer_poles = np.asarray(default_observer_poles(model) if observer_poles is None
-                                         else observer_poles, dtype=complex)
+        self.observer_poles = np.asarray(
+            default_observer_poles(model) if observer_poles is None else observer_poles,
+            dtype=complex,
+        )
         if np.any(np.abs(self.poles) >= 1) or np.any(np.abs(self.observer_poles) >= 1):
             raise ValueError("state_space.py: requested poles must lie inside the unit circle")
         self.u_limits = (float(u_limits[0]), float(u_limits[1]))
@@ -171,15 +190,22 @@ class StateSpaceController:
         elif prefilter is None:
             self.command = self.reference.copy()
         else:
-            raise ValueError(f"state_space.py: prefilter must be 'zpetc' or None, "
-                             f"got {prefilter!r}")
+            raise ValueError(
+                f"state_space.py: prefilter must be 'zpetc' or None, got {prefilter!r}"
+            )
         self.set_feedforward(u_ff)
         self.reset()
 
     @classmethod
-    def from_params(cls, params: Mapping[str, float], reference: ArrayLike,
-                    feedforward_options: Any = None, v_ref: ArrayLike | None = None,
-                    a_ref: ArrayLike | None = None, **kw: Any) -> StateSpaceController:
+    def from_params(
+        cls,
+        params: Mapping[str, float],
+        reference: ArrayLike,
+        feedforward_options: Any = None,
+        v_ref: ArrayLike | None = None,
+        a_ref: ArrayLike | None = None,
+        **kw: Any,
+    ) -> StateSpaceController:
         """Design model, feedforward and controller from one nominal parameter dict.
 
         ``feedforward_options``: None for no feedforward, else a
@@ -188,8 +214,14 @@ class StateSpaceController:
         model = design_model(params)
         u_ff = None
         if feedforward_options is not None:
-            u_ff = feedforward(np.asarray(reference, dtype=float), model.Ts, params,
-                               feedforward_options, v_ref=v_ref, a_ref=a_ref).u
+            u_ff = feedforward(
+                np.asarray(reference, dtype=float),
+                model.Ts,
+                params,
+                feedforward_options,
+                v_ref=v_ref,
+                a_ref=a_ref,
+            ).u
         return cls(model, reference, u_ff=u_ff, **kw)
 
     # ----------------------------------------------------------------- design
@@ -203,15 +235,17 @@ class StateSpaceController:
         Ba = np.vstack([md.B, [[0.0]]])
         Ka = _place(Aa, Ba, self.poles, "state feedback")[0]
         self.A_aug, self.B_aug = Aa, Ba
-        self.K = Ka[:n].copy()          #: state-feedback gains on X [V per SI state unit]
-        self.k_q = float(Ka[n])         #: integral gain [V / (m s)]
+        self.K = Ka[:n].copy()  #: state-feedback gains on X [V per SI state unit]
+        self.k_q = float(Ka[n])  #: integral gain [V / (m s)]
         Ap = md.A[:nd, :nd]
         Cp = md.C[:, :nd]
         if abs(np.linalg.det(Ap)) < 1e-12:
-            raise ValueError("state_space.py: current estimator needs a nonsingular A_p; G(z) "
-                             "has poles at z = 0 beyond a pure input delay (current.a/b)")
+            raise ValueError(
+                "state_space.py: current estimator needs a nonsingular A_p; G(z) "
+                "has poles at z = 0 beyond a pure input delay (current.a/b)"
+            )
         L = _place(Ap.T, (Cp @ Ap).T, self.observer_poles, "observer").T
-        self.L = L[:, 0].copy()         #: current-estimator gain
+        self.L = L[:, 0].copy()  #: current-estimator gain
 
     def _build_lti(self) -> None:
         md = self.model
@@ -237,10 +271,18 @@ class StateSpaceController:
                 Ac[nd + 1 + j, nd + j] = 1.0
         Cc[:nd] = -Kp @ M
         Cc[nd] = -self.k_q
-        Cc[nd + 1:] = -Kh
+        Cc[nd + 1 :] = -Kh
         Dy = float(-Kp @ self.L)
-        Dr = float(self.K[0])            # position feedback acts on x_hat - r
-        self.lti: dict[str, Any] = {"Ac": Ac, "By": By, "Br": Br, "Bu": Bu, "Cc": Cc, "Dy": Dy, "Dr": Dr}
+        Dr = float(self.K[0])  # position feedback acts on x_hat - r
+        self.lti: dict[str, Any] = {
+            "Ac": Ac,
+            "By": By,
+            "Br": Br,
+            "Bu": Bu,
+            "Cc": Cc,
+            "Dy": Dy,
+            "Dr": Dr,
+        }
         self._fn = compile_step(Ac, By, Br, Bu, Cc, Dy, Dr, *self.u_limits)
 
     # -------------------------------------------------------------- analysis
@@ -274,8 +316,9 @@ class StateSpaceController:
         md, c = self.model, self.lti
         A, B, C = md.A, md.B, md.C
         top = np.hstack([A + c["Dy"] * B @ C, B @ c["Cc"][None, :]])
-        bot = np.hstack([np.outer(c["By"] + c["Bu"] * c["Dy"], C[0]),
-                         c["Ac"] + np.outer(c["Bu"], c["Cc"])])
+        bot = np.hstack(
+            [np.outer(c["By"] + c["Bu"] * c["Dy"], C[0]), c["Ac"] + np.outer(c["Bu"], c["Cc"])]
+        )
         return np.vstack([top, bot])
 
     def controller_freqresp(self, f: np.ndarray) -> np.ndarray:
@@ -297,16 +340,24 @@ class StateSpaceController:
     def report(self) -> dict[str, Any]:
         """Gains, closed-loop poles (z, Hz, damping) and stability margins."""
         md = self.model
-        fn = md.K_f0 * md.G1          # N per V at DC
+        fn = md.K_f0 * md.G1  # N per V at DC
 
         def poles_table(p: np.ndarray) -> list[dict[str, Any]]:
             f, z = z_to_hz_zeta(p, self.Ts)
-            return [{"z": complex(pi), "f_hz": float(fi), "zeta": float(zi)}
-                    for pi, fi, zi in zip(p, f, z, strict=True)]
+            return [
+                {"z": complex(pi), "f_hz": float(fi), "zeta": float(zi)}
+                for pi, fi, zi in zip(p, f, z, strict=True)
+            ]
+
         return {
-            "K": self.K.tolist(), "k_q": self.k_q, "L": self.L.tolist(),
-            "force_equivalent": {"Kp_N_per_m": self.K[0] * fn, "Kv_Ns_per_m": self.K[1] * fn,
-                                 "Ki_N_per_ms": self.k_q * fn},
+            "K": self.K.tolist(),
+            "k_q": self.k_q,
+            "L": self.L.tolist(),
+            "force_equivalent": {
+                "Kp_N_per_m": self.K[0] * fn,
+                "Kv_Ns_per_m": self.K[1] * fn,
+                "Ki_N_per_ms": self.k_q * fn,
+            },
             "poles": poles_table(self.poles),
             "observer_poles": poles_table(self.observer_poles),
             "margins": self.margins().as_dict(),
@@ -317,21 +368,27 @@ class StateSpaceController:
         """The :meth:`report` as readable text."""
         r = self.report()
         fe, mg = r["force_equivalent"], r["margins"]
-        lines = ["State-space controller (state feedback + integral + current estimator)",
-                 f"  K = {np.array2string(np.asarray(r['K']), precision=5)}  k_q = {r['k_q']:.5g}",
-                 f"  force-equivalent: Kp = {fe['Kp_N_per_m']:.4g} N/m, "
-                 f"Kv = {fe['Kv_Ns_per_m']:.4g} N s/m, Ki = {fe['Ki_N_per_ms']:.4g} N/(m s)",
-                 f"  L = {np.array2string(np.asarray(r['L']), precision=5)}"]
+        lines = [
+            "State-space controller (state feedback + integral + current estimator)",
+            f"  K = {np.array2string(np.asarray(r['K']), precision=5)}  k_q = {r['k_q']:.5g}",
+            f"  force-equivalent: Kp = {fe['Kp_N_per_m']:.4g} N/m, "
+            f"Kv = {fe['Kv_Ns_per_m']:.4g} N s/m, Ki = {fe['Ki_N_per_ms']:.4g} N/(m s)",
+            f"  L = {np.array2string(np.asarray(r['L']), precision=5)}",
+        ]
         for key, title in (("poles", "closed-loop poles"), ("observer_poles", "observer poles")):
             lines.append(f"  {title}:")
             for p in r[key]:
-                lines.append(f"    z = {p['z'].real:+.6f}{p['z'].imag:+.6f}j   "
-                             f"{p['f_hz']:8.2f} Hz  zeta = {p['zeta']:.3f}")
-        lines.append(f"  margins: GM = {mg['gain_margin_db']:.2f} dB at "
-                     f"{mg['gain_margin_hz']:.1f} Hz, lower GM = "
-                     f"{mg['lower_gain_margin_db']:.2f} dB at {mg['lower_gain_margin_hz']:.2f} Hz,"
-                     f" PM = {mg['phase_margin_deg']:.1f} deg at {mg['crossover_hz']:.2f} Hz, "
-                     f"min|1+L| = {mg['modulus_margin']:.3f}")
+                lines.append(
+                    f"    z = {p['z'].real:+.6f}{p['z'].imag:+.6f}j   "
+                    f"{p['f_hz']:8.2f} Hz  zeta = {p['zeta']:.3f}"
+                )
+        lines.append(
+            f"  margins: GM = {mg['gain_margin_db']:.2f} dB at "
+            f"{mg['gain_margin_hz']:.1f} Hz, lower GM = "
+            f"{mg['lower_gain_margin_db']:.2f} dB at {mg['lower_gain_margin_hz']:.2f} Hz,"
+            f" PM = {mg['phase_margin_deg']:.1f} deg at {mg['crossover_hz']:.2f} Hz, "
+            f"min|1+L| = {mg['modulus_margin']:.3f}"
+        )
         if r["zpetc_preview"] is not None:
             lines.append(f"  ZPETC preview: {r['zpetc_preview']} samples")
         return "\n".join(lines)
@@ -354,7 +411,7 @@ class StateSpaceController:
     def step(self, x_meas: float, k: int) -> float:
         """Controller output u [V] at sample k for the measured position ``x_meas`` [m]."""
         if self._fresh:
-            self._s[0] = x_meas          # estimate starts at the measured position, at rest
+            self._s[0] = x_meas  # estimate starts at the measured position, at rest
             self._fresh = False
         r = self._r[k] if k < self._n_r else self._r_last
         uff = self._uff[k] if k < self._n_ff else 0.0

@@ -17,6 +17,7 @@ oscillatory zeros near -1, whose cancellation would ring at the Nyquist frequenc
 zeros near +1 (from the PI part of the loop) must be cancelled: kept in B_u they would give
 the filter a huge high-frequency gain (B_u(1) ~ 0).
 """
+
 from __future__ import annotations
 
 from typing import Any
@@ -25,7 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy import signal
 
-UNIT_CIRCLE_TOL = 1e-6   #: zeros this close to the unit circle count as on it
+UNIT_CIRCLE_TOL = 1e-6  #: zeros this close to the unit circle count as on it
 
 
 class ZPETC:
@@ -61,7 +62,7 @@ class ZPETC:
         if abs(Bu1) < 1e-12:
             raise ValueError("zpetc.py: T(z) has a zero at z = 1, no tracking possible")
         n, na, s = len(dz) - 1, len(Ba) - 1, len(Bu) - 1
-        self.preview = n - na            #: d + s samples
+        self.preview = n - na  #: d + s samples
         self.relative_degree = n - na - s
         # causal form: [A_c(z) z^-n][B_u(z^-1)] / (b0 B_u(1)^2 [B_a(z) z^-na])
         self.b = np.convolve(dz, Bu[::-1]) / (b0 * Bu1**2)
@@ -86,7 +87,7 @@ class ZPETC:
         xp = np.concatenate((x, np.full(self.preview, x[-1])))
         zi = signal.lfilter_zi(self.b, self.a) * x[0]
         y, _ = signal.lfilter(self.b, self.a, xp, zi=zi)
-        return y[self.preview:self.preview + len(x)]
+        return y[self.preview : self.preview + len(x)]
 
     def tracking_response(self, f: ArrayLike, Ts: float) -> np.ndarray:
         """F(z) T(z) at frequencies ``f`` [Hz] (real, = B_u B_u* / B_u(1)^2)."""

@@ -5,6 +5,7 @@
 ``feeddrive diagnose`` is the command. The output schema is in docs/diagnosis.md ("Discrepancy
 diagnosis").
 """
+
 from .workflow import Diagnosis, Step, diagnose
 
 __all__ = ["Diagnosis", "Step", "diagnose"]

@@ -18,6 +18,7 @@ quantisation noise of a short differentiator is ~27 x larger):
 - else (no trace of dynamics: a rigid mass error, or a load far above both bands) the mass
   is named.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -61,38 +62,53 @@ def residual_band_hz(res: list[RunResidual]) -> float:
 class WideBand:
     """The wide-band look at a mass-like residual."""
 
-    band_Hz: float                  #: the diagnosis window's band
-    wide_band_Hz: float             #: the wide window's band
-    window: int                     #: wide window [samples]
+    band_Hz: float  #: the diagnosis window's band
+    wide_band_Hz: float  #: the wide window's band
+    window: int  #: wide window [samples]
     context: Context
     gate: Gate
-    compliance: Score | None        #: the best compliance variant on the wide band
+    compliance: Score | None  #: the best compliance variant on the wide band
     mass: Score
-    share_beyond: float             #: held-out share of the mass's residual it removes
+    share_beyond: float  #: held-out share of the mass's residual it removes
     t_beyond: float
     force_beyond_N: float
-    confirmed: bool                 #: compliance shows beyond the mass and passes the gate
+    confirmed: bool  #: compliance shows beyond the mass and passes the gate
 
     @property
     def trace(self) -> bool:
         """The resonance shows beyond the mass on held-out blocks (>= ``TRACE`` of what the
         mass leaves, consistently: block t >= ``T_MIN``) but is not confirmed (its force is
         below that band's floor or gate)."""
-        return (not self.confirmed and self.compliance is not None
-                and self.share_beyond >= TRACE and self.t_beyond >= T_MIN)
+        return (
+            not self.confirmed
+            and self.compliance is not None
+            and self.share_beyond >= TRACE
+            and self.t_beyond >= T_MIN
+        )
 
     def to_json(self) -> dict:
         c = self.compliance
-        return {"band_Hz": self.band_Hz, "wide_band_Hz": self.wide_band_Hz,
-                "wide_window_samples": self.window, "wide_noise_floor_N": self.gate.floor_N,
-                "wide_threshold_N": self.gate.threshold_N,
-                "compliance_variant": c.variant.label if c else None,
-                "heldout_share_beyond_mass": self.share_beyond, "t_beyond_mass": self.t_beyond,
-                "force_beyond_mass_N": self.force_beyond_N, "confirmed": self.confirmed}
+        return {
+            "band_Hz": self.band_Hz,
+            "wide_band_Hz": self.wide_band_Hz,
+            "wide_window_samples": self.window,
+            "wide_noise_floor_N": self.gate.floor_N,
+            "wide_threshold_N": self.gate.threshold_N,
+            "compliance_variant": c.variant.label if c else None,
+            "heldout_share_beyond_mass": self.share_beyond,
+            "t_beyond_mass": self.t_beyond,
+            "force_beyond_mass_N": self.force_beyond_N,
+            "confirmed": self.confirmed,
+        }
 
 
-def wide_band(runs: list[Run], model: ModelFile, res: list[RunResidual], n_blocks: int,
-              force_gain: float | None = None) -> WideBand | None:
+def wide_band(
+    runs: list[Run],
+    model: ModelFile,
+    res: list[RunResidual],
+    n_blocks: int,
+    force_gain: float | None = None,
+) -> WideBand | None:
     """Compliance against mass on the runs' residual through ``WIDE_WINDOW_S`` (module
     docstring); None when the wide window is not shorter than the one in use."""
     Ts = min(q.Ts for q in res)
@@ -102,8 +118,13 @@ def wide_band(runs: list[Run], model: ModelFile, res: list[RunResidual], n_block
     wres = residuals(runs, model, window=w, force_gain=force_gain)
     plant = compile(model)
     floors = [noise_floor(run, q, plant, force_gain) for run, q in zip(runs, wres, strict=True)]
-    floor_N = float(np.sqrt(np.mean(np.concatenate([f.sigma[q.valid] ** 2
-                                                     for f, q in zip(floors, wres, strict=True)]))))
+    floor_N = float(
+        np.sqrt(
+            np.mean(
+                np.concatenate([f.sigma[q.valid] ** 2 for f, q in zip(floors, wres, strict=True)])
+            )
+        )
+    )
     gate = make_gate(model, wres, floor_N)
     ctx = Context(wres, model, n_blocks=n_blocks)
     sm = score(ctx, mass(ctx)[0])
@@ -111,6 +132,16 @@ def wide_band(runs: list[Run], model: ModelFile, res: list[RunResidual], n_block
     sc = max(scores, key=lambda s: s.improvement) if scores else None
     share, t, force = beyond(sc, sm) if sc is not None else (0.0, 0.0, 0.0)
     ok = sc is not None and nested_separable(sc, sm, gate) and passes(sc, gate)
-    return WideBand(band_Hz=residual_band_hz(res), wide_band_Hz=residual_band_hz(wres), window=w,
-                    context=ctx, gate=gate, compliance=sc, mass=sm, share_beyond=share,
-                    t_beyond=t, force_beyond_N=force, confirmed=ok)
+    return WideBand(
+        band_Hz=residual_band_hz(res),
+        wide_band_Hz=residual_band_hz(wres),
+        window=w,
+        context=ctx,
+        gate=gate,
+        compliance=sc,
+        mass=sm,
+        share_beyond=share,
+        t_beyond=t,
+        force_beyond_N=force,
+        confirmed=ok,
+    )

@@ -12,6 +12,7 @@ V_s, delta and the wavelengths are the variant's.
 
 The identifier turns (variant, theta) into a new model file (``to_model``).
 """
+
 from __future__ import annotations
 
 from collections.abc import Callable
@@ -57,13 +58,13 @@ class Variant:
 
     effect: str
     label: str
-    Phi: np.ndarray                       #: (N, p) filtered regressors
-    names: list[str]                      #: what each theta is
+    Phi: np.ndarray  #: (N, p) filtered regressors
+    names: list[str]  #: what each theta is
     to_model: Callable[[np.ndarray], ModelFile]
-    base: np.ndarray | None = None        #: filtered current contribution (N,) or None
+    base: np.ndarray | None = None  #: filtered current contribution (N,) or None
     nonneg: bool = False
     sum_to_one: bool = False
-    refine: bool = False                  #: the effect is on; this corrects its values
+    refine: bool = False  #: the effect is on; this corrects its values
     #: the last ``nuisance`` columns are fitted but identify nothing (``to_model`` ignores
     #: their coefficients) and do not count as parameters
     nuisance: int = 0
@@ -85,8 +86,9 @@ def _poly_basis(x: np.ndarray, centre: float, half: float, powers: range) -> np.
     return np.column_stack([xi**k for k in powers])
 
 
-def _poly_to_x(theta_xi: np.ndarray, powers: range, centre: float, half: float, order: int
-               ) -> np.ndarray:
+def _poly_to_x(
+    theta_xi: np.ndarray, powers: range, centre: float, half: float, order: int
+) -> np.ndarray:
     """Coefficients in x (powers 0..order) of sum theta_k ((x - centre)/half)^k."""
     full = np.zeros(order + 1)
     for k, t in zip(powers, theta_xi, strict=True):
@@ -94,7 +96,7 @@ def _poly_to_x(theta_xi: np.ndarray, powers: range, centre: float, half: float, 
     P = np.polynomial.Polynomial(full, domain=[centre - half, centre + half])
     c = P.convert().coef
     out = np.zeros(order + 1)
-    out[:len(c)] = c[:order + 1]
+    out[: len(c)] = c[: order + 1]
     return out
 
 
@@ -110,17 +112,32 @@ def offset_force(ctx: Context) -> list[Variant]:
     on = m.effects["offset_force"]
     old = float(m.parameters["offset.F"]) if on else 0.0
     Phi = ctx.stack(lambda q: np.ones(len(q.r)), mask_stuck=True)
-    return [Variant("offset_force", "constant", Phi, ["offset.F"], refine=on,
-                    to_model=lambda th: m.with_effect("offset_force", True,
-                                                      **{"offset.F": old + th[0]}))]
+    return [
+        Variant(
+            "offset_force",
+            "constant",
+            Phi,
+            ["offset.F"],
+            refine=on,
+            to_model=lambda th: m.with_effect("offset_force", True, **{"offset.F": old + th[0]}),
+        )
+    ]
 
 
 def mass(ctx: Context) -> list[Variant]:
     m = ctx.model
     old = float(m.parameters["m"])
     Phi = ctx.stack(lambda q: q.a, filtered=False)
-    return [Variant("mass", "acceleration", Phi, ["m"], refine=True,
-                    to_model=lambda th: m.with_effect("mass", True, m=old + th[0]))]
+    return [
+        Variant(
+            "mass",
+            "acceleration",
+            Phi,
+            ["m"],
+            refine=True,
+            to_model=lambda th: m.with_effect("mass", True, m=old + th[0]),
+        )
+    ]
 
 
 def viscous(ctx: Context) -> list[Variant]:
@@ -128,9 +145,16 @@ def viscous(ctx: Context) -> list[Variant]:
     on = m.effects["viscous"]
     old = float(m.parameters["friction.sigma2"]) if on else 0.0
     Phi = ctx.stack(lambda q: q.v_f, mask_stuck=True)
-    return [Variant("viscous", "v", Phi, ["friction.sigma2"], refine=on,
-                    to_model=lambda th: m.with_effect("viscous", True,
-                                                      **{"friction.sigma2": old + th[0]}))]
+    return [
+        Variant(
+            "viscous",
+            "v",
+            Phi,
+            ["friction.sigma2"],
+            refine=on,
+            to_model=lambda th: m.with_effect("viscous", True, **{"friction.sigma2": old + th[0]}),
+        )
+    ]
 
 
 def asymmetric_friction(ctx: Context) -> list[Variant]:
@@ -140,14 +164,24 @@ def asymmetric_friction(ctx: Context) -> list[Variant]:
     ds = float(m.parameters["asymmetry.dsigma2"]) if on else 0.0
     # the level shift acts through the sliding elements only (stuck ones ignore it)
     frac = iter([_sliding_fraction(ctx, q) for q in ctx.res])
-    Phi = ctx.stack(lambda q: np.column_stack([-(q.v_f < 0).astype(float) * next(frac),
-                                                     q.v_f * (q.v_f < 0)]),
-                    mask_stuck=True)
-    return [Variant("asymmetric_friction", "indicator(v<0), v*(v<0)", Phi,
-                    ["asymmetry.dF", "asymmetry.dsigma2"], refine=on,
-                    to_model=lambda th: m.with_effect(
-                        "asymmetric_friction", True,
-                        **{"asymmetry.dF": dF + th[0], "asymmetry.dsigma2": ds + th[1]}))]
+    Phi = ctx.stack(
+        lambda q: np.column_stack([-(q.v_f < 0).astype(float) * next(frac), q.v_f * (q.v_f < 0)]),
+        mask_stuck=True,
+    )
+    return [
+        Variant(
+            "asymmetric_friction",
+            "indicator(v<0), v*(v<0)",
+            Phi,
+            ["asymmetry.dF", "asymmetry.dsigma2"],
+            refine=on,
+            to_model=lambda th: m.with_effect(
+                "asymmetric_friction",
+                True,
+                **{"asymmetry.dF": dF + th[0], "asymmetry.dsigma2": ds + th[1]},
+            ),
+        )
+    ]
 
 
 # --------------------------------------------------------------------------- friction curve
@@ -175,8 +209,9 @@ def _sliding_level(ctx: Context, q) -> np.ndarray:
     the model's own profile) times the sliding share; memoised per context and run."""
     key = ("sliding_level", id(q))
     if key not in ctx.cache:
-        ctx.cache[key] = np.sign(q.v_f) * ctx.plant.friction.level(q.v_f) \
-            * _sliding_fraction(ctx, q)
+        ctx.cache[key] = (
+            np.sign(q.v_f) * ctx.plant.friction.level(q.v_f) * _sliding_fraction(ctx, q)
+        )
     return ctx.cache[key]
 
 
@@ -196,8 +231,10 @@ def position_friction(ctx: Context) -> list[Variant]:
     if on:
         prof = FrictionProfile.from_params(m.parameters)
         grids.append((prof.x_start, prof.x_end, prof.n, np.asarray(prof.c)))
-        base = ctx.stack(lambda q: (prof(q.x) - 1.0) * _sliding_level(ctx, q), mask_stuck=True)[:, 0]
-    if hi - lo >= 1e-3:                  # else no stroke to tell a profile from a level
+        base = ctx.stack(lambda q: (prof(q.x) - 1.0) * _sliding_level(ctx, q), mask_stuck=True)[
+            :, 0
+        ]
+    if hi - lo >= 1e-3:  # else no stroke to tell a profile from a level
         grids += [(lo, hi, n, None) for n in PROFILE_KNOTS]
     out = []
     for x0, x1, n, old in grids:
@@ -213,9 +250,17 @@ def position_friction(ctx: Context) -> list[Variant]:
             return m.with_effect("position_friction", True, **prof.parameters())
 
         label = f"{n} knots over {x0 * 1e3:.1f}-{x1 * 1e3:.1f} mm"
-        out.append(Variant("position_friction", label + (" (new grid)" if on and old is None else ""),
-                           Phi, [f"c[{j + 1}]" for j in range(n)], refine=on,
-                           base=base if on and old is None else None, to_model=to_model))
+        out.append(
+            Variant(
+                "position_friction",
+                label + (" (new grid)" if on and old is None else ""),
+                Phi,
+                [f"c[{j + 1}]" for j in range(n)],
+                refine=on,
+                base=base if on and old is None else None,
+                to_model=to_model,
+            )
+        )
     return out
 
 
@@ -227,8 +272,11 @@ def stribeck(ctx: Context) -> list[Variant]:
     F_c = float(p["friction.F_c"])
     base = None
     if on:
-        Vs0, d0, dS0 = float(p["friction.V_s"]), float(p["friction.delta"]), \
-            float(p["friction.F_s"]) - F_c
+        Vs0, d0, dS0 = (
+            float(p["friction.V_s"]),
+            float(p["friction.delta"]),
+            float(p["friction.F_s"]) - F_c,
+        )
         it = iter(frac)
         base = ctx.stack(lambda q: next(it) * dS0 * stribeck_drop(q.v_f, Vs0, d0))[:, 0]
     y = ctx.r + (base if base is not None else 0.0)
@@ -239,24 +287,43 @@ def stribeck(ctx: Context) -> list[Variant]:
 
     # grid by in-sample explained energy (one column each), then a local refinement of the
     # best (log V_s, delta); the few best are scored on held-out blocks by the workflow
-    grid = sorted(((Vs, d) for Vs in STRIBECK_VS for d in STRIBECK_DELTA),
-                  key=lambda p: -_explained(column(*p), y))[:STRIBECK_KEEP]
+    grid = sorted(
+        ((Vs, d) for Vs in STRIBECK_VS for d in STRIBECK_DELTA),
+        key=lambda p: -_explained(column(*p), y),
+    )[:STRIBECK_KEEP]
 
     def neg(z):
         return -_explained(column(float(np.exp(z[0])), float(np.clip(z[1], 0.2, 3.0))), y)
-    opt = minimize(neg, [np.log(grid[0][0]), grid[0][1]], method="Nelder-Mead",
-                   options={"xatol": 0.02, "fatol": 1e-6 * float(y @ y), "maxiter": 60})
+
+    opt = minimize(
+        neg,
+        [np.log(grid[0][0]), grid[0][1]],
+        method="Nelder-Mead",
+        options={"xatol": 0.02, "fatol": 1e-6 * float(y @ y), "maxiter": 60},
+    )
     refined = (float(np.exp(opt.x[0])), float(np.clip(opt.x[1], 0.2, 3.0)))
     out = []
     for Vs, d in [refined] + grid:
 
         def to_model(th: np.ndarray, Vs: float = Vs, d: float = d) -> ModelFile:
-            return m.with_effect("stribeck", True, **{"friction.F_s": F_c + th[0], "friction.V_s": Vs,
-                                                      "friction.delta": d})
+            return m.with_effect(
+                "stribeck",
+                True,
+                **{"friction.F_s": F_c + th[0], "friction.V_s": Vs, "friction.delta": d},
+            )
 
-        out.append(Variant(
-            "stribeck", f"V_s={Vs * 1e3:.3g} mm/s, delta={d:.3g}", column(Vs, d), ["F_s - F_c"],
-            base=base, refine=on, nonneg=True, to_model=to_model))
+        out.append(
+            Variant(
+                "stribeck",
+                f"V_s={Vs * 1e3:.3g} mm/s, delta={d:.3g}",
+                column(Vs, d),
+                ["F_s - F_c"],
+                base=base,
+                refine=on,
+                nonneg=True,
+                to_model=to_model,
+            )
+        )
     return out
 
 
@@ -301,16 +368,26 @@ def prerolling(ctx: Context) -> list[Variant]:
             upd[f"friction.k[{j + 1}]"] = float(kk[j]) if j < len(keep) else 1.0e5
         return m.with_effect("prerolling", True, **upd)
 
-    return [Variant("prerolling", f"Maxwell-slip, {len(deltas)} elements, "
-                    f"Delta {deltas[0] * 1e6:.3g}..{deltas[-1] * 1e6:.3g} um", Phi,
-                    [f"W/F_s at Delta={D * 1e6:.3g} um" for D in deltas], base=base,
-                    nonneg=True, sum_to_one=True, refine=on, to_model=to_model)]
+    return [
+        Variant(
+            "prerolling",
+            f"Maxwell-slip, {len(deltas)} elements, "
+            f"Delta {deltas[0] * 1e6:.3g}..{deltas[-1] * 1e6:.3g} um",
+            Phi,
+            [f"W/F_s at Delta={D * 1e6:.3g} um" for D in deltas],
+            base=base,
+            nonneg=True,
+            sum_to_one=True,
+            refine=on,
+            to_model=to_model,
+        )
+    ]
 
 
 def frictional_lag(ctx: Context) -> list[Variant]:
     m = ctx.model
     if not m.effects["prerolling"]:
-        return []          # slip-phase attraction only exists in the GMS
+        return []  # slip-phase attraction only exists in the GMS
     on = m.effects["frictional_lag"]
     prm = ctx.plant.friction
     base = ctx.stack(lambda q: q.F_f - prm.viscous(q.v_f))[:, 0]
@@ -319,8 +396,9 @@ def frictional_lag(ctx: Context) -> list[Variant]:
 
     def column(C: float) -> np.ndarray:
         pc = replace(prm, C=C)
-        return ctx.stack(lambda q: gms_force(q.x, q.v_f, q.Ts, pc, F0=_start(q, len(pc.nu)))
-                         - pc.viscous(q.v_f))
+        return ctx.stack(
+            lambda q: gms_force(q.x, q.v_f, q.Ts, pc, F0=_start(q, len(pc.nu))) - pc.viscous(q.v_f)
+        )
 
     cols = {C: column(C) for C in LAG_C if not (on and abs(np.log(C / C_now)) < 0.2)}
     if not cols:
@@ -331,9 +409,12 @@ def frictional_lag(ctx: Context) -> list[Variant]:
     k = LAG_C.index(Cb)
     lo, hi = np.log(LAG_C[max(k - 1, 0)]), np.log(LAG_C[min(k + 1, len(LAG_C) - 1)])
     if hi > lo:
-        opt = minimize_scalar(lambda z: -_explained(column(float(np.exp(z))), y),
-                              bounds=(lo, hi), method="bounded",
-                              options={"xatol": 0.05, "maxiter": 8})
+        opt = minimize_scalar(
+            lambda z: -_explained(column(float(np.exp(z))), y),
+            bounds=(lo, hi),
+            method="bounded",
+            options={"xatol": 0.05, "maxiter": 8},
+        )
         Cr = float(np.exp(opt.x))
         if -opt.fun > expl[Cb]:
             cols = {Cr: column(Cr), **cols}
@@ -343,8 +424,17 @@ def frictional_lag(ctx: Context) -> list[Variant]:
         def to_model(th: np.ndarray, C: float = C) -> ModelFile:
             return m.with_effect("frictional_lag", True, **{"friction.C": C})
 
-        out.append(Variant("frictional_lag", f"C={C:.3g} N/s", Phi, ["scale"], base=base,
-                           refine=on, to_model=to_model))
+        out.append(
+            Variant(
+                "frictional_lag",
+                f"C={C:.3g} N/s",
+                Phi,
+                ["scale"],
+                base=base,
+                refine=on,
+                to_model=to_model,
+            )
+        )
     return out
 
 
@@ -355,22 +445,32 @@ def cogging_aperiodic(ctx: Context) -> list[Variant]:
     c, h = _span(ctx)
     powers = range(4)
     Phi = ctx.stack(lambda q: _poly_basis(q.x, c, h, powers), mask_stuck=True)
-    old = np.array([float(m.parameters[f"cogging.c[{k}]"]) for k in range(4)]) if on \
-        else np.zeros(4)
+    old = (
+        np.array([float(m.parameters[f"cogging.c[{k}]"]) for k in range(4)]) if on else np.zeros(4)
+    )
 
     def to_model(th: np.ndarray) -> ModelFile:
         new = old + _poly_to_x(th, powers, c, h, 3)
-        return m.with_effect("cogging_aperiodic", True,
-                             **{f"cogging.c[{k}]": float(new[k]) for k in range(4)})
+        return m.with_effect(
+            "cogging_aperiodic", True, **{f"cogging.c[{k}]": float(new[k]) for k in range(4)}
+        )
 
-    return [Variant("cogging_aperiodic", "cubic in x", Phi,
-                    [f"xi^{k}" for k in powers], refine=on, to_model=to_model)]
+    return [
+        Variant(
+            "cogging_aperiodic",
+            "cubic in x",
+            Phi,
+            [f"xi^{k}" for k in powers],
+            refine=on,
+            to_model=to_model,
+        )
+    ]
 
 
 def ripple_aperiodic(ctx: Context) -> list[Variant]:
     m = ctx.model
     if any(q.i is None for q in ctx.res):
-        return []          # F = gain * u: no K_f(x) to refine
+        return []  # F = gain * u: no K_f(x) to refine
     on = m.effects["ripple_aperiodic"]
     c, h = _span(ctx)
     # the constant is included: with the polynomial off the model's K_f is c0 alone, and the
@@ -378,19 +478,29 @@ def ripple_aperiodic(ctx: Context) -> list[Variant]:
     # off with the mass only when friction and cogging leave i proportional to a)
     powers = range(3)
     # more K_f means more motor force: r = -(dK_f) i
-    Phi = -ctx.stack(lambda q: _current(q)[:, None] * _poly_basis(q.x, c, h, powers), mask_stuck=True)
+    Phi = -ctx.stack(
+        lambda q: _current(q)[:, None] * _poly_basis(q.x, c, h, powers), mask_stuck=True
+    )
     old = np.array([float(m.parameters[f"ripple.c[{k}]"]) for k in range(3)])
     if not on:
-        old[1:] = 0.0          # off: K_f = c0 on the stroke
+        old[1:] = 0.0  # off: K_f = c0 on the stroke
 
     def to_model(th: np.ndarray) -> ModelFile:
         new = old + _poly_to_x(th, powers, c, h, 2)
-        return m.with_effect("ripple_aperiodic", True,
-                             **{f"ripple.c[{k}]": float(new[k]) for k in range(3)})
+        return m.with_effect(
+            "ripple_aperiodic", True, **{f"ripple.c[{k}]": float(new[k]) for k in range(3)}
+        )
 
-    return [Variant("ripple_aperiodic", "i * (1, x, x^2)", Phi, ["i", "i*xi", "i*xi^2"],
-                    refine=on,
-                    to_model=to_model)]
+    return [
+        Variant(
+            "ripple_aperiodic",
+            "i * (1, x, x^2)",
+            Phi,
+            ["i", "i*xi", "i*xi^2"],
+            refine=on,
+            to_model=to_model,
+        )
+    ]
 
 
 def _periodic(ctx: Context, name: str, effect: str) -> list[Variant]:
@@ -400,8 +510,11 @@ def _periodic(ctx: Context, name: str, effect: str) -> list[Variant]:
     weighted = name == "ripple"
     if weighted and any(q.i is None for q in ctx.res):
         return []
-    used = [j for j in range(1, N_HARMONICS + 1)
-            if float(p[f"{name}.a[{j}]"]) != 0.0 or float(p[f"{name}.b[{j}]"]) != 0.0]
+    used = [
+        j
+        for j in range(1, N_HARMONICS + 1)
+        if float(p[f"{name}.a[{j}]"]) != 0.0 or float(p[f"{name}.b[{j}]"]) != 0.0
+    ]
     free = [j for j in range(1, N_HARMONICS + 1) if j not in used]
     lams_used = [float(p[f"{name}.lambda[{j}]"]) for j in used]
     lams, amps = spatial_spectrum(ctx.res, weight="i" if weighted else None)
@@ -421,7 +534,7 @@ def _periodic(ctx: Context, name: str, effect: str) -> list[Variant]:
             ww = w(q)[:, None]
             return np.column_stack([ww * np.cos(th), ww * np.sin(th)])
 
-        sign = -1.0 if weighted else 1.0   # more K_f is more motor force: r = -(dK_f) i
+        sign = -1.0 if weighted else 1.0  # more K_f is more motor force: r = -(dK_f) i
         Phi = sign * ctx.stack(cols, mask_stuck=True)
 
         def to_model(th, slots=slots, wl=wl):
@@ -438,10 +551,16 @@ def _periodic(ctx: Context, name: str, effect: str) -> list[Variant]:
         label = "harmonics at " + ", ".join(f"{lam * 1e3:.4g}" for lam in wl) + " mm"
         if extra:
             label += f" (extra: {', '.join(f'{lam * 1e3:.4g}' for lam in extra)} mm)"
-        out.append(Variant(effect, label, Phi,
-                           [f"a@{lam * 1e3:.4g}mm" for lam in wl]
-                           + [f"b@{lam * 1e3:.4g}mm" for lam in wl],
-                           refine=on, to_model=to_model))
+        out.append(
+            Variant(
+                effect,
+                label,
+                Phi,
+                [f"a@{lam * 1e3:.4g}mm" for lam in wl] + [f"b@{lam * 1e3:.4g}mm" for lam in wl],
+                refine=on,
+                to_model=to_model,
+            )
+        )
     return out
 
 
@@ -465,20 +584,28 @@ def _fourier(ctx: Context, w, wl: list[float]) -> np.ndarray:
         th = 2 * np.pi * q.x[:, None] / np.asarray(wl)[None, :]
         ww = w(q)[:, None]
         return np.column_stack([ww * np.cos(th), ww * np.sin(th)])
+
     return ctx.stack(cols, mask_stuck=True)
 
 
-def _refine_wavelengths(ctx: Context, w, fixed: list[float], extra: list[float]
-                        ) -> list[tuple[float, float]]:
+def _refine_wavelengths(
+    ctx: Context, w, fixed: list[float], extra: list[float]
+) -> list[tuple[float, float]]:
     """Extra wavelengths refined one at a time (bounded scalar search within +-8 %) by the
     least-squares fit of all harmonics together (existing ones included)."""
     out: list[float] = []
     for lam0 in extra:
+
         def sse(lam):
             A = _fourier(ctx, w, fixed + out + [lam])
             return -_explained(A, ctx.r)
-        best = minimize_scalar(sse, bounds=(0.92 * lam0, 1.08 * lam0), method="bounded",
-                               options={"xatol": 5e-4 * lam0, "maxiter": 14})
+
+        best = minimize_scalar(
+            sse,
+            bounds=(0.92 * lam0, 1.08 * lam0),
+            method="bounded",
+            options={"xatol": 5e-4 * lam0, "maxiter": 14},
+        )
         out.append(float(best.x))
     return [(lam, 0.0) for lam in out]
 
@@ -508,19 +635,27 @@ def compliance(ctx: Context) -> list[Variant]:
     on = m.effects["compliance"]
     P = ctx.plant.compliance
     if P.sensor_side != 0:
-        return []          # the residual assumes the encoder on the slide
+        return []  # the residual assumes the encoder on the slide
     base = None
     if on:
-        base = ctx.stack(lambda q: P.m2 * load_acceleration(q.a, q.Ts, P.f, P.zeta),
-                         filtered=False)[:, 0]
+        base = ctx.stack(
+            lambda q: P.m2 * load_acceleration(q.a, q.Ts, P.f, P.zeta), filtered=False
+        )[:, 0]
     y = ctx.r + (base if base is not None else 0.0)
-    starts = [q.start.full_basis(len(q.r)) if q.start is not None and q.start.basis is not None
-              else None for q in ctx.res]
+    starts = [
+        q.start.full_basis(len(q.r)) if q.start is not None and q.start.basis is not None else None
+        for q in ctx.res
+    ]
     try:
-        fit = fit_compliance([q.a for q in ctx.res], ctx.unstack(y), [q.Ts for q in ctx.res],
-                             stride=SEARCH_STRIDE, nuisance=starts)
+        fit = fit_compliance(
+            [q.a for q in ctx.res],
+            ctx.unstack(y),
+            [q.Ts for q in ctx.res],
+            stride=SEARCH_STRIDE,
+            nuisance=starts,
+        )
     except ValueError:
-        return []          # no acceleration to see a load by
+        return []  # no acceleration to see a load by
     f, z = fit.f, fit.zeta
     col = ctx.stack(lambda q: load_acceleration(q.a, q.Ts, f, z), filtered=False)
     acc = ctx.stack(lambda q: q.a, filtered=False)
@@ -529,16 +664,32 @@ def compliance(ctx: Context) -> list[Variant]:
     m_old = float(m.parameters["m"])
     upd = {"compliance.f": f, "compliance.zeta": z}
     label = f"f={f:.4g} Hz, zeta={z:.3g}"
-    return [Variant("compliance", label, np.column_stack([col, start]),
-                    ["compliance.m2"] + names, base=base, refine=on, nuisance=start.shape[1],
-                    to_model=lambda th: m.with_effect(
-                        "compliance", True, **{"compliance.m2": float(th[0]), **upd})),
-            Variant("compliance", label + ", with a mass change",
-                    np.column_stack([col, acc, start]), ["compliance.m2", "m"] + names,
-                    base=base, refine=on, nuisance=start.shape[1],
-                    to_model=lambda th: m.with_effect(
-                        "compliance", True, m=m_old + float(th[1]),
-                        **{"compliance.m2": float(th[0]), **upd}))]
+    return [
+        Variant(
+            "compliance",
+            label,
+            np.column_stack([col, start]),
+            ["compliance.m2"] + names,
+            base=base,
+            refine=on,
+            nuisance=start.shape[1],
+            to_model=lambda th: m.with_effect(
+                "compliance", True, **{"compliance.m2": float(th[0]), **upd}
+            ),
+        ),
+        Variant(
+            "compliance",
+            label + ", with a mass change",
+            np.column_stack([col, acc, start]),
+            ["compliance.m2", "m"] + names,
+            base=base,
+            refine=on,
+            nuisance=start.shape[1],
+            to_model=lambda th: m.with_effect(
+                "compliance", True, m=m_old + float(th[1]), **{"compliance.m2": float(th[0]), **upd}
+            ),
+        ),
+    ]
 
 
 def _start_columns(ctx: Context, f: float, zeta: float) -> np.ndarray:
@@ -550,7 +701,7 @@ def _start_columns(ctx: Context, f: float, zeta: float) -> np.ndarray:
     def cols(q) -> np.ndarray:
         out = np.zeros((len(q.r), 2 * len(ctx.res)))
         j = index[id(q)]
-        out[:, 2 * j:2 * j + 2] = np.nan_to_num(load_free_response(q.a, q.Ts, f, zeta))
+        out[:, 2 * j : 2 * j + 2] = np.nan_to_num(load_free_response(q.a, q.Ts, f, zeta))
         return out
 
     return ctx.stack(cols, filtered=False)
@@ -561,17 +712,25 @@ def current_dynamics(ctx: Context) -> list[Variant]:
     m = ctx.model
     if m.effects["current_dynamics"]:
         return []
-    if not all(q.i is not None and q.force_source.startswith("no current measured: i =")
-               for q in ctx.res):
-        return []          # measured current, or F = gain * u: the loop is not in the residual
+    if not all(
+        q.i is not None and q.force_source.startswith("no current measured: i =") for q in ctx.res
+    ):
+        return []  # measured current, or F = gain * u: the loop is not in the residual
     loop = replace(ctx.plant.current, dynamics=True)
 
     def col(q):
         return ctx.plant.K_f(q.x) * (held_current(loop.current(q.u)) - q.i)
 
     Phi = -ctx.stack(col, mask_stuck=True)
-    return [Variant("current_dynamics", "G(z) of the model file instead of G(1)", Phi,
-                    ["scale"], to_model=lambda th: m.with_effect("current_dynamics", True))]
+    return [
+        Variant(
+            "current_dynamics",
+            "G(z) of the model file instead of G(1)",
+            Phi,
+            ["scale"],
+            to_model=lambda th: m.with_effect("current_dynamics", True),
+        )
+    ]
 
 
 def _builder(e: Effect) -> Callable[[Context], list[Variant]]:
@@ -579,8 +738,9 @@ def _builder(e: Effect) -> Callable[[Context], list[Variant]]:
     module, _, name = e.candidate.builder.partition(":")
     make = globals().get(name) if module == __name__ else None
     if not callable(make):
-        raise ImportError(f"effect {e.id}: candidate {e.candidate.builder!r} is not a "
-                          f"function of {__name__}")
+        raise ImportError(
+            f"effect {e.id}: candidate {e.candidate.builder!r} is not a function of {__name__}"
+        )
     return make
 
 

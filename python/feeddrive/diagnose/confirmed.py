@@ -14,6 +14,7 @@ is still large where it acted: its parameters may have absorbed part of that (a 
 latency fitted as viscous friction, a drifting force constant as a ripple).  Its fit is
 kept in ``model_all_fits.json`` and left out of ``model.json``.
 """
+
 from __future__ import annotations
 
 from collections.abc import Sequence
@@ -28,13 +29,20 @@ from .localise import regime_masks
 from .significance import Gate
 
 #: The rule, as diagnosis.json states it.
-RULE = ("a step is confirmed when the verdict is explained, or when the final residual where it "
-        "acted exceeds the noise floor there by less than the threshold a named effect must "
-        "explain")
+RULE = (
+    "a step is confirmed when the verdict is explained, or when the final residual where it "
+    "acted exceeds the noise floor there by less than the threshold a named effect must "
+    "explain"
+)
 
 
-def confirm_steps(steps: Sequence[Any], res: Sequence[RunResidual], sigma: Sequence[np.ndarray],
-                  gate: Gate, explained: bool) -> list[dict]:
+def confirm_steps(
+    steps: Sequence[Any],
+    res: Sequence[RunResidual],
+    sigma: Sequence[np.ndarray],
+    gate: Gate,
+    explained: bool,
+) -> list[dict]:
     """One record per step (``effect``, ``evidence['where']`` regimes): the final residual
     ``res`` and the noise floor ``sigma`` (per run, per sample [N]) over the regimes where it
     acted, the excess, the threshold and ``confirmed`` with the reason."""
@@ -53,28 +61,40 @@ def confirm_steps(steps: Sequence[Any], res: Sequence[RunResidual], sigma: Seque
         if r.size:
             rms = float(np.sqrt(np.mean(r**2)))
             fl = float(np.sqrt(np.mean(s2**2)))
-            rec.update({"rms_final_N": rms, "floor_N": fl,
-                        "excess_N": float(np.sqrt(max(rms**2 - fl**2, 0.0)))})
+            rec.update(
+                {
+                    "rms_final_N": rms,
+                    "floor_N": fl,
+                    "excess_N": float(np.sqrt(max(rms**2 - fl**2, 0.0))),
+                }
+            )
         local = r.size > 0 and rec["excess_N"] < gate.threshold_N
         rec["confirmed"] = bool(explained or local)
         if explained:
             rec["why"] = "the verdict is explained: the final model leaves only the noise floor"
         elif local:
-            rec["why"] = (f"where it acted ({', '.join(regimes)}) the final residual exceeds the "
-                          f"floor by {rec['excess_N']:.3g} N, below the {gate.threshold_N:.3g} N "
-                          "a named effect must explain")
+            rec["why"] = (
+                f"where it acted ({', '.join(regimes)}) the final residual exceeds the "
+                f"floor by {rec['excess_N']:.3g} N, below the {gate.threshold_N:.3g} N "
+                "a named effect must explain"
+            )
         else:
             ex = rec.get("excess_N")
-            rec["why"] = ("where it acted (" + ", ".join(regimes) + ") the final residual still "
-                          + (f"exceeds the floor by {ex:.3g} N" if ex is not None else "is unknown")
-                          + f", above the {gate.threshold_N:.3g} N gate: something no catalogue "
-                          "effect models is there, and the fit may have absorbed part of it")
+            rec["why"] = (
+                "where it acted ("
+                + ", ".join(regimes)
+                + ") the final residual still "
+                + (f"exceeds the floor by {ex:.3g} N" if ex is not None else "is unknown")
+                + f", above the {gate.threshold_N:.3g} N gate: something no catalogue "
+                "effect models is there, and the fit may have absorbed part of it"
+            )
         out.append(rec)
     return out
 
 
-def confirmed_model(start: ModelFile, steps: Sequence[Any], records: Sequence[dict],
-                    final: ModelFile) -> ModelFile:
+def confirmed_model(
+    start: ModelFile, steps: Sequence[Any], records: Sequence[dict], final: ModelFile
+) -> ModelFile:
     """The start model with only the confirmed steps applied (their effect switched on and
     the parameters they changed), ``final`` itself when every step is confirmed."""
     ok = [s for s, rec in zip(steps, records, strict=True) if rec["confirmed"]]
@@ -88,15 +108,25 @@ def confirmed_model(start: ModelFile, steps: Sequence[Any], records: Sequence[di
         params.update({k: p["value"] for k, p in s.parameters.items()})
     name = "+".join([start.name, *(s.effect for s in ok)])
     left = [s.effect for s, rec in zip(steps, records, strict=True) if not rec["confirmed"]]
-    desc = (f"{start.name} with the effects the diagnosis confirmed ({', '.join(s.effect for s in ok) or 'none'}); "
-            f"fitted but not confirmed (in model_all_fits.json): {', '.join(left)}")
+    desc = (
+        f"{start.name} with the effects the diagnosis confirmed ({', '.join(s.effect for s in ok) or 'none'}); "
+        f"fitted but not confirmed (in model_all_fits.json): {', '.join(left)}"
+    )
     return ModelFile(name=name, effects=effects, parameters=params, description=desc)
 
 
-def confirmation_of(runs: Sequence[Run], steps: Sequence[Any], start: ModelFile,
-                    final: ModelFile, res_start: Sequence[RunResidual],
-                    res_final: Sequence[RunResidual], sigma: Sequence[np.ndarray], gate: Gate,
-                    explained: bool, kw: dict) -> tuple[ModelFile, dict]:
+def confirmation_of(
+    runs: Sequence[Run],
+    steps: Sequence[Any],
+    start: ModelFile,
+    final: ModelFile,
+    res_start: Sequence[RunResidual],
+    res_final: Sequence[RunResidual],
+    sigma: Sequence[np.ndarray],
+    gate: Gate,
+    explained: bool,
+    kw: dict,
+) -> tuple[ModelFile, dict]:
     """The confirmed model (model.json) and diagnosis.json ``confirmation``: the rule, the
     record of every step (:func:`confirm_steps`) and, for model.json and
     model_all_fits.json, the name, the force gap over all runs [N] and the effects added
@@ -110,9 +140,18 @@ def confirmation_of(runs: Sequence[Run], steps: Sequence[Any], start: ModelFile,
     else:
         kept_gap = gap(residuals(list(runs), kept, **kw))
     return kept, {
-        "rule": RULE, "steps": records,
-        "model_json": {"file": "model.json", "name": kept.name, "gap_N": kept_gap,
-                       "effects_added": [r["effect"] for r in records if r["confirmed"]]},
-        "model_all_fits_json": {"file": "model_all_fits.json", "name": final.name,
-                                "gap_N": gap(list(res_final)),
-                                "effects_added": [s.effect for s in steps]}}
+        "rule": RULE,
+        "steps": records,
+        "model_json": {
+            "file": "model.json",
+            "name": kept.name,
+            "gap_N": kept_gap,
+            "effects_added": [r["effect"] for r in records if r["confirmed"]],
+        },
+        "model_all_fits_json": {
+            "file": "model_all_fits.json",
+            "name": final.name,
+            "gap_N": gap(list(res_final)),
+            "effects_added": [s.effect for s in steps],
+        },
+    }

@@ -7,6 +7,7 @@ The part of a column that the run's estimated GMS start state could take up
 is projected out: a run whose elements never slip cannot tell a constant force from the
 friction they hold, and must not count against (or for) a candidate because of it.
 """
+
 from __future__ import annotations
 
 from collections.abc import Callable
@@ -44,16 +45,19 @@ class Context:
     def __post_init__(self) -> None:
         self.plant = compile(self.model)
         self.r = np.concatenate([q.r[q.valid] for q in self.res])
-        self.run_id = np.concatenate([np.full(int(q.valid.sum()), j)
-                                      for j, q in enumerate(self.res)])
+        self.run_id = np.concatenate(
+            [np.full(int(q.valid.sum()), j) for j, q in enumerate(self.res)]
+        )
         per_run = max(2, int(np.ceil(self.n_blocks / len(self.res))))
         blocks, guards = [], []
         b0 = 0
         for q in self.res:
             n = int(q.valid.sum())
             if n < 2 * MIN_BLOCK:
-                raise ValueError(f"run {q.name!r}: {n} usable samples; the diagnosis needs at "
-                                 f"least {2 * MIN_BLOCK} per run (two held-out blocks)")
+                raise ValueError(
+                    f"run {q.name!r}: {n} usable samples; the diagnosis needs at "
+                    f"least {2 * MIN_BLOCK} per run (two held-out blocks)"
+                )
             nb = min(per_run, n // MIN_BLOCK)
             edges = np.linspace(0, n, nb + 1).astype(int)
             bid = np.searchsorted(edges, np.arange(n), side="right") - 1 + b0
@@ -68,7 +72,7 @@ class Context:
             idx = np.flatnonzero(self.block == b)
             lo, hi = int(idx[0]), int(idx[-1]) + 1
             self.block_bounds.append((lo, hi))
-            near = np.r_[max(lo - g, 0):lo, hi:min(hi + g, len(self.r))]
+            near = np.r_[max(lo - g, 0) : lo, hi : min(hi + g, len(self.r))]
             near = near[self.run_id[near] == self.run_id[lo]]
             guards.append(near.astype(int))
         self.guard = guards
@@ -78,8 +82,12 @@ class Context:
         """Number of held-out blocks."""
         return len(self.guard)
 
-    def stack(self, fn: Callable[[RunResidual], np.ndarray], filtered: bool = True,
-              mask_stuck: bool = False) -> np.ndarray:
+    def stack(
+        self,
+        fn: Callable[[RunResidual], np.ndarray],
+        filtered: bool = True,
+        mask_stuck: bool = False,
+    ) -> np.ndarray:
         """Columns ``fn(q)`` (shape (n,) or (n, p), unfiltered) of every run, filtered with K
         (unless ``filtered`` is False: already an acceleration-like signal), zeroed on the
         static model's stuck samples when ``mask_stuck``, stacked over the valid samples."""
@@ -119,7 +127,7 @@ class Context:
         for q in self.res:
             n = int(q.valid.sum())
             a = np.full(len(q.r), np.nan)
-            a[q.valid] = vec[k:k + n]
+            a[q.valid] = vec[k : k + n]
             out.append(a)
             k += n
         return out
@@ -127,4 +135,3 @@ class Context:
     def all(self, name: str) -> np.ndarray:
         """A per-sample attribute of the residuals (``x``, ``v``, ...) stacked."""
         return np.concatenate([np.asarray(getattr(q, name))[q.valid] for q in self.res])
-

@@ -32,6 +32,7 @@ The best hint is the one explaining the most force; the verdict reports it with 
 and the share of the residual's excess it accounts for (:func:`add_hint`) when it explains
 at least the threshold a named effect must explain.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -70,8 +71,7 @@ def _stack(res: Sequence[RunResidual], fn) -> np.ndarray:
     return np.concatenate([np.nan_to_num(np.asarray(fn(q), dtype=float))[q.valid] for q in res])
 
 
-def _added_regressor(r: np.ndarray, base: np.ndarray, g: np.ndarray
-                     ) -> tuple[float, float, float]:
+def _added_regressor(r: np.ndarray, base: np.ndarray, g: np.ndarray) -> tuple[float, float, float]:
     """Least-squares coefficient of ``g`` fitted with ``base``, the force ``g`` adds to what
     ``base`` alone explains and the force both explain [N rms]."""
     if not r.size:
@@ -104,24 +104,40 @@ def drift_hint(res: Sequence[RunResidual]) -> dict:
     r = _stack(res, lambda q: q.r)
     g_gain = _stack(res, lambda q: -q.filt(_centred_time(q) * q.F_motor))
     g_trend = _stack(res, lambda q: q.filt(_centred_time(q)))
-    kappa, f_gain, f_gain_all = _added_regressor(r, _stack(res, lambda q: -q.filt(q.F_motor)),
-                                                 g_gain)
-    c, f_trend, f_trend_all = _added_regressor(r, _stack(res, lambda q: q.filt(np.ones(len(q.r)))),
-                                               g_trend)
+    kappa, f_gain, f_gain_all = _added_regressor(
+        r, _stack(res, lambda q: -q.filt(q.F_motor)), g_gain
+    )
+    c, f_trend, f_trend_all = _added_regressor(
+        r, _stack(res, lambda q: q.filt(np.ones(len(q.r)))), g_trend
+    )
     span = max(float(np.ptp(q.time[q.valid])) for q in res)
     if f_gain >= f_trend:
-        return {"signature": "drift", "form": "motor-force gain", "explained_force_N": f_gain,
-                "gain_rate_per_s": kappa, "gain_percent_per_min": 6000.0 * kappa,
-                "gain_change_over_longest_run_percent": 100.0 * kappa * span,
-                "explained_with_level_N": f_gain_all,
-                "text": (f"a drift of the motor-force gain over run time: force per measured "
-                         f"current (or reference) changing by {6000.0 * kappa:+.3g} %/min "
-                         f"({100.0 * kappa * span:+.3g} % over {span:.3g} s; with the gain "
-                         f"error at mid-run it explains {f_gain_all:.3g} N)")}
-    return {"signature": "drift", "form": "residual trend", "explained_force_N": f_trend,
-            "trend_N_per_s": c, "explained_with_level_N": f_trend_all,
-            "text": (f"a residual trending over run time by {c:+.3g} N/s (with the offset at "
-                     f"mid-run it explains {f_trend_all:.3g} N)")}
+        return {
+            "signature": "drift",
+            "form": "motor-force gain",
+            "explained_force_N": f_gain,
+            "gain_rate_per_s": kappa,
+            "gain_percent_per_min": 6000.0 * kappa,
+            "gain_change_over_longest_run_percent": 100.0 * kappa * span,
+            "explained_with_level_N": f_gain_all,
+            "text": (
+                f"a drift of the motor-force gain over run time: force per measured "
+                f"current (or reference) changing by {6000.0 * kappa:+.3g} %/min "
+                f"({100.0 * kappa * span:+.3g} % over {span:.3g} s; with the gain "
+                f"error at mid-run it explains {f_gain_all:.3g} N)"
+            ),
+        }
+    return {
+        "signature": "drift",
+        "form": "residual trend",
+        "explained_force_N": f_trend,
+        "trend_N_per_s": c,
+        "explained_with_level_N": f_trend_all,
+        "text": (
+            f"a residual trending over run time by {c:+.3g} N/s (with the offset at "
+            f"mid-run it explains {f_trend_all:.3g} N)"
+        ),
+    }
 
 
 def latency_hint(res: Sequence[RunResidual]) -> dict:
@@ -131,14 +147,21 @@ def latency_hint(res: Sequence[RunResidual]) -> dict:
     tau, f = _one_regressor(r, g)
     Ts = float(np.median([q.Ts for q in res]))
     who = "the position lags the force" if tau > 0 else "the force lags the position"
-    return {"signature": "timing_offset", "explained_force_N": f, "tau_s": tau,
-            "tau_samples": tau / Ts,
-            "text": (f"a timing offset between position and force: {who} by "
-                     f"{abs(tau) * 1e3:.3g} ms ({abs(tau) / Ts:.2g} samples)")}
+    return {
+        "signature": "timing_offset",
+        "explained_force_N": f,
+        "tau_s": tau,
+        "tau_samples": tau / Ts,
+        "text": (
+            f"a timing offset between position and force: {who} by "
+            f"{abs(tau) * 1e3:.3g} ms ({abs(tau) / Ts:.2g} samples)"
+        ),
+    }
 
 
-def play_position(x: np.ndarray, time: np.ndarray, b: float,
-                  hysteresis: float = PLAY_HYSTERESIS) -> np.ndarray:
+def play_position(
+    x: np.ndarray, time: np.ndarray, b: float, hysteresis: float = PLAY_HYSTERESIS
+) -> np.ndarray:
     """The position of a stage whose scale reads ``x`` through a play ``b`` [m].
 
     Moving up the scale trails the stage by b/2 (and moving down, leads it); at each
@@ -153,8 +176,8 @@ def play_position(x: np.ndarray, time: np.ndarray, b: float,
     x = np.asarray(x, dtype=float)
     t = np.asarray(time, dtype=float)
     n = x.size
-    side = np.zeros(n)                 # the direction of motion: -1, 0 (not moved yet), +1
-    turns: list[tuple[int, int, float, float]] = []   # (dwell start, dwell end, d_old, d_new)
+    side = np.zeros(n)  # the direction of motion: -1, 0 (not moved yet), +1
+    turns: list[tuple[int, int, float, float]] = []  # (dwell start, dwell end, d_old, d_new)
     d, ext, k_ext = 0, x[0], 0
     for k in range(n):
         xk = x[k]
@@ -175,7 +198,7 @@ def play_position(x: np.ndarray, time: np.ndarray, b: float,
     c = 0.5 * b * side
     m = max(2, int(round(PLAY_SPEED_S / max(float(np.median(np.diff(t))), 1e-300))))
     for ks, ke, d_old, d_new in turns:
-        c[ks:ke + 1] = 0.5 * b * d_old
+        c[ks : ke + 1] = 0.5 * b * d_old
         # crossing from rest to the speed the reading takes up after the dwell: b = v T / 2
         seg = slice(ke, min(ke + m, n - 1) + 1)
         v = abs(float(np.polyfit(t[seg] - t[ke], x[seg], 2)[1])) if t[seg].size >= 3 else 0.0
@@ -187,14 +210,13 @@ def play_position(x: np.ndarray, time: np.ndarray, b: float,
         else:
             c[ke] = 0.5 * b * d_new
         # from the dwell's end to the sample the turn is recognised, the side is the new one
-        nxt = np.flatnonzero(side[ke + 1:] == d_new)
+        nxt = np.flatnonzero(side[ke + 1 :] == d_new)
         stop = ke + 1 + int(nxt[0]) if nxt.size else n
-        c[ke + 1:stop] = 0.5 * b * d_new
+        c[ke + 1 : stop] = 0.5 * b * d_new
     return x + c
 
 
-def play_hint(runs: Sequence[Run], model: ModelFile, res: Sequence[RunResidual],
-              kw: dict) -> dict:
+def play_hint(runs: Sequence[Run], model: ModelFile, res: Sequence[RunResidual], kw: dict) -> dict:
     """The play whose re-computed residual is smallest (see the module docstring)."""
     n = sum(int(q.valid.sum()) for q in res)
     sse0 = sum(float(q.r[q.valid] @ q.r[q.valid]) for q in res)
@@ -203,7 +225,9 @@ def play_hint(runs: Sequence[Run], model: ModelFile, res: Sequence[RunResidual],
         b = float(np.exp(log_b))
         moved = [dataclasses.replace(run, x=play_position(run.x, run.time, b)) for run in runs]
         rr = residuals(list(moved), model, **kw)
-        return sum(float(np.sum(q.r[q.valid & q0.valid] ** 2)) for q, q0 in zip(rr, res, strict=True))
+        return sum(
+            float(np.sum(q.r[q.valid & q0.valid] ** 2)) for q, q0 in zip(rr, res, strict=True)
+        )
 
     grid = [(sse(np.log(b)), b) for b in PLAY_GRID]
     k = int(np.argmin([g for g, _ in grid]))
@@ -211,14 +235,21 @@ def play_hint(runs: Sequence[Run], model: ModelFile, res: Sequence[RunResidual],
     hi = np.log(PLAY_GRID[min(k + 1, len(PLAY_GRID) - 1)])
     best_sse, best_b = grid[k]
     if hi > lo:
-        opt = minimize_scalar(sse, bounds=(lo, hi), method="bounded",
-                              options={"xatol": 0.02, "maxiter": 12})
+        opt = minimize_scalar(
+            sse, bounds=(lo, hi), method="bounded", options={"xatol": 0.02, "maxiter": 12}
+        )
         if opt.fun < best_sse:
             best_sse, best_b = float(opt.fun), float(np.exp(opt.x))
     f = float(np.sqrt(max(sse0 - best_sse, 0.0) / n)) if n else 0.0
-    return {"signature": "play", "explained_force_N": f, "play_m": best_b,
-            "text": (f"play (a dead zone after reversals) of {best_b * 1e6:.3g} um between the "
-                     "stage and its scale")}
+    return {
+        "signature": "play",
+        "explained_force_N": f,
+        "play_m": best_b,
+        "text": (
+            f"play (a dead zone after reversals) of {best_b * 1e6:.3g} um between the "
+            "stage and its scale"
+        ),
+    }
 
 
 def resonance_hint(res: Sequence[RunResidual]) -> dict:
@@ -241,27 +272,36 @@ def resonance_hint(res: Sequence[RunResidual]) -> dict:
         if ratio[k] < RESONANCE_PEAK:
             continue
         f0 = float(f[k])
-        band = (f >= f0 * 2 ** -0.25) & (f <= f0 * 2 ** 0.25)
+        band = (f >= f0 * 2**-0.25) & (f <= f0 * 2**0.25)
         var = float(np.sum(np.maximum(p[band] - bg[band], 0.0)) * df)
         e = var * r.size / n_all
         if best is None or e > best[0]:
             best = (e, f0, float(ratio[k]), q.name)
     if best is None:
-        return {"signature": "resonance", "explained_force_N": 0.0, "f_Hz": None,
-                "text": "no narrow peak in the residual's spectrum"}
+        return {
+            "signature": "resonance",
+            "explained_force_N": 0.0,
+            "f_Hz": None,
+            "text": "no narrow peak in the residual's spectrum",
+        }
     e, f0, peak, name = best
-    return {"signature": "resonance", "explained_force_N": float(np.sqrt(e)), "f_Hz": f0,
-            "peak_ratio": peak, "run": name,
-            "text": f"a resonance band around {f0:.3g} Hz ({name}: {peak:.3g} x the spectrum "
-                    "around it)"}
+    return {
+        "signature": "resonance",
+        "explained_force_N": float(np.sqrt(e)),
+        "f_Hz": f0,
+        "peak_ratio": peak,
+        "run": name,
+        "text": f"a resonance band around {f0:.3g} Hz ({name}: {peak:.3g} x the spectrum "
+        "around it)",
+    }
 
 
-def hints(runs: Sequence[Run], model: ModelFile, res: Sequence[RunResidual],
-          kw: dict) -> list[dict]:
+def hints(
+    runs: Sequence[Run], model: ModelFile, res: Sequence[RunResidual], kw: dict
+) -> list[dict]:
     """Every signature fitted to ``res`` (the residual of ``model`` along ``runs``; ``kw``
     the residual's keywords), the one explaining the most force first."""
-    out = [drift_hint(res), latency_hint(res), play_hint(runs, model, res, kw),
-           resonance_hint(res)]
+    out = [drift_hint(res), latency_hint(res), play_hint(runs, model, res, kw), resonance_hint(res)]
     out.sort(key=lambda h: -h["explained_force_N"])
     return out
 
@@ -273,12 +313,16 @@ def add_hint(v: dict, found: list[dict], gate: Gate) -> dict:
     best = found[0] if found else None
     if best is None or best["explained_force_N"] < gate.threshold_N:
         v["hint"] = None
-        v["sentence"] += (" No signature outside the catalogue (drift, timing offset, play, "
-                          f"resonance) explains {gate.threshold_N:.3g} N of it.")
+        v["sentence"] += (
+            " No signature outside the catalogue (drift, timing offset, play, "
+            f"resonance) explains {gate.threshold_N:.3g} N of it."
+        )
         return v
     share = best["explained_force_N"] ** 2 / max(v["excess_N"] ** 2, 1e-300)
     v["hint"] = {**best, "share_of_excess": share}
-    v["sentence"] += (f" Hint (not a model change): {best['text']} would explain "
-                      f"{best['explained_force_N']:.3g} N rms ({min(share, 1.0):.0%} of the "
-                      "excess energy).")
+    v["sentence"] += (
+        f" Hint (not a model change): {best['text']} would explain "
+        f"{best['explained_force_N']:.3g} N rms ({min(share, 1.0):.0%} of the "
+        "excess energy)."
+    )
     return v

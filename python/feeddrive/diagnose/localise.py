@@ -6,6 +6,7 @@ acceleration phases, direction, current level, load, position bins along the str
 each, :func:`localise` reports the rms and mean residual, the share of the residual's energy
 and the *concentration* (energy share / sample share; > 1 means the gap lives there).
 """
+
 from __future__ import annotations
 
 from collections.abc import Sequence
@@ -23,8 +24,9 @@ LOW_SPEED = 5e-3
 REVERSAL_HYSTERESIS = 0.5e-6
 
 
-def displacement_since_reversal(x: np.ndarray, hysteresis: float = REVERSAL_HYSTERESIS
-                                ) -> np.ndarray:
+def displacement_since_reversal(
+    x: np.ndarray, hysteresis: float = REVERSAL_HYSTERESIS
+) -> np.ndarray:
     """|x - x_turn| where x_turn is the last turning point of x [m].
 
     A turning point is recognised once x has moved back from its running extreme by more
@@ -64,8 +66,11 @@ def regime_masks(q: RunResidual) -> dict[str, np.ndarray]:
     dsr = displacement_since_reversal(q.x)
     m: dict[str, np.ndarray] = {}
     for lo, hi in pairwise(REVERSAL_BINS):
-        name = (f"since_reversal_{lo * 1e6:g}-{hi * 1e6:g}um" if np.isfinite(hi)
-                else f"since_reversal_over_{lo * 1e3:g}mm")
+        name = (
+            f"since_reversal_{lo * 1e6:g}-{hi * 1e6:g}um"
+            if np.isfinite(hi)
+            else f"since_reversal_over_{lo * 1e3:g}mm"
+        )
         m[name] = (dsr >= lo) & (dsr < hi)
     m["low_speed"] = speed < LOW_SPEED
     m["middle_speed"] = (speed >= LOW_SPEED) & (speed < 0.5 * vmax)
@@ -103,13 +108,19 @@ def _stats(r: np.ndarray, mask: np.ndarray, total_sse: float, n_total: int) -> d
     sse = float(rr @ rr)
     share_e = sse / total_sse if total_sse > 0 else 0.0
     share_n = rr.size / n_total
-    return {"n": int(rr.size), "rms": float(np.sqrt(sse / rr.size)), "mean": float(rr.mean()),
-            "energy_share": share_e, "sample_share": share_n,
-            "concentration": share_e / share_n if share_n > 0 else 0.0}
+    return {
+        "n": int(rr.size),
+        "rms": float(np.sqrt(sse / rr.size)),
+        "mean": float(rr.mean()),
+        "energy_share": share_e,
+        "sample_share": share_n,
+        "concentration": share_e / share_n if share_n > 0 else 0.0,
+    }
 
 
-def localise(res: Sequence[RunResidual], r: Sequence[np.ndarray] | None = None,
-             n_pos_bins: int = 12) -> dict:
+def localise(
+    res: Sequence[RunResidual], r: Sequence[np.ndarray] | None = None, n_pos_bins: int = 12
+) -> dict:
     """Residual statistics per regime and per position bin, over all runs.
 
     ``r`` replaces the runs' own residuals (e.g. a residual after a candidate's fit).
@@ -120,12 +131,18 @@ def localise(res: Sequence[RunResidual], r: Sequence[np.ndarray] | None = None,
     allr = np.concatenate([rj[q.valid] for rj, q in zip(rs, res, strict=True)])
     total = float(allr @ allr)
     n = allr.size
-    names = sorted({k for mk in masks for k in mk}, key=lambda k: list(masks[0]).index(k)
-                   if k in masks[0] else 99)
+    names = sorted(
+        {k for mk in masks for k in mk},
+        key=lambda k: list(masks[0]).index(k) if k in masks[0] else 99,
+    )
     out: dict = {"overall": _stats(allr, np.ones(n, bool), total, n), "regimes": {}}
     for name in names:
-        mk = np.concatenate([mj.get(name, np.zeros(len(q.r), bool))[q.valid]
-                             for mj, q in zip(masks, res, strict=True)])
+        mk = np.concatenate(
+            [
+                mj.get(name, np.zeros(len(q.r), bool))[q.valid]
+                for mj, q in zip(masks, res, strict=True)
+            ]
+        )
         out["regimes"][name] = _stats(allr, mk, total, n)
     xs = np.concatenate([q.x[q.valid] for q in res])
     out["position"] = []
@@ -146,18 +163,30 @@ def where(loc_before: dict, loc_after: dict, top: int = 3) -> list[dict]:
         if not b.get("n") or not a.get("n"):
             continue
         drop = (b["rms"] ** 2 - a["rms"] ** 2) * b["n"]
-        rows.append({"regime": name, "rms_before": b["rms"], "rms_after": a["rms"],
-                     "share_of_improvement": drop / max(tot_b - ob["n"] * loc_after["overall"]["rms"] ** 2, 1e-300),
-                     "sample_share": b["sample_share"],
-                     "density": (drop / tot_b) / b["sample_share"] if tot_b > 0 else 0.0})
+        rows.append(
+            {
+                "regime": name,
+                "rms_before": b["rms"],
+                "rms_after": a["rms"],
+                "share_of_improvement": drop
+                / max(tot_b - ob["n"] * loc_after["overall"]["rms"] ** 2, 1e-300),
+                "sample_share": b["sample_share"],
+                "density": (drop / tot_b) / b["sample_share"] if tot_b > 0 else 0.0,
+            }
+        )
     rows.sort(key=lambda d: -d["density"])
     return rows[:top]
 
 
-def spatial_spectrum(res: Sequence[RunResidual], r: Sequence[np.ndarray] | None = None,
-                     weight: str | None = None, lam_min: float = 2e-3,
-                     lam_max: float | None = None, n: int = 400, v_min: float = 1e-3
-                     ) -> tuple[np.ndarray, np.ndarray]:
+def spatial_spectrum(
+    res: Sequence[RunResidual],
+    r: Sequence[np.ndarray] | None = None,
+    weight: str | None = None,
+    lam_min: float = 2e-3,
+    lam_max: float | None = None,
+    n: int = 400,
+    v_min: float = 1e-3,
+) -> tuple[np.ndarray, np.ndarray]:
     """Amplitude of the best-fitting sinusoid in x (optionally times the current) per wavelength.
 
     Least squares of r on [w cos(2 pi x / lam), w sin(2 pi x / lam)] over moving samples
@@ -188,7 +217,7 @@ def spatial_spectrum(res: Sequence[RunResidual], r: Sequence[np.ndarray] | None 
     x, y, w = x[::step], y[::step], w[::step]
     amps = np.empty(n)
     for k0 in range(0, n, 50):
-        th = 2 * np.pi * x[None, :] / lams[k0:k0 + 50, None]
+        th = 2 * np.pi * x[None, :] / lams[k0 : k0 + 50, None]
         c, s = w * np.cos(th), w * np.sin(th)
         cc, ss, cs = (c * c).sum(1), (s * s).sum(1), (c * s).sum(1)
         cy, sy = c @ y, s @ y
@@ -196,12 +225,17 @@ def spatial_spectrum(res: Sequence[RunResidual], r: Sequence[np.ndarray] | None 
         det = np.where(np.abs(det) > 1e-300, det, np.inf)
         a = (ss * cy - cs * sy) / det
         b = (cc * sy - cs * cy) / det
-        amps[k0:k0 + 50] = np.hypot(a, b)
+        amps[k0 : k0 + 50] = np.hypot(a, b)
     return lams, amps
 
 
-def spectral_peaks(lams: np.ndarray, amps: np.ndarray, exclude: Sequence[float] = (),
-                   rel_excl: float = 0.04, n_peaks: int = 2) -> list[tuple[float, float]]:
+def spectral_peaks(
+    lams: np.ndarray,
+    amps: np.ndarray,
+    exclude: Sequence[float] = (),
+    rel_excl: float = 0.04,
+    n_peaks: int = 2,
+) -> list[tuple[float, float]]:
     """The largest local maxima of a spectrum, away from the ``exclude`` wavelengths."""
     if lams.size < 3:
         return []
@@ -229,13 +263,19 @@ def _excess_stats(r: np.ndarray, s: np.ndarray, mask: np.ndarray, total: float, 
     e = float(np.sum(r[mask] ** 2 - s[mask] ** 2))
     share_n = float(mask.sum()) / n
     share_e = e / total if total > 0 else 0.0
-    return {"n": int(mask.sum()), "rms_N": float(np.sqrt(np.mean(r[mask] ** 2))),
-            "floor_N": float(np.sqrt(np.mean(s[mask] ** 2))), "excess_share": share_e,
-            "sample_share": share_n, "concentration": share_e / share_n}
+    return {
+        "n": int(mask.sum()),
+        "rms_N": float(np.sqrt(np.mean(r[mask] ** 2))),
+        "floor_N": float(np.sqrt(np.mean(s[mask] ** 2))),
+        "excess_share": share_e,
+        "sample_share": share_n,
+        "concentration": share_e / share_n,
+    }
 
 
-def frequency_bands(res: Sequence[RunResidual], r: Sequence[np.ndarray] | None = None
-                    ) -> list[dict]:
+def frequency_bands(
+    res: Sequence[RunResidual], r: Sequence[np.ndarray] | None = None
+) -> list[dict]:
     """Share of a residual's energy per octave band (:data:`FREQ_BANDS`) of its periodogram,
     over the valid part of every run."""
     energy: dict[tuple[float, float], float] = {}
@@ -249,12 +289,15 @@ def frequency_bands(res: Sequence[RunResidual], r: Sequence[np.ndarray] | None =
         for lo, hi in pairwise(edges):
             energy[(lo, hi)] = energy.get((lo, hi), 0.0) + float(p[(f >= lo) & (f < hi)].sum())
     tot = sum(energy.values())
-    return [{"f_lo_Hz": lo, "f_hi_Hz": hi, "energy_share": e / tot if tot > 0 else 0.0}
-            for (lo, hi), e in sorted(energy.items())]
+    return [
+        {"f_lo_Hz": lo, "f_hi_Hz": hi, "energy_share": e / tot if tot > 0 else 0.0}
+        for (lo, hi), e in sorted(energy.items())
+    ]
 
 
-def excess_location(res: Sequence[RunResidual], sigma: Sequence[np.ndarray],
-                    n_pos_bins: int = 12) -> dict:
+def excess_location(
+    res: Sequence[RunResidual], sigma: Sequence[np.ndarray], n_pos_bins: int = 12
+) -> dict:
     """Where the part of the residual above the noise floor ``sigma`` (per run, per sample
     [N]) sits: the stroke band, speed regime, direction and travel since reversal with the
     highest concentration of excess energy, the octave band holding most of the residual's
@@ -266,8 +309,12 @@ def excess_location(res: Sequence[RunResidual], sigma: Sequence[np.ndarray],
     total = float(np.sum(r**2 - s**2))
 
     def regime(name: str) -> np.ndarray:
-        return np.concatenate([mj.get(name, np.zeros(len(q.r), bool))[q.valid]
-                               for mj, q in zip(masks, res, strict=True)])
+        return np.concatenate(
+            [
+                mj.get(name, np.zeros(len(q.r), bool))[q.valid]
+                for mj, q in zip(masks, res, strict=True)
+            ]
+        )
 
     def best(names: Sequence[str]) -> dict:
         rows = {k: _excess_stats(r, s, regime(k), total, n) for k in names}
@@ -277,8 +324,10 @@ def excess_location(res: Sequence[RunResidual], sigma: Sequence[np.ndarray],
 
     xs = np.concatenate([q.x[q.valid] for q in res])
     bins = position_bins(res, n_pos_bins)
-    pos = [_excess_stats(r, s, (xs >= lo) & (xs < hi), total, n) | {"x_lo": lo, "x_hi": hi}
-           for lo, hi in bins]
+    pos = [
+        _excess_stats(r, s, (xs >= lo) & (xs < hi), total, n) | {"x_lo": lo, "x_hi": hi}
+        for lo, hi in bins
+    ]
     conc = np.array([p.get("concentration", 0.0) for p in pos])
     k0 = int(np.argmax(conc))
     lo_k = hi_k = k0
@@ -287,16 +336,22 @@ def excess_location(res: Sequence[RunResidual], sigma: Sequence[np.ndarray],
     while hi_k < len(conc) - 1 and conc[hi_k + 1] >= 1.0:
         hi_k += 1
     band = (xs >= bins[lo_k][0]) & (xs < bins[hi_k][1])
-    stroke = {"x_lo_m": bins[lo_k][0], "x_hi_m": bins[hi_k][1],
-              **_excess_stats(r, s, band, total, n)}
+    stroke = {
+        "x_lo_m": bins[lo_k][0],
+        "x_hi_m": bins[hi_k][1],
+        **_excess_stats(r, s, band, total, n),
+    }
     since = [k for k in masks[0] if k.startswith("since_reversal")]
     freq = frequency_bands(res)
     lams, amps = spatial_spectrum(res)
     peaks = spectral_peaks(lams, amps, n_peaks=1)
-    return {"stroke_band": stroke,
-            "speed": best(["low_speed", "middle_speed", "high_speed"]),
-            "direction": best(["forward", "backward"]),
-            "since_reversal": best(since),
-            "frequency_band": max(freq, key=lambda b: b["energy_share"]) if freq else None,
-            "wavelength": ({"wavelength_m": peaks[0][0], "amplitude_N": peaks[0][1]}
-                           if peaks else None)}
+    return {
+        "stroke_band": stroke,
+        "speed": best(["low_speed", "middle_speed", "high_speed"]),
+        "direction": best(["forward", "backward"]),
+        "since_reversal": best(since),
+        "frequency_band": max(freq, key=lambda b: b["energy_share"]) if freq else None,
+        "wavelength": (
+            {"wavelength_m": peaks[0][0], "amplitude_N": peaks[0][1]} if peaks else None
+        ),
+    }

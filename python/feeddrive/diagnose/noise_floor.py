@@ -41,6 +41,7 @@ They are independent, so their variances add.  The floor is what a perfect model
 still leave; a residual at a few times the floor is what real data look like (other
 integrators and filters, slightly different friction); see :mod:`scoring` for the factors.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -84,18 +85,18 @@ SMOOTH_WINDOWS = 5
 class NoiseFloor:
     """Noise floor of one run: the sources' sizes and the per-sample floor [N]."""
 
-    quantum_m: float              #: position step used [m]
-    quantum_source: str           #: "sidecar" or "data"
-    force_noise_N: float          #: std of the unfiltered motor-force noise [N]
-    jitter_s: float               #: std of the sampling interval [s]
-    quantisation_N: float         #: force std of the acceleration estimate's rounding while moving [N]
-    force_N: float                #: force std from the force-measurement noise [N]
-    moving: np.ndarray            #: samples where the quantisation error is white
-    jitter_force: np.ndarray      #: per-sample force std from timing jitter [N]
+    quantum_m: float  #: position step used [m]
+    quantum_source: str  #: "sidecar" or "data"
+    force_noise_N: float  #: std of the unfiltered motor-force noise [N]
+    jitter_s: float  #: std of the sampling interval [s]
+    quantisation_N: float  #: force std of the acceleration estimate's rounding while moving [N]
+    force_N: float  #: force std from the force-measurement noise [N]
+    moving: np.ndarray  #: samples where the quantisation error is white
+    jitter_force: np.ndarray  #: per-sample force std from timing jitter [N]
     #: per-sample force std from the position's rounding through the whole residual [N]
     position_force: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    current_noise_A: float | None = None   #: s_i used [A] (None: no current column)
-    noise_source: str = ""        #: where the force noise came from
+    current_noise_A: float | None = None  #: s_i used [A] (None: no current column)
+    noise_source: str = ""  #: where the force noise came from
 
     @property
     def sigma(self) -> np.ndarray:
@@ -113,17 +114,25 @@ class NoiseFloor:
 
     def to_json(self, valid: np.ndarray) -> dict:
         """diagnosis.json ``noise_floor.runs`` entry over the ``valid`` samples."""
-        pos = self.position_force[valid] if self.position_force.size else \
-            self.quantisation_N * self.moving[valid]
-        return {"quantum_m": self.quantum_m, "quantum_source": self.quantum_source,
-                "force_noise_N": self.force_noise_N, "current_noise_A": self.current_noise_A,
-                "force_noise_source": self.noise_source, "jitter_s": self.jitter_s,
-                "from_quantisation_N": float(np.sqrt(np.mean(pos**2))) if pos.size else 0.0,
-                "from_acceleration_quantisation_N":
-                    self.quantisation_N * float(np.sqrt(np.mean(self.moving[valid]))),
-                "from_force_noise_N": self.force_N,
-                "from_jitter_N": float(np.sqrt(np.mean(self.jitter_force[valid] ** 2))),
-                "rms_N": self.rms(valid)}
+        pos = (
+            self.position_force[valid]
+            if self.position_force.size
+            else self.quantisation_N * self.moving[valid]
+        )
+        return {
+            "quantum_m": self.quantum_m,
+            "quantum_source": self.quantum_source,
+            "force_noise_N": self.force_noise_N,
+            "current_noise_A": self.current_noise_A,
+            "force_noise_source": self.noise_source,
+            "jitter_s": self.jitter_s,
+            "from_quantisation_N": float(np.sqrt(np.mean(pos**2))) if pos.size else 0.0,
+            "from_acceleration_quantisation_N": self.quantisation_N
+            * float(np.sqrt(np.mean(self.moving[valid]))),
+            "from_force_noise_N": self.force_N,
+            "from_jitter_N": float(np.sqrt(np.mean(self.jitter_force[valid] ** 2))),
+            "rms_N": self.rms(valid),
+        }
 
 
 def position_quantum(x: np.ndarray) -> float:
@@ -172,8 +181,12 @@ def _mad_std(y: np.ndarray) -> float:
     return MAD_NORMAL * float(np.median(np.abs(y - np.median(y)))) if y.size else 0.0
 
 
-def force_noise(F: np.ndarray, window: int, polyorder: int = DEFAULT_POLYORDER,
-                command: np.ndarray | None = None) -> float:
+def force_noise(
+    F: np.ndarray,
+    window: int,
+    polyorder: int = DEFAULT_POLYORDER,
+    command: np.ndarray | None = None,
+) -> float:
     """Robust std of the white part of a signal (see module docstring).
 
     Parameters
@@ -194,9 +207,9 @@ def force_noise(F: np.ndarray, window: int, polyorder: int = DEFAULT_POLYORDER,
     if command is None or nb < 2:
         return _mad_std(hf) * scale
     hc, _ = _hf(np.asarray(command, dtype=float), w, polyorder)
-    act = np.array([np.sqrt(np.mean(hc[b * L:(b + 1) * L] ** 2)) for b in range(nb)])
-    keep = np.argsort(act, kind="stable")[:max(1, int(np.ceil(QUIET_SHARE * nb)))]
-    return float(np.median([_mad_std(hf[b * L:(b + 1) * L]) for b in keep])) * scale
+    act = np.array([np.sqrt(np.mean(hc[b * L : (b + 1) * L] ** 2)) for b in range(nb)])
+    keep = np.argsort(act, kind="stable")[: max(1, int(np.ceil(QUIET_SHARE * nb)))]
+    return float(np.median([_mad_std(hf[b * L : (b + 1) * L]) for b in keep])) * scale
 
 
 def raw_force(run: Run, P: PlantParameters, force_gain: float | None = None) -> np.ndarray:
@@ -212,9 +225,13 @@ def raw_force(run: Run, P: PlantParameters, force_gain: float | None = None) -> 
     return P.K_f(x) * P.current.current(u)
 
 
-def motor_force_noise(run: Run, P: PlantParameters, window: int,
-                      polyorder: int = DEFAULT_POLYORDER, force_gain: float | None = None
-                      ) -> tuple[float, float | None, str]:
+def motor_force_noise(
+    run: Run,
+    P: PlantParameters,
+    window: int,
+    polyorder: int = DEFAULT_POLYORDER,
+    force_gain: float | None = None,
+) -> tuple[float, float | None, str]:
     """(std of the motor-force noise the residual sees [N], s_i [A] or None, source)."""
     kf = float(np.median(P.K_f(np.asarray(run.x, dtype=float))))
     stated, on_stage = stated_current_noise(run)
@@ -222,8 +239,14 @@ def motor_force_noise(run: Run, P: PlantParameters, window: int,
     if run.i is not None:
         if stated is not None:
             if on_stage:
-                return 0.0, stated, ("sidecar sensors.current_noise, noise_on_stage: the "
-                                     "recorded current is the current that acted")
+                return (
+                    0.0,
+                    stated,
+                    (
+                        "sidecar sensors.current_noise, noise_on_stage: the "
+                        "recorded current is the current that acted"
+                    ),
+                )
             return kf * stated, stated, "sidecar sensors.current_noise"
         e = np.asarray(run.i, dtype=float) - P.current.current(u)
         s_i = force_noise(e, window, polyorder, command=u)
@@ -231,13 +254,20 @@ def motor_force_noise(run: Run, P: PlantParameters, window: int,
     if stated is not None:
         return kf * stated, stated, "sidecar sensors.current_noise (unmeasured force)"
     F = raw_force(run, P, force_gain)
-    return force_noise(F, window, polyorder, command=F), None, \
-        "data: the command's high-frequency part where it is quietest"
+    return (
+        force_noise(F, window, polyorder, command=F),
+        None,
+        "data: the command's high-frequency part where it is quietest",
+    )
 
 
-def position_noise_force(q: RunResidual, P: PlantParameters, quantum: float,
-                         polyorder: int = DEFAULT_POLYORDER, draws: int = POSITION_DRAWS
-                         ) -> np.ndarray:
+def position_noise_force(
+    q: RunResidual,
+    P: PlantParameters,
+    quantum: float,
+    polyorder: int = DEFAULT_POLYORDER,
+    draws: int = POSITION_DRAWS,
+) -> np.ndarray:
     """Per-sample std [N] of the residual from the position's rounding: the motion read by a
     scale whose grid is shifted by a random fraction of ``quantum`` (the smoothed measured
     position re-rounded), the acceleration and the model's friction re-computed, the motor
@@ -263,8 +293,9 @@ def position_noise_force(q: RunResidual, P: PlantParameters, quantum: float,
             F_f, _ = karnopp_friction(v, q.F_app, P.friction, DEFAULT_V_STICK, x)
         c = P.compliance
         if c.on:
-            load = c.m2 * (load_acceleration(a, q.Ts, c.f, c.zeta)
-                           - load_acceleration(q.a, q.Ts, c.f, c.zeta))
+            load = c.m2 * (
+                load_acceleration(a, q.Ts, c.f, c.zeta) - load_acceleration(q.a, q.Ts, c.f, c.zeta)
+            )
         d = eq1_residual(q.F_app, F_f, a, P.m, K) - load - q.r
         var += np.nan_to_num(d) ** 2 / (2.0 * draws)
     L = max(1, min(SMOOTH_WINDOWS * w, n))
@@ -279,8 +310,13 @@ def position_noise_force(q: RunResidual, P: PlantParameters, quantum: float,
     return np.minimum(sigma, cap)
 
 
-def noise_floor(run: Run, q: RunResidual, P: PlantParameters, force_gain: float | None = None,
-                polyorder: int = DEFAULT_POLYORDER) -> NoiseFloor:
+def noise_floor(
+    run: Run,
+    q: RunResidual,
+    P: PlantParameters,
+    force_gain: float | None = None,
+    polyorder: int = DEFAULT_POLYORDER,
+) -> NoiseFloor:
     """The noise floor of ``run`` whose residual with the model ``P`` is ``q``."""
     m = P.m
     w = len(q.K) + 2
@@ -290,17 +326,26 @@ def noise_floor(run: Run, q: RunResidual, P: PlantParameters, force_gain: float 
     quantum, src = run_quantum(run)
     s_f, s_i, nsrc = motor_force_noise(run, P, w, polyorder, force_gain)
     dt = np.diff(q.time)
-    jitter = MAD_NORMAL * float(np.median(np.abs(dt - np.median(dt)))) / np.sqrt(2.0) \
-        if dt.size else 0.0
+    jitter = (
+        MAD_NORMAL * float(np.median(np.abs(dt - np.median(dt)))) / np.sqrt(2.0) if dt.size else 0.0
+    )
     # moving by more than a step over the window: the rounding error changes there
     moving = np.abs(q.v) * w * q.Ts > quantum
     s_q = m * quantum / np.sqrt(12.0) * c_norm
     s_pos = position_noise_force(q, P, quantum, polyorder)
-    return NoiseFloor(quantum_m=quantum, quantum_source=src, force_noise_N=s_f, jitter_s=jitter,
-                      quantisation_N=float(s_q), force_N=float(s_f * K_norm), moving=moving,
-                      jitter_force=m * np.abs(q.v) * jitter * c_norm,
-                      position_force=s_pos,
-                      current_noise_A=s_i, noise_source=nsrc)
+    return NoiseFloor(
+        quantum_m=quantum,
+        quantum_source=src,
+        force_noise_N=s_f,
+        jitter_s=jitter,
+        quantisation_N=float(s_q),
+        force_N=float(s_f * K_norm),
+        moving=moving,
+        jitter_force=m * np.abs(q.v) * jitter * c_norm,
+        position_force=s_pos,
+        current_noise_A=s_i,
+        noise_source=nsrc,
+    )
 
 
 def floor_table(res: list[RunResidual], floors: list[NoiseFloor]) -> dict:
@@ -310,10 +355,16 @@ def floor_table(res: list[RunResidual], floors: list[NoiseFloor]) -> dict:
     names = list(dict.fromkeys(k for mk in masks for k in mk))
     regimes = {}
     for name in names:
-        sel = np.concatenate([mk.get(name, np.zeros(len(q.r), bool))[q.valid]
-                              for mk, q in zip(masks, res, strict=True)])
+        sel = np.concatenate(
+            [
+                mk.get(name, np.zeros(len(q.r), bool))[q.valid]
+                for mk, q in zip(masks, res, strict=True)
+            ]
+        )
         if sel.any():
             regimes[name] = float(np.sqrt(np.mean(s[sel] ** 2)))
-    return {"rms_N": float(np.sqrt(np.mean(s**2))),
-            "runs": {q.name: f.to_json(q.valid) for f, q in zip(floors, res, strict=True)},
-            "regimes_rms_N": regimes}
+    return {
+        "rms_N": float(np.sqrt(np.mean(s**2))),
+        "runs": {q.name: f.to_json(q.valid) for f, q in zip(floors, res, strict=True)},
+        "regimes_rms_N": regimes,
+    }

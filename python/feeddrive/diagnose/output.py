@@ -4,6 +4,7 @@
 Schema of diagnosis.json: see docs/diagnosis.md.  The HTML report
 with the plots is made by :func:`feeddrive.report.diagnosis.write_diagnosis`.
 """
+
 from __future__ import annotations
 
 import json
@@ -43,8 +44,9 @@ def write_files(diag: Diagnosis, out_dir: str | Path) -> dict:
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     doc = diagnosis_json(diag)
-    (out / "diagnosis.json").write_text(json.dumps(doc, indent=2, allow_nan=False) + "\n",
-                                        encoding="utf-8")
+    (out / "diagnosis.json").write_text(
+        json.dumps(doc, indent=2, allow_nan=False) + "\n", encoding="utf-8"
+    )
     save_model(diag.model_confirmed or diag.model, out / "model.json")
     save_model(diag.model, out / "model_all_fits.json")
     for k, st in enumerate(diag.steps, 1):

@@ -19,6 +19,7 @@ it identifies passes the FMU's parameter rules (``feeddrive.physics.compile``, r
 ModelFile it builds); a refused one keeps its message in ``refused`` and its in-sample
 improvement is -inf, so that neither the ranking nor the polish can pick it.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -31,8 +32,8 @@ from ..model_file import ModelFileError
 from .candidates import Variant
 from .context import Context
 
-I_MIN = 0.05      #: minimum held-out share of the residual energy a named effect must remove
-T_MIN = 2.5       #: minimum block t statistic (10 blocks: one-sided p ~ 0.017)
+I_MIN = 0.05  #: minimum held-out share of the residual energy a named effect must remove
+T_MIN = 2.5  #: minimum block t statistic (10 blocks: one-sided p ~ 0.017)
 AMBIGUITY = 0.10  #: candidates within this share of the best's improvement are not separated
 #: A block whose prediction energy is below this share of the strongest block's is left out
 #: of the t statistic (:func:`informative`).
@@ -44,14 +45,14 @@ class Score:
     """Held-out statistics of one variant."""
 
     variant: Variant
-    improvement: float          #: held-out fraction of residual energy removed
-    t: float                    #: t statistic of the per-block SSE reductions
-    sse_before: np.ndarray      #: per block
-    sse_after: np.ndarray       #: per block (held-out predictions)
+    improvement: float  #: held-out fraction of residual energy removed
+    t: float  #: t statistic of the per-block SSE reductions
+    sse_before: np.ndarray  #: per block
+    sse_after: np.ndarray  #: per block (held-out predictions)
     improvement_in_sample: float
-    theta: np.ndarray           #: fitted on all data
-    r_fit: np.ndarray           #: residual after the all-data fit (stacked)
-    r_heldout: np.ndarray       #: residual of the held-out predictions (stacked)
+    theta: np.ndarray  #: fitted on all data
+    r_fit: np.ndarray  #: residual after the all-data fit (stacked)
+    r_heldout: np.ndarray  #: residual of the held-out predictions (stacked)
     refused: str | None = None  #: why the identified model breaks a parameter rule
 
     @property
@@ -93,8 +94,9 @@ def _solve_gram(var: Variant, G: np.ndarray, c: np.ndarray, yy: float, n: int) -
 NUISANCE_SEEN = 0.01
 
 
-def _drop_unseen(Gt: np.ndarray, ct: np.ndarray, G: np.ndarray, k: int
-                 ) -> tuple[np.ndarray, np.ndarray]:
+def _drop_unseen(
+    Gt: np.ndarray, ct: np.ndarray, G: np.ndarray, k: int
+) -> tuple[np.ndarray, np.ndarray]:
     """Zero the rows and columns of the last ``k`` (nuisance) columns that the training
     blocks barely see, so that they are not extrapolated into the held-out block."""
     d, dt = np.diag(G), np.diag(Gt)
@@ -140,16 +142,30 @@ def score(ctx: Context, var: Variant) -> Score:
     r_fit = y - Phi @ theta
     d = ((sb - sa) / np.maximum(sb + sa, 1e-300))[informative(Phi @ theta, bounds)]
     sd = float(np.std(d, ddof=1)) if d.size > 1 else 0.0
-    t = float(np.mean(d) / (sd / np.sqrt(d.size))) if sd > 0 else \
-        (np.inf if d.size > 1 and np.mean(d) > 0 else 0.0)
+    t = (
+        float(np.mean(d) / (sd / np.sqrt(d.size)))
+        if sd > 0
+        else (np.inf if d.size > 1 and np.mean(d) > 0 else 0.0)
+    )
     tot = float(sb.sum())
     rr = float(r @ r)
     refused = admissible(var, theta)
-    return Score(variant=var, improvement=1.0 - float(sa.sum()) / tot if tot > 0 else 0.0,
-                 t=t, sse_before=sb, sse_after=sa,
-                 improvement_in_sample=-np.inf if refused else
-                 1.0 - float(r_fit @ r_fit) / rr if rr > 0 else 0.0,
-                 theta=theta, r_fit=r_fit, r_heldout=r_ho, refused=refused)
+    return Score(
+        variant=var,
+        improvement=1.0 - float(sa.sum()) / tot if tot > 0 else 0.0,
+        t=t,
+        sse_before=sb,
+        sse_after=sa,
+        improvement_in_sample=-np.inf
+        if refused
+        else 1.0 - float(r_fit @ r_fit) / rr
+        if rr > 0
+        else 0.0,
+        theta=theta,
+        r_fit=r_fit,
+        r_heldout=r_ho,
+        refused=refused,
+    )
 
 
 def informative(pred: np.ndarray, bounds: list[tuple[int, int]]) -> np.ndarray:

@@ -26,6 +26,7 @@ the noise floor (:func:`nested_separable`).
 The same two numbers decide the verdict (:func:`verdict`): the final residual's excess over
 the floor, ``sqrt(gap^2 - floor^2)``, below either gate is ``explained``.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -47,8 +48,8 @@ PRACTICAL_SHARE = 0.005
 class Gate:
     """The two absolute thresholds of a diagnosis [N]."""
 
-    floor_N: float                #: rms noise floor over all runs
-    level_N: float                #: the force level the practical share is taken of
+    floor_N: float  #: rms noise floor over all runs
+    level_N: float  #: the force level the practical share is taken of
     level_source: str
 
     @property
@@ -65,11 +66,15 @@ class Gate:
         return max(self.noise_threshold_N, self.practical_threshold_N)
 
     def to_json(self) -> dict:
-        return {"noise_factor": NOISE_FACTOR, "noise_threshold_N": self.noise_threshold_N,
-                "practical_share": PRACTICAL_SHARE, "level_N": self.level_N,
-                "level_source": self.level_source,
-                "practical_threshold_N": self.practical_threshold_N,
-                "threshold_N": self.threshold_N}
+        return {
+            "noise_factor": NOISE_FACTOR,
+            "noise_threshold_N": self.noise_threshold_N,
+            "practical_share": PRACTICAL_SHARE,
+            "level_N": self.level_N,
+            "level_source": self.level_source,
+            "practical_threshold_N": self.practical_threshold_N,
+            "threshold_N": self.threshold_N,
+        }
 
 
 def make_gate(model: ModelFile, res: list[RunResidual], floor_N: float) -> Gate:

@@ -7,6 +7,7 @@ residual, the rms noise floor and the excess over it ``sqrt(max(rms^2 - floor^2,
 The trend is the least-squares slope of the blocks' rms residual against the blocks' mid
 times [N/s], and the change from the first to the last block relative to the run's rms.
 """
+
 from __future__ import annotations
 
 from collections.abc import Sequence
@@ -20,7 +21,9 @@ from ..residual import RunResidual
 N_TIME_BLOCKS = 8
 
 
-def time_blocks(q: RunResidual, n_blocks: int = N_TIME_BLOCKS) -> list[tuple[float, float, np.ndarray]]:
+def time_blocks(
+    q: RunResidual, n_blocks: int = N_TIME_BLOCKS
+) -> list[tuple[float, float, np.ndarray]]:
     """(t_lo, t_hi, mask over the run's samples) of equal-duration blocks of the valid part."""
     t = np.asarray(q.time, dtype=float)
     tv = t[q.valid]
@@ -34,8 +37,9 @@ def time_blocks(q: RunResidual, n_blocks: int = N_TIME_BLOCKS) -> list[tuple[flo
     return out
 
 
-def run_time_axis(q: RunResidual, sigma: np.ndarray | None = None,
-                  n_blocks: int = N_TIME_BLOCKS) -> dict:
+def run_time_axis(
+    q: RunResidual, sigma: np.ndarray | None = None, n_blocks: int = N_TIME_BLOCKS
+) -> dict:
     """The time axis of one run (see the module docstring); ``sigma`` the per-sample noise
     floor [N] (no floor columns without it)."""
     rows = []
@@ -59,16 +63,24 @@ def run_time_axis(q: RunResidual, sigma: np.ndarray | None = None,
     return out
 
 
-def time_axis(res: Sequence[RunResidual], sigma: Sequence[np.ndarray] | None = None,
-              n_blocks: int = N_TIME_BLOCKS) -> dict:
+def time_axis(
+    res: Sequence[RunResidual],
+    sigma: Sequence[np.ndarray] | None = None,
+    n_blocks: int = N_TIME_BLOCKS,
+) -> dict:
     """Per run :func:`run_time_axis`, and the run whose residual changes most over its time
     (largest ``|change_first_to_last|``)."""
-    runs = {q.name: run_time_axis(q, None if sigma is None else sigma[j], n_blocks)
-            for j, q in enumerate(res)}
+    runs = {
+        q.name: run_time_axis(q, None if sigma is None else sigma[j], n_blocks)
+        for j, q in enumerate(res)
+    }
     ranked = [k for k in runs if "change_first_to_last" in runs[k]]
     top = max(ranked, key=lambda k: abs(runs[k]["change_first_to_last"])) if ranked else None
-    return {"runs": runs, "largest_change_run": top,
-            "largest_change": runs[top]["change_first_to_last"] if top else None}
+    return {
+        "runs": runs,
+        "largest_change_run": top,
+        "largest_change": runs[top]["change_first_to_last"] if top else None,
+    }
 
 
 def trend_text(ax: dict) -> str | None:
@@ -79,5 +91,7 @@ def trend_text(ax: dict) -> str | None:
         return None
     rows = ax["runs"][top]["blocks"]
     word = "grows" if ax["largest_change"] > 0 else "shrinks"
-    return (f"over run time the residual {word} ({top}: {rows[0]['rms_N']:.3g} N rms in the "
-            f"first time block, {rows[-1]['rms_N']:.3g} N in the last)")
+    return (
+        f"over run time the residual {word} ({top}: {rows[0]['rms_N']:.3g} N rms in the "
+        f"first time block, {rows[-1]['rms_N']:.3g} N in the last)"
+    )

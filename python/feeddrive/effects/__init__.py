@@ -3,6 +3,7 @@ exporting one :class:`~feeddrive.effects.effect.Effect` named ``EFFECT``, and th
 :data:`EFFECTS` in catalogue order.  Every other list of effects in the package is derived
 from it; docs/adding-an-effect.md gives the recipe for a new one.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -28,10 +29,20 @@ from .effect import Candidate, Effect, Identification, Parameter, resolve, switc
 
 #: Every effect of the catalogue, in catalogue order (the first nine are the paper's model).
 EFFECTS: tuple[Effect, ...] = (
-    current_dynamics.EFFECT, cogging_periodic.EFFECT, cogging_aperiodic.EFFECT,
-    ripple_periodic.EFFECT, ripple_aperiodic.EFFECT, stribeck.EFFECT, viscous.EFFECT,
-    prerolling.EFFECT, frictional_lag.EFFECT, mass.EFFECT, offset_force.EFFECT,
-    asymmetric_friction.EFFECT, position_friction.EFFECT, compliance.EFFECT,
+    current_dynamics.EFFECT,
+    cogging_periodic.EFFECT,
+    cogging_aperiodic.EFFECT,
+    ripple_periodic.EFFECT,
+    ripple_aperiodic.EFFECT,
+    stribeck.EFFECT,
+    viscous.EFFECT,
+    prerolling.EFFECT,
+    frictional_lag.EFFECT,
+    mass.EFFECT,
+    offset_force.EFFECT,
+    asymmetric_friction.EFFECT,
+    position_friction.EFFECT,
+    compliance.EFFECT,
 )
 #: Effect by id.
 BY_ID: dict[str, Effect] = {e.id: e for e in EFFECTS}
@@ -47,8 +58,9 @@ def effect(effect_id: str) -> Effect:
     try:
         return BY_ID[effect_id]
     except KeyError:
-        raise KeyError(f"{effect_id!r} is not an effect of the catalogue: allowed "
-                       + ", ".join(BY_ID)) from None
+        raise KeyError(
+            f"{effect_id!r} is not an effect of the catalogue: allowed " + ", ".join(BY_ID)
+        ) from None
 
 
 def effect_ids() -> list[str]:
@@ -77,6 +89,18 @@ def position_map_effects() -> dict[str, tuple[str, str]]:
     return {name: (p["periodic"], p["aperiodic"]) for name, p in parts.items()}
 
 
-__all__ = ["BY_ID", "Candidate", "EFFECTS", "Effect", "Identification", "Parameter",
-           "apply_switches", "effect", "effect_ids", "position_map_effects", "resolve",
-           "switchable", "switched_off"]
+__all__ = [
+    "BY_ID",
+    "Candidate",
+    "EFFECTS",
+    "Effect",
+    "Identification",
+    "Parameter",
+    "apply_switches",
+    "effect",
+    "effect_ids",
+    "position_map_effects",
+    "resolve",
+    "switchable",
+    "switched_off",
+]

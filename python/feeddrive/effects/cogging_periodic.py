@@ -1,20 +1,30 @@
 """Effect ``cogging_periodic``: the Fourier part of the cogging force F_cg(x), Eq. 6."""
+
 from __future__ import annotations
 
 from .effect import Candidate, Effect, Identification, Parameter
 
 EFFECT = Effect(
-    id="cogging_periodic", switch="effects.cogging_periodic", in_paper=True,
+    id="cogging_periodic",
+    switch="effects.cogging_periodic",
+    in_paper=True,
     description="Fourier part of F_cg(x) (magnet-pitch harmonics), Eq. 6",
-    parameters=(Parameter("cogging.lambda[j]", "m", "> 0 for a used harmonic slot"),
-                Parameter("cogging.a[j]", "N"), Parameter("cogging.b[j]", "N")),
+    parameters=(
+        Parameter("cogging.lambda[j]", "m", "> 0 for a used harmonic slot"),
+        Parameter("cogging.a[j]", "N"),
+        Parameter("cogging.b[j]", "N"),
+    ),
     physics="feeddrive.physics.position_maps:PositionMap",
     identification=Identification(
-        "maps", "feeddrive.identify.position_maps:identify_position_maps",
-        "DSTFT of F_cg(x) sampled by the constant-speed runs (Eqs. 3-5), harmonics fitted"),
-    candidate=Candidate("feeddrive.diagnose.candidates:cogging_periodic",
-                        ("cogging.lambda[j]", "cogging.a[j]", "cogging.b[j]"),
-                        "harmonics at <wavelengths> mm (extra: <new wavelengths> mm)"),
+        "maps",
+        "feeddrive.identify.position_maps:identify_position_maps",
+        "DSTFT of F_cg(x) sampled by the constant-speed runs (Eqs. 3-5), harmonics fitted",
+    ),
+    candidate=Candidate(
+        "feeddrive.diagnose.candidates:cogging_periodic",
+        ("cogging.lambda[j]", "cogging.a[j]", "cogging.b[j]"),
+        "harmonics at <wavelengths> mm (extra: <new wavelengths> mm)",
+    ),
     report=("figures: DSTFT of F_cg(x), its components, sampled and fitted F_cg(x)",),
     position_map=("cogging", "periodic"),
     off=(("cogging.a[j]", 0.0), ("cogging.b[j]", 0.0)),

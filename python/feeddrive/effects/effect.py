@@ -6,6 +6,7 @@ parts (its physics term, its identification, its diagnosis candidate) by a refer
 ``"module:attribute"`` (dotted attributes allowed) that :func:`resolve` imports; a test
 resolves every reference of the registry, so none can go stale.
 """
+
 from __future__ import annotations
 
 import importlib
@@ -90,13 +91,17 @@ class Effect:
 
     def __post_init__(self) -> None:
         if self.switch is not None and self.switch != f"effects.{self.id}":
-            raise ValueError(f"effect {self.id}: switch {self.switch!r}, allowed "
-                             f"'effects.{self.id}' or None")
+            raise ValueError(
+                f"effect {self.id}: switch {self.switch!r}, allowed 'effects.{self.id}' or None"
+            )
         if self.position_map is not None and (
-                self.position_map[0] not in ("cogging", "ripple")
-                or self.position_map[1] not in ("periodic", "aperiodic")):
-            raise ValueError(f"effect {self.id}: position_map {self.position_map!r}, allowed "
-                             "(cogging|ripple, periodic|aperiodic)")
+            self.position_map[0] not in ("cogging", "ripple")
+            or self.position_map[1] not in ("periodic", "aperiodic")
+        ):
+            raise ValueError(
+                f"effect {self.id}: position_map {self.position_map!r}, allowed "
+                "(cogging|ripple, periodic|aperiodic)"
+            )
 
     @property
     def switchable(self) -> bool:
@@ -114,7 +119,9 @@ def _slots(name: str, values: Mapping[str, object]) -> list[str]:
     if not name.endswith("[j]"):
         return [name]
     stem = name[:-2]
-    return [k for k in values if k.startswith(stem) and k.endswith("]") and k[len(stem):-1].isdigit()]
+    return [
+        k for k in values if k.startswith(stem) and k.endswith("]") and k[len(stem) : -1].isdigit()
+    ]
 
 
 def switched_off(values: Mapping[str, Any], effects: Iterable[Effect]) -> dict[str, Any]:

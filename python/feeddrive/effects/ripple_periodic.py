@@ -1,20 +1,30 @@
 """Effect ``ripple_periodic``: the Fourier part of the force constant K_f(x), Eq. 7."""
+
 from __future__ import annotations
 
 from .effect import Candidate, Effect, Identification, Parameter
 
 EFFECT = Effect(
-    id="ripple_periodic", switch="effects.ripple_periodic", in_paper=True,
+    id="ripple_periodic",
+    switch="effects.ripple_periodic",
+    in_paper=True,
     description="Fourier part of K_f(x), Eq. 7",
-    parameters=(Parameter("ripple.lambda[j]", "m", "> 0 for a used harmonic slot"),
-                Parameter("ripple.a[j]", "N/A"), Parameter("ripple.b[j]", "N/A")),
+    parameters=(
+        Parameter("ripple.lambda[j]", "m", "> 0 for a used harmonic slot"),
+        Parameter("ripple.a[j]", "N/A"),
+        Parameter("ripple.b[j]", "N/A"),
+    ),
     physics="feeddrive.physics.position_maps:PositionMap",
     identification=Identification(
-        "maps", "feeddrive.identify.position_maps:identify_position_maps",
-        "DSTFT of K_f(x) sampled by constant-speed runs at two loads (Eqs. 3-5), harmonics fitted"),
-    candidate=Candidate("feeddrive.diagnose.candidates:ripple_periodic",
-                        ("ripple.lambda[j]", "ripple.a[j]", "ripple.b[j]"),
-                        "harmonics at <wavelengths> mm (extra: <new wavelengths> mm)"),
+        "maps",
+        "feeddrive.identify.position_maps:identify_position_maps",
+        "DSTFT of K_f(x) sampled by constant-speed runs at two loads (Eqs. 3-5), harmonics fitted",
+    ),
+    candidate=Candidate(
+        "feeddrive.diagnose.candidates:ripple_periodic",
+        ("ripple.lambda[j]", "ripple.a[j]", "ripple.b[j]"),
+        "harmonics at <wavelengths> mm (extra: <new wavelengths> mm)",
+    ),
     report=("figures: DSTFT of K_f(x), its components, sampled and fitted K_f(x)",),
     position_map=("ripple", "periodic"),
     off=(("ripple.a[j]", 0.0), ("ripple.b[j]", 0.0)),

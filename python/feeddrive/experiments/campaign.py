@@ -18,6 +18,7 @@ Each job's noise seed is derived from the campaign seed and the job's label.
 (seed, label, k), so repeat 0 is the campaign without repeats); the file stems then end in
 ``_r1`` ... ``_rK``.  Repeats are what the identification bootstrap resamples.
 """
+
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
@@ -48,8 +49,14 @@ from .prerolling_excitation import prerolling_runs
 from .variable_speed import variable_speed_runs
 
 #: The groups of the campaign, in the order they are run.
-GROUPS: tuple[str, ...] = ("prbs", "cogging_ripple", "stribeck", "force_open_loop",
-                           "variable_speed", "prerolling")
+GROUPS: tuple[str, ...] = (
+    "prbs",
+    "cogging_ripple",
+    "stribeck",
+    "force_open_loop",
+    "variable_speed",
+    "prerolling",
+)
 
 Job = tuple[str, str, Callable[[Mapping[str, Any], Sensors], list[Run]]]
 #: Most repeats of one campaign (each is a whole campaign of runs).
@@ -68,38 +75,77 @@ def plan(quick: bool = False) -> list[Job]:
         jobs.append(("prbs", "prbs", partial(prbs_runs, periods=1)))
     else:
         jobs.append(("prbs", "prbs", partial(prbs_runs, periods=4)))
-    cv_segment = (0.148, 0.152) if quick else None          # None: the whole stroke
+    cv_segment = (0.148, 0.152) if quick else None  # None: the whole stroke
     cv_speed = PAPER_SPEED if quick else MAP_SPEED
     for P in PAPER_LOADS:
         for d in (1, -1):
-            jobs.append(("cogging_ripple", f"cogging_ripple_P{P:g}_d{d:+d}",
-                         partial(constant_speed_runs, speeds=(cv_speed,), loads=(P,),
-                                 directions=(d,), segment=cv_segment)))
+            jobs.append(
+                (
+                    "cogging_ripple",
+                    f"cogging_ripple_P{P:g}_d{d:+d}",
+                    partial(
+                        constant_speed_runs,
+                        speeds=(cv_speed,),
+                        loads=(P,),
+                        directions=(d,),
+                        segment=cv_segment,
+                    ),
+                )
+            )
     speeds = (2e-3, 20e-3) if quick else STRIBECK_SPEEDS
     kw: dict[str, Any] = {"cruise_time": 2.0, "min_length": 4e-3} if quick else {}
     for v in speeds:
         for d in (1, -1):
-            jobs.append(("stribeck", f"stribeck_{v * 1e3:g}mm_s_d{d:+d}",
-                         partial(stribeck_runs, speeds=(v,), directions=(d,), **kw)))
-    jobs.append(("force_open_loop", "force_open_loop",
-                 partial(force_open_loop_runs, n_periods=5 if quick else 10)))
-    jobs.append(("variable_speed", "variable_speed",
-                 partial(variable_speed_runs, duration=2.0 if quick else None)))
-    pr: dict[str, Any] = {"period": 2.0, "n_periods": 2.0} if quick else {"period": 4.0, "n_periods": 3.0}
+            jobs.append(
+                (
+                    "stribeck",
+                    f"stribeck_{v * 1e3:g}mm_s_d{d:+d}",
+                    partial(stribeck_runs, speeds=(v,), directions=(d,), **kw),
+                )
+            )
+    jobs.append(
+        (
+            "force_open_loop",
+            "force_open_loop",
+            partial(force_open_loop_runs, n_periods=5 if quick else 10),
+        )
+    )
+    jobs.append(
+        (
+            "variable_speed",
+            "variable_speed",
+            partial(variable_speed_runs, duration=2.0 if quick else None),
+        )
+    )
+    pr: dict[str, Any] = (
+        {"period": 2.0, "n_periods": 2.0} if quick else {"period": 4.0, "n_periods": 3.0}
+    )
     for A in PREROLLING_AMPLITUDES:
-        jobs.append(("prerolling", f"prerolling_A{A * 1e6:g}um",
-                     partial(prerolling_runs, amplitudes=(A,), **pr)))
+        jobs.append(
+            (
+                "prerolling",
+                f"prerolling_A{A * 1e6:g}um",
+                partial(prerolling_runs, amplitudes=(A,), **pr),
+            )
+        )
     return jobs
 
 
 def _check_repeats(repeats: int) -> int:
     if isinstance(repeats, bool) or not isinstance(repeats, int) or not 1 <= repeats <= MAX_REPEATS:
-        raise ValueError(f"campaign: repeats must be an integer in [1, {MAX_REPEATS}], got {repeats!r}")
+        raise ValueError(
+            f"campaign: repeats must be an integer in [1, {MAX_REPEATS}], got {repeats!r}"
+        )
     return repeats
 
 
-def campaign(params: Mapping[str, Any], sensors: Sensors, quick: bool = False,
-             repeats: int = 1, progress: bool | None = None) -> dict[str, list[Run]]:
+def campaign(
+    params: Mapping[str, Any],
+    sensors: Sensors,
+    quick: bool = False,
+    repeats: int = 1,
+    progress: bool | None = None,
+) -> dict[str, list[Run]]:
     """Run every experiment on the plant ``params`` (FMU parameters, SI).
 
     Parameters
@@ -117,9 +163,12 @@ def campaign(params: Mapping[str, Any], sensors: Sensors, quick: bool = False,
     _check_repeats(repeats)
     out: dict[str, list[Run]] = {g: [] for g in GROUPS}
     jobs = [(g, label, fn, k) for g, label, fn in plan(quick) for k in range(repeats)]
-    for group, label, fn, k in tqdm(jobs, desc="experiments", unit="run",
-                                    disable=(True if quick else None) if progress is None
-                                    else not progress):
+    for group, label, fn, k in tqdm(
+        jobs,
+        desc="experiments",
+        unit="run",
+        disable=(True if quick else None) if progress is None else not progress,
+    ):
         keys = (label,) if k == 0 else (label, k)
         runs = fn(params, replace(sensors, seed=run_seed(sensors.seed, *keys)))
         if repeats > 1:
@@ -139,14 +188,22 @@ def _parameters(model: Path | str | ModelFile | Mapping[str, Any] | None) -> dic
         return load_model(model).fmu_parameters()
     if isinstance(model, Mapping):
         return dict(model)
-    raise TypeError(f"write_campaign: model must be a path, a ModelFile, a mapping of FMU "
-                    f"parameters or None, got {type(model).__name__}")
+    raise TypeError(
+        f"write_campaign: model must be a path, a ModelFile, a mapping of FMU "
+        f"parameters or None, got {type(model).__name__}"
+    )
 
 
-def write_campaign(out_dir: Path, model: Path | ModelFile | Mapping[str, Any] | None = None,
-                   seed: int = 1, quick: bool = False, force: bool = False,
-                   repeats: int = 1, progress: bool | None = None,
-                   fmt: str = "csv.gz") -> list[Path]:
+def write_campaign(
+    out_dir: Path,
+    model: Path | ModelFile | Mapping[str, Any] | None = None,
+    seed: int = 1,
+    quick: bool = False,
+    force: bool = False,
+    repeats: int = 1,
+    progress: bool | None = None,
+    fmt: str = "csv.gz",
+) -> list[Path]:
     """Run the campaign on ``model`` (default: the paper's) and write every run.
 
     Parameters
@@ -172,8 +229,9 @@ def write_campaign(out_dir: Path, model: Path | ModelFile | Mapping[str, Any] | 
     out_dir = Path(out_dir)
     inputs = (model,) if isinstance(model, (str, Path)) else ()
     with output_dir(out_dir, inputs, force, what="experiments") as stage:
-        runs = campaign(params, Sensors(seed=int(seed)), quick=quick, repeats=repeats,
-                        progress=progress)
+        runs = campaign(
+            params, Sensors(seed=int(seed)), quick=quick, repeats=repeats, progress=progress
+        )
         names: list[str] = []
         for group in GROUPS:
             for run in runs[group]:

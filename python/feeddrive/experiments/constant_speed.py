@@ -14,6 +14,7 @@ dwell at rest and the acceleration ramps are in the record (identification crops
 Also :func:`closed_loop_measurement`, the one closed-loop virtual measurement that the other
 closed-loop experiments (PRBS, variable speed, pre-rolling) share.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
@@ -36,20 +37,37 @@ PAPER_SPEED: float = 1e-3
 #: cruise instead of 290 s, and the maps identify within the same tolerances.
 MAP_SPEED: float = 20e-3
 #: Default speeds of the Stribeck runs [m/s] (unloaded, each over at least one magnet pitch).
-STRIBECK_SPEEDS: tuple[float, ...] = (0.3e-3, 0.6e-3, 1e-3, 2e-3, 4e-3, 8e-3, 15e-3, 30e-3,
-                                      60e-3, 120e-3)
+STRIBECK_SPEEDS: tuple[float, ...] = (
+    0.3e-3,
+    0.6e-3,
+    1e-3,
+    2e-3,
+    4e-3,
+    8e-3,
+    15e-3,
+    30e-3,
+    60e-3,
+    120e-3,
+)
+
+
 def _tag(speed: float, direction: int, P: float) -> str:
     sign = "p" if direction > 0 else "m"
     return f"cv_{sign}{speed * 1e3:g}mm_s_P{P:g}"
 
 
-def constant_speed_runs(params: Mapping[str, Any], sensors: Sensors,
-                        speeds: Sequence[float] = (PAPER_SPEED,),
-                        loads: Sequence[float] = (0.0,),
-                        segment: tuple[float, float] | None = None,
-                        directions: Sequence[int] = (1, -1), accel: float = 0.5,
-                        dwell: float = 0.5, spec: Mapping[str, Any] | None = None,
-                        Ts: float | None = None) -> list[Run]:
+def constant_speed_runs(
+    params: Mapping[str, Any],
+    sensors: Sensors,
+    speeds: Sequence[float] = (PAPER_SPEED,),
+    loads: Sequence[float] = (0.0,),
+    segment: tuple[float, float] | None = None,
+    directions: Sequence[int] = (1, -1),
+    accel: float = 0.5,
+    dwell: float = 0.5,
+    spec: Mapping[str, Any] | None = None,
+    Ts: float | None = None,
+) -> list[Run]:
     """Closed-loop trapezoid runs at each |speed|, load and direction.
 
     Parameters
@@ -80,9 +98,16 @@ def constant_speed_runs(params: Mapping[str, Any], sensors: Sensors,
                 x0, x1 = (lo, hi) if d > 0 else (hi, lo)
                 ref = point_to_point(x0, x1, float(v), accel, dwell=dwell, Ts=Ts)
                 name = _tag(float(v), d, float(P))
-                meta = {"name": name, "kind": "constant_speed", "speed": float(v),
-                        "direction": int(d), "P": float(P), "segment": [float(x0), float(x1)],
-                        "accel": float(accel), "dwell": float(dwell)}
+                meta = {
+                    "name": name,
+                    "kind": "constant_speed",
+                    "speed": float(v),
+                    "direction": int(d),
+                    "P": float(P),
+                    "segment": [float(x0), float(x1)],
+                    "accel": float(accel),
+                    "dwell": float(dwell),
+                }
                 s = replace(sensors, seed=run_seed(sensors.seed, len(runs)))
                 runs.append(closed_loop_measurement(params, s, ref, meta, spec, F_load=P))
     return runs
@@ -93,22 +118,34 @@ def _default_segment(params: Mapping[str, Any]) -> tuple[float, float]:
     return x_min + STROKE_MARGIN, x_max - STROKE_MARGIN
 
 
-def cogging_ripple_runs(params: Mapping[str, Any], sensors: Sensors, speed: float = PAPER_SPEED,
-                        loads: Sequence[float] = PAPER_LOADS,
-                        segment: tuple[float, float] | None = None, **options: Any) -> list[Run]:
+def cogging_ripple_runs(
+    params: Mapping[str, Any],
+    sensors: Sensors,
+    speed: float = PAPER_SPEED,
+    loads: Sequence[float] = PAPER_LOADS,
+    segment: tuple[float, float] | None = None,
+    **options: Any,
+) -> list[Run]:
     """The paper's six ripple/cogging runs: +-``speed`` with each load (Eqs. 4, 5).
 
     ``segment`` defaults to the whole stroke less 5 mm at each end (300 s per run at
     1 mm/s); other options go to :func:`constant_speed_runs`.
     """
-    return constant_speed_runs(params, sensors, speeds=(speed,), loads=loads, segment=segment,
-                               **options)
+    return constant_speed_runs(
+        params, sensors, speeds=(speed,), loads=loads, segment=segment, **options
+    )
 
 
-def stribeck_runs(params: Mapping[str, Any], sensors: Sensors,
-                  speeds: Sequence[float] = STRIBECK_SPEEDS, cruise_time: float = 60.0,
-                  min_length: float = 0.0375, max_length: float = 0.24,
-                  centre: float | None = None, **options: Any) -> list[Run]:
+def stribeck_runs(
+    params: Mapping[str, Any],
+    sensors: Sensors,
+    speeds: Sequence[float] = STRIBECK_SPEEDS,
+    cruise_time: float = 60.0,
+    min_length: float = 0.0375,
+    max_length: float = 0.24,
+    centre: float | None = None,
+    **options: Any,
+) -> list[Run]:
     """Unloaded constant-speed runs in both directions at each speed (Eq. 13).
 
     Each speed's segment is centred on ``centre`` (default mid-stroke) with length
@@ -123,6 +160,7 @@ def stribeck_runs(params: Mapping[str, Any], sensors: Sensors,
         half = 0.5 * float(np.clip(v * cruise_time, min_length, max_length)) + v**2 / (2 * accel)
         lo, hi = max(c - half, x_min + STROKE_MARGIN), min(c + half, x_max - STROKE_MARGIN)
         s = replace(sensors, seed=run_seed(sensors.seed, "stribeck", j))
-        runs += constant_speed_runs(params, s, speeds=(v,), loads=(0.0,), segment=(lo, hi),
-                                    **options)
+        runs += constant_speed_runs(
+            params, s, speeds=(v,), loads=(0.0,), segment=(lo, hi), **options
+        )
     return runs

@@ -9,6 +9,7 @@ Layout of ``DIR``::
 Numbers carry the digits the signals have: time to the sample time's decimals, positions
 to 1e-10 m, voltages to 1e-7 V (trailing zeros dropped).
 """
+
 from __future__ import annotations
 
 import json
@@ -53,8 +54,14 @@ def reference_csv(columns: Mapping[str, np.ndarray], Ts: float) -> str:
     return ",".join(names) + "\n" + "".join(",".join(row) + "\n" for row in zip(*cols, strict=True))
 
 
-def write_plan(plan: Plan, out: str | Path, source: str, inputs: Sequence[str | Path] = (),
-               force: bool = False, html: bool = False) -> int:
+def write_plan(
+    plan: Plan,
+    out: str | Path,
+    source: str,
+    inputs: Sequence[str | Path] = (),
+    force: bool = False,
+    html: bool = False,
+) -> int:
     """Write ``plan`` into the folder ``out`` (replaced as a whole, see
     :func:`feeddrive.outputs.output_dir`); returns the bytes written."""
     with output_dir(Path(out), inputs, force, what="plan") as stage:
@@ -73,10 +80,13 @@ def write_plan(plan: Plan, out: str | Path, source: str, inputs: Sequence[str | 
         (stage / "plan.md").write_text(page, encoding="utf-8")
         if html:
             import markdown
+
             body = markdown.markdown(page, extensions=["tables", "fenced_code"])
-            doc = ("<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>"
-                   f"Identification plan: {plan.model_name}</title></head><body>\n{body}\n"
-                   "</body></html>\n")
+            doc = (
+                '<!DOCTYPE html>\n<html><head><meta charset="utf-8"><title>'
+                f"Identification plan: {plan.model_name}</title></head><body>\n{body}\n"
+                "</body></html>\n"
+            )
             (stage / "plan.html").write_text(doc, encoding="utf-8")
             size += len(doc.encode())
     return size
@@ -90,17 +100,25 @@ def _controller(path: str | Path) -> dict[str, Any] | None:
     except json.JSONDecodeError as e:
         raise PlanError(f"--controller: {path}: line {e.lineno}: not JSON ({e.msg})") from None
     if spec is not None and not isinstance(spec, dict):
-        raise PlanError(f"--controller: {path}: must hold a JSON object (a controller spec "
-                        "with a 'type') or null")
+        raise PlanError(
+            f"--controller: {path}: must hold a JSON object (a controller spec "
+            "with a 'type') or null"
+        )
     return spec
 
 
-def plan_command(out: str | Path, model: str | Path | None = None,
-                 controller: str | Path | None = None,
-                 stroke: Sequence[float] | None = None, v_max: float | None = None,
-                 a_max: float | None = None, u_limit: float | None = None,
-                 loads: Sequence[float] | None = None, force: bool = False,
-                 html: bool = False) -> tuple[Plan, int]:
+def plan_command(
+    out: str | Path,
+    model: str | Path | None = None,
+    controller: str | Path | None = None,
+    stroke: Sequence[float] | None = None,
+    v_max: float | None = None,
+    a_max: float | None = None,
+    u_limit: float | None = None,
+    loads: Sequence[float] | None = None,
+    force: bool = False,
+    html: bool = False,
+) -> tuple[Plan, int]:
     """What ``feeddrive plan`` does: the plan for the model file (default the paper's) and
     the limits given, written to ``out``; returns the plan and the bytes written."""
     mf: ModelFile = paper_model() if model is None else load_model(model)
@@ -108,16 +126,18 @@ def plan_command(out: str | Path, model: str | Path | None = None,
     limits = default_limits(mf, stroke, v_max, a_max, u_limit, loads)
     plan = make_plan(mf, limits, spec)
     source = "the paper's model" if model is None else f"the model file {Path(model).name}"
-    size = write_plan(plan, out, source, [p for p in (model, controller) if p is not None],
-                      force=force, html=html)
+    size = write_plan(
+        plan, out, source, [p for p in (model, controller) if p is not None], force=force, html=html
+    )
     return plan, size
 
 
 def summary(plan: Plan, out: str | Path, size: int) -> str:
     """What the command prints: runs, duration, size, what is not identifiable."""
-    L = [f"wrote {len(plan.runs)} runs ({plan.duration / 60:.1f} min of reference, "
-         f"{size / 1e6:.1f} MB) and plan.md to {out}"]
+    L = [
+        f"wrote {len(plan.runs)} runs ({plan.duration / 60:.1f} min of reference, "
+        f"{size / 1e6:.1f} MB) and plan.md to {out}"
+    ]
     L += [f"not identifiable with these limits: {k}: {v}" for k, v in plan.not_identified.items()]
     L += [f"note: {n}" for n in plan.notes]
     return "\n".join(L)
-

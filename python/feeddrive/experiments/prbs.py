@@ -7,6 +7,7 @@ controller's output for ``periods`` full periods.  The recorded
 ``u`` is the total voltage applied to the amplifier (controller + PRBS), ``i`` the measured
 current; the current loop's response to the PRBS is what Eq. 2 is fitted to.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -26,10 +27,17 @@ def prbs_sequence(order: int = 11, amplitude: float = 0.3, periods: int = 1) -> 
     return prbs(order, amplitude=amplitude, periods=periods)
 
 
-def prbs_runs(params: Mapping[str, Any], sensors: Sensors, order: int = 11,
-              amplitude: float = 0.3, periods: int = 2, settle: float = 0.1,
-              position: float | None = None, spec: Mapping[str, Any] | None = None,
-              Ts: float | None = None) -> list[Run]:
+def prbs_runs(
+    params: Mapping[str, Any],
+    sensors: Sensors,
+    order: int = 11,
+    amplitude: float = 0.3,
+    periods: int = 2,
+    settle: float = 0.1,
+    position: float | None = None,
+    spec: Mapping[str, Any] | None = None,
+    Ts: float | None = None,
+) -> list[Run]:
     """One closed-loop position-hold run with a PRBS on u.
 
     Parameters
@@ -48,12 +56,19 @@ def prbs_runs(params: Mapping[str, Any], sensors: Sensors, order: int = 11,
     x0 = 0.5 * (x_min + x_max) if position is None else float(position)
     seq = prbs_sequence(order, amplitude, periods)
     k0 = int(round(settle / Ts))
-    u_ff = np.concatenate([np.zeros(k0), seq, [0.0]])     # row n: the PRBS has ended
+    u_ff = np.concatenate([np.zeros(k0), seq, [0.0]])  # row n: the PRBS has ended
     n = len(u_ff) - 1
     ref = Reference(Ts, np.full(n + 1, x0), np.zeros(n + 1), np.zeros(n + 1))
-    meta = {"name": "prbs", "kind": "prbs", "position": x0, "order": int(order),
-            "amplitude": float(amplitude), "periods": int(periods), "prbs_start": k0,
-            "prbs_period": 2**int(order) - 1,
-            "note": "u is the total applied voltage: controller output plus the PRBS"}
+    meta = {
+        "name": "prbs",
+        "kind": "prbs",
+        "position": x0,
+        "order": int(order),
+        "amplitude": float(amplitude),
+        "periods": int(periods),
+        "prbs_start": k0,
+        "prbs_period": 2 ** int(order) - 1,
+        "note": "u is the total applied voltage: controller output plus the PRBS",
+    }
     run = closed_loop_measurement(params, sensors, ref, meta, spec, u_ff=u_ff)
     return [run]

@@ -11,6 +11,7 @@ lies too close to the end of the 120 um travel to be placed), and with 30 um the
 and 95 um are never reached (Delta = 3.8, 4.9, 8.9, 22.5, 110 um; paper: 3.85, 8.99, 36.4,
 47.3, 113 um).
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
@@ -26,10 +27,16 @@ from .recording import closed_loop_measurement, run_seed, stroke
 AMPLITUDES: tuple[float, ...] = (80e-6, 0.5e-3)
 
 
-def prerolling_runs(params: Mapping[str, Any], sensors: Sensors,
-                    amplitudes: Sequence[float] = AMPLITUDES, period: float = 4.0,
-                    n_periods: float = 3.0, centre: float | None = None,
-                    spec: Mapping[str, Any] | None = None, Ts: float | None = None) -> list[Run]:
+def prerolling_runs(
+    params: Mapping[str, Any],
+    sensors: Sensors,
+    amplitudes: Sequence[float] = AMPLITUDES,
+    period: float = 4.0,
+    n_periods: float = 3.0,
+    centre: float | None = None,
+    spec: Mapping[str, Any] | None = None,
+    Ts: float | None = None,
+) -> list[Run]:
     """One closed-loop sinusoid run per amplitude.
 
     Parameters
@@ -48,9 +55,15 @@ def prerolling_runs(params: Mapping[str, Any], sensors: Sensors,
         if not A > 0:
             raise ValueError(f"prerolling_runs: amplitude {A!r} must be > 0")
         ref = sinusoid(float(A), period, c, n_periods * period, Ts=Ts)
-        meta = {"name": f"prerolling_A{A * 1e6:g}um", "kind": "prerolling",
-                "amplitude": float(A), "period": float(period), "n_periods": float(n_periods),
-                "centre": c, "reference": "x_ref = centre - amplitude cos(2 pi t / period)"}
+        meta = {
+            "name": f"prerolling_A{A * 1e6:g}um",
+            "kind": "prerolling",
+            "amplitude": float(A),
+            "period": float(period),
+            "n_periods": float(n_periods),
+            "centre": c,
+            "reference": "x_ref = centre - amplitude cos(2 pi t / period)",
+        }
         s = replace(sensors, seed=run_seed(sensors.seed, j))
         runs.append(closed_loop_measurement(params, s, ref, meta, spec))
     return runs

@@ -1,6 +1,7 @@
 """How a virtual experiment is recorded: an unrecorded settling hold, the closed loop run one
 sample past the record, the sensors' effects, the sidecar meta; helpers shared by every
 experiment (stroke limits, per-run seeds)."""
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -28,15 +29,22 @@ def stroke(params: Mapping[str, Any]) -> tuple[float, float]:
 
 def run_seed(seed: int, *keys: int | str) -> int:
     """A reproducible 32-bit seed for one run, derived from an experiment's seed and keys."""
-    ints = [int(seed)] + [k if isinstance(k, int) else int.from_bytes(k.encode(), "little")
-                          for k in keys]
+    ints = [int(seed)] + [
+        k if isinstance(k, int) else int.from_bytes(k.encode(), "little") for k in keys
+    ]
     return int(np.random.SeedSequence(ints).generate_state(1)[0])
 
 
-def closed_loop_measurement(params: Mapping[str, Any], sensors: Sensors, ref: Reference,
-                            meta: Mapping[str, Any], spec: Mapping[str, Any] | None = None,
-                            F_load: float = 0.0, u_ff: np.ndarray | None = None,
-                            hold: float = HOLD) -> Run:
+def closed_loop_measurement(
+    params: Mapping[str, Any],
+    sensors: Sensors,
+    ref: Reference,
+    meta: Mapping[str, Any],
+    spec: Mapping[str, Any] | None = None,
+    F_load: float = 0.0,
+    u_ff: np.ndarray | None = None,
+    hold: float = HOLD,
+) -> Run:
     """One virtual closed-loop measurement as a recording.
 
     The drive first holds ``ref.x[0]`` (with the load hung) for ``hold`` seconds, which is
@@ -70,8 +78,15 @@ def closed_loop_measurement(params: Mapping[str, Any], sensors: Sensors, ref: Re
     full = Reference(ref.Ts, x_full, v_full, a_full)
     uff = None if u_ff is None else np.concatenate([np.zeros(k0), np.asarray(u_ff, float)])
     res = run_closed_loop(params, spec, full, u_ff=uff, sensors=sensors, F_ext=float(F_load))
-    m = build_sidecar(str(meta.get("kind", "closed_loop")), ref.Ts, spec, sensors,
-                      F_load=float(F_load), hold_before_record=k0 * ref.Ts, **meta)
+    m = build_sidecar(
+        str(meta.get("kind", "closed_loop")),
+        ref.Ts,
+        spec,
+        sensors,
+        F_load=float(F_load),
+        hold_before_record=k0 * ref.Ts,
+        **meta,
+    )
     run = to_run(sampled_signals(res), sensors, x_ref=full.x[:-1], F_load=float(F_load), meta=m)
     cols: dict[str, Any] = {c: a[k0:] for c, a in run.columns().items()}
     cols["time"] = cols["time"] - cols["time"][0]
@@ -85,7 +100,9 @@ def sampled_signals(res: Mapping[str, np.ndarray]) -> dict[str, np.ndarray]:
     current is only a repeat of the one before (its sample lies beyond the simulation), so
     the run keeps rows 0..n-1 of time, u, x and i.
     """
-    return {"time": np.asarray(res["time"])[:-1], "u": np.asarray(res["u"])[:-1],
-            "x": np.asarray(res["x"])[:-1], "i": np.asarray(res["i"])[:-1]}
-
-
+    return {
+        "time": np.asarray(res["time"])[:-1],
+        "u": np.asarray(res["u"])[:-1],
+        "x": np.asarray(res["x"])[:-1],
+        "i": np.asarray(res["i"])[:-1],
+    }

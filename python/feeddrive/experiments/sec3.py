@@ -2,6 +2,7 @@
 simulations of the full model, the model without aperiodic cogging and the model with static
 friction instead of GMS.  The "measurement" is the full model with sensor effects (100 nm
 quantisation, real current noise, fixed seed), written as a recording."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -32,8 +33,10 @@ class Sec3Result:
     top_reversal: int = 0
 
     def table(self) -> str:
-        lines = ["Sec. 3 (Fig. 14): 30 mm / 6 s sinusoid, simulation vs 'measurement'",
-                 f"{'model':34s} {'top-reversal peak |x_sim - x_meas| [um]':>40s} {'rms over run [um]':>18s}"]
+        lines = [
+            "Sec. 3 (Fig. 14): 30 mm / 6 s sinusoid, simulation vs 'measurement'",
+            f"{'model':34s} {'top-reversal peak |x_sim - x_meas| [um]':>40s} {'rms over run [um]':>18s}",
+        ]
         for r in self.rows:
             lines.append(f"{r['model']:34s} {r['reversal_peak_um']:40.2f} {r['rms_um']:18.2f}")
         return "\n".join(lines)
@@ -44,8 +47,16 @@ def reproduce(out_dir: Path | None = None, seed: int = 3, window: float = 0.3) -
     ref = sinusoid(AMPLITUDE, PERIOD, CENTRE, PERIOD)
     truth = paper_parameters()
     spec = state_space_spec()
-    run, _ = closed_loop_run(truth, spec, ref, Sensors(seed=seed), experiment="sec3_sinusoid",
-                             amplitude=AMPLITUDE, period=PERIOD, centre=CENTRE)
+    run, _ = closed_loop_run(
+        truth,
+        spec,
+        ref,
+        Sensors(seed=seed),
+        experiment="sec3_sinusoid",
+        amplitude=AMPLITUDE,
+        period=PERIOD,
+        centre=CENTRE,
+    )
     if out_dir is not None:
         write_run(run, Path(out_dir) / "sec3_measured.csv", RECORDING_DECIMALS)
     top = int(np.argmax(ref.x))
@@ -57,7 +68,11 @@ def reproduce(out_dir: Path | None = None, seed: int = 3, window: float = 0.3) -
         sim = run_closed_loop(p, spec, ref)
         d = sim["x"] - run.x
         res.simulated[name] = {"time": sim["time"], "x": sim["x"], "F_friction": sim["F_friction"]}
-        res.rows.append({"model": name,
-                         "reversal_peak_um": float(np.abs(d[top - w:top + w + 1]).max() * 1e6),
-                         "rms_um": float(np.sqrt(np.mean(d**2)) * 1e6)})
+        res.rows.append(
+            {
+                "model": name,
+                "reversal_peak_um": float(np.abs(d[top - w : top + w + 1]).max() * 1e6),
+                "rms_um": float(np.sqrt(np.mean(d**2)) * 1e6),
+            }
+        )
     return res

@@ -13,6 +13,7 @@ paper's model, seeds 1 and 2).
 The record ends while the stage still moves: the stop, where the speed passes through zero,
 is simulated after the record (so the pre-filter sees the whole reference) but not written.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -26,9 +27,16 @@ from ..harness.sensors import Sensors
 from .recording import STROKE_MARGIN, closed_loop_measurement, stroke
 
 
-def speed_profile(Ts: float, v_min: float, v_max: float, period: float, duration: float,
-                  t_start: float = 0.2, dwell: float = 0.0, t_stop: float = 0.2
-                  ) -> tuple[np.ndarray, int, int]:
+def speed_profile(
+    Ts: float,
+    v_min: float,
+    v_max: float,
+    period: float,
+    duration: float,
+    t_start: float = 0.2,
+    dwell: float = 0.0,
+    t_stop: float = 0.2,
+) -> tuple[np.ndarray, int, int]:
     """Speed v[k] [m/s] and the indices where the variable-speed phase begins and ends.
 
     ``dwell`` at rest (default none: the closed loop's unrecorded hold precedes the
@@ -38,8 +46,10 @@ def speed_profile(Ts: float, v_min: float, v_max: float, period: float, duration
     """
     if not 0 < v_min <= v_max:
         raise ValueError(f"speed_profile: need 0 < v_min <= v_max, got {v_min}, {v_max}")
+
     def samples(T: float) -> np.ndarray:
         return np.arange(int(round(T / Ts))) * Ts
+
     ramp = v_min * 0.5 * (1 - np.cos(np.pi * samples(t_start) / t_start))
     tv = samples(duration)
     vm, va = 0.5 * (v_max + v_min), 0.5 * (v_max - v_min)
@@ -52,11 +62,17 @@ def speed_profile(Ts: float, v_min: float, v_max: float, period: float, duration
     return v, k_begin, k_begin + len(v_var)
 
 
-def variable_speed_runs(params: Mapping[str, Any], sensors: Sensors, v_min: float = 1e-3,
-                        v_max: float = 20e-3, period: float = 0.5,
-                        duration: float | None = None, x_start: float | None = None,
-                        spec: Mapping[str, Any] | None = None,
-                        Ts: float | None = None) -> list[Run]:
+def variable_speed_runs(
+    params: Mapping[str, Any],
+    sensors: Sensors,
+    v_min: float = 1e-3,
+    v_max: float = 20e-3,
+    period: float = 0.5,
+    duration: float | None = None,
+    x_start: float | None = None,
+    spec: Mapping[str, Any] | None = None,
+    Ts: float | None = None,
+) -> list[Run]:
     """One closed-loop run at variable positive speed (never reversing).
 
     Parameters
@@ -74,20 +90,29 @@ def variable_speed_runs(params: Mapping[str, Any], sensors: Sensors, v_min: floa
     x_min, x_max = stroke(params)
     x0 = x_min + 2 * STROKE_MARGIN if x_start is None else float(x_start)
     v_mean = 0.5 * (v_min + v_max)
-    room = x_max - STROKE_MARGIN - x0 - 0.4 * v_max      # ramps and stop distance < 0.4 v_max
+    room = x_max - STROKE_MARGIN - x0 - 0.4 * v_max  # ramps and stop distance < 0.4 v_max
     if duration is None:
         duration = period * max(1, int(room / v_mean / period))
     v, k_begin, k_end = speed_profile(Ts, v_min, v_max, period, duration)
     x = x0 + np.concatenate([[0.0], np.cumsum((v[1:] + v[:-1]) / 2 * Ts)])
     if x[-1] > x_max - STROKE_MARGIN:
-        raise ValueError(f"variable_speed_runs: the run would end at x = {x[-1]:.4f} m, past "
-                         f"the stroke end {x_max} m less {STROKE_MARGIN} m; shorten duration")
+        raise ValueError(
+            f"variable_speed_runs: the run would end at x = {x[-1]:.4f} m, past "
+            f"the stroke end {x_max} m less {STROKE_MARGIN} m; shorten duration"
+        )
     ref = Reference(Ts, x, v, np.gradient(v, Ts))
-    meta = {"name": "variable_speed", "kind": "variable_speed", "direction": 1,
-            "v_min": float(v_min), "v_max": float(v_max), "period": float(period),
-            "duration": float(duration), "x_start": x0,
-            "variable_phase": [k_begin * Ts, k_end * Ts],
-            "note": "recording ends at the end of the variable-speed phase, while moving"}
+    meta = {
+        "name": "variable_speed",
+        "kind": "variable_speed",
+        "direction": 1,
+        "v_min": float(v_min),
+        "v_max": float(v_max),
+        "period": float(period),
+        "duration": float(duration),
+        "x_start": x0,
+        "variable_phase": [k_begin * Ts, k_end * Ts],
+        "note": "recording ends at the end of the variable-speed phase, while moving",
+    }
     run = closed_loop_measurement(params, sensors, ref, meta, spec)
-    cols: dict[str, Any] = {c: a[:k_end + 1] for c, a in run.columns().items()}
+    cols: dict[str, Any] = {c: a[: k_end + 1] for c, a in run.columns().items()}
     return [Run(**cols, meta=run.meta)]

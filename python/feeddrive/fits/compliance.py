@@ -2,6 +2,7 @@
 damping ratio zeta and mass m2 from filtered accelerations and a rigid model's force residual
 (:func:`fit_compliance`; the method in :mod:`feeddrive.identify.compliance`).
 """
+
 from __future__ import annotations
 
 import math
@@ -25,31 +26,34 @@ SEARCH_STRIDE = 2
 class ComplianceFit:
     """The fitted resonance and the energy it explains."""
 
-    f: float                    #: natural frequency of the load on its spring [Hz]
-    zeta: float                 #: damping ratio [1]
-    m2: float                   #: load mass [kg]
-    dm: float                   #: change of the (slide) mass fitted with it [kg] (0 if not fitted)
-    explained: float            #: share of the residual energy the fit removes
+    f: float  #: natural frequency of the load on its spring [Hz]
+    zeta: float  #: damping ratio [1]
+    m2: float  #: load mass [kg]
+    dm: float  #: change of the (slide) mass fitted with it [kg] (0 if not fitted)
+    explained: float  #: share of the residual energy the fit removes
     #: share a mass change alone removes (the f -> inf limit; with the ``nuisance`` columns)
     rigid_explained: float
     n_used: int
 
 
-def _columns(a_runs: list[np.ndarray], Ts: list[float], f: float, zeta: float,
-             masks: list[np.ndarray]) -> np.ndarray:
-    return np.concatenate([load_acceleration(a, T, f, zeta)[m]
-                           for a, T, m in zip(a_runs, Ts, masks, strict=True)])
+def _columns(
+    a_runs: list[np.ndarray], Ts: list[float], f: float, zeta: float, masks: list[np.ndarray]
+) -> np.ndarray:
+    return np.concatenate(
+        [load_acceleration(a, T, f, zeta)[m] for a, T, m in zip(a_runs, Ts, masks, strict=True)]
+    )
 
 
-def start_columns(a_runs: list[np.ndarray], Ts: list[float], f: float, zeta: float,
-                  masks: list[np.ndarray]) -> np.ndarray:
+def start_columns(
+    a_runs: list[np.ndarray], Ts: list[float], f: float, zeta: float, masks: list[np.ndarray]
+) -> np.ndarray:
     """(N, 2 n_runs) free responses of the load from each run's first filtered sample (zero
     in the other runs' rows): the load's state there is unknown (module docstring)."""
     n = [int(m.sum()) for m in masks]
     out = np.zeros((sum(n), 2 * len(n)))
     k = 0
     for j, (a, T, m) in enumerate(zip(a_runs, Ts, masks, strict=True)):
-        out[k:k + n[j], 2 * j:2 * j + 2] = np.nan_to_num(load_free_response(a, T, f, zeta)[m])
+        out[k : k + n[j], 2 * j : 2 * j + 2] = np.nan_to_num(load_free_response(a, T, f, zeta)[m])
         k += n[j]
     return out
 
@@ -58,12 +62,16 @@ def nuisance_columns(nuisance: list[np.ndarray | None], masks: list[np.ndarray])
     """(N, k) per-run nuisance columns (each run's rows only, its usable samples) stacked
     block-diagonally; a run with None adds no column."""
     n = [int(m.sum()) for m in masks]
-    parts = [np.asarray(B, dtype=float).reshape(len(m), -1)[m] if B is not None
-             else np.zeros((int(m.sum()), 0)) for B, m in zip(nuisance, masks, strict=True)]
+    parts = [
+        np.asarray(B, dtype=float).reshape(len(m), -1)[m]
+        if B is not None
+        else np.zeros((int(m.sum()), 0))
+        for B, m in zip(nuisance, masks, strict=True)
+    ]
     out = np.zeros((sum(n), sum(p.shape[1] for p in parts)))
     k = c = 0
     for j, p in enumerate(parts):
-        out[k:k + n[j], c:c + p.shape[1]] = np.nan_to_num(p)
+        out[k : k + n[j], c : c + p.shape[1]] = np.nan_to_num(p)
         k, c = k + n[j], c + p.shape[1]
     return out[:, np.any(out != 0.0, axis=0)]
 
@@ -77,9 +85,14 @@ def _explained(A: np.ndarray, y: np.ndarray, stride: int) -> tuple[float, np.nda
     return float(c @ th), th
 
 
-def fit_compliance(a_runs: list[np.ndarray], y_runs: list[np.ndarray], Ts: list[float],
-                   fit_mass: bool = False, stride: int = SEARCH_STRIDE,
-                   nuisance: list[np.ndarray | None] | None = None) -> ComplianceFit:
+def fit_compliance(
+    a_runs: list[np.ndarray],
+    y_runs: list[np.ndarray],
+    Ts: list[float],
+    fit_mass: bool = False,
+    stride: int = SEARCH_STRIDE,
+    nuisance: list[np.ndarray | None] | None = None,
+) -> ComplianceFit:
     """f, zeta, m2 (and dm when ``fit_mass``) from per-run filtered accelerations ``a_runs``
     [m/s^2] and rigid-model residuals ``y_runs`` [N] (NaN samples are left out).
 
@@ -93,8 +106,10 @@ def fit_compliance(a_runs: list[np.ndarray], y_runs: list[np.ndarray], Ts: list[
     y = np.concatenate([np.asarray(yr)[m] for yr, m in zip(y_runs, masks, strict=True)])
     a = np.concatenate([np.asarray(ar)[m] for ar, m in zip(a_runs, masks, strict=True)])
     if y.size < 100 or not np.any(a != 0):
-        raise ValueError(f"fit_compliance: {y.size} usable samples with acceleration; need >= 100 "
-                         "and a motion that accelerates")
+        raise ValueError(
+            f"fit_compliance: {y.size} usable samples with acceleration; need >= 100 "
+            "and a motion that accelerates"
+        )
     yy = float(y @ y)
     B = nuisance_columns(nuisance if nuisance is not None else [None] * len(masks), masks)
 
@@ -113,14 +128,24 @@ def fit_compliance(a_runs: list[np.ndarray], y_runs: list[np.ndarray], Ts: list[
         z = float(np.clip(np.exp(u[1]), *ZETA_RANGE))
         return -expl(f, z)
 
-    opt = minimize(neg, [math.log(grid[0]), math.log(grid[1])], method="Nelder-Mead",
-                   options={"xatol": 4e-3, "fatol": 1e-6 * yy, "maxiter": 80})
+    opt = minimize(
+        neg,
+        [math.log(grid[0]), math.log(grid[1])],
+        method="Nelder-Mead",
+        options={"xatol": 4e-3, "fatol": 1e-6 * yy, "maxiter": 80},
+    )
     f = float(np.clip(np.exp(opt.x[0]), *F_RANGE))
     z = float(np.clip(np.exp(opt.x[1]), *ZETA_RANGE))
     if -opt.fun < expl(*grid):
         f, z = grid
     e, th = _explained(design(f, z), y, 1)
     rigid, _ = _explained(np.column_stack([a, B]), y, 1)
-    return ComplianceFit(f=f, zeta=z, m2=float(th[0]), dm=float(th[1]) if fit_mass else 0.0,
-                         explained=e / yy if yy > 0 else 0.0,
-                         rigid_explained=rigid / yy if yy > 0 else 0.0, n_used=int(y.size))
+    return ComplianceFit(
+        f=f,
+        zeta=z,
+        m2=float(th[0]),
+        dm=float(th[1]) if fit_mass else 0.0,
+        explained=e / yy if yy > 0 else 0.0,
+        rigid_explained=rigid / yy if yy > 0 else 0.0,
+        n_used=int(y.size),
+    )

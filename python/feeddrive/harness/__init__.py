@@ -14,6 +14,7 @@ registry, the FMU loop, the run maker, the sidecar schema and the checks of a me
 - :mod:`.controller_fmu`: a spec -> the controller FMU's parameter set, :class:`ControllerFMU`;
 - :mod:`.two_fmus`: the closed loop as controller FMU + plant FMU.
 """
+
 from .controllers import (
     CONTROLLERS,
     Controller,
@@ -40,10 +41,38 @@ from .sensors import IDEAL, Sensors
 from .sidecar import SCHEMA, Sidecar, build_sidecar, read_run_sidecar, read_sidecar
 from .simulate import RECORD, Stepper, quantise, simulate_closed_loop, simulate_open_loop
 
-__all__ = ["CONTROLLERS", "Controller", "cascade_lti_spec", "controller_spec", "lti_spec",
-           "make_controller", "pid_lead_spec", "pid_lti_spec",
-           "pid_spec", "state_space_spec", "Reference", "back_and_forth", "from_positions",
-           "point_to_point", "prbs", "reversals", "sinusoid", "SCALE_ONLY", "closed_loop_run",
-           "run_closed_loop", "to_run", "IDEAL", "Sensors", "SCHEMA", "Sidecar",
-           "build_sidecar", "read_run_sidecar", "read_sidecar", "RECORD", "Stepper", "quantise",
-           "simulate_closed_loop", "simulate_open_loop"]
+__all__ = [
+    "CONTROLLERS",
+    "Controller",
+    "cascade_lti_spec",
+    "controller_spec",
+    "lti_spec",
+    "make_controller",
+    "pid_lead_spec",
+    "pid_lti_spec",
+    "pid_spec",
+    "state_space_spec",
+    "Reference",
+    "back_and_forth",
+    "from_positions",
+    "point_to_point",
+    "prbs",
+    "reversals",
+    "sinusoid",
+    "SCALE_ONLY",
+    "closed_loop_run",
+    "run_closed_loop",
+    "to_run",
+    "IDEAL",
+    "Sensors",
+    "SCHEMA",
+    "Sidecar",
+    "build_sidecar",
+    "read_run_sidecar",
+    "read_sidecar",
+    "RECORD",
+    "Stepper",
+    "quantise",
+    "simulate_closed_loop",
+    "simulate_open_loop",
+]

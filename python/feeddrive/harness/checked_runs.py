@@ -1,6 +1,7 @@
 """The checks every command applies to a measured run before any work, with the loader that
 applies them to a folder of runs: :func:`check_run` (plausible rows, units a feed drive can
 have, a sidecar that does not contradict the CSV) and :func:`load_checked_runs`."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -40,9 +41,12 @@ def check_run(run: Run, model: ModelFile | None = None) -> Sidecar:
     return read_run_sidecar(run)
 
 
-
-def load_checked_runs(runs_dir: str | Path, out: str | Path | None = None,
-                      truth: Any = None, notes: list[str] | None = None) -> list[Run]:
+def load_checked_runs(
+    runs_dir: str | Path,
+    out: str | Path | None = None,
+    truth: Any = None,
+    notes: list[str] | None = None,
+) -> list[Run]:
     """The runs of ``runs_dir``, each checked (:func:`check_run`), after checking that ``out``
     may be written (writable, not an input such as a ``truth`` file); ValueError if none.
     With ``notes`` a list, one line per run whose sidecar says something the tools do not

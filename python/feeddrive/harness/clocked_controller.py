@@ -10,6 +10,7 @@ the sample, and the master returns the controller to Step Mode.  u_k acts on the
 (:func:`~.simulate.simulate_closed_loop`) to the bit.
 The first tick is at t_0, in the Event Mode the controller enters after initialisation.
 """
+
 from __future__ import annotations
 
 import time
@@ -37,32 +38,44 @@ class ClockedController:
         path = str(path or DEFAULT_CONTROLLER3_FMU)
         self.md = read_model_description(path)
         if not self.md.coSimulation.hasEventMode:
-            raise ValueError(f"{path}: the controller FMU has no Event Mode (hasEventMode is false)")
+            raise ValueError(
+                f"{path}: the controller FMU has no Event Mode (hasEventMode is false)"
+            )
         self.vr = {v.name: v.valueReference for v in self.md.modelVariables}
         self._dir = extract(path)
-        self.fmu = FMU3Slave(guid=self.md.guid, unzipDirectory=self._dir,
-                             modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName="controller")
+        self.fmu = FMU3Slave(
+            guid=self.md.guid,
+            unzipDirectory=self._dir,
+            modelIdentifier=self.md.coSimulation.modelIdentifier,
+            instanceName="controller",
+        )
         self.params = dict(ctrl_params)
         self.Ts = float(self.params.get("Ts", 5e-4))
         self.k = 0
         self.messages: list[str] = []
 
     def __enter__(self) -> ClockedController:
-        self.fmu.instantiate(eventModeUsed=True,
-                             logMessage=lambda env, st, cat, msg: self.messages.append(msg.decode()))
+        self.fmu.instantiate(
+            eventModeUsed=True,
+            logMessage=lambda env, st, cat, msg: self.messages.append(msg.decode()),
+        )
         return self
 
     def __exit__(self, *exc: object) -> None:
         self.fmu.freeInstance()
 
     def _fail(self, what: str) -> FMUError:
-        return FMUError(f"controller {what} at sample {self.k}: " + (self.messages[-1] if self.messages else ""))
+        return FMUError(
+            f"controller {what} at sample {self.k}: " + (self.messages[-1] if self.messages else "")
+        )
 
     def _sample(self, x_meas: float) -> float:
         try:
             self.fmu.setClock([self.vr["tick"]], [True])
             self.fmu.setFloat64([self.vr["x_meas"]], [x_meas])
-            u = self.fmu.getFloat64([self.vr["u"]])[0]    # with the clock active (FMI 3.0 clocked variables)
+            u = self.fmu.getFloat64([self.vr["u"]])[
+                0
+            ]  # with the clock active (FMI 3.0 clocked variables)
             self.fmu.updateDiscreteStates()
             self.fmu.enterStepMode()
         except Exception:
@@ -74,7 +87,7 @@ class ClockedController:
         try:
             set_values(self.fmu, self.md, self.params)
             self.fmu.enterInitializationMode(startTime=t0)
-            self.fmu.exitInitializationMode()          # into Event Mode: the tick of t_0
+            self.fmu.exitInitializationMode()  # into Event Mode: the tick of t_0
         except Exception:
             raise self._fail("initialisation") from None
         self.t0 = t0
@@ -91,10 +104,17 @@ class ClockedController:
         return self._sample(x_meas)
 
 
-def simulate_clocked(plant_params: Mapping[str, Any], ctrl_params: Mapping[str, Any], n: int,
-                     x0: float, Ts: float = 5e-4, F_ext: float = 0.0,
-                     controller_path: str | Path | None = None, plant_path: str | Path | None = None,
-                     tolerance: float = 1e-6) -> Result:
+def simulate_clocked(
+    plant_params: Mapping[str, Any],
+    ctrl_params: Mapping[str, Any],
+    n: int,
+    x0: float,
+    Ts: float = 5e-4,
+    F_ext: float = 0.0,
+    controller_path: str | Path | None = None,
+    plant_path: str | Path | None = None,
+    tolerance: float = 1e-6,
+) -> Result:
     """Run n samples with the clocked FMI 3.0 controller; returns time, x (the plant's
     ``x_measured``, rows k = 0..n), u and ``wall`` [s], as
     :func:`~.two_fmus.simulate_two_fmus`.
@@ -104,8 +124,10 @@ def simulate_clocked(plant_params: Mapping[str, Any], ctrl_params: Mapping[str, 
     """
     xs = np.empty(n + 1)
     us = np.empty(n + 1)
-    with ClockedController({**ctrl_params, "Ts": Ts}, controller_path) as ctrl, \
-            Plant(plant_params, interface="cs", tolerance=tolerance, path=plant_path) as plant:
+    with (
+        ClockedController({**ctrl_params, "Ts": Ts}, controller_path) as ctrl,
+        Plant(plant_params, interface="cs", tolerance=tolerance, path=plant_path) as plant,
+    ):
         wall0 = time.perf_counter()
         us[0] = ctrl.start(float(x0))
         plant.start({"x": float(x0), "v": 0.0, "u": float(us[0]), "F_ext": float(F_ext)}, t0=0.0)

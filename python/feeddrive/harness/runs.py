@@ -6,6 +6,7 @@
 :func:`replay` re-simulates a run's closed loop from its sidecar (validate, diagnose).
 Write the run with :func:`feeddrive.data.write_run`.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -25,10 +26,16 @@ from .simulate import simulate_closed_loop
 SCALE_ONLY = Sensors(quantum=1e-7, current_noise=0.0)
 
 
-def run_closed_loop(plant_params: Mapping[str, Any], spec: Mapping[str, Any], ref: Reference,
-                    u_ff: np.ndarray | None = None, sensors: Sensors = SCALE_ONLY,
-                    F_ext: np.ndarray | float = 0.0, interface: str = "cs",
-                    tolerance: float = 1e-6) -> Result:
+def run_closed_loop(
+    plant_params: Mapping[str, Any],
+    spec: Mapping[str, Any],
+    ref: Reference,
+    u_ff: np.ndarray | None = None,
+    sensors: Sensors = SCALE_ONLY,
+    F_ext: np.ndarray | float = 0.0,
+    interface: str = "cs",
+    tolerance: float = 1e-6,
+) -> Result:
     """Simulate the closed loop: the FMU with ``plant_params``, the controller of ``spec``.
 
     The controller reads the position quantised at ``sensors.quantum``; a current noise
@@ -36,27 +43,45 @@ def run_closed_loop(plant_params: Mapping[str, Any], spec: Mapping[str, Any], re
     added to the controller's output (see :func:`~.controllers.make_controller`).
     """
     ctrl = make_controller(spec, ref, u_ff=u_ff)
-    F = np.broadcast_to(np.asarray(F_ext, float), (ref.n + 1,)) + sensors.force_disturbance(ref.n + 1)
+    F = np.broadcast_to(np.asarray(F_ext, float), (ref.n + 1,)) + sensors.force_disturbance(
+        ref.n + 1
+    )
     with Plant(plant_params, interface=interface, tolerance=tolerance) as plant:
-        return simulate_closed_loop(plant, ctrl, ref.n, float(ref.x[0]), Ts=ref.Ts,
-                                    quantum=sensors.quantum, F_ext=F)
+        return simulate_closed_loop(
+            plant, ctrl, ref.n, float(ref.x[0]), Ts=ref.Ts, quantum=sensors.quantum, F_ext=F
+        )
 
 
-def to_run(res: Mapping[str, np.ndarray], sensors: Sensors, x_ref: np.ndarray | None = None,
-           F_load: float | np.ndarray = 0.0, meta: Mapping[str, Any] | None = None) -> Run:
+def to_run(
+    res: Mapping[str, np.ndarray],
+    sensors: Sensors,
+    x_ref: np.ndarray | None = None,
+    F_load: float | np.ndarray = 0.0,
+    meta: Mapping[str, Any] | None = None,
+) -> Run:
     """A recording from simulated signals: x quantised, the current noise added to i."""
     n = len(res["time"])
-    return Run(time=np.asarray(res["time"], float), u=np.asarray(res["u"], float),
-               x=sensors.quantise(res["x_measured"] if "x_measured" in res else res["x"]),
-               i=np.asarray(res["i"], float) + sensors.current_noise_series(n),
-               x_ref=None if x_ref is None else np.asarray(x_ref, float),
-               F_load=np.broadcast_to(np.asarray(F_load, float), (n,)).copy(),
-               meta=dict(meta or {}))
+    return Run(
+        time=np.asarray(res["time"], float),
+        u=np.asarray(res["u"], float),
+        x=sensors.quantise(res["x_measured"] if "x_measured" in res else res["x"]),
+        i=np.asarray(res["i"], float) + sensors.current_noise_series(n),
+        x_ref=None if x_ref is None else np.asarray(x_ref, float),
+        F_load=np.broadcast_to(np.asarray(F_load, float), (n,)).copy(),
+        meta=dict(meta or {}),
+    )
 
 
-def closed_loop_run(plant_params: Mapping[str, Any], spec: Mapping[str, Any], ref: Reference,
-                    sensors: Sensors, experiment: str = "closed_loop", F_load: float = 0.0,
-                    u_ff: np.ndarray | None = None, **extra: Any) -> tuple[Run, Result]:
+def closed_loop_run(
+    plant_params: Mapping[str, Any],
+    spec: Mapping[str, Any],
+    ref: Reference,
+    sensors: Sensors,
+    experiment: str = "closed_loop",
+    F_load: float = 0.0,
+    u_ff: np.ndarray | None = None,
+    **extra: Any,
+) -> tuple[Run, Result]:
     """A virtual measurement of the closed loop: the run (with its sidecar) and the result.
 
     ``F_load`` [N] is a constant pulley load (F_ext); ``extra`` keys go to the sidecar.
@@ -90,8 +115,9 @@ def replay(plant_params: Mapping[str, Any], run: Run, side: Sidecar | None = Non
     F = np.concatenate([np.full(k0, load[0]), load])
     scale = Sensors(quantum=side.sensors.quantum, current_noise=0.0)
     try:
-        sim = run_closed_loop(plant_params, side.controller, from_positions(x, Ts),
-                              sensors=scale, F_ext=F)
+        sim = run_closed_loop(
+            plant_params, side.controller, from_positions(x, Ts), sensors=scale, F_ext=F
+        )
     except ValueError as e:
         raise ValueError(f"{where}: {e}") from None
-    return np.asarray(sim["x_measured"][k0:k0 + run.n])
+    return np.asarray(sim["x_measured"][k0 : k0 + run.n])

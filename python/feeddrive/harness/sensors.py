@@ -7,6 +7,7 @@ One :class:`Sensors` says what the linear scale and the current measurement do t
   current; with ``noise_on_stage`` it is a real current (the amplifier's ripple), so it also
   acts on the stage as a force K_f0 * noise; without, only the measurement is noisy.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -75,10 +76,12 @@ class Sensors:
         if unknown:
             raise ValueError(f"{where}: unknown key(s) {sorted(unknown)}")
         try:
-            return cls(quantum=float(obj.get("quantum", cls.quantum)),
-                       current_noise=float(obj.get("current_noise", cls.current_noise)),
-                       seed=int(obj.get("seed", cls.seed)),
-                       noise_on_stage=bool(obj.get("noise_on_stage", cls.noise_on_stage)))
+            return cls(
+                quantum=float(obj.get("quantum", cls.quantum)),
+                current_noise=float(obj.get("current_noise", cls.current_noise)),
+                seed=int(obj.get("seed", cls.seed)),
+                noise_on_stage=bool(obj.get("noise_on_stage", cls.noise_on_stage)),
+            )
         except (TypeError, ValueError) as e:
             raise ValueError(f"{where}: {e}") from None
 

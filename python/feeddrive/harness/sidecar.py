@@ -26,6 +26,7 @@ controller's ``Ts``, against the median step of ``time``, :data:`TS_TOLERANCE`) 
 constant load than a constant ``F_load`` column.  A run without a sidecar reads as no
 controller, the default sensors (100 nm scale), no load.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -45,8 +46,16 @@ FIELDS = ("schema", "experiment", "Ts", "controller", "sensors", "F_load")
 #: Top-level keys the tools read besides the schema's fields (in a sidecar without our
 #: schema every other top-level key is reported as ignored; in ours they are the
 #: experiment's own description).
-READ_KEYS = ("name", "kind", "repeat", "hold_before_record", "prbs_start", "force_gain",
-             "load", "P")
+READ_KEYS = (
+    "name",
+    "kind",
+    "repeat",
+    "hold_before_record",
+    "prbs_start",
+    "force_gain",
+    "load",
+    "P",
+)
 #: Largest relative difference between the sidecar's sample time and the CSV's median
 #: step that is not a contradiction (clock rounding; another rate differs by far more).
 TS_TOLERANCE = 0.01
@@ -90,16 +99,27 @@ class Sidecar:
         return f"{where}: " + "; ".join(parts) if parts else None
 
 
-def build_sidecar(experiment: str, Ts: float, controller: Mapping[str, Any] | None,
-                  sensors: Sensors, F_load: float = 0.0, **extra: Any) -> dict[str, Any]:
+def build_sidecar(
+    experiment: str,
+    Ts: float,
+    controller: Mapping[str, Any] | None,
+    sensors: Sensors,
+    F_load: float = 0.0,
+    **extra: Any,
+) -> dict[str, Any]:
     """The sidecar (run ``meta``) of a run made by the harness; ``extra`` keys follow the
     schema's (ValueError when one clashes with them)."""
     clash = set(extra) & set(FIELDS)
     if clash:
         raise ValueError(f"build_sidecar: {sorted(clash)} are schema fields, not extra keys")
-    meta: dict[str, Any] = {"schema": SCHEMA, "experiment": str(experiment), "Ts": float(Ts),
-                            "controller": None if controller is None else dict(controller),
-                            "sensors": sensors.to_json(), "F_load": float(F_load)}
+    meta: dict[str, Any] = {
+        "schema": SCHEMA,
+        "experiment": str(experiment),
+        "Ts": float(Ts),
+        "controller": None if controller is None else dict(controller),
+        "sensors": sensors.to_json(),
+        "F_load": float(F_load),
+    }
     meta.update(extra)
     return meta
 
@@ -112,8 +132,10 @@ def _sensors(obj: Any, side: Sidecar) -> Sensors:
     """The sensors a sidecar's ``sensors`` object gives; keys not understood are ignored."""
     if not isinstance(obj, Mapping):
         side.ignored.append("sensors")
-        side.notes.append(f"sensors is {type(obj).__name__}, not an object: default sensors "
-                          f"({Sensors().quantum:g} m scale)")
+        side.notes.append(
+            f"sensors is {type(obj).__name__}, not an object: default sensors "
+            f"({Sensors().quantum:g} m scale)"
+        )
         return Sensors()
     known = {f.name: f.default for f in fields(Sensors)}
     side.ignored += [f"sensors.{k}" for k in obj if k not in known]
@@ -145,8 +167,10 @@ def _controller(ctrl: Any, side: Sidecar, Ts: float, x0: float) -> dict[str, Any
     if not isinstance(ctrl, Mapping):
         reason = f"controller is {type(ctrl).__name__}, not an object"
     elif ctrl.get("type") not in CONTROLLERS:
-        reason = (f"controller type {ctrl.get('type')!r} is not one the registry builds "
-                  f"({', '.join(sorted(CONTROLLERS))})")
+        reason = (
+            f"controller type {ctrl.get('type')!r} is not one the registry builds "
+            f"({', '.join(sorted(CONTROLLERS))})"
+        )
     else:
         keys = CONTROLLERS[ctrl["type"]].keys
         unknown = [k for k in ctrl if k not in keys and k != "type"]
@@ -162,13 +186,16 @@ def _controller(ctrl: Any, side: Sidecar, Ts: float, x0: float) -> dict[str, Any
             reason += f" (keys not known to type {ctrl['type']!r}: {', '.join(unknown)})"
     side.foreign_controller = ctrl
     side.ignored.append("controller")
-    side.notes.append(f"{reason}: no closed-loop replay (the run serves what needs no "
-                      "controller: force residual, identification, diagnosis)")
+    side.notes.append(
+        f"{reason}: no closed-loop replay (the run serves what needs no "
+        "controller: force residual, identification, diagnosis)"
+    )
     return None
 
 
-def read_sidecar(meta: Mapping[str, Any] | None, where: str = "sidecar",
-                 run: Run | None = None) -> Sidecar:
+def read_sidecar(
+    meta: Mapping[str, Any] | None, where: str = "sidecar", run: Run | None = None
+) -> Sidecar:
     """Read a sidecar (a run's ``meta``); with ``run``, checked against its CSV.
 
     Never refuses for a key it does not know or a value it does not understand (see the
@@ -185,23 +212,36 @@ def read_sidecar(meta: Mapping[str, Any] | None, where: str = "sidecar",
     csv_Ts = run.Ts if run is not None and run.n >= 2 else None
     Ts = meta.get("Ts")
     if Ts is not None:
-        if _finite(Ts) and csv_Ts is not None \
-                and abs(Ts - csv_Ts) > TS_TOLERANCE * csv_Ts:
-            raise ValueError(f"{where}: Ts = {Ts!r} s contradicts the CSV, whose time column "
-                             f"steps {csv_Ts:.6g} s")
+        if _finite(Ts) and csv_Ts is not None and abs(Ts - csv_Ts) > TS_TOLERANCE * csv_Ts:
+            raise ValueError(
+                f"{where}: Ts = {Ts!r} s contradicts the CSV, whose time column "
+                f"steps {csv_Ts:.6g} s"
+            )
         if _finite(Ts) and Ts > 0:
             side.Ts = float(Ts)
         else:
             side.ignored.append("Ts")
             side.notes.append(f"Ts = {Ts!r} is not a sample time: the CSV's step taken")
     ctrl = meta.get("controller")
-    if isinstance(ctrl, Mapping) and "Ts" in ctrl and _finite(ctrl["Ts"]) and csv_Ts is not None \
-            and abs(ctrl["Ts"] - csv_Ts) > TS_TOLERANCE * csv_Ts:
-        raise ValueError(f"{where}: controller Ts = {ctrl['Ts']!r} s contradicts the CSV, whose "
-                         f"time column steps {csv_Ts:.6g} s")
+    if (
+        isinstance(ctrl, Mapping)
+        and "Ts" in ctrl
+        and _finite(ctrl["Ts"])
+        and csv_Ts is not None
+        and abs(ctrl["Ts"] - csv_Ts) > TS_TOLERANCE * csv_Ts
+    ):
+        raise ValueError(
+            f"{where}: controller Ts = {ctrl['Ts']!r} s contradicts the CSV, whose "
+            f"time column steps {csv_Ts:.6g} s"
+        )
     Ts_ctrl = side.Ts or csv_Ts or 5e-4
-    x0 = float(run.x_ref[0] if run is not None and run.x_ref is not None
-               else run.x[0] if run is not None else 0.15)
+    x0 = float(
+        run.x_ref[0]
+        if run is not None and run.x_ref is not None
+        else run.x[0]
+        if run is not None
+        else 0.15
+    )
     side.controller = _controller(ctrl, side, Ts_ctrl, x0)
     if "sensors" in meta:
         side.sensors = _sensors(meta["sensors"], side)
@@ -209,20 +249,33 @@ def read_sidecar(meta: Mapping[str, Any] | None, where: str = "sidecar",
     if _finite(F_load):
         side.F_load = float(F_load)
         col = None if run is None else run.F_load
-        if "F_load" in meta and col is not None and np.ptp(col) == 0 \
-                and abs(col[0] - F_load) > 1e-9 * max(1.0, abs(F_load)):
-            raise ValueError(f"{where}: F_load = {F_load!r} N contradicts the CSV, whose F_load "
-                             f"column is {float(col[0])!r} N throughout")
+        if (
+            "F_load" in meta
+            and col is not None
+            and np.ptp(col) == 0
+            and abs(col[0] - F_load) > 1e-9 * max(1.0, abs(F_load))
+        ):
+            raise ValueError(
+                f"{where}: F_load = {F_load!r} N contradicts the CSV, whose F_load "
+                f"column is {float(col[0])!r} N throughout"
+            )
     else:
         side.ignored.append("F_load")
-        side.notes.append(f"F_load = {F_load!r} is not a load [N]: "
-                          + ("the F_load column taken" if run is not None and run.F_load is not None
-                             else "no load taken"))
+        side.notes.append(
+            f"F_load = {F_load!r} is not a load [N]: "
+            + (
+                "the F_load column taken"
+                if run is not None and run.F_load is not None
+                else "no load taken"
+            )
+        )
     g = meta.get("force_gain")
     if g is not None and not (_finite(g) and g > 0):
         side.ignored.append("force_gain")
-        side.notes.append(f"force_gain = {g!r} is not a gain > 0 [N/V]: the model's current "
-                          "loop taken for runs without current")
+        side.notes.append(
+            f"force_gain = {g!r} is not a gain > 0 [N/V]: the model's current "
+            "loop taken for runs without current"
+        )
     side.experiment = str(meta.get("experiment", ""))
     side.extra = {k: v for k, v in meta.items() if k not in FIELDS}
     if not ours:
@@ -232,8 +285,9 @@ def read_sidecar(meta: Mapping[str, Any] | None, where: str = "sidecar",
     if "controller" in meta:
         clean["controller"] = side.controller
     if isinstance(meta.get("sensors"), Mapping):
-        clean["sensors"] = {k: v for k, v in meta["sensors"].items()
-                            if f"sensors.{k}" not in side.ignored}
+        clean["sensors"] = {
+            k: v for k, v in meta["sensors"].items() if f"sensors.{k}" not in side.ignored
+        }
     side.meta = clean
     return side
 
@@ -243,8 +297,9 @@ def read_run_sidecar(run: Run, where: str | None = None, clean: bool = True) -> 
     the run's ``meta`` becomes ``Sidecar.meta`` (what was used), so that every tool reads
     the same understood keys."""
     if where is None:
-        where = str(sidecar_path(run.path)) if run.path is not None \
-            else f"{run.name or 'run'}: sidecar"
+        where = (
+            str(sidecar_path(run.path)) if run.path is not None else f"{run.name or 'run'}: sidecar"
+        )
     side = read_sidecar(run.meta, where=where, run=run)
     if clean:
         run.meta = dict(side.meta)

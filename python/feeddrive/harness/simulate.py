@@ -9,6 +9,7 @@ Recorded signals at row k are the FMU's values at t_k, except the sampled curren
 is Eq. 2's i[k], the current held over [t_k, t_{k+1}) (what the amplifier reports at sample
 k), and ``F_motor[k] = K_f(x_k) i[k]``.
 """
+
 from __future__ import annotations
 
 import ctypes
@@ -65,13 +66,20 @@ class Stepper:
         self._event_iteration()
         fmu.enterContinuousTimeMode()
         self.solver = CVodeSolver(
-            nx=md.numberOfContinuousStates, nz=md.numberOfEventIndicators,
-            get_x=fmu.getContinuousStates, set_x=fmu.setContinuousStates,
+            nx=md.numberOfContinuousStates,
+            nz=md.numberOfEventIndicators,
+            get_x=fmu.getContinuousStates,
+            set_x=fmu.setContinuousStates,
             get_dx=self.p.derivatives(),
             get_z=fmu.getEventIndicators,
-            get_nominals=fmu.getNominalsOfContinuousStates, set_time=fmu.setTime,
-            input=_NoInput(), startTime=self.t0, maxStep=self.dt,
-            relativeTolerance=self.p.tolerance, maxNumSteps=100000)
+            get_nominals=fmu.getNominalsOfContinuousStates,
+            set_time=fmu.setTime,
+            input=_NoInput(),
+            startTime=self.t0,
+            maxStep=self.dt,
+            relativeTolerance=self.p.tolerance,
+            maxNumSteps=100000,
+        )
 
     def _event_iteration(self) -> None:
         need = True
@@ -121,10 +129,14 @@ def _align_current(sig: dict[str, np.ndarray]) -> None:
             sig["F_motor"] = sig["K_f"] * sig["i"]
 
 
-def simulate_open_loop(plant: Plant, t: np.ndarray, u: np.ndarray | float = 0.0,
-                       F_ext: np.ndarray | float = 0.0,
-                       start_values: Mapping[str, float] | None = None,
-                       record: Sequence[str] = RECORD) -> Result:
+def simulate_open_loop(
+    plant: Plant,
+    t: np.ndarray,
+    u: np.ndarray | float = 0.0,
+    F_ext: np.ndarray | float = 0.0,
+    start_values: Mapping[str, float] | None = None,
+    record: Sequence[str] = RECORD,
+) -> Result:
     """Drive the plant with sampled inputs held over each interval of the uniform grid ``t``.
 
     Returns the recorded variables at every grid point (t[0] is the initial state).
@@ -161,16 +173,24 @@ def simulate_open_loop(plant: Plant, t: np.ndarray, u: np.ndarray | float = 0.0,
 class _Loop:
     """The per-run state of :func:`simulate_closed_loop`: FMI handles and the buffers."""
 
-    rec: RawIO                  #: recorded variables, MEASURED ("x_measured") first
-    inp: RawIO                  #: u, F_ext
+    rec: RawIO  #: recorded variables, MEASURED ("x_measured") first
+    inp: RawIO  #: u, F_ext
     stepper: Stepper
     out: ctypes.Array[ctypes.c_double]  #: (n + 1) x len(rec.names) doubles, written by the FMU
     u: list[float]
     x_meas: list[float]
 
 
-def _start_loop(plant: Plant, controller: Controller, n: int, x0: float, quantum: float,
-                F0: float, Ts: float, record: Sequence[str]) -> _Loop:
+def _start_loop(
+    plant: Plant,
+    controller: Controller,
+    n: int,
+    x0: float,
+    quantum: float,
+    F0: float,
+    Ts: float,
+    record: Sequence[str],
+) -> _Loop:
     """Reset the controller, compute u[0] from the reading at x0, start the FMU holding it,
     and record row 0."""
     controller.reset()
@@ -179,17 +199,29 @@ def _start_loop(plant: Plant, controller: Controller, n: int, x0: float, quantum
     plant.start({"x": x0, "v": 0.0, "u": float(u0), "F_ext": F0}, t0=0.0)
     names = [MEASURED] + [r for r in record if r != MEASURED]
     rec = plant.raw(names)
-    loop = _Loop(rec=rec, inp=plant.raw(["u", "F_ext"]), stepper=Stepper(plant, Ts, 0.0),
-                 out=(ctypes.c_double * ((n + 1) * len(names)))(),
-                 u=[0.0] * (n + 1), x_meas=[0.0] * (n + 1))
+    loop = _Loop(
+        rec=rec,
+        inp=plant.raw(["u", "F_ext"]),
+        stepper=Stepper(plant, Ts, 0.0),
+        out=(ctypes.c_double * ((n + 1) * len(names)))(),
+        u=[0.0] * (n + 1),
+        x_meas=[0.0] * (n + 1),
+    )
     loop.u[0], loop.x_meas[0] = u0, xm0
     rec.get_into(ctypes.addressof(loop.out))
     return loop
 
 
-def _sample_loop(plant: Plant, loop: _Loop, step: Callable[[float, int], float], n: int,
-                 Ts: float, quantum: float, F_ext: np.ndarray,
-                 progress: Callable[[int], None] | None) -> None:
+def _sample_loop(
+    plant: Plant,
+    loop: _Loop,
+    step: Callable[[float, int], float],
+    n: int,
+    Ts: float,
+    quantum: float,
+    F_ext: np.ndarray,
+    progress: Callable[[int], None] | None,
+) -> None:
     """The 2 kHz loop: read x_measured_k (the encoder's side), quantise, u_k = step(x_meas, k),
     set u (and F_ext), advance
     one sample, record row k + 1 (three FMI calls per sample through the CS interface)."""
@@ -227,8 +259,9 @@ def _sample_loop(plant: Plant, loop: _Loop, step: Callable[[float, int], float],
             progress(k)
 
 
-def _closed_loop_result(plant: Plant, loop: _Loop, n: int, Ts: float, quantum: float,
-                        F_ext: np.ndarray, wall: float) -> Result:
+def _closed_loop_result(
+    plant: Plant, loop: _Loop, n: int, Ts: float, quantum: float, F_ext: np.ndarray, wall: float
+) -> Result:
     """The recorded signals (current aligned to Eq. 2's i[k]), wall time and FMU stats."""
     names = loop.rec.names
     out = np.ctypeslib.as_array(loop.out).reshape(n + 1, len(names))
@@ -241,18 +274,25 @@ def _closed_loop_result(plant: Plant, loop: _Loop, n: int, Ts: float, quantum: f
     _align_current(sig)
     sig["wall"] = np.array(wall)
     st = plant.get(list(STATS))
-    sig["state_events"] = np.array(st["stats.n_state_events"] if plant.interface == "cs"
-                                   else loop.stepper.n_state_events)
+    sig["state_events"] = np.array(
+        st["stats.n_state_events"] if plant.interface == "cs" else loop.stepper.n_state_events
+    )
     for key in STATS[1:]:
         sig[key] = np.array(st[key])
     return Result(sig)
 
 
-def simulate_closed_loop(plant: Plant, controller: Controller, n: int, x0: float,
-                         Ts: float = 5e-4, quantum: float = 1e-7,
-                         F_ext: np.ndarray | float = 0.0,
-                         record: Sequence[str] = RECORD,
-                         progress: Callable[[int], None] | None = None) -> Result:
+def simulate_closed_loop(
+    plant: Plant,
+    controller: Controller,
+    n: int,
+    x0: float,
+    Ts: float = 5e-4,
+    quantum: float = 1e-7,
+    F_ext: np.ndarray | float = 0.0,
+    record: Sequence[str] = RECORD,
+    progress: Callable[[int], None] | None = None,
+) -> Result:
     """Close the loop: at each sample the controller reads the quantised position.
 
     Parameters

@@ -10,6 +10,7 @@ loop is the harness's (:func:`~.simulate.simulate_closed_loop`) with the control
 ``ctrl.delay``: u_k from x(t_k) with ``ctrl.delay`` 0.  u[0] is computed from x0 during the
 controller's initialisation and is the plant's start value of ``u``.
 """
+
 from __future__ import annotations
 
 import ctypes
@@ -29,18 +30,27 @@ def _fail(what: str, *fmus: Plant) -> FMUError:
     return FMUError(what + ": " + (msgs[-1] if msgs else ""))
 
 
-def simulate_two_fmus(plant_params: Mapping[str, Any], ctrl_params: Mapping[str, Any], n: int,
-                      x0: float, Ts: float = 5e-4, F_ext: float = 0.0,
-                      controller_path: str | Path | None = None,
-                      plant_path: str | Path | None = None, tolerance: float = 1e-6) -> Result:
+def simulate_two_fmus(
+    plant_params: Mapping[str, Any],
+    ctrl_params: Mapping[str, Any],
+    n: int,
+    x0: float,
+    Ts: float = 5e-4,
+    F_ext: float = 0.0,
+    controller_path: str | Path | None = None,
+    plant_path: str | Path | None = None,
+    tolerance: float = 1e-6,
+) -> Result:
     """Run n samples; returns time, x (the plant's ``x_measured``, rows k = 0..n), u and
     ``wall`` [s].
 
     ``ctrl_params``: :func:`~.controller_fmu.controller_fmu_parameters` (with ``Ts``).
     """
-    with ControllerFMU(ctrl_params, path=controller_path) as ctrl, \
-            Plant(plant_params, interface="cs", tolerance=tolerance, path=plant_path) as plant:
-        wall0 = time.perf_counter()     # from initialisation to the end (as the harness's)
+    with (
+        ControllerFMU(ctrl_params, path=controller_path) as ctrl,
+        Plant(plant_params, interface="cs", tolerance=tolerance, path=plant_path) as plant,
+    ):
+        wall0 = time.perf_counter()  # from initialisation to the end (as the harness's)
         ctrl.start({"x_meas": float(x0)})
         u0 = float(ctrl.raw(["u"]).get()[0])
         plant.start({"x": float(x0), "v": 0.0, "u": u0, "F_ext": float(F_ext)}, t0=0.0)
@@ -67,10 +77,19 @@ def simulate_two_fmus(plant_params: Mapping[str, Any], ctrl_params: Mapping[str,
                 raise _fail(f"plant fmi2DoStep at t = {t}", plant)
             if p_get(pc, vr_x, 1, base_x + 8 * (k + 1)) > 1:
                 raise _fail(f"plant fmi2GetReal x at t = {t + Ts}", plant)
-            if (c_set(cc, vr_xm, 1, base_x + 8 * (k + 1)) > 1 or c_step(cc, t, Ts, 1) > 1
-                    or c_get(cc, vr_u_c, 1, base_u + 8 * (k + 1)) > 1):
+            if (
+                c_set(cc, vr_xm, 1, base_x + 8 * (k + 1)) > 1
+                or c_step(cc, t, Ts, 1) > 1
+                or c_get(cc, vr_u_c, 1, base_u + 8 * (k + 1)) > 1
+            ):
                 raise _fail(f"controller at t = {t + Ts}", ctrl)
         us[n] = us[n - 1]
         wall = time.perf_counter() - wall0
-    return Result({"time": np.arange(n + 1) * Ts, "x": np.array(xs), "u": np.array(us),
-                   "wall": np.array(wall)})
+    return Result(
+        {
+            "time": np.arange(n + 1) * Ts,
+            "x": np.array(xs),
+            "u": np.array(us),
+            "wall": np.array(wall),
+        }
+    )

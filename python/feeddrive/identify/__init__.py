@@ -15,6 +15,7 @@ standard errors where they can be stated, and fit diagnostics.
 | prerolling      | Eqs. 15-18 (two periodic runs)              | friction.N, nu[i], k[i]             |
 | compliance      | Eq. 1 residual, H(s) of the load, grid + NM | compliance.f/zeta/m2                |
 """
+
 from .attraction import AttractionFit, fit_attraction, identify_attraction, simulate_lag
 from .compliance import (
     ComplianceFit,
@@ -46,15 +47,39 @@ from .prerolling import (
 from .stribeck import StribeckFit, StribeckPoints, fit_stribeck, identify_stribeck, stribeck_points
 
 __all__ = [
-    "ComplianceFit", "RigidResidual", "fit_compliance", "identify_compliance", "rigid_parts",
+    "ComplianceFit",
+    "RigidResidual",
+    "fit_compliance",
+    "identify_compliance",
+    "rigid_parts",
     "rigid_residual",
-    "AttractionFit", "fit_attraction", "identify_attraction", "simulate_lag",
-    "CurrentLoopFit", "fit_current_loop", "identify_current_loop",
-    "DSTFT", "dstft",
-    "MassFit", "fit_mass", "identify_mass",
-    "MapFit", "MapSamples", "PositionMapsFit", "fit_map", "identify_position_maps", "map_samples",
-    "PrerollingFit", "fit_knots", "fit_weights", "half_cycles", "identify_prerolling",
+    "AttractionFit",
+    "fit_attraction",
+    "identify_attraction",
+    "simulate_lag",
+    "CurrentLoopFit",
+    "fit_current_loop",
+    "identify_current_loop",
+    "DSTFT",
+    "dstft",
+    "MassFit",
+    "fit_mass",
+    "identify_mass",
+    "MapFit",
+    "MapSamples",
+    "PositionMapsFit",
+    "fit_map",
+    "identify_position_maps",
+    "map_samples",
+    "PrerollingFit",
+    "fit_knots",
+    "fit_weights",
+    "half_cycles",
+    "identify_prerolling",
     "maxwell_slip",
-    "StribeckFit", "StribeckPoints", "fit_stribeck", "identify_stribeck",
+    "StribeckFit",
+    "StribeckPoints",
+    "fit_stribeck",
+    "identify_stribeck",
     "stribeck_points",
 ]

@@ -3,6 +3,7 @@
 Everything here works on plain arrays or on :class:`feeddrive.data.Run` objects and is in SI.
 The physics (Eq. 1 on measured data, maps, friction curves) is :mod:`feeddrive.physics`'s.
 """
+
 from __future__ import annotations
 
 import warnings
@@ -30,15 +31,21 @@ def current(run: Run, dc_gain: float | None = None) -> np.ndarray:
     if getattr(run, "i", None) is not None:
         return np.asarray(run.i, dtype=float)
     if dc_gain is None:
-        raise ValueError(f"{run_label(run)}: column 'i' is absent; pass dc_gain (the current "
-                         "loop's static gain G(1) [A/V]) to use i = G(1) u")
-    warnings.warn(f"{run_label(run)}: no measured current, using i = {dc_gain:g} A/V * u "
-                  "(static current-loop gain, current dynamics ignored)", stacklevel=3)
+        raise ValueError(
+            f"{run_label(run)}: column 'i' is absent; pass dc_gain (the current "
+            "loop's static gain G(1) [A/V]) to use i = G(1) u"
+        )
+    warnings.warn(
+        f"{run_label(run)}: no measured current, using i = {dc_gain:g} A/V * u "
+        "(static current-loop gain, current dynamics ignored)",
+        stacklevel=3,
+    )
     return dc_gain * signal(run, "u")
 
 
-def steady_segment(x: np.ndarray, Ts: float, window: int = 201, rel_tol: float = 0.25,
-                   label: str = "run") -> tuple[slice, float]:
+def steady_segment(
+    x: np.ndarray, Ts: float, window: int = 201, rel_tol: float = 0.25, label: str = "run"
+) -> tuple[slice, float]:
     """The longest stretch of constant velocity and its speed (signed, from a line fit).
 
     Velocity from a central difference over ``window`` samples; the reference speed is the
@@ -50,8 +57,8 @@ def steady_segment(x: np.ndarray, Ts: float, window: int = 201, rel_tol: float =
     w = odd_window(window, len(x))
     h = w // 2
     v = np.empty_like(x)
-    v[h:len(x) - h] = (x[2 * h:] - x[:len(x) - 2 * h]) / (2 * h * Ts)
-    v[:h], v[len(x) - h:] = v[h], v[len(x) - h - 1]
+    v[h : len(x) - h] = (x[2 * h :] - x[: len(x) - 2 * h]) / (2 * h * Ts)
+    v[:h], v[len(x) - h :] = v[h], v[len(x) - h - 1]
     vmax = np.percentile(np.abs(v), 99)
     if vmax <= 0:
         raise ValueError(f"{label}: the position does not move")
@@ -79,8 +86,13 @@ def collapse_positions(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.nda
     return xu, np.bincount(inv, weights=np.asarray(y, dtype=float)) / cnt
 
 
-def to_grid(x: np.ndarray, y: np.ndarray, grid: np.ndarray, method: str = "interp",
-            step: float | None = None) -> np.ndarray:
+def to_grid(
+    x: np.ndarray,
+    y: np.ndarray,
+    grid: np.ndarray,
+    method: str = "interp",
+    step: float | None = None,
+) -> np.ndarray:
     """Resample y(x) of one monotonic segment onto ``grid``.
 
     ``interp``: linear interpolation (np.interp) after averaging y over repeated quantised
@@ -109,8 +121,10 @@ def common_grid(ranges: list[tuple[float, float]], step: float, label: str = "ru
     hi = min(r[1] for r in ranges)
     k0, k1 = int(np.ceil(lo / step - 1e-9)), int(np.floor(hi / step + 1e-9))
     if k1 - k0 < 2:
-        raise ValueError(f"{label}: the constant-speed segments share no stroke "
-                         f"(common range {lo:g} .. {hi:g} m)")
+        raise ValueError(
+            f"{label}: the constant-speed segments share no stroke "
+            f"(common range {lo:g} .. {hi:g} m)"
+        )
     return np.arange(k0, k1 + 1) * step
 
 

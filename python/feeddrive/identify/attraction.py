@@ -32,6 +32,7 @@ resolvable up to ~1e5 N/s (tau ~ 0.2 ms, half a sample); a slip with no lag at a
 0.5 Hz gives ~1 %).  When kappa is not significantly > 0 the result is the bound
 "C >= C_lower, frictional lag below resolution" and ``resolved`` is False.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -49,19 +50,20 @@ from ._signals import current, jacobian_stderr, signal
 @dataclass
 class AttractionFit:
     """C from Eq. 14 with its resolution."""
-    parameters: dict[str, float]    #: friction.C [N/s] (the lower bound when not resolved)
-    stderr: dict[str, float]        #: friction.C (delta method), kappa = 1/C [s/N]
+
+    parameters: dict[str, float]  #: friction.C [N/s] (the lower bound when not resolved)
+    stderr: dict[str, float]  #: friction.C (delta method), kappa = 1/C [s/N]
     resolved: bool
-    C: float                        #: output-error estimate (inf when kappa = 0)
+    C: float  #: output-error estimate (inf when kappa = 0)
     C_interval: tuple[float, float]  #: ~95 % interval from kappa +- z se
-    C_lower: float                  #: lower end of the interval
-    C_resolvable_max: float         #: 1/(z se(kappa)): the largest C this run can tell from inf
-    C_equation_error: float         #: paper's LS, dG/dt on r
-    C_equation_error_kappa: float   #: LS of r on dG/dt, inverted
+    C_lower: float  #: lower end of the interval
+    C_resolvable_max: float  #: 1/(z se(kappa)): the largest C this run can tell from inf
+    C_equation_error: float  #: paper's LS, dG/dt on r
+    C_equation_error_kappa: float  #: LS of r on dG/dt, inverted
     message: str
-    rms_residual: float             #: output-error residual [N]
+    rms_residual: float  #: output-error residual [N]
     n_used: int
-    lag_rms: float                  #: rms of the fitted lag G - s(v) [N] (0 when unresolved)
+    lag_rms: float  #: rms of the fitted lag G - s(v) [N] (0 when unresolved)
 
 
 def _level(v: np.ndarray, p: Mapping[str, float]) -> np.ndarray:
@@ -80,8 +82,8 @@ def simulate_lag(s: np.ndarray, kappa: float, G0: float, Ts: float) -> np.ndarra
         return G
     tau = kappa * 0.5 * (np.abs(s[1:]) + np.abs(s[:-1]))
     e = np.exp(-Ts / tau)
-    p = s - np.concatenate((tau * np.diff(s) / Ts, [0.0]))   # particular solution at k (left)
-    q = s[1:] - tau * np.diff(s) / Ts                        # particular solution at k+1
+    p = s - np.concatenate((tau * np.diff(s) / Ts, [0.0]))  # particular solution at k (left)
+    q = s[1:] - tau * np.diff(s) / Ts  # particular solution at k+1
     # G[k+1] = q[k] + (G[k] - p[k]) e[k]   (plain floats: a Python loop over lists is fast)
     out = [float(G0)]
     g = float(G0)
@@ -92,11 +94,20 @@ def simulate_lag(s: np.ndarray, kappa: float, G0: float, Ts: float) -> np.ndarra
     return G
 
 
-def fit_attraction(time: np.ndarray, x: np.ndarray, i: np.ndarray, params: Mapping[str, float],
-                   force_constant: MapSpec | None = None, cogging: MapSpec | None = None,
-                   F_load: np.ndarray | float = 0.0, window: int = 41, v_min: float = 2e-4,
-                   x_skip: float = 5e-4, z: float = 2.0,
-                   current_timing: str = "held") -> AttractionFit:
+def fit_attraction(
+    time: np.ndarray,
+    x: np.ndarray,
+    i: np.ndarray,
+    params: Mapping[str, float],
+    force_constant: MapSpec | None = None,
+    cogging: MapSpec | None = None,
+    F_load: np.ndarray | float = 0.0,
+    window: int = 41,
+    v_min: float = 2e-4,
+    x_skip: float = 5e-4,
+    z: float = 2.0,
+    current_timing: str = "held",
+) -> AttractionFit:
     """C from a non-reversing run; see the module docstring.
 
     Parameters
@@ -114,8 +125,7 @@ def fit_attraction(time: np.ndarray, x: np.ndarray, i: np.ndarray, params: Mappi
     Kf = force_constant if force_constant is not None else params
     Fcg = cogging if cogging is not None else params
     x = np.asarray(x, dtype=float)
-    F_f, v, K, Ts = eq1_friction(time, x, i, params["m"], Kf, Fcg, F_load, window,
-                                 current_timing)
+    F_f, v, K, Ts = eq1_friction(time, x, i, params["m"], Kf, Fcg, F_load, window, current_timing)
     G = F_f - params["friction.sigma2"] * apply_kernel(v, K)
     seg, use = _one_way_stretch(x, v, np.isfinite(G), v_min, x_skip)
     s = _level(v, params)
@@ -132,15 +142,23 @@ def fit_attraction(time: np.ndarray, x: np.ndarray, i: np.ndarray, params: Mappi
     return AttractionFit(
         parameters={"friction.C": float(C if resolved else C_lower)},
         stderr={"friction.C": float(se_k / kappa**2) if kappa > 0 else np.inf, "kappa": se_k},
-        resolved=bool(resolved), C=float(C), C_interval=(float(C_lower), float(C_upper)),
-        C_lower=float(C_lower), C_resolvable_max=float(C_res), C_equation_error=C_ee,
-        C_equation_error_kappa=1.0 / kap_ee if kap_ee > 0 else np.inf, message=msg,
-        rms_residual=float(np.sqrt(np.mean(best.fun**2))), n_used=int(mask.sum()),
-        lag_rms=float(np.sqrt(np.mean((Gsim - s_seg)[mask] ** 2))) if resolved else 0.0)
+        resolved=bool(resolved),
+        C=float(C),
+        C_interval=(float(C_lower), float(C_upper)),
+        C_lower=float(C_lower),
+        C_resolvable_max=float(C_res),
+        C_equation_error=C_ee,
+        C_equation_error_kappa=1.0 / kap_ee if kap_ee > 0 else np.inf,
+        message=msg,
+        rms_residual=float(np.sqrt(np.mean(best.fun**2))),
+        n_used=int(mask.sum()),
+        lag_rms=float(np.sqrt(np.mean((Gsim - s_seg)[mask] ** 2))) if resolved else 0.0,
+    )
 
 
-def _one_way_stretch(x: np.ndarray, v: np.ndarray, ok: np.ndarray, v_min: float, x_skip: float
-                     ) -> tuple[slice, np.ndarray]:
+def _one_way_stretch(
+    x: np.ndarray, v: np.ndarray, ok: np.ndarray, v_min: float, x_skip: float
+) -> tuple[slice, np.ndarray]:
     """The longest stretch moving one way faster than v_min (standstill before and after is
     cut; it must hold half the valid samples) and the samples of it used (beyond x_skip)."""
     direction = np.sign(np.median(v[ok]))
@@ -152,9 +170,11 @@ def _one_way_stretch(x: np.ndarray, v: np.ndarray, ok: np.ndarray, v_min: float,
     j = int(np.argmax(stops - starts))
     seg = slice(int(starts[j]), int(stops[j]))
     if (stops[j] - starts[j]) < 0.5 * ok.sum():
-        raise ValueError("attraction: the velocity reverses or stops inside the run (the longest "
-                         f"stretch faster than v_min = {v_min:g} m/s is {stops[j] - starts[j]} of "
-                         f"{int(ok.sum())} samples); Eq. 14 needs a run that never reverses")
+        raise ValueError(
+            "attraction: the velocity reverses or stops inside the run (the longest "
+            f"stretch faster than v_min = {v_min:g} m/s is {stops[j] - starts[j]} of "
+            f"{int(ok.sum())} samples); Eq. 14 needs a run that never reverses"
+        )
     use = np.zeros_like(ok)
     use[seg] = np.abs(x[seg] - x[seg.start]) >= x_skip
     if use.sum() < 50:
@@ -162,8 +182,9 @@ def _one_way_stretch(x: np.ndarray, v: np.ndarray, ok: np.ndarray, v_min: float,
     return seg, use
 
 
-def _equation_error(G: np.ndarray, s: np.ndarray, use: np.ndarray, Ts: float
-                    ) -> tuple[float, float]:
+def _equation_error(
+    G: np.ndarray, s: np.ndarray, use: np.ndarray, Ts: float
+) -> tuple[float, float]:
     """The paper's equation error dG/dt = C r, r = 1 - G/s: C and the inverse fit's kappa."""
     dG = np.gradient(G, Ts)
     r = 1.0 - G / s
@@ -171,8 +192,7 @@ def _equation_error(G: np.ndarray, s: np.ndarray, use: np.ndarray, Ts: float
     return float(r[u] @ dG[u] / (r[u] @ r[u])), float(r[u] @ dG[u] / (dG[u] @ dG[u]))
 
 
-def _output_error(s_seg: np.ndarray, G_seg: np.ndarray, mask: np.ndarray, K: np.ndarray,
-                  Ts: float):
+def _output_error(s_seg: np.ndarray, G_seg: np.ndarray, mask: np.ndarray, K: np.ndarray, Ts: float):
     """Output-error fit of (kappa, G0) on the contiguous segment, the simulated G filtered like
     the data: a profile scan over kappa, a bounded refinement, a final joint least squares."""
     rows = np.flatnonzero(mask)
@@ -198,8 +218,12 @@ def _output_error(s_seg: np.ndarray, G_seg: np.ndarray, mask: np.ndarray, K: np.
     j = int(np.argmin(costs))
     if j > 0:
         lo_g, hi_g = np.log(grid[max(j - 1, 1)]), np.log(grid[min(j + 1, len(grid) - 1)])
-        ref = minimize_scalar(lambda lk: profile(float(np.exp(lk)))[0], bounds=(lo_g, hi_g),
-                              method="bounded", options={"xatol": 1e-3})
+        ref = minimize_scalar(
+            lambda lk: profile(float(np.exp(lk)))[0],
+            bounds=(lo_g, hi_g),
+            method="bounded",
+            options={"xatol": 1e-3},
+        )
         k_best = float(np.exp(ref.x)) if ref.fun < costs[j] else float(grid[j])
     else:
         k_best = 0.0
@@ -208,13 +232,16 @@ def _output_error(s_seg: np.ndarray, G_seg: np.ndarray, mask: np.ndarray, K: np.
         Gs = apply_kernel(simulate_lag(s_seg, th[0], th[1], Ts), K)
         return (Gs - G_seg)[mask]
 
-    return least_squares(resid, [k_best, profile(k_best)[1]],
-                         bounds=([0.0, -np.inf], [10.0, np.inf]),
-                         x_scale=[max(k_best, 1e-6), 1.0], max_nfev=20)
+    return least_squares(
+        resid,
+        [k_best, profile(k_best)[1]],
+        bounds=([0.0, -np.inf], [10.0, np.inf]),
+        x_scale=[max(k_best, 1e-6), 1.0],
+        max_nfev=20,
+    )
 
 
-def _interval(kappa: float, se_k: float, z: float
-              ) -> tuple[float, float, float, float, bool, str]:
+def _interval(kappa: float, se_k: float, z: float) -> tuple[float, float, float, float, bool, str]:
     """C, its interval from kappa +- z se, the largest resolvable C, whether C is resolved
     (kappa - z se > 0), and the message saying so."""
     C = 1.0 / kappa if kappa > 0 else np.inf
@@ -226,20 +253,24 @@ def _interval(kappa: float, se_k: float, z: float
     if resolved:
         msg = f"C = {C:.4g} N/s (interval {C_lower:.3g} .. {C_upper:.3g} N/s)"
     else:
-        msg = (f"C >= {C_lower:.3g} N/s: frictional lag below resolution "
-               f"(this run resolves C up to ~{C_res:.3g} N/s)")
+        msg = (
+            f"C >= {C_lower:.3g} N/s: frictional lag below resolution "
+            f"(this run resolves C up to ~{C_res:.3g} N/s)"
+        )
     return C, C_lower, C_upper, C_res, bool(resolved), msg
 
 
-def identify_attraction(run: Run, params: Mapping[str, float], dc_gain: float | None = None,
-                        **kw) -> AttractionFit:
+def identify_attraction(
+    run: Run, params: Mapping[str, float], dc_gain: float | None = None, **kw
+) -> AttractionFit:
     """:func:`fit_attraction` on a run (time, x, i; F_load when present).
 
     ``dc_gain``: for a run without a current column, i = dc_gain * u (the recording format).
     """
     F = run.F_load if run.F_load is not None else 0.0
     try:
-        return fit_attraction(run.time, signal(run, "x"), current(run, dc_gain), params,
-                              F_load=F, **kw)
+        return fit_attraction(
+            run.time, signal(run, "x"), current(run, dc_gain), params, F_load=F, **kw
+        )
     except ValueError as e:
         raise ValueError(f"{run_label(run)}: {e}") from None

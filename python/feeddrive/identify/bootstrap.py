@@ -23,6 +23,7 @@ A replicate that fails (a step refuses its resample) is a row with its message.
 Intervals are the ``(1 - level)/2`` and ``(1 + level)/2`` percentiles (numpy, linear
 interpolation) over the replicates that succeeded.
 """
+
 from __future__ import annotations
 
 import math
@@ -41,7 +42,7 @@ from ._signals import steady_segment
 from .pipeline import LOAD_TOL, SPEED_TOL, classify, identify_runs
 
 OK, FAILED = "ok", "failed"
-AMPLITUDE_TOL = 0.2      #: relative amplitude difference within which pre-rolling runs repeat
+AMPLITUDE_TOL = 0.2  #: relative amplitude difference within which pre-rolling runs repeat
 
 
 def _condition(run: Run, kind: str) -> tuple[float, ...]:
@@ -58,8 +59,11 @@ def _condition(run: Run, kind: str) -> tuple[float, ...]:
 
 def _same(kind: str, a: tuple[float, ...], b: tuple[float, ...]) -> bool:
     if kind == "constant_speed":
-        return a[0] == b[0] and abs(a[1] - b[1]) <= SPEED_TOL * max(a[1], b[1]) \
+        return (
+            a[0] == b[0]
+            and abs(a[1] - b[1]) <= SPEED_TOL * max(a[1], b[1])
             and abs(a[2] - b[2]) <= LOAD_TOL
+        )
     if kind == "prerolling":
         return abs(a[0] - b[0]) <= AMPLITUDE_TOL * max(a[0], b[0])
     return True
@@ -113,7 +117,7 @@ def run_replicate(task: BootstrapTask, replicate: int) -> dict[str, Any]:
         res = identify_runs([task.runs[j] for j in pick], **dict(task.options))
         values.update({n: float(res.model.parameters[n]) for n in task.names})
         status, message = OK, ""
-    except Exception as e:       # a replicate a step refuses is a row, not a crash
+    except Exception as e:  # a replicate a step refuses is a row, not a crash
         status, message = FAILED, f"{type(e).__name__}: {e}".replace("\n", " ")
     row.update(values)
     row.update({"wall_s": time.perf_counter() - t0, "status": status, "message": message})
@@ -131,8 +135,9 @@ def identified_names(model: ModelFile, defaulted: Sequence[str]) -> tuple[str, .
     return tuple(n for n in model.parameters if n not in skip)
 
 
-def intervals(rows: Sequence[dict[str, Any]], names: Sequence[str], level: float
-              ) -> dict[str, dict[str, Any]]:
+def intervals(
+    rows: Sequence[dict[str, Any]], names: Sequence[str], level: float
+) -> dict[str, dict[str, Any]]:
     """Percentile interval of every parameter over the successful replicates:
     ``{name: {"lo", "hi", "level", "replicates"}}`` (empty when none succeeded)."""
     ok = [r for r in rows if r["status"] == OK]
@@ -142,13 +147,13 @@ def intervals(rows: Sequence[dict[str, Any]], names: Sequence[str], level: float
     out: dict[str, dict[str, Any]] = {}
     for n in names:
         lo, hi = np.percentile(np.array([r[n] for r in ok], dtype=float), q)
-        out[n] = {"lo": float(lo), "hi": float(hi), "level": float(level),
-                  "replicates": len(ok)}
+        out[n] = {"lo": float(lo), "hi": float(hi), "level": float(level), "replicates": len(ok)}
     return out
 
 
-def single_run_parameters(rows: Sequence[dict[str, Any]], names: Sequence[str],
-                          repeats: int) -> dict[str, str]:
+def single_run_parameters(
+    rows: Sequence[dict[str, Any]], names: Sequence[str], repeats: int
+) -> dict[str, str]:
     """The parameters a single run per replicate feeds (the current loop from one PRBS run,
     the mass from one force run, ...): over the replicates they take at most ``repeats``
     values (the largest cell), so their percentiles are R whole runs' values, not an interval
@@ -158,9 +163,11 @@ def single_run_parameters(rows: Sequence[dict[str, Any]], names: Sequence[str],
     for n in names:
         k = len({r[n] for r in ok})
         if 1 < k <= repeats:
-            out[n] = (f"takes only {k} values over {len(ok)} replicates: one run per replicate "
-                      f"feeds it (cells of {repeats} repeats), no interval from resampling whole "
-                      "runs (--interval-method parametric resamples within the run)")
+            out[n] = (
+                f"takes only {k} values over {len(ok)} replicates: one run per replicate "
+                f"feeds it (cells of {repeats} repeats), no interval from resampling whole "
+                "runs (--interval-method parametric resamples within the run)"
+            )
     return out
 
 
@@ -171,15 +178,15 @@ class Bootstrap:
     rows: list[dict[str, Any]]
     uncertainty: dict[str, dict[str, Any]]
     n_cells: int
-    single: list[str] = field(default_factory=list)   #: runs alone in their cell
+    single: list[str] = field(default_factory=list)  #: runs alone in their cell
     wall_s: float = 0.0
     workers: int = 1
-    method: str = "runs"       #: 'runs' (this module) or 'parametric' (:mod:`.parametric`)
-    refused: dict[str, str] = field(default_factory=dict)   #: parameter -> why no interval
-    noise: str = ""            #: the noise the parametric replicates were simulated with
+    method: str = "runs"  #: 'runs' (this module) or 'parametric' (:mod:`.parametric`)
+    refused: dict[str, str] = field(default_factory=dict)  #: parameter -> why no interval
+    noise: str = ""  #: the noise the parametric replicates were simulated with
     #: parameter -> bias, spread, replicates behind its parametric interval
     evidence: dict[str, dict[str, float]] = field(default_factory=dict)
-    fixed: list[str] = field(default_factory=list)   #: the same in every replicate
+    fixed: list[str] = field(default_factory=list)  #: the same in every replicate
 
     @property
     def failed(self) -> int:
@@ -189,37 +196,53 @@ class Bootstrap:
         """One line of counts and cost, and the failures' first message."""
         ok = [r for r in self.rows if r["status"] == OK]
         cpu = float(np.mean([r["wall_s"] for r in ok])) if ok else math.nan
-        cost = (f"in {self.wall_s:.1f} s on {self.workers} worker(s) ({cpu:.2f} s per "
-                "replicate)")
+        cost = f"in {self.wall_s:.1f} s on {self.workers} worker(s) ({cpu:.2f} s per replicate)"
         if self.method != "runs" and not self.rows:
-            return ("parametric bootstrap: not run, no intervals: "
-                    + "; ".join(self.refused.values()))
+            return "parametric bootstrap: not run, no intervals: " + "; ".join(
+                self.refused.values()
+            )
         if self.method != "runs":
-            line = (f"parametric bootstrap: {len(ok)}/{len(self.rows)} campaigns of "
-                    f"{self.n_cells} runs simulated on the identified model and identified "
-                    f"again {cost}; noise: {self.noise}; intervals bias-corrected")
+            line = (
+                f"parametric bootstrap: {len(ok)}/{len(self.rows)} campaigns of "
+                f"{self.n_cells} runs simulated on the identified model and identified "
+                f"again {cost}; noise: {self.noise}; intervals bias-corrected"
+            )
             if self.refused:
-                line += (f"\n  no interval for {len(self.refused)} parameters: " + "; ".join(
-                    f"{k}: {why}" for k, why in list(self.refused.items())[:3])
-                    + (" ..." if len(self.refused) > 3 else ""))
+                line += (
+                    f"\n  no interval for {len(self.refused)} parameters: "
+                    + "; ".join(f"{k}: {why}" for k, why in list(self.refused.items())[:3])
+                    + (" ..." if len(self.refused) > 3 else "")
+                )
             bad = [r for r in self.rows if r["status"] == FAILED]
             if bad:
-                line += (f"\n  {len(bad)} failed, e.g. replicate {bad[0]['replicate']}: "
-                         f"{bad[0]['message']}")
+                line += (
+                    f"\n  {len(bad)} failed, e.g. replicate {bad[0]['replicate']}: "
+                    f"{bad[0]['message']}"
+                )
             return line
-        line = (f"bootstrap: {len(ok)}/{len(self.rows)} replicates over {self.n_cells} cells "
-                f"of repeated runs {cost}; percentile intervals of the noise spread, "
-                "without the method's bias")
+        line = (
+            f"bootstrap: {len(ok)}/{len(self.rows)} replicates over {self.n_cells} cells "
+            f"of repeated runs {cost}; percentile intervals of the noise spread, "
+            "without the method's bias"
+        )
         if self.refused:
-            line += (f"\n  no interval for {len(self.refused)} parameters fed by one run per "
-                     "replicate: " + ", ".join(list(self.refused)[:6])
-                     + (" ..." if len(self.refused) > 6 else ""))
+            line += (
+                f"\n  no interval for {len(self.refused)} parameters fed by one run per "
+                "replicate: "
+                + ", ".join(list(self.refused)[:6])
+                + (" ..." if len(self.refused) > 6 else "")
+            )
         if self.single:
-            line += (f"; {len(self.single)} runs have no repeat (no spread from them): "
-                     + ", ".join(self.single[:4]) + (" ..." if len(self.single) > 4 else ""))
+            line += (
+                f"; {len(self.single)} runs have no repeat (no spread from them): "
+                + ", ".join(self.single[:4])
+                + (" ..." if len(self.single) > 4 else "")
+            )
         bad = [r for r in self.rows if r["status"] == FAILED]
         if bad:
-            line += f"\n  {len(bad)} failed, e.g. replicate {bad[0]['replicate']}: {bad[0]['message']}"
+            line += (
+                f"\n  {len(bad)} failed, e.g. replicate {bad[0]['replicate']}: {bad[0]['message']}"
+            )
         return line
 
 
@@ -227,7 +250,9 @@ def check_campaign(runs: Sequence[Run]) -> list[list[int]]:
     """The cells of ``runs``; ValueError when no condition is repeated (no spread)."""
     groups = cells(runs)
     if all(len(g) == 1 for g in groups):
-        raise ValueError(f"identify --bootstrap: none of the {len(runs)} runs repeats another's "
-                         "condition (kind, speed, direction, load, amplitude): resampling whole "
-                         "runs needs repeated runs of at least one experiment")
+        raise ValueError(
+            f"identify --bootstrap: none of the {len(runs)} runs repeats another's "
+            "condition (kind, speed, direction, load, amplitude): resampling whole "
+            "runs needs repeated runs of at least one experiment"
+        )
     return groups

@@ -23,6 +23,7 @@ steps of a trapezoidal move's acceleration (point-to-point moves) or a PRBS do; 
 sinusoid does not (the load then only adds mass).  The Savitzky-Golay window bounds what can
 be seen: its kernel attenuates f above about (polyorder + 1) / (3.2 window Ts).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -56,25 +57,37 @@ from ..physics import (
 from ..physics.params import HasFmuParameters
 from ..signals import odd_window, run_label, sample_time
 
-__all__ = ["F_GRID", "SEARCH_STRIDE", "ZETA_GRID", "ZETA_RANGE", "ComplianceFit", "RigidResidual",
-           "fit_compliance", "identify_compliance", "nuisance_columns", "rigid_parts",
-           "rigid_residual", "start_columns"]
+__all__ = [
+    "F_GRID",
+    "SEARCH_STRIDE",
+    "ZETA_GRID",
+    "ZETA_RANGE",
+    "ComplianceFit",
+    "RigidResidual",
+    "fit_compliance",
+    "identify_compliance",
+    "nuisance_columns",
+    "rigid_parts",
+    "rigid_residual",
+    "start_columns",
+]
 
 
 @dataclass
 class RigidResidual:
     """The rigid model's residual along one run and what it was computed with."""
 
-    a: np.ndarray               #: filtered measured acceleration [m/s^2] (NaN near the ends)
-    r: np.ndarray               #: residual of the model without its compliance [N]
-    Ts: float                   #: sample interval [s]
+    a: np.ndarray  #: filtered measured acceleration [m/s^2] (NaN near the ends)
+    r: np.ndarray  #: residual of the model without its compliance [N]
+    Ts: float  #: sample interval [s]
     #: (n, N) the filtered friction's change per newton of each estimated GMS start force
     #: (zeros once the start no longer acts), or None (pre-rolling off)
     start_basis: np.ndarray | None = field(default=None)
 
 
-def rigid_parts(run: Run, model: HasFmuParameters, window_s: float = 0.02,
-                polyorder: int = 3) -> RigidResidual:
+def rigid_parts(
+    run: Run, model: HasFmuParameters, window_s: float = 0.02, polyorder: int = 3
+) -> RigidResidual:
     """The filtered measured acceleration and the residual of ``model`` *without* its
     compliance, ``K (K_f(x) i - F_cg - F_load - offset - F_f) - m a_K`` (GMS friction along
     the measured motion with pre-rolling on, started from the element forces that best
@@ -94,23 +107,26 @@ def rigid_parts(run: Run, model: HasFmuParameters, window_s: float = 0.02,
     if P.prerolling:
         v_f = friction_velocity(x, Ts, w, polyorder)
         F_f = gms_force(x, v_f, Ts, P.friction)
-        _, start, r = started_friction(x, v_f, Ts, P.friction,
-                                       force_residual(F_app, F_f, a, P.m, K), K, F_f)
+        _, start, r = started_friction(
+            x, v_f, Ts, P.friction, force_residual(F_app, F_f, a, P.m, K), K, F_f
+        )
         basis = start.full_basis(len(x)) if start.basis is not None else None
         return RigidResidual(a, r, Ts, basis)
     F_f, _ = karnopp_friction(v, F_app, P.friction, DEFAULT_V_STICK)
     return RigidResidual(a, force_residual(F_app, F_f, a, P.m, K), Ts)
 
 
-def rigid_residual(run: Run, model: HasFmuParameters, window_s: float = 0.02,
-                   polyorder: int = 3) -> tuple[np.ndarray, np.ndarray, float]:
+def rigid_residual(
+    run: Run, model: HasFmuParameters, window_s: float = 0.02, polyorder: int = 3
+) -> tuple[np.ndarray, np.ndarray, float]:
     """(a_K, y, Ts) of :func:`rigid_parts`."""
     p = rigid_parts(run, model, window_s, polyorder)
     return p.a, p.r, p.Ts
 
 
-def identify_compliance(runs: list[Run], model: HasFmuParameters, fit_mass: bool = False,
-                        window_s: float = 0.02) -> ComplianceFit:
+def identify_compliance(
+    runs: list[Run], model: HasFmuParameters, fit_mass: bool = False, window_s: float = 0.02
+) -> ComplianceFit:
     """f, zeta, m2 (module docstring) from measured runs (encoder on the slide) and a model of
     the rest of the drive (its own compliance, if any, is ignored): :func:`rigid_parts` per
     run, then :func:`fit_compliance` over all of them, the GMS start forces refitted with
@@ -118,5 +134,10 @@ def identify_compliance(runs: list[Run], model: HasFmuParameters, fit_mass: bool
     if not runs:
         raise ValueError("identify_compliance: no runs given")
     parts = [rigid_parts(run, model, window_s) for run in runs]
-    return fit_compliance([p.a for p in parts], [p.r for p in parts], [p.Ts for p in parts],
-                          fit_mass=fit_mass, nuisance=[p.start_basis for p in parts])
+    return fit_compliance(
+        [p.a for p in parts],
+        [p.r for p in parts],
+        [p.Ts for p in parts],
+        fit_mass=fit_mass,
+        nuisance=[p.start_basis for p in parts],
+    )

@@ -17,6 +17,7 @@ within ``tolerance`` (relative) of the best order's.  AIC and FPE of every candi
 reported as well and may be used instead.  The chosen structure is refitted on the whole
 record.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -29,20 +30,21 @@ from ..physics import simulate_current
 from ..signals import run_label, sample_time
 from ._signals import jacobian_stderr, signal
 
-MAX_LAG = 5         #: highest u lag the FMU holds (current.b[0..5])
-MAX_ORDER = 5       #: highest i lag the FMU holds (current.a[1..5])
+MAX_LAG = 5  #: highest u lag the FMU holds (current.b[0..5])
+MAX_ORDER = 5  #: highest i lag the FMU holds (current.a[1..5])
 
 
 @dataclass
 class OrderCandidate:
     """One fitted structure: order n, delay d, its coefficients and criteria."""
+
     order: int
     delay: int
-    a: np.ndarray                   #: a_1..a_n
-    b: np.ndarray                   #: b_0..b_{d+nb-1} (zeros below the delay)
-    arx_rms: float                  #: one-step-ahead ARX residual rms on the estimation part [A]
-    rms_estimation: float           #: output-error (simulation) rms on the estimation part [A]
-    rms_validation: float           #: simulation rms on the held-out part [A]
+    a: np.ndarray  #: a_1..a_n
+    b: np.ndarray  #: b_0..b_{d+nb-1} (zeros below the delay)
+    arx_rms: float  #: one-step-ahead ARX residual rms on the estimation part [A]
+    rms_estimation: float  #: output-error (simulation) rms on the estimation part [A]
+    rms_validation: float  #: simulation rms on the held-out part [A]
     aic: float
     fpe: float
 
@@ -50,23 +52,24 @@ class OrderCandidate:
 @dataclass
 class CurrentLoopFit:
     """Identified current loop G(z) = i/u and its diagnostics."""
+
     order: int
     delay: int
     Ts: float
     a: np.ndarray
     b: np.ndarray
-    parameters: dict[str, float]    #: current.a[1..5], current.b[0..5]
-    stderr: dict[str, float]        #: standard errors of the estimated coefficients
-    num: np.ndarray                 #: numerator of G(z), descending powers of z
-    den: np.ndarray                 #: denominator of G(z), descending powers of z
-    poles: np.ndarray               #: poles of G(z) other than the delay poles at z = 0
-    zeros: np.ndarray               #: finite zeros other than z = 0
-    poles_s: np.ndarray             #: continuous equivalents ln(z)/Ts [rad/s]
-    pole_hz: np.ndarray             #: |s|/(2 pi)
-    pole_zeta: np.ndarray           #: -Re(s)/|s|
-    dc_gain: float                  #: G(1) [A/V]
-    rms_residual: float             #: simulated-output rms error on the whole record [A]
-    fit_percent: float              #: 100 (1 - |i - i_sim| / |i - mean(i)|)
+    parameters: dict[str, float]  #: current.a[1..5], current.b[0..5]
+    stderr: dict[str, float]  #: standard errors of the estimated coefficients
+    num: np.ndarray  #: numerator of G(z), descending powers of z
+    den: np.ndarray  #: denominator of G(z), descending powers of z
+    poles: np.ndarray  #: poles of G(z) other than the delay poles at z = 0
+    zeros: np.ndarray  #: finite zeros other than z = 0
+    poles_s: np.ndarray  #: continuous equivalents ln(z)/Ts [rad/s]
+    pole_hz: np.ndarray  #: |s|/(2 pi)
+    pole_zeta: np.ndarray  #: -Re(s)/|s|
+    dc_gain: float  #: G(1) [A/V]
+    rms_residual: float  #: simulated-output rms error on the whole record [A]
+    fit_percent: float  #: 100 (1 - |i - i_sim| / |i - mean(i)|)
     criterion: str
     candidates: list[OrderCandidate] = field(default_factory=list)
 
@@ -79,8 +82,8 @@ def _regression(u: np.ndarray, i: np.ndarray, n: int, d: int) -> tuple[np.ndarra
     nb = _nb(n, d)
     k0 = max(n, d + nb - 1)
     N = len(i)
-    cols = [i[k0 - j:N - j] for j in range(1, n + 1)]
-    cols += [u[k0 - j:N - j] for j in range(d, d + nb)]
+    cols = [i[k0 - j : N - j] for j in range(1, n + 1)]
+    cols += [u[k0 - j : N - j] for j in range(d, d + nb)]
     return np.column_stack(cols), i[k0:], k0
 
 
@@ -136,29 +139,42 @@ def _candidate(u, i, n, delays, n_est) -> OrderCandidate:
     N_e, p = len(r), len(theta)
     V = float(r @ r) / N_e
     val = i[n_est:] - _sim_segment(a, b, u, i, n_est, len(i))
-    return OrderCandidate(order=n, delay=d, a=a, b=b, arx_rms=arx_rms,
-                          rms_estimation=float(np.sqrt(V)),
-                          rms_validation=float(np.sqrt(np.mean(val**2))),
-                          aic=float(N_e * np.log(V) + 2 * p),
-                          fpe=float(V * (1 + p / N_e) / (1 - p / N_e)))
+    return OrderCandidate(
+        order=n,
+        delay=d,
+        a=a,
+        b=b,
+        arx_rms=arx_rms,
+        rms_estimation=float(np.sqrt(V)),
+        rms_validation=float(np.sqrt(np.mean(val**2))),
+        aic=float(N_e * np.log(V) + 2 * p),
+        fpe=float(V * (1 + p / N_e) / (1 - p / N_e)),
+    )
 
 
 def _select(cands: list[OrderCandidate], criterion: str, tolerance: float) -> OrderCandidate:
     if criterion == "validation":
         best = min(c.rms_validation for c in cands)
-        return min((c for c in cands if c.rms_validation <= best * (1 + tolerance)),
-                   key=lambda c: c.order)
+        return min(
+            (c for c in cands if c.rms_validation <= best * (1 + tolerance)), key=lambda c: c.order
+        )
     if criterion in ("aic", "fpe"):
         return min(cands, key=lambda c: getattr(c, criterion))
-    raise ValueError("current loop: criterion must be 'validation', 'aic' or 'fpe', "
-                     f"got {criterion!r}")
+    raise ValueError(
+        f"current loop: criterion must be 'validation', 'aic' or 'fpe', got {criterion!r}"
+    )
 
 
-def fit_current_loop(u: np.ndarray, i: np.ndarray, Ts: float,
-                     orders: tuple[int, ...] = (1, 2, 3, 4, 5),
-                     delays: tuple[int, ...] = (0, 1, 2, 3),
-                     criterion: str = "validation", validation_fraction: float = 1 / 3,
-                     tolerance: float = 0.02) -> CurrentLoopFit:
+def fit_current_loop(
+    u: np.ndarray,
+    i: np.ndarray,
+    Ts: float,
+    orders: tuple[int, ...] = (1, 2, 3, 4, 5),
+    delays: tuple[int, ...] = (0, 1, 2, 3),
+    criterion: str = "validation",
+    validation_fraction: float = 1 / 3,
+    tolerance: float = 0.02,
+) -> CurrentLoopFit:
     """Fit G(z) from u [V] and i [A] sampled at Ts [s]; see the module docstring.
 
     Parameters
@@ -173,13 +189,15 @@ def fit_current_loop(u: np.ndarray, i: np.ndarray, Ts: float,
     u = np.asarray(u, dtype=float)
     i = np.asarray(i, dtype=float)
     if u.shape != i.shape or u.ndim != 1:
-        raise ValueError("current loop: u and i must be 1-D of equal length "
-                         f"({u.shape}, {i.shape})")
+        raise ValueError(
+            f"current loop: u and i must be 1-D of equal length ({u.shape}, {i.shape})"
+        )
     if any(not 1 <= n <= MAX_ORDER for n in orders):
         raise ValueError(f"current loop: orders must lie in 1..{MAX_ORDER}, got {orders}")
     if not 0.05 <= validation_fraction <= 0.7:
-        raise ValueError(f"current loop: validation_fraction {validation_fraction} "
-                         "outside 0.05..0.7")
+        raise ValueError(
+            f"current loop: validation_fraction {validation_fraction} outside 0.05..0.7"
+        )
     n_est = int(round(len(u) * (1 - validation_fraction)))
     if n_est < 50 or len(u) - n_est < 50:
         raise ValueError(f"current loop: record of {len(u)} samples too short")
@@ -207,10 +225,10 @@ def _assemble(a, b, se, n, d, Ts, u, i, criterion, cands) -> CurrentLoopFit:
     # G(z) = sum b_j z^-j / (1 - sum a_j z^-j); multiply by z^L, L = max(n, len(b)-1)
     L = max(n, len(b) - 1)
     num = np.zeros(L + 1)
-    num[:len(b)] = b
+    num[: len(b)] = b
     den = np.zeros(L + 1)
     den[0] = 1.0
-    den[1:n + 1] = -a
+    den[1 : n + 1] = -a
     num_t, den_t = np.trim_zeros(num, "b"), np.trim_zeros(den, "b")
     poles = np.roots(den_t) if len(den_t) > 1 else np.zeros(0)
     num_l = np.trim_zeros(num_t, "f")
@@ -224,11 +242,27 @@ def _assemble(a, b, se, n, d, Ts, u, i, criterion, cands) -> CurrentLoopFit:
     i_sim = np.concatenate((i[:k0], _sim_segment(a, b, u, i, k0, len(i))))
     err = i - i_sim
     fit = 100 * (1 - np.linalg.norm(err) / np.linalg.norm(i - i.mean()))
-    return CurrentLoopFit(order=n, delay=d, Ts=Ts, a=a, b=b, parameters=params, stderr=stderr,
-                          num=num, den=den, poles=poles, zeros=zeros, poles_s=s, pole_hz=hz,
-                          pole_zeta=zeta, dc_gain=dc,
-                          rms_residual=float(np.sqrt(np.mean(err**2))), fit_percent=float(fit),
-                          criterion=criterion, candidates=cands)
+    return CurrentLoopFit(
+        order=n,
+        delay=d,
+        Ts=Ts,
+        a=a,
+        b=b,
+        parameters=params,
+        stderr=stderr,
+        num=num,
+        den=den,
+        poles=poles,
+        zeros=zeros,
+        poles_s=s,
+        pole_hz=hz,
+        pole_zeta=zeta,
+        dc_gain=dc,
+        rms_residual=float(np.sqrt(np.mean(err**2))),
+        fit_percent=float(fit),
+        criterion=criterion,
+        candidates=cands,
+    )
 
 
 def identify_current_loop(run: Run, **kw) -> CurrentLoopFit:

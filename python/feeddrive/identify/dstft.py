@@ -14,6 +14,7 @@ Normalisation and phase convention (stated because the paper's figures plot |X|/
 
 Only windows lying entirely inside the data are returned (no zero padding).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -21,16 +22,17 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.signal import ShortTimeFFT
 
-WINDOW = 750            #: window length and FFT length N of the paper (samples)
-STEP = 1e-4             #: L_s, position sampling [m]
+WINDOW = 750  #: window length and FFT length N of the paper (samples)
+STEP = 1e-4  #: L_s, position sampling [m]
 
 
 @dataclass
 class DSTFT:
     """DSTFT of a uniformly sampled map."""
-    positions: np.ndarray       #: window centres [m]
-    wavelengths: np.ndarray     #: lambda_k = N L_s / k [m] (inf for k = 0)
-    spectrum: np.ndarray        #: X(n, k) / N, shape (n_bins, n_positions), phase re x = 0
+
+    positions: np.ndarray  #: window centres [m]
+    wavelengths: np.ndarray  #: lambda_k = N L_s / k [m] (inf for k = 0)
+    spectrum: np.ndarray  #: X(n, k) / N, shape (n_bins, n_positions), phase re x = 0
     N: int
     step: float
 
@@ -44,10 +46,15 @@ class DSTFT:
         if wavelength == np.inf or wavelength <= 0:
             return 0
         k = int(round(self.N * self.step / wavelength))
-        if k < 1 or k >= len(self.wavelengths) or \
-                abs(self.wavelengths[k] - wavelength) > rel_tol * wavelength:
-            raise ValueError(f"DSTFT: no bin at wavelength {wavelength:g} m "
-                             f"(N = {self.N}, step = {self.step:g} m)")
+        if (
+            k < 1
+            or k >= len(self.wavelengths)
+            or abs(self.wavelengths[k] - wavelength) > rel_tol * wavelength
+        ):
+            raise ValueError(
+                f"DSTFT: no bin at wavelength {wavelength:g} m "
+                f"(N = {self.N}, step = {self.step:g} m)"
+            )
         return k
 
     def component(self, wavelength: float) -> tuple[np.ndarray, np.ndarray]:
@@ -55,8 +62,9 @@ class DSTFT:
         X = self.spectrum[self.bin_of(wavelength)]
         return np.abs(X), np.unwrap(np.angle(X))
 
-    def components(self, wavelengths: tuple[float, ...] = (0.0375, 0.01875, 0.0125, 0.025)
-                   ) -> dict[float, tuple[np.ndarray, np.ndarray]]:
+    def components(
+        self, wavelengths: tuple[float, ...] = (0.0375, 0.01875, 0.0125, 0.025)
+    ) -> dict[float, tuple[np.ndarray, np.ndarray]]:
         """:meth:`component` for several wavelengths (default: the paper's 37.5, 18.75,
         12.5 mm and the 25 mm ripple term)."""
         return {lam: self.component(lam) for lam in wavelengths}
@@ -74,8 +82,14 @@ class DSTFT:
         return lam[order]
 
 
-def dstft(y: np.ndarray, x0: float = 0.0, step: float = STEP, window: int = WINDOW,
-          nfft: int | None = None, hop: int = 1) -> DSTFT:
+def dstft(
+    y: np.ndarray,
+    x0: float = 0.0,
+    step: float = STEP,
+    window: int = WINDOW,
+    nfft: int | None = None,
+    hop: int = 1,
+) -> DSTFT:
     """DSTFT of samples y at positions x0 + n*step (rectangular window of ``window`` samples).
 
     Parameters
@@ -91,8 +105,15 @@ def dstft(y: np.ndarray, x0: float = 0.0, step: float = STEP, window: int = WIND
     N = int(window if nfft is None else nfft)
     if len(y) < window:
         raise ValueError(f"DSTFT: {len(y)} samples are fewer than the window of {window}")
-    sft = ShortTimeFFT(np.ones(window), hop=hop, fs=1.0 / step, mfft=N, scale_to=None,
-                       phase_shift=0, fft_mode="onesided")
+    sft = ShortTimeFFT(
+        np.ones(window),
+        hop=hop,
+        fs=1.0 / step,
+        mfft=N,
+        scale_to=None,
+        phase_shift=0,
+        fft_mode="onesided",
+    )
     X = sft.stft(y)
     p_lo = sft.lower_border_end[1]
     p_hi = sft.upper_border_begin(len(y))[1]

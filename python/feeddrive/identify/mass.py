@@ -13,6 +13,7 @@ is every sample whose filter window reaches one of them, and half a window at bo
   asymmetry terms when present); one unknown, m (plus an optional constant force).
 - ``friction='coulomb_viscous'``: F_f = F_c sgn(v) + sigma2 v estimated jointly with m.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -29,12 +30,13 @@ from ._signals import current, lstsq_with_stderr, signal
 @dataclass
 class MassFit:
     """Least-squares mass (and friction terms when estimated)."""
-    parameters: dict[str, float]    #: "m" [kg]; "friction.F_c", "friction.sigma2", "offset.F"
-    stderr: dict[str, float]        #: least-squares, scaled by the filter's correlation length
-    rms_residual: float             #: force residual [N]
-    n_used: int                     #: samples in the regression
-    window: int                     #: Savitzky-Golay window [samples]
-    force_rms: float                #: rms of m a over the used samples [N] (excitation level)
+
+    parameters: dict[str, float]  #: "m" [kg]; "friction.F_c", "friction.sigma2", "offset.F"
+    stderr: dict[str, float]  #: least-squares, scaled by the filter's correlation length
+    rms_residual: float  #: force residual [N]
+    n_used: int  #: samples in the regression
+    window: int  #: Savitzky-Golay window [samples]
+    force_rms: float  #: rms of m a over the used samples [N] (excitation level)
 
 
 def steady_friction_from(params: Mapping[str, float], v: np.ndarray) -> np.ndarray:
@@ -42,11 +44,20 @@ def steady_friction_from(params: Mapping[str, float], v: np.ndarray) -> np.ndarr
     return FrictionCurve.from_params(params).steady(v)
 
 
-def fit_mass(time: np.ndarray, x: np.ndarray, i: np.ndarray, force_constant: MapSpec,
-             cogging: MapSpec, F_load: np.ndarray | float = 0.0,
-             friction: str | Mapping[str, float] = "coulomb_viscous", window: int = 41,
-             v_min: float = 0.01, reversal_skip: float = 1e-3, fit_offset: bool = False,
-             current_timing: str = "held") -> MassFit:
+def fit_mass(
+    time: np.ndarray,
+    x: np.ndarray,
+    i: np.ndarray,
+    force_constant: MapSpec,
+    cogging: MapSpec,
+    F_load: np.ndarray | float = 0.0,
+    friction: str | Mapping[str, float] = "coulomb_viscous",
+    window: int = 41,
+    v_min: float = 0.01,
+    reversal_skip: float = 1e-3,
+    fit_offset: bool = False,
+    current_timing: str = "held",
+) -> MassFit:
     """Least-squares m from sampled x [m], i [A] (see module docstring).
 
     Parameters
@@ -69,12 +80,15 @@ def fit_mass(time: np.ndarray, x: np.ndarray, i: np.ndarray, force_constant: Map
     """
     t = np.asarray(time, dtype=float)
     x = np.asarray(x, dtype=float)
-    force, a, v, K, _Ts = eq1_terms(t, x, i, force_constant, cogging, F_load, window, current_timing)
+    force, a, v, K, _Ts = eq1_terms(
+        t, x, i, force_constant, cogging, F_load, window, current_timing
+    )
     cols, names = [a], ["m"]
     if isinstance(friction, str):
         if friction != "coulomb_viscous":
-            raise ValueError(f"mass: friction must be 'coulomb_viscous' or a parameter mapping, "
-                             f"got {friction!r}")
+            raise ValueError(
+                f"mass: friction must be 'coulomb_viscous' or a parameter mapping, got {friction!r}"
+            )
         cols += [apply_kernel(np.sign(v), K), apply_kernel(v, K)]
         names += ["friction.F_c", "friction.sigma2"]
     else:
@@ -94,16 +108,25 @@ def fit_mass(time: np.ndarray, x: np.ndarray, i: np.ndarray, force_constant: Map
         raise ValueError(f"mass: only {int(use.sum())} samples faster than v_min = {v_min:g} m/s")
     A = np.column_stack(cols)[use]
     theta, se, r = lstsq_with_stderr(A, y[use])
-    se = se / np.sqrt(np.sum(K**2))     # residuals are filtered noise: correlation length 1/sum K^2
-    return MassFit(parameters={n: float(t_) for n, t_ in zip(names, theta, strict=True)},
-                   stderr={n: float(s) for n, s in zip(names, se, strict=True)},
-                   rms_residual=float(np.sqrt(np.mean(r**2))), n_used=int(use.sum()),
-                   window=window, force_rms=float(theta[0] * np.sqrt(np.mean(a[use] ** 2))))
+    se = se / np.sqrt(np.sum(K**2))  # residuals are filtered noise: correlation length 1/sum K^2
+    return MassFit(
+        parameters={n: float(t_) for n, t_ in zip(names, theta, strict=True)},
+        stderr={n: float(s) for n, s in zip(names, se, strict=True)},
+        rms_residual=float(np.sqrt(np.mean(r**2))),
+        n_used=int(use.sum()),
+        window=window,
+        force_rms=float(theta[0] * np.sqrt(np.mean(a[use] ** 2))),
+    )
 
 
-def identify_mass(run: Run, force_constant: MapSpec, cogging: MapSpec,
-                  friction: str | Mapping[str, float] = "coulomb_viscous",
-                  dc_gain: float | None = None, **kw) -> MassFit:
+def identify_mass(
+    run: Run,
+    force_constant: MapSpec,
+    cogging: MapSpec,
+    friction: str | Mapping[str, float] = "coulomb_viscous",
+    dc_gain: float | None = None,
+    **kw,
+) -> MassFit:
     """:func:`fit_mass` on a run with columns time, x, i (F_load used when present).
 
     ``dc_gain``: for a run without a current column, i = dc_gain * u (the recording format).
@@ -111,7 +134,15 @@ def identify_mass(run: Run, force_constant: MapSpec, cogging: MapSpec,
     label = run_label(run)
     F = run.F_load if run.F_load is not None else 0.0
     try:
-        return fit_mass(run.time, signal(run, "x"), current(run, dc_gain), force_constant, cogging,
-                        F, friction, **kw)
+        return fit_mass(
+            run.time,
+            signal(run, "x"),
+            current(run, dc_gain),
+            force_constant,
+            cogging,
+            F,
+            friction,
+            **kw,
+        )
     except ValueError as e:
         raise ValueError(f"{label}: {e}") from None

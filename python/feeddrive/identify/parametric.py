@@ -40,6 +40,7 @@ Refusals (a parameter gets no interval, and the reason is kept):
 Replicate ``r`` simulates run ``j`` with noise seed ``run_seed(seed, r, j)`` and depends
 on (seed, r) only: serial, on workers or on a cluster, the same rows.
 """
+
 from __future__ import annotations
 
 import math
@@ -60,9 +61,9 @@ from ..signals import run_label
 from .pipeline import IdentificationResult, classify, identify_runs
 
 OK, FAILED = "ok", "failed"
-MIN_REPLICATES = 10       #: fewest successful replicates for an interval
-MAX_FAILED_SHARE = 0.1    #: most replicates that may fail before every interval is refused
-STRUCTURE_SHARE = 0.8     #: least share of replicates choosing the estimate's G(z) structure
+MIN_REPLICATES = 10  #: fewest successful replicates for an interval
+MAX_FAILED_SHARE = 0.1  #: most replicates that may fail before every interval is refused
+STRUCTURE_SHARE = 0.8  #: least share of replicates choosing the estimate's G(z) structure
 METHOD = "parametric"
 
 
@@ -80,8 +81,10 @@ def measured_sensors(runs: Sequence[Run], fit: IdentificationResult) -> tuple[Se
         noise = float(np.median([s.sensors.current_noise for s in sides]))
         n_src = "the sidecars' current_noise"
     else:
-        raise ValueError("identify --bootstrap: the current noise is not known (no PRBS run to "
-                         "measure it, no sidecar 'sensors.current_noise')")
+        raise ValueError(
+            "identify --bootstrap: the current noise is not known (no PRBS run to "
+            "measure it, no sidecar 'sensors.current_noise')"
+        )
     steps = np.concatenate([np.abs(np.diff(np.asarray(r.x, float))) for r in runs])
     steps = steps[steps > 0]
     if steps.size:
@@ -90,8 +93,10 @@ def measured_sensors(runs: Sequence[Run], fit: IdentificationResult) -> tuple[Se
     else:
         quantum, q_src = float(np.median([s.sensors.quantum for s in sides])), "the sidecars"
     on_stage = all(s.sensors.noise_on_stage for s in sides)
-    text = (f"current noise {noise * 1e3:.3g} mA rms ({n_src}), scale {quantum * 1e9:.3g} nm "
-            f"({q_src}), noise {'acting on the stage' if on_stage else 'in the measurement only'}")
+    text = (
+        f"current noise {noise * 1e3:.3g} mA rms ({n_src}), scale {quantum * 1e9:.3g} nm "
+        f"({q_src}), noise {'acting on the stage' if on_stage else 'in the measurement only'}"
+    )
     return Sensors(quantum=quantum, current_noise=noise, noise_on_stage=on_stage), text
 
 
@@ -122,7 +127,7 @@ class ParametricTask:
     names: tuple[str, ...]
     seed: int
     options: tuple[tuple[str, Any], ...] = ()
-    current_only: tuple[bool, ...] = ()     #: per run: only its current made again
+    current_only: tuple[bool, ...] = ()  #: per run: only its current made again
 
 
 def simulated_campaign(task: ParametricTask, replicate: int) -> list[Run]:
@@ -130,11 +135,15 @@ def simulated_campaign(task: ParametricTask, replicate: int) -> list[Run]:
     params = dict(task.params)
     out = []
     for j, run in enumerate(task.runs):
-        s = Sensors(quantum=task.sensors.quantum, current_noise=task.sensors.current_noise,
-                    noise_on_stage=task.sensors.noise_on_stage,
-                    seed=run_seed(task.seed, int(replicate), j))
-        new = resimulate(run, params, s,
-                         current_only=bool(task.current_only and task.current_only[j]))
+        s = Sensors(
+            quantum=task.sensors.quantum,
+            current_noise=task.sensors.current_noise,
+            noise_on_stage=task.sensors.noise_on_stage,
+            seed=run_seed(task.seed, int(replicate), j),
+        )
+        new = resimulate(
+            run, params, s, current_only=bool(task.current_only and task.current_only[j])
+        )
         new.meta["name"] = run.name
         out.append(new)
     return out
@@ -153,11 +162,17 @@ def run_replicate(task: ParametricTask, replicate: int) -> dict[str, Any]:
         if res.current_loop is not None:
             structure = f"{res.current_loop.order}/{res.current_loop.delay}"
         status, message = OK, ""
-    except Exception as e:       # a replicate a step refuses is a row, not a crash
+    except Exception as e:  # a replicate a step refuses is a row, not a crash
         status, message = FAILED, f"{type(e).__name__}: {e}".replace("\n", " ")
     row.update(values)
-    row.update({"structure": structure, "wall_s": time.perf_counter() - t0, "status": status,
-                "message": message})
+    row.update(
+        {
+            "structure": structure,
+            "wall_s": time.perf_counter() - t0,
+            "status": status,
+            "message": message,
+        }
+    )
     return row
 
 
@@ -179,15 +194,22 @@ class Intervals:
     fixed: list[str] = field(default_factory=list)
 
 
-def bias_corrected(estimate: Mapping[str, float], rows: Sequence[dict[str, Any]],
-                   names: Sequence[str], level: float, structure: str = "") -> Intervals:
+def bias_corrected(
+    estimate: Mapping[str, float],
+    rows: Sequence[dict[str, Any]],
+    names: Sequence[str],
+    level: float,
+    structure: str = "",
+) -> Intervals:
     """The intervals of the module docstring from the replicates' rows."""
     ok = [r for r in rows if r["status"] == OK]
     out = Intervals(uncertainty={})
     failed = len(rows) - len(ok)
     if len(ok) < MIN_REPLICATES or failed > MAX_FAILED_SHARE * len(rows):
-        why = (f"{len(ok)} of {len(rows)} simulated campaigns identified (an interval needs "
-               f">= {MIN_REPLICATES} and at most {MAX_FAILED_SHARE:.0%} failed)")
+        why = (
+            f"{len(ok)} of {len(rows)} simulated campaigns identified (an interval needs "
+            f">= {MIN_REPLICATES} and at most {MAX_FAILED_SHARE:.0%} failed)"
+        )
         out.refused = dict.fromkeys(names, why)
         return out
     same = [r for r in ok if r["structure"] == structure]
@@ -197,10 +219,12 @@ def bias_corrected(estimate: Mapping[str, float], rows: Sequence[dict[str, Any]]
         if n.startswith("current."):
             if share < STRUCTURE_SHARE:
                 others = sorted({r["structure"] for r in ok} - {structure})
-                out.refused[n] = (f"the current loop's order/delay {structure} came back in "
-                                  f"{len(same)} of {len(ok)} simulated campaigns (others: "
-                                  f"{', '.join(others)}): the PRBS run does not determine the "
-                                  f"structure (an interval needs {STRUCTURE_SHARE:.0%})")
+                out.refused[n] = (
+                    f"the current loop's order/delay {structure} came back in "
+                    f"{len(same)} of {len(ok)} simulated campaigns (others: "
+                    f"{', '.join(others)}): the PRBS run does not determine the "
+                    f"structure (an interval needs {STRUCTURE_SHARE:.0%})"
+                )
                 continue
             use = same
         v = np.array([r[n] for r in use], dtype=float)
@@ -216,7 +240,13 @@ def bias_corrected(estimate: Mapping[str, float], rows: Sequence[dict[str, Any]]
         bias = float(np.mean(v) - estimate[n])
         centre = float(estimate[n]) - bias
         half = t * s * math.sqrt(1 + 1 / B)
-        out.uncertainty[n] = {"lo": centre - half, "hi": centre + half, "level": float(level),
-                              "replicates": B, "method": METHOD, "bias": bias}
+        out.uncertainty[n] = {
+            "lo": centre - half,
+            "hi": centre + half,
+            "level": float(level),
+            "replicates": B,
+            "method": METHOD,
+            "bias": bias,
+        }
         out.evidence[n] = {"bias": bias, "spread": s, "replicates": B}
     return out

@@ -26,6 +26,7 @@ gives each step's reason and how each run was classified, and no model file is w
 With ``truth`` (a model the runs were generated from), the result holds the table of true
 versus identified parameters (:mod:`.truth_table`).
 """
+
 from __future__ import annotations
 
 import re
@@ -60,12 +61,16 @@ KINDS: dict[str, str] = {
     "variable_speed": "attraction parameter C (Eq. 14)",
     "prerolling": "pre-rolling W_i, Delta_i (Eqs. 15-18)",
 }
-_STEMS = (("prbs", r"prbs"), ("constant_speed", r"cv_|constant_speed"),
-          ("force_open_loop", r"force_open_loop|open_loop"),
-          ("variable_speed", r"variable_speed"), ("prerolling", r"prerolling"))
-MIN_MAP_SPAN = 0.075   #: shortest stroke [m] the map runs must share: two magnet pitches
-LOAD_TOL = 0.5          #: loads closer than this [N] are the same load (as position_maps)
-SPEED_TOL = 0.1         #: relative speed difference within which runs share a speed
+_STEMS = (
+    ("prbs", r"prbs"),
+    ("constant_speed", r"cv_|constant_speed"),
+    ("force_open_loop", r"force_open_loop|open_loop"),
+    ("variable_speed", r"variable_speed"),
+    ("prerolling", r"prerolling"),
+)
+MIN_MAP_SPAN = 0.075  #: shortest stroke [m] the map runs must share: two magnet pitches
+LOAD_TOL = 0.5  #: loads closer than this [N] are the same load (as position_maps)
+SPEED_TOL = 0.1  #: relative speed difference within which runs share a speed
 
 
 def classify(run: Run) -> str:
@@ -89,10 +94,13 @@ def _by_signals(run: Run) -> tuple[str | None, str]:
         moving_i = run.i is None or np.ptp(run.i) > 0
         if span > 0 and sw >= 10 and moving_i:
             return "prbs", f"x held within {span * 1e6:.1f} um, u excites ({sw} mean crossings)"
-        return None, (f"x {'constant' if span == 0 else f'held within {span * 1e6:.1f} um'}, u "
-                      f"with {sw} mean crossings" + ("" if moving_i else ", i constant")
-                      + ": not a PRBS excitation (x must move a little, u cross its mean "
-                      ">= 10 times)")
+        return None, (
+            f"x {'constant' if span == 0 else f'held within {span * 1e6:.1f} um'}, u "
+            f"with {sw} mean crossings"
+            + ("" if moving_i else ", i constant")
+            + ": not a PRBS excitation (x must move a little, u cross its mean "
+            ">= 10 times)"
+        )
     if np.ptp(u) == 0:
         return None, "u is constant: no experiment of Secs. 2.2-2.4"
     if run.x_ref is None:
@@ -100,12 +108,18 @@ def _by_signals(run: Run) -> tuple[str | None, str]:
     dx = np.diff(x)
     back = min(np.sum(dx[dx > 0]), -np.sum(dx[dx < 0]))
     if back > 0.3 * span:
-        return "prerolling", f"x reverses ({back * 1e6:.0f} um back over a {span * 1e6:.0f} um span)"
+        return (
+            "prerolling",
+            f"x reverses ({back * 1e6:.0f} um back over a {span * 1e6:.0f} um span)",
+        )
     Ts = sample_time(run.time, label=run_label(run))
     seg, v = steady_segment(x, Ts, label=run_label(run))
     share = (seg.stop - seg.start) / len(x)
     if share > 0.3:
-        return "constant_speed", f"monotonic, steady speed {abs(v) * 1e3:.3g} mm/s over {share:.0%} of the run"
+        return (
+            "constant_speed",
+            f"monotonic, steady speed {abs(v) * 1e3:.3g} mm/s over {share:.0%} of the run",
+        )
     return "variable_speed", f"monotonic, no steady speed over 30 % of the run ({share:.0%})"
 
 
@@ -127,18 +141,25 @@ def classify_why(run: Run) -> tuple[str, str]:
     if kind is not None:
         why = f"the sidecar's kind {kind!r} is not one of {', '.join(KINDS)}; {why}"
     path = getattr(run, "path", None)
-    stem = run_stem(path) if path is not None \
-        else str((run.meta or {}).get("name", ""))
+    stem = run_stem(path) if path is not None else str((run.meta or {}).get("name", ""))
     named = next((k for k, pattern in _STEMS if re.match(pattern, stem)), None)
-    if named is not None and found is not None and named != found \
-            and {named, found} != {"constant_speed", "variable_speed"}:
-        raise ValueError(f"{where}: the file name says {named} but the signals say {found} "
-                         f"({why}); add a sidecar 'kind' or rename the file")
+    if (
+        named is not None
+        and found is not None
+        and named != found
+        and {named, found} != {"constant_speed", "variable_speed"}
+    ):
+        raise ValueError(
+            f"{where}: the file name says {named} but the signals say {found} "
+            f"({why}); add a sidecar 'kind' or rename the file"
+        )
     if named is not None and found is not None:
         return named, f"file name and signals ({why})"
     if found is None:
-        raise ValueError(f"{where}: cannot tell which experiment this is: no sidecar 'kind' and "
-                         f"{why}; add a sidecar 'kind' ({', '.join(KINDS)}) or remove the run")
+        raise ValueError(
+            f"{where}: cannot tell which experiment this is: no sidecar 'kind' and "
+            f"{why}; add a sidecar 'kind' ({', '.join(KINDS)}) or remove the run"
+        )
     return found, f"signals: {why}"
 
 
@@ -166,14 +187,18 @@ def map_and_stribeck_runs(runs: Sequence[Run]) -> tuple[list[Run], list[Run]]:
     loads = [run_load_mean(r)[0] for r in runs]
     speeds = [_speed(r) for r in runs]
     loaded = [s for s, P in zip(speeds, loads, strict=True) if abs(P) > LOAD_TOL]
-    maps_runs = [r for r, s in zip(runs, speeds, strict=True)
-                 if any(abs(s - q) <= SPEED_TOL * q for q in loaded)]
+    maps_runs = [
+        r
+        for r, s in zip(runs, speeds, strict=True)
+        if any(abs(s - q) <= SPEED_TOL * q for q in loaded)
+    ]
     return maps_runs, [r for r, P in zip(runs, loads, strict=True) if abs(P) <= LOAD_TOL]
 
 
 @dataclass
 class IdentificationResult:
     """Every step's fit, the model file they make, and (with a truth) the comparison."""
+
     model: ModelFile
     groups: dict[str, list[Run]]
     current_loop: CurrentLoopFit | None = None
@@ -196,52 +221,70 @@ class IdentificationResult:
 
     def text(self) -> str:
         """A plain-text account: runs used, each step's result, the truth table if any."""
-        L = [f"identification from {sum(len(v) for v in self.groups.values())} runs: "
-             + ", ".join(f"{k} {len(v)}" for k, v in self.groups.items())]
+        L = [
+            f"identification from {sum(len(v) for v in self.groups.values())} runs: "
+            + ", ".join(f"{k} {len(v)}" for k, v in self.groups.items())
+        ]
         L += self.placement
         p = self.model.parameters
         if self.current_loop is not None:
             c = self.current_loop
             poles = zip(c.pole_hz, c.pole_zeta, strict=True)
-            L.append(f"current loop: order {c.order}, delay {c.delay}, G(1) = {c.dc_gain:.4f} A/V, "
-                     f"poles {', '.join(f'{h:.0f} Hz/zeta {z:.2f}' for h, z in poles)}, "
-                     f"fit {c.fit_percent:.1f} %")
+            L.append(
+                f"current loop: order {c.order}, delay {c.delay}, G(1) = {c.dc_gain:.4f} A/V, "
+                f"poles {', '.join(f'{h:.0f} Hz/zeta {z:.2f}' for h, z in poles)}, "
+                f"fit {c.fit_percent:.1f} %"
+            )
         if self.maps is not None:
             m = self.maps
-            L.append(f"maps: {len(m.samples.loads)} loads "
-                     f"{', '.join(f'{P:.4g}' for P in m.samples.loads)} N over "
-                     f"x = {m.samples.x[0]:.4f} .. {m.samples.x[-1]:.4f} m; fit rms K_f "
-                     f"{m.ripple.rms_full:.3g} N/A, F_cg {m.cogging.rms_full:.3g} N; periodic-only "
-                     f"fits +{m.ripple.increase_percent:.0f} % / +{m.cogging.increase_percent:.0f} %")
+            L.append(
+                f"maps: {len(m.samples.loads)} loads "
+                f"{', '.join(f'{P:.4g}' for P in m.samples.loads)} N over "
+                f"x = {m.samples.x[0]:.4f} .. {m.samples.x[-1]:.4f} m; fit rms K_f "
+                f"{m.ripple.rms_full:.3g} N/A, F_cg {m.cogging.rms_full:.3g} N; periodic-only "
+                f"fits +{m.ripple.increase_percent:.0f} % / +{m.cogging.increase_percent:.0f} %"
+            )
         if self.stribeck is not None:
             s = self.stribeck
-            L.append(f"Stribeck: {len(s.points.speed)} speeds {s.points.speed.min() * 1e3:.3g} .. "
-                     f"{s.points.speed.max() * 1e3:.3g} mm/s, F_s = {p['friction.F_s']:.3f} N, "
-                     f"F_c = {p['friction.F_c']:.3f} N, V_s = {p['friction.V_s'] * 1e3:.3f} mm/s, "
-                     f"delta = {p['friction.delta']:.3f}, sigma2 = {p['friction.sigma2']:.2f} N s/m "
-                     f"(rms residual {s.rms_residual:.3g} N)")
+            L.append(
+                f"Stribeck: {len(s.points.speed)} speeds {s.points.speed.min() * 1e3:.3g} .. "
+                f"{s.points.speed.max() * 1e3:.3g} mm/s, F_s = {p['friction.F_s']:.3f} N, "
+                f"F_c = {p['friction.F_c']:.3f} N, V_s = {p['friction.V_s'] * 1e3:.3f} mm/s, "
+                f"delta = {p['friction.delta']:.3f}, sigma2 = {p['friction.sigma2']:.2f} N s/m "
+                f"(rms residual {s.rms_residual:.3g} N)"
+            )
             if s.asymmetry is not None:
-                L.append(f"  direction asymmetry (diagnostic, not in the model): dF = "
-                         f"{s.asymmetry['asymmetry.dF']:.3f} +- {s.asymmetry['stderr.asymmetry.dF']:.3f} N, "
-                         f"dsigma2 = {s.asymmetry['asymmetry.dsigma2']:.2f} +- "
-                         f"{s.asymmetry['stderr.asymmetry.dsigma2']:.2f} N s/m")
+                L.append(
+                    f"  direction asymmetry (diagnostic, not in the model): dF = "
+                    f"{s.asymmetry['asymmetry.dF']:.3f} +- {s.asymmetry['stderr.asymmetry.dF']:.3f} N, "
+                    f"dsigma2 = {s.asymmetry['asymmetry.dsigma2']:.2f} +- "
+                    f"{s.asymmetry['stderr.asymmetry.dsigma2']:.2f} N s/m"
+                )
         if self.mass is not None:
-            L.append(f"mass: m = {p['m']:.4f} +- {self.mass.stderr['m']:.4f} kg "
-                     f"({self.mass.n_used} samples, force residual {self.mass.rms_residual:.3g} N)")
+            L.append(
+                f"mass: m = {p['m']:.4f} +- {self.mass.stderr['m']:.4f} kg "
+                f"({self.mass.n_used} samples, force residual {self.mass.rms_residual:.3g} N)"
+            )
         if self.attraction is not None:
             L.append(f"attraction: {self.attraction.message}; model C = {p['friction.C']:.4g} N/s")
         if self.prerolling is not None:
             r = self.prerolling
-            L.append(f"pre-rolling: N = {len(r.W)}, Delta = "
-                     + ", ".join(f"{d * 1e6:.1f}" for d in r.Delta) + " um, W = "
-                     + ", ".join(f"{w:.2f}" for w in r.W) + f" N; fit rms {100 * r.rms_relative:.2f} % "
-                     "of F_s")
+            L.append(
+                f"pre-rolling: N = {len(r.W)}, Delta = "
+                + ", ".join(f"{d * 1e6:.1f}" for d in r.Delta)
+                + " um, W = "
+                + ", ".join(f"{w:.2f}" for w in r.W)
+                + f" N; fit rms {100 * r.rms_relative:.2f} % "
+                "of F_s"
+            )
         if self.position_friction is not None:
             f = self.position_friction
-            L.append(f"position friction: {f.profile.n} knots over {f.profile.x_start * 1e3:.1f} .. "
-                     f"{f.profile.x_end * 1e3:.1f} mm, p(x) = {min(f.profile.c) + 1:.3f} .. "
-                     f"{max(f.profile.c) + 1:.3f} at the knots (median 1; levels x {f.scale:.4f}), "
-                     f"fit rms {f.rms_residual:.3g} N on {f.n_used} samples")
+            L.append(
+                f"position friction: {f.profile.n} knots over {f.profile.x_start * 1e3:.1f} .. "
+                f"{f.profile.x_end * 1e3:.1f} mm, p(x) = {min(f.profile.c) + 1:.3f} .. "
+                f"{max(f.profile.c) + 1:.3f} at the knots (median 1; levels x {f.scale:.4f}), "
+                f"fit rms {f.rms_residual:.3g} N on {f.n_used} samples"
+            )
         for step, why in self.skipped.items():
             L.append(f"SKIPPED {step}: {why}")
         L.extend(self.notes)
@@ -297,12 +340,17 @@ def _step(name: str, fn, *args, **kw):
         raise ValueError(f"identify ({name}): {e}") from None
 
 
-def identify_runs(runs: Sequence[Run], truth: ModelFile | Mapping[str, Any] | str | Path | None = None,
-                  name: str = "identified", current_timing: str = "held",
-                  prerolling_elements: int = 5,
-                  min_map_span: float = MIN_MAP_SPAN, position_friction: bool = False,
-                  profile_knots: int = 16,
-                  progress: Callable[[str], None] | None = None) -> IdentificationResult:
+def identify_runs(
+    runs: Sequence[Run],
+    truth: ModelFile | Mapping[str, Any] | str | Path | None = None,
+    name: str = "identified",
+    current_timing: str = "held",
+    prerolling_elements: int = 5,
+    min_map_span: float = MIN_MAP_SPAN,
+    position_friction: bool = False,
+    profile_knots: int = 16,
+    progress: Callable[[str], None] | None = None,
+) -> IdentificationResult:
     """Identify a model from runs (see the module docstring).
 
     Parameters
@@ -343,17 +391,28 @@ def identify_runs(runs: Sequence[Run], truth: ModelFile | Mapping[str, Any] | st
     effects = dict(base.effects)
     if position_friction:
         stage("position friction")
-        effects["position_friction"] = _position_friction_step(res, groups, acc, dc_gain,
-                                                               current_timing, profile_knots)
+        effects["position_friction"] = _position_friction_step(
+            res, groups, acc, dc_gain, current_timing, profile_knots
+        )
     if not acc.identified - {"Ts"}:
-        raise ValueError("identify: nothing identified, every step was skipped: " + "; ".join(
-            f"{step}: {why}" for step, why in res.skipped.items()) + " (runs taken as: " + ", ".join(
-            f"{r.name or run_label(r)} {kind}" for kind, rs in groups.items() for r in rs) + ")")
+        raise ValueError(
+            "identify: nothing identified, every step was skipped: "
+            + "; ".join(f"{step}: {why}" for step, why in res.skipped.items())
+            + " (runs taken as: "
+            + ", ".join(
+                f"{r.name or run_label(r)} {kind}" for kind, rs in groups.items() for r in rs
+            )
+            + ")"
+        )
     params = acc.params
     res.defaulted = tuple(k for k in params if k not in acc.identified)
-    desc = ("identified by feeddrive.identify.pipeline from " + ", ".join(
-        sorted({run_label(r) for r in all_runs})[:3]) + (" ..." if len(all_runs) > 3 else "")
-        + "; not identified (paper values): " + (_compress(res.defaulted) or "none"))
+    desc = (
+        "identified by feeddrive.identify.pipeline from "
+        + ", ".join(sorted({run_label(r) for r in all_runs})[:3])
+        + (" ..." if len(all_runs) > 3 else "")
+        + "; not identified (paper values): "
+        + (_compress(res.defaulted) or "none")
+    )
     res.model = ModelFile(name=name, effects=effects, parameters=params, description=desc)
     res.truth = _as_model(truth)
     if res.truth is not None:
@@ -375,8 +434,9 @@ class _Collected:
                 self.identified.add(k)
 
 
-def _current_loop_step(res: IdentificationResult, groups: dict, acc: _Collected,
-                       all_runs: list[Run]) -> float | None:
+def _current_loop_step(
+    res: IdentificationResult, groups: dict, acc: _Collected, all_runs: list[Run]
+) -> float | None:
     """Eq. 2 from the longest PRBS run; returns the DC gain runs without current use."""
     dc_gain = None
     if groups["prbs"]:
@@ -393,8 +453,13 @@ def _current_loop_step(res: IdentificationResult, groups: dict, acc: _Collected,
     return dc_gain
 
 
-def _maps_and_stribeck_steps(res: IdentificationResult, groups: dict, acc: _Collected,
-                             dc_gain: float | None, min_map_span: float) -> None:
+def _maps_and_stribeck_steps(
+    res: IdentificationResult,
+    groups: dict,
+    acc: _Collected,
+    dc_gain: float | None,
+    min_map_span: float,
+) -> None:
     """Eqs. 6-7 from the loaded constant-speed runs, then Eqs. 12-13 from the unloaded ones."""
     map_runs, strib_runs = map_and_stribeck_runs(groups["constant_speed"])
     if map_runs:
@@ -405,75 +470,134 @@ def _maps_and_stribeck_steps(res: IdentificationResult, groups: dict, acc: _Coll
                 f"identify (position maps): the loaded constant-speed runs share only "
                 f"{span * 1e3:.1f} mm of stroke; Eqs. 6-7 (a cubic and three harmonics of the "
                 f"37.5 mm pitch) need at least {min_map_span * 1e3:g} mm (min_map_span), "
-                "better the whole stroke")
+                "better the whole stroke"
+            )
         acc.take(res.maps.parameters)
     else:
         res.skipped["position maps"] = "no loaded constant-speed runs"
     if len(strib_runs) >= 12:
-        res.stribeck = _step("Stribeck", identify_stribeck, strib_runs, acc.params, acc.params,
-                             dc_gain=dc_gain)
+        res.stribeck = _step(
+            "Stribeck", identify_stribeck, strib_runs, acc.params, acc.params, dc_gain=dc_gain
+        )
         acc.take(res.stribeck.parameters)
     else:
-        res.skipped["Stribeck"] = (f"{len(strib_runs)} unloaded constant-speed runs "
-                                   "(Eq. 12 needs >= 6 speeds in both directions)")
+        res.skipped["Stribeck"] = (
+            f"{len(strib_runs)} unloaded constant-speed runs "
+            "(Eq. 12 needs >= 6 speeds in both directions)"
+        )
 
 
-def _mass_step(res: IdentificationResult, groups: dict, acc: _Collected, dc_gain: float | None,
-               current_timing: str) -> None:
+def _mass_step(
+    res: IdentificationResult,
+    groups: dict,
+    acc: _Collected,
+    dc_gain: float | None,
+    current_timing: str,
+) -> None:
     """m from the open-loop force run (friction known from the previous steps)."""
     if groups["force_open_loop"]:
         run = groups["force_open_loop"][0]
-        res.mass = _step("mass", identify_mass, run, acc.params, acc.params, friction=acc.params,
-                         dc_gain=dc_gain, current_timing=current_timing)
+        res.mass = _step(
+            "mass",
+            identify_mass,
+            run,
+            acc.params,
+            acc.params,
+            friction=acc.params,
+            dc_gain=dc_gain,
+            current_timing=current_timing,
+        )
         acc.take({"m": res.mass.parameters["m"]})
     else:
         res.skipped["mass"] = "no open-loop force run"
 
 
-def _attraction_step(res: IdentificationResult, groups: dict, acc: _Collected,
-                     dc_gain: float | None, current_timing: str) -> None:
+def _attraction_step(
+    res: IdentificationResult,
+    groups: dict,
+    acc: _Collected,
+    dc_gain: float | None,
+    current_timing: str,
+) -> None:
     """C (Eq. 14) from the longest variable-speed run."""
     if groups["variable_speed"]:
         run = max(groups["variable_speed"], key=lambda r: len(r.time))
-        res.attraction = _step("attraction", identify_attraction, run, acc.params,
-                               dc_gain=dc_gain, current_timing=current_timing)
+        res.attraction = _step(
+            "attraction",
+            identify_attraction,
+            run,
+            acc.params,
+            dc_gain=dc_gain,
+            current_timing=current_timing,
+        )
         acc.take(res.attraction.parameters)
     else:
         res.skipped["attraction"] = "no variable-speed run"
 
 
-def _prerolling_step(res: IdentificationResult, groups: dict, acc: _Collected,
-                     dc_gain: float | None, current_timing: str, N: int) -> None:
+def _prerolling_step(
+    res: IdentificationResult,
+    groups: dict,
+    acc: _Collected,
+    dc_gain: float | None,
+    current_timing: str,
+    N: int,
+) -> None:
     """The Maxwell-slip elements from the largest and smallest periodic runs."""
     pr = sorted(groups["prerolling"], key=lambda r: np.ptp(r.x))
     if len(pr) >= 2:
-        res.prerolling = _step("pre-rolling", identify_prerolling, pr[-1], pr[0], acc.params,
-                               N=N, current_timing=current_timing, dc_gain=dc_gain)
+        res.prerolling = _step(
+            "pre-rolling",
+            identify_prerolling,
+            pr[-1],
+            pr[0],
+            acc.params,
+            N=N,
+            current_timing=current_timing,
+            dc_gain=dc_gain,
+        )
         acc.take(res.prerolling.parameters)
         if len(pr) > 2:
             res.notes.append(f"pre-rolling: used the smallest and largest of {len(pr)} runs")
     else:
-        res.skipped["pre-rolling"] = f"{len(pr)} periodic runs (a small and a large amplitude needed)"
+        res.skipped["pre-rolling"] = (
+            f"{len(pr)} periodic runs (a small and a large amplitude needed)"
+        )
 
 
-def _position_friction_step(res: IdentificationResult, groups: dict, acc: _Collected,
-                            dc_gain: float | None, current_timing: str, n_knots: int) -> bool:
+def _position_friction_step(
+    res: IdentificationResult,
+    groups: dict,
+    acc: _Collected,
+    dc_gain: float | None,
+    current_timing: str,
+    n_knots: int,
+) -> bool:
     """p(x) from every constant-speed run, the levels and maps identified so far; True when
     it ran (the effect is then on)."""
     runs = groups["constant_speed"]
     if not runs:
         res.skipped["position friction"] = "no constant-speed runs"
         return False
-    res.position_friction = _step("position friction", identify_position_friction, runs,
-                                  acc.params, n_knots=n_knots, dc_gain=dc_gain,
-                                  current_timing=current_timing)
+    res.position_friction = _step(
+        "position friction",
+        identify_position_friction,
+        runs,
+        acc.params,
+        n_knots=n_knots,
+        dc_gain=dc_gain,
+        current_timing=current_timing,
+    )
     acc.take(res.position_friction.parameters)
     return True
 
 
-def identify_folder(runs_dir: str | Path, out: str | Path | None = None,
-                    truth: ModelFile | Mapping[str, Any] | str | Path | None = None,
-                    **kw) -> IdentificationResult:
+def identify_folder(
+    runs_dir: str | Path,
+    out: str | Path | None = None,
+    truth: ModelFile | Mapping[str, Any] | str | Path | None = None,
+    **kw,
+) -> IdentificationResult:
     """Load every run of ``runs_dir``, identify, and write the model file to ``out``.
 
     ``truth``: optional model the runs were generated from (adds the comparison table).

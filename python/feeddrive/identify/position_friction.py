@@ -19,6 +19,7 @@ levels carry the scale (a local patch of wear or lubrication leaves most of the 
 the nominal level; the Stribeck step, which averages over position, saw the level times the
 mean of p).  The rescaled F_s, F_c (and asymmetry.dF) are part of the result.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
@@ -44,22 +45,30 @@ class PositionFrictionFit:
     """The identified profile, the level scale it moved into F_s, F_c, and fit statistics."""
 
     profile: FrictionProfile
-    scale: float                     #: median of the raw p; the levels were multiplied by it
-    parameters: dict[str, Any]       #: friction_profile.*, and friction.F_s, F_c (+ asymmetry.dF)
-    rms_residual: float              #: [N]
+    scale: float  #: median of the raw p; the levels were multiplied by it
+    parameters: dict[str, Any]  #: friction_profile.*, and friction.F_s, F_c (+ asymmetry.dF)
+    rms_residual: float  #: [N]
     n_used: int
     runs: list[str]
 
 
-def _run_rows(run: Run, params: Mapping[str, Any], prm: GMSParameters, dc_gain: float | None,
-              window: int, current_timing: str, v_min: float, reversal_skip: float
-              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def _run_rows(
+    run: Run,
+    params: Mapping[str, Any],
+    prm: GMSParameters,
+    dc_gain: float | None,
+    window: int,
+    current_timing: str,
+    v_min: float,
+    reversal_skip: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """One run's (x, L, z, K, use): positions, the unscaled sliding level L = sgn(v) S(|v|),
     the target z = K (F_app - sigma2 v) - m a - K L, the kernel K and the usable samples."""
     t, x = signal(run, "time"), signal(run, "x")
     F_load, _ = run_load(run)
-    force, a, v, K, _ = eq1_terms(t, x, current(run, dc_gain), params, params, F_load, window,
-                                  current_timing)
+    force, a, v, K, _ = eq1_terms(
+        t, x, current(run, dc_gain), params, params, F_load, window, current_timing
+    )
     L = np.sign(v) * prm.level(v)
     z = apply_kernel(force - prm.viscous(v), K) - float(params["m"]) * a - apply_kernel(L, K)
     seg_id = np.concatenate(([0], np.cumsum(np.diff(np.sign(v)) != 0)))
@@ -71,11 +80,16 @@ def _run_rows(run: Run, params: Mapping[str, Any], prm: GMSParameters, dc_gain: 
     return x, L, z, K, ~bad & np.isfinite(z)
 
 
-def identify_position_friction(runs: Sequence[Run], params: Mapping[str, Any],
-                               n_knots: int = N_KNOTS_MAX, dc_gain: float | None = None,
-                               window: int = 41, current_timing: str = "held",
-                               v_min: float = V_MIN, reversal_skip: float = REVERSAL_SKIP
-                               ) -> PositionFrictionFit:
+def identify_position_friction(
+    runs: Sequence[Run],
+    params: Mapping[str, Any],
+    n_knots: int = N_KNOTS_MAX,
+    dc_gain: float | None = None,
+    window: int = 41,
+    current_timing: str = "held",
+    v_min: float = V_MIN,
+    reversal_skip: float = REVERSAL_SKIP,
+) -> PositionFrictionFit:
     """Fit p(x) on ``runs`` (module docstring) with every other parameter from ``params``
     (FMU names: maps, mass, friction levels with the switches applied; a profile already in
     ``params`` is ignored).
@@ -91,17 +105,23 @@ def identify_position_friction(runs: Sequence[Run], params: Mapping[str, Any],
         raise ValueError(f"position friction: n_knots = {n_knots} outside 2..{N_KNOTS_MAX}")
     values = {**params, "effects.position_friction": False}
     prm = GMSParameters.from_params(values)
-    rows = [_run_rows(r, values, prm, dc_gain, window, current_timing, v_min, reversal_skip)
-            for r in runs]
+    rows = [
+        _run_rows(r, values, prm, dc_gain, window, current_timing, v_min, reversal_skip)
+        for r in runs
+    ]
     xs = np.concatenate([x[use] for x, _, _, _, use in rows]) if rows else np.zeros(0)
     if xs.size < 10 * n_knots:
-        raise ValueError(f"position friction: {xs.size} sliding samples (faster than "
-                         f"{v_min:g} m/s, {reversal_skip * 1e3:g} mm after reversals) in "
-                         f"{len(runs)} runs; need >= {10 * n_knots}")
+        raise ValueError(
+            f"position friction: {xs.size} sliding samples (faster than "
+            f"{v_min:g} m/s, {reversal_skip * 1e3:g} mm after reversals) in "
+            f"{len(runs)} runs; need >= {10 * n_knots}"
+        )
     lo, hi = float(xs.min()), float(xs.max())
     if hi - lo < 1e-3:
-        raise ValueError(f"position friction: the runs slid over {1e3 * (hi - lo):.3g} mm "
-                         "only; a profile needs some stroke")
+        raise ValueError(
+            f"position friction: the runs slid over {1e3 * (hi - lo):.3g} mm "
+            "only; a profile needs some stroke"
+        )
     A_all, z_all = [], []
     for x, L, z, K, use in rows:
         B = profile_basis(x, lo, hi, n_knots) * L[:, None]
@@ -120,5 +140,11 @@ def identify_position_friction(runs: Sequence[Run], params: Mapping[str, Any],
     out["friction.F_c"] = float(params["friction.F_c"]) * scale
     if params.get("effects.asymmetric_friction", False):
         out["asymmetry.dF"] = float(params.get("asymmetry.dF", 0.0)) * scale
-    return PositionFrictionFit(profile=prof, scale=scale, parameters=out, rms_residual=rms,
-                               n_used=int(xs.size), runs=[run_label(r) for r in runs])
+    return PositionFrictionFit(
+        profile=prof,
+        scale=scale,
+        parameters=out,
+        rms_residual=rms,
+        n_used=int(xs.size),
+        runs=[run_label(r) for r in runs],
+    )

@@ -14,6 +14,7 @@ The sampled curves are then fitted (linear least squares) by Eq. 6 (cubic + 3 ha
 lambda = 37.5 mm) and Eq. 7 (quadratic + 3 harmonics), optionally with extra harmonics of given
 wavelengths, in SI (x in metres from the stroke origin; c_k in N/m^k or N/(A m^k)).
 """
+
 from __future__ import annotations
 
 from collections.abc import Sequence
@@ -28,22 +29,23 @@ from ..physics import run_load_mean
 from ..signals import run_label, sample_time
 from ._signals import common_grid, current, lstsq_with_stderr, signal, steady_segment, to_grid
 
-PITCH = MAGNET_PITCH_MM * MM      #: magnet pitch, the fundamental wavelength [m]
-GRID_STEP = 1e-4                  #: the paper's position sampling L_s = 0.1 mm [m]
+PITCH = MAGNET_PITCH_MM * MM  #: magnet pitch, the fundamental wavelength [m]
+GRID_STEP = 1e-4  #: the paper's position sampling L_s = 0.1 mm [m]
 
 
 @dataclass
 class MapFit:
     """Linear least-squares fit of one map (Eq. 6 or Eq. 7) and its ablation."""
-    name: str                       #: "cogging" (F_cg) or "ripple" (K_f)
-    parameters: dict[str, float]    #: <name>.c[k], <name>.lambda[j], <name>.a[j], <name>.b[j]
+
+    name: str  #: "cogging" (F_cg) or "ripple" (K_f)
+    parameters: dict[str, float]  #: <name>.c[k], <name>.lambda[j], <name>.a[j], <name>.b[j]
     stderr: dict[str, float]
     poly_order: int
-    wavelengths: np.ndarray         #: lambda_j [m]
-    rms_full: float                 #: rms error of the full fit
-    rms_periodic: float             #: rms error of a fit without the polynomial terms
-    increase_percent: float         #: 100 (rms_periodic / rms_full - 1) (paper: 93.8 / 13.6)
-    periodic_constant: bool         #: whether the periodic-only fit kept a constant term
+    wavelengths: np.ndarray  #: lambda_j [m]
+    rms_full: float  #: rms error of the full fit
+    rms_periodic: float  #: rms error of a fit without the polynomial terms
+    increase_percent: float  #: 100 (rms_periodic / rms_full - 1) (paper: 93.8 / 13.6)
+    periodic_constant: bool  #: whether the periodic-only fit kept a constant term
     residual: np.ndarray
 
     def __call__(self, x: np.ndarray | float) -> np.ndarray:
@@ -54,18 +56,20 @@ class MapFit:
 @dataclass
 class MapSamples:
     """K_f and F_cg sampled on the common grid (Eqs. 4-5) with the data behind them."""
-    x: np.ndarray                   #: grid [m]
-    K_f: np.ndarray                 #: [N/A]
-    F_cg: np.ndarray                #: [N]
-    loads: np.ndarray               #: distinct loads P [N]
-    mean_current: np.ndarray        #: m_P(x), shape (n_loads, n_grid) [A]
-    speeds: dict[str, float]        #: run label -> steady speed [m/s]
-    load_source: dict[str, str]     #: run label -> where its load came from
+
+    x: np.ndarray  #: grid [m]
+    K_f: np.ndarray  #: [N/A]
+    F_cg: np.ndarray  #: [N]
+    loads: np.ndarray  #: distinct loads P [N]
+    mean_current: np.ndarray  #: m_P(x), shape (n_loads, n_grid) [A]
+    speeds: dict[str, float]  #: run label -> steady speed [m/s]
+    load_source: dict[str, str]  #: run label -> where its load came from
 
 
 @dataclass
 class PositionMapsFit:
     """Result of :func:`identify_position_maps`."""
+
     samples: MapSamples
     ripple: MapFit
     cogging: MapFit
@@ -73,8 +77,16 @@ class PositionMapsFit:
     stderr: dict[str, float] = field(default_factory=dict)
 
 
-def _group_runs(runs: Sequence[Run], grid_step: float, method: str, window: int, rel_tol: float,
-                trim: float, load_tol: float, dc_gain: float | None):
+def _group_runs(
+    runs: Sequence[Run],
+    grid_step: float,
+    method: str,
+    window: int,
+    rel_tol: float,
+    trim: float,
+    load_tol: float,
+    dc_gain: float | None,
+):
     segs = []
     for k, run in enumerate(runs):
         label = f"[{k}] {run_label(run)}"
@@ -101,21 +113,32 @@ def _group_runs(runs: Sequence[Run], grid_step: float, method: str, window: int,
     for li, P in enumerate(loads):
         fw, bw = cur.get((li, 1.0)), cur.get((li, -1.0))
         if not fw or not bw:
-            raise ValueError(f"position maps: load P = {P:g} N needs runs in both directions "
-                             f"(have {'+v' if fw else ''}{' -v' if bw else ''})")
+            raise ValueError(
+                f"position maps: load P = {P:g} N needs runs in both directions "
+                f"(have {'+v' if fw else ''}{' -v' if bw else ''})"
+            )
         vf = np.mean([abs(r[2]) for r in fw])
         vb = np.mean([abs(r[2]) for r in bw])
         if abs(vf - vb) > 0.1 * max(vf, vb):
-            raise ValueError(f"position maps: load P = {P:g} N: speeds +{vf:g} and -{vb:g} m/s "
-                             "differ by more than 10 % (Eq. 3 needs equal |v|)")
+            raise ValueError(
+                f"position maps: load P = {P:g} N: speeds +{vf:g} and -{vb:g} m/s "
+                "differ by more than 10 % (Eq. 3 needs equal |v|)"
+            )
         mean[li] = 0.5 * (np.mean([r[1] for r in fw], axis=0) + np.mean([r[1] for r in bw], axis=0))
     return grid, np.array(loads), mean, {s[0]: s[3] for s in segs}, {s[0]: s[5] for s in segs}
 
 
-def map_samples(runs: Sequence[Run], grid_step: float = GRID_STEP, kf_method: str = "lstsq",
-                resample: str = "interp", window: int = 201, rel_tol: float = 0.25,
-                trim: float = 0.5e-3, load_tol: float = 0.5,
-                dc_gain: float | None = None) -> MapSamples:
+def map_samples(
+    runs: Sequence[Run],
+    grid_step: float = GRID_STEP,
+    kf_method: str = "lstsq",
+    resample: str = "interp",
+    window: int = 201,
+    rel_tol: float = 0.25,
+    trim: float = 0.5e-3,
+    load_tol: float = 0.5,
+    dc_gain: float | None = None,
+) -> MapSamples:
     """K_f(x) and F_cg(x) on the common grid from constant-speed runs (Eqs. 4 and 5).
 
     Parameters
@@ -129,28 +152,39 @@ def map_samples(runs: Sequence[Run], grid_step: float = GRID_STEP, kf_method: st
     load_tol : loads closer than this [N] are the same load.
     dc_gain : for runs without a current column, i = dc_gain * u (the recording format).
     """
-    grid, loads, mean, speeds, src = _group_runs(runs, grid_step, resample, window, rel_tol,
-                                                 trim, load_tol, dc_gain)
+    grid, loads, mean, speeds, src = _group_runs(
+        runs, grid_step, resample, window, rel_tol, trim, load_tol, dc_gain
+    )
     if len(loads) < 2:
         raise ValueError(f"position maps: need at least two distinct loads, got {loads.tolist()}")
     if kf_method == "lstsq":
         A = np.column_stack((np.ones_like(loads), loads))
-        coef, *_ = np.linalg.lstsq(A, mean, rcond=None)     # (2, n_grid)
+        coef, *_ = np.linalg.lstsq(A, mean, rcond=None)  # (2, n_grid)
         K_f = 1.0 / coef[1]
         F_cg = coef[0] * K_f
     elif kf_method == "pairs":
-        kfs = [(loads[p] - loads[q]) / (mean[p] - mean[q])            # Eq. 4
-               for p in range(len(loads)) for q in range(p + 1, len(loads))]
+        kfs = [
+            (loads[p] - loads[q]) / (mean[p] - mean[q])  # Eq. 4
+            for p in range(len(loads))
+            for q in range(p + 1, len(loads))
+        ]
         K_f = np.mean(kfs, axis=0)
         F_cg = np.mean([K_f * mean[p] - loads[p] for p in range(len(loads))], axis=0)  # Eq. 5
     else:
         raise ValueError(f"position maps: kf_method must be 'lstsq' or 'pairs', got {kf_method!r}")
-    return MapSamples(x=grid, K_f=K_f, F_cg=F_cg, loads=loads, mean_current=mean,
-                      speeds=speeds, load_source=src)
+    return MapSamples(
+        x=grid, K_f=K_f, F_cg=F_cg, loads=loads, mean_current=mean, speeds=speeds, load_source=src
+    )
 
 
-def _design(x: np.ndarray, poly_order: int, wavelengths: np.ndarray, scale: float,
-            periodic_only: bool = False, constant: bool = True) -> np.ndarray:
+def _design(
+    x: np.ndarray,
+    poly_order: int,
+    wavelengths: np.ndarray,
+    scale: float,
+    periodic_only: bool = False,
+    constant: bool = True,
+) -> np.ndarray:
     cols = []
     if not periodic_only:
         cols += [(x / scale) ** k for k in range(poly_order + 1)]
@@ -162,10 +196,16 @@ def _design(x: np.ndarray, poly_order: int, wavelengths: np.ndarray, scale: floa
     return np.column_stack(cols)
 
 
-def fit_map(x: np.ndarray, y: np.ndarray, name: str, poly_order: int | None = None,
-            n_harmonics: int = 3, pitch: float = PITCH,
-            extra_wavelengths: Sequence[float] = (),
-            periodic_constant: bool | None = None) -> MapFit:
+def fit_map(
+    x: np.ndarray,
+    y: np.ndarray,
+    name: str,
+    poly_order: int | None = None,
+    n_harmonics: int = 3,
+    pitch: float = PITCH,
+    extra_wavelengths: Sequence[float] = (),
+    periodic_constant: bool | None = None,
+) -> MapFit:
     """Fit Eq. 6 ('cogging') or Eq. 7 ('ripple') to samples y(x), x in metres.
 
     Parameters
@@ -185,8 +225,10 @@ def fit_map(x: np.ndarray, y: np.ndarray, name: str, poly_order: int | None = No
     if len(lams) > N_HARMONICS:
         raise ValueError(f"fit_map: {len(lams)} harmonics exceed the FMU's {N_HARMONICS} slots")
     if po > maps.POLY_ORDER[name]:
-        raise ValueError(f"fit_map: the FMU holds {name}.c[0..{maps.POLY_ORDER[name]}], "
-                         f"poly_order {po} is too high")
+        raise ValueError(
+            f"fit_map: the FMU holds {name}.c[0..{maps.POLY_ORDER[name]}], "
+            f"poly_order {po} is too high"
+        )
     scale = float(np.max(np.abs(x))) or 1.0
     theta, se, r = lstsq_with_stderr(_design(x, po, lams, scale), y)
     params: dict[str, float] = {}
@@ -209,15 +251,26 @@ def fit_map(x: np.ndarray, y: np.ndarray, name: str, poly_order: int | None = No
     tp, *_ = np.linalg.lstsq(Ap, y, rcond=None)
     rms_f = float(np.sqrt(np.mean(r**2)))
     rms_p = float(np.sqrt(np.mean((y - Ap @ tp) ** 2)))
-    return MapFit(name=name, parameters=params, stderr=stderr, poly_order=po, wavelengths=lams,
-                  rms_full=rms_f, rms_periodic=rms_p,
-                  increase_percent=100.0 * (rms_p / rms_f - 1.0) if rms_f > 0 else float("inf"),
-                  periodic_constant=keep_c, residual=r)
+    return MapFit(
+        name=name,
+        parameters=params,
+        stderr=stderr,
+        poly_order=po,
+        wavelengths=lams,
+        rms_full=rms_f,
+        rms_periodic=rms_p,
+        increase_percent=100.0 * (rms_p / rms_f - 1.0) if rms_f > 0 else float("inf"),
+        periodic_constant=keep_c,
+        residual=r,
+    )
 
 
-def identify_position_maps(runs: Sequence[Run], n_harmonics: int = 3,
-                           extra_wavelengths: dict[str, Sequence[float]] | None = None,
-                           **sample_kw) -> PositionMapsFit:
+def identify_position_maps(
+    runs: Sequence[Run],
+    n_harmonics: int = 3,
+    extra_wavelengths: dict[str, Sequence[float]] | None = None,
+    **sample_kw,
+) -> PositionMapsFit:
     """Eqs. 4-5 on the runs, then the fits of Eq. 6 (cogging) and Eq. 7 (ripple).
 
     ``extra_wavelengths`` maps 'cogging'/'ripple' to extra Fourier wavelengths [m];
@@ -225,10 +278,16 @@ def identify_position_maps(runs: Sequence[Run], n_harmonics: int = 3,
     """
     extra = extra_wavelengths or {}
     s = map_samples(runs, **sample_kw)
-    rip = fit_map(s.x, s.K_f, "ripple", n_harmonics=n_harmonics,
-                  extra_wavelengths=extra.get("ripple", ()))
-    cog = fit_map(s.x, s.F_cg, "cogging", n_harmonics=n_harmonics,
-                  extra_wavelengths=extra.get("cogging", ()))
-    return PositionMapsFit(samples=s, ripple=rip, cogging=cog,
-                           parameters={**rip.parameters, **cog.parameters},
-                           stderr={**rip.stderr, **cog.stderr})
+    rip = fit_map(
+        s.x, s.K_f, "ripple", n_harmonics=n_harmonics, extra_wavelengths=extra.get("ripple", ())
+    )
+    cog = fit_map(
+        s.x, s.F_cg, "cogging", n_harmonics=n_harmonics, extra_wavelengths=extra.get("cogging", ())
+    )
+    return PositionMapsFit(
+        samples=s,
+        ripple=rip,
+        cogging=cog,
+        parameters={**rip.parameters, **cog.parameters},
+        stderr={**rip.stderr, **cog.stderr},
+    )

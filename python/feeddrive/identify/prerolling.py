@@ -24,6 +24,7 @@ Procedure (two low-frequency periodic runs, a large and a small amplitude):
    started at each run's second reversal, one constant force per run;
    nu_i = W_i / F_s, k_i = W_i / Delta_i (Eq. 16).
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
@@ -42,8 +43,9 @@ from ..signals import run_label
 from ._signals import current, signal
 
 
-def maxwell_slip(x: np.ndarray, Delta: ArrayLike, W: ArrayLike | None = None,
-                 phi0: float | Sequence[float] = 0.0) -> tuple[np.ndarray, np.ndarray]:
+def maxwell_slip(
+    x: np.ndarray, Delta: ArrayLike, W: ArrayLike | None = None, phi0: float | Sequence[float] = 0.0
+) -> tuple[np.ndarray, np.ndarray]:
     """Maxwell-slip model (Eq. 15) along a position trajectory.
 
     Parameters
@@ -87,40 +89,44 @@ def maxwell_slip(x: np.ndarray, Delta: ArrayLike, W: ArrayLike | None = None,
 @dataclass
 class HalfCycles:
     """Force-displacement data after each reversal of one run."""
-    d: np.ndarray           #: displacement since the reversal [m] (>= 0)
-    y: np.ndarray           #: sgn * F_f [N] (increases with d)
-    cycle: np.ndarray       #: half-cycle index of each sample
-    reversals: np.ndarray   #: sample indices of the reversals
-    amplitude: float        #: half the median peak-to-peak travel [m]
+
+    d: np.ndarray  #: displacement since the reversal [m] (>= 0)
+    y: np.ndarray  #: sgn * F_f [N] (increases with d)
+    cycle: np.ndarray  #: half-cycle index of each sample
+    reversals: np.ndarray  #: sample indices of the reversals
+    amplitude: float  #: half the median peak-to-peak travel [m]
 
 
 @dataclass
 class KnotFit:
     """Continuous piecewise-linear fit y = c_j + s0 d + sum beta_m max(0, d - t_m)."""
+
     knots: np.ndarray
-    slopes: np.ndarray      #: slope on each of the len(knots)+1 pieces [N/m]
+    slopes: np.ndarray  #: slope on each of the len(knots)+1 pieces [N/m]
     rms: float
 
 
 @dataclass
 class PrerollingFit:
     """Identified pre-rolling parameters."""
-    parameters: dict[str, float]    #: friction.N, friction.nu[1..10], friction.k[1..10] [N/m]
-    Delta: np.ndarray               #: [m]
-    W: np.ndarray                   #: [N], all >= 0, sum = F_s
+
+    parameters: dict[str, float]  #: friction.N, friction.nu[1..10], friction.k[1..10] [N/m]
+    Delta: np.ndarray  #: [m]
+    W: np.ndarray  #: [N], all >= 0, sum = F_s
     nu: np.ndarray
-    k: np.ndarray                   #: [N/m]
+    k: np.ndarray  #: [N/m]
     knots_small: KnotFit
     knots_large: KnotFit
-    rms: dict[str, float]           #: 'large'/'small' -> force-displacement rms error [N]
-    rms_relative: float             #: rms / F_s of the (first) run used for W
-    offsets: dict[str, float]       #: 'large'/'small' -> fitted constant force [N]
+    rms: dict[str, float]  #: 'large'/'small' -> force-displacement rms error [N]
+    rms_relative: float  #: rms / F_s of the (first) run used for W
+    offsets: dict[str, float]  #: 'large'/'small' -> fitted constant force [N]
     curves: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]] = field(default_factory=dict)
     #: 'large'/'small' -> (x, measured F_f, model F_f) on the fitted samples
 
 
-def half_cycles(x: np.ndarray, F: np.ndarray, min_fraction: float = 0.3,
-                skip: int = 0) -> HalfCycles:
+def half_cycles(
+    x: np.ndarray, F: np.ndarray, min_fraction: float = 0.3, skip: int = 0
+) -> HalfCycles:
     """Split a periodic run at its reversals (extrema of x with prominence >= min_fraction
     of the total travel); samples before reversal number ``skip`` (0-based) and NaN forces
     are dropped (``reversals`` keeps every reversal found)."""
@@ -147,7 +153,7 @@ def half_cycles(x: np.ndarray, F: np.ndarray, min_fraction: float = 0.3,
     if len(rev) < skip + 2:
         raise ValueError(f"pre-rolling: {len(rev)} reversals found, need at least {skip + 2}")
     ds, ys, cs = [], [], []
-    for j, (r0, r1) in enumerate(zip(rev[skip:], np.append(rev[skip + 1:], len(x)), strict=True)):
+    for j, (r0, r1) in enumerate(zip(rev[skip:], np.append(rev[skip + 1 :], len(x)), strict=True)):
         seg = slice(r0, r1)
         sgn = np.sign(x[min(r1, len(x)) - 1] - x[r0]) or 1.0
         d = sgn * (x[seg] - x[r0])
@@ -157,8 +163,13 @@ def half_cycles(x: np.ndarray, F: np.ndarray, min_fraction: float = 0.3,
         ys.append(sgn * F[seg][ok])
         cs.append(np.full(ok.sum(), j))
     travel = np.abs(np.diff(x[rev]))
-    return HalfCycles(d=np.concatenate(ds), y=np.concatenate(ys), cycle=np.concatenate(cs),
-                      reversals=rev, amplitude=float(np.median(travel)) / 2)
+    return HalfCycles(
+        d=np.concatenate(ds),
+        y=np.concatenate(ys),
+        cycle=np.concatenate(cs),
+        reversals=rev,
+        amplitude=float(np.median(travel)) / 2,
+    )
 
 
 def _basis(d: np.ndarray, knots: np.ndarray) -> np.ndarray:
@@ -187,8 +198,9 @@ def _pl_residual(knots, d, yc, cyc, counts):
     return yc - A @ beta, beta
 
 
-def fit_knots(hc: HalfCycles, n_knots: int, d_max: float | None = None,
-              n_grid: int = 60, decimate: int = 1) -> KnotFit:
+def fit_knots(
+    hc: HalfCycles, n_knots: int, d_max: float | None = None, n_grid: int = 60, decimate: int = 1
+) -> KnotFit:
     """Free-knot continuous piecewise-linear fit of the force-displacement data.
 
     Knots are inserted greedily (best position on a log grid of ``n_grid`` points over
@@ -217,16 +229,24 @@ def fit_knots(hc: HalfCycles, n_knots: int, d_max: float | None = None,
     def res(logk):
         return _pl_residual(np.sort(np.exp(logk)), d, yc, cyc, counts)[0]
 
-    sol = least_squares(res, np.log(knots), bounds=(np.log(dmax / 1000), np.log(dmax)),
-                        diff_step=np.full(len(knots), 1e-3))
+    sol = least_squares(
+        res,
+        np.log(knots),
+        bounds=(np.log(dmax / 1000), np.log(dmax)),
+        diff_step=np.full(len(knots), 1e-3),
+    )
     kn = np.sort(np.exp(sol.x))
     r, beta = _pl_residual(kn, d, yc, cyc, counts)
     return KnotFit(knots=kn, slopes=np.cumsum(beta), rms=float(np.sqrt(np.mean(r**2))))
 
 
-def fit_weights(segments: Sequence[tuple[np.ndarray, np.ndarray, float | Sequence[float]]],
-                Delta: ArrayLike, F_s: float, fit_offset: bool = True,
-                nonnegative: bool = True) -> tuple[np.ndarray, np.ndarray]:
+def fit_weights(
+    segments: Sequence[tuple[np.ndarray, np.ndarray, float | Sequence[float]]],
+    Delta: ArrayLike,
+    F_s: float,
+    fit_offset: bool = True,
+    nonnegative: bool = True,
+) -> tuple[np.ndarray, np.ndarray]:
     """W_1..W_N for given Delta_i from friction samples along position trajectories.
 
     Parameters
@@ -255,32 +275,45 @@ def fit_weights(segments: Sequence[tuple[np.ndarray, np.ndarray, float | Sequenc
         rhs.append(np.asarray(F)[ok])
         seg_of.append(np.full(ok.sum(), j))
     A, b, sj = np.vstack(rows), np.concatenate(rhs), np.concatenate(seg_of)
-    E = (sj[:, None] == np.arange(S)[None, :]).astype(float) if fit_offset \
+    E = (
+        (sj[:, None] == np.arange(S)[None, :]).astype(float)
+        if fit_offset
         else np.zeros((len(b), 0))
+    )
     if not nonnegative:
-        B = A[:, :N - 1] - A[:, [N - 1]]                       # Eq. 17
+        B = A[:, : N - 1] - A[:, [N - 1]]  # Eq. 17
         th, *_ = np.linalg.lstsq(np.hstack((B, E)), b - F_s * A[:, N - 1], rcond=None)
-        W = np.append(th[:N - 1], F_s - np.sum(th[:N - 1]))
-        return W, th[N - 1:] if fit_offset else np.zeros(S)
-    Aa = np.hstack((A, E, -E))                                 # offsets as +/- pairs
+        W = np.append(th[: N - 1], F_s - np.sum(th[: N - 1]))
+        return W, th[N - 1 :] if fit_offset else np.zeros(S)
+    Aa = np.hstack((A, E, -E))  # offsets as +/- pairs
     M = 1e4 * np.sqrt(len(b))
     row = np.zeros(Aa.shape[1])
     row[:N] = M
     sol, _ = nnls(np.vstack((Aa, row)), np.append(b, M * F_s), maxiter=50 * Aa.shape[1])
     W = sol[:N].copy()
-    W[-1] = max(F_s - float(np.sum(W[:-1])), 0.0)             # Eq. 18 exactly
-    off = sol[N:N + E.shape[1]] - sol[N + E.shape[1]:] if fit_offset else np.zeros(S)
+    W[-1] = max(F_s - float(np.sum(W[:-1])), 0.0)  # Eq. 18 exactly
+    off = sol[N : N + E.shape[1]] - sol[N + E.shape[1] :] if fit_offset else np.zeros(S)
     return W, off
 
 
-def identify_prerolling(large: Run, small: Run, params: Mapping[str, float], N: int = 5,
-                        force_constant: MapSpec | None = None, cogging: MapSpec | None = None,
-                        window: int = 41, current_timing: str = "held",
-                        start: str = "reversal", skip_reversals: int = 1,
-                        phi0: float | Sequence[float] = 0.0,
-                        fit_offset: bool = True,
-                        fit_runs: str = "small", decimate: int = 2, flat_fraction: float = 0.02,
-                        dc_gain: float | None = None) -> PrerollingFit:
+def identify_prerolling(
+    large: Run,
+    small: Run,
+    params: Mapping[str, float],
+    N: int = 5,
+    force_constant: MapSpec | None = None,
+    cogging: MapSpec | None = None,
+    window: int = 41,
+    current_timing: str = "held",
+    start: str = "reversal",
+    skip_reversals: int = 1,
+    phi0: float | Sequence[float] = 0.0,
+    fit_offset: bool = True,
+    fit_runs: str = "small",
+    decimate: int = 2,
+    flat_fraction: float = 0.02,
+    dc_gain: float | None = None,
+) -> PrerollingFit:
     """Pre-rolling parameters from a large- and a small-amplitude periodic run.
 
     Parameters
@@ -317,31 +350,56 @@ def identify_prerolling(large: Run, small: Run, params: Mapping[str, float], N: 
     Fcg = cogging if cogging is not None else params
     F_s = float(params["friction.F_s"])
     use = {"both": ("large", "small"), "small": ("small",), "large": ("large",)}.get(fit_runs)
-    data = {tag: _run_friction(run, tag, params["m"], Kf, Fcg, window, current_timing,
-                               skip_reversals, dc_gain)
-            for tag, run in (("large", large), ("small", small))}
+    data = {
+        tag: _run_friction(
+            run, tag, params["m"], Kf, Fcg, window, current_timing, skip_reversals, dc_gain
+        )
+        for tag, run in (("large", large), ("small", small))
+    }
     Delta, kl, ks = _element_travels(data, N, decimate, flat_fraction)
     if use is None:
-        raise ValueError("pre-rolling: fit_runs must be 'both', 'small' or 'large', "
-                         f"got {fit_runs!r}")
-    segs = {tag: _model_segment(data[tag], tag, start, skip_reversals, phi0)
-            for tag in ("large", "small")}
+        raise ValueError(
+            f"pre-rolling: fit_runs must be 'both', 'small' or 'large', got {fit_runs!r}"
+        )
+    segs = {
+        tag: _model_segment(data[tag], tag, start, skip_reversals, phi0)
+        for tag in ("large", "small")
+    }
     W, offs = fit_weights([segs[t] for t in use], Delta, F_s, fit_offset=fit_offset)
     nu, k = W / F_s, W / Delta
     rms, curves, offsets = _fitted_curves(segs, use, offs, Delta, W, fit_offset)
-    return PrerollingFit(parameters=_element_parameters(N, nu, k, W), Delta=Delta, W=W, nu=nu,
-                         k=k, knots_small=ks, knots_large=kl, rms=rms,
-                         rms_relative=rms[use[0]] / F_s, offsets=offsets, curves=curves)
+    return PrerollingFit(
+        parameters=_element_parameters(N, nu, k, W),
+        Delta=Delta,
+        W=W,
+        nu=nu,
+        k=k,
+        knots_small=ks,
+        knots_large=kl,
+        rms=rms,
+        rms_relative=rms[use[0]] / F_s,
+        offsets=offsets,
+        curves=curves,
+    )
 
 
-def _run_friction(run: Run, tag: str, m: float, Kf: MapSpec, Fcg: MapSpec, window: int,
-                  current_timing: str, skip_reversals: int, dc_gain: float | None
-                  ) -> tuple[str, np.ndarray, np.ndarray, HalfCycles]:
+def _run_friction(
+    run: Run,
+    tag: str,
+    m: float,
+    Kf: MapSpec,
+    Fcg: MapSpec,
+    window: int,
+    current_timing: str,
+    skip_reversals: int,
+    dc_gain: float | None,
+) -> tuple[str, np.ndarray, np.ndarray, HalfCycles]:
     """Step 1: the run's label, position, Eq. 1 friction and its half cycles."""
     x = signal(run, "x")
     F_load = run.F_load if run.F_load is not None else 0.0
-    F, _, _, _ = eq1_friction(run.time, x, current(run, dc_gain), m, Kf, Fcg, F_load, window,
-                              current_timing)
+    F, _, _, _ = eq1_friction(
+        run.time, x, current(run, dc_gain), m, Kf, Fcg, F_load, window, current_timing
+    )
     try:
         hc = half_cycles(x, F, skip=skip_reversals)
     except ValueError as e:
@@ -354,41 +412,49 @@ def _element_travels(data: dict, N: int, decimate: int, flat_fraction: float):
     (the small amplitude's N - 1 knots, the large one's end of pre-rolling)."""
     A_l, A_s = data["large"][3].amplitude, data["small"][3].amplitude
     if A_s >= A_l:
-        raise ValueError(f"pre-rolling: the 'small' run's amplitude {A_s:g} m is not below the "
-                         f"'large' one's {A_l:g} m")
+        raise ValueError(
+            f"pre-rolling: the 'small' run's amplitude {A_s:g} m is not below the "
+            f"'large' one's {A_l:g} m"
+        )
     kl = fit_knots(data["large"][3], N + 1, decimate=decimate)
     ks = fit_knots(data["small"][3], N - 1, decimate=decimate)
     flat = np.flatnonzero(np.abs(kl.slopes[1:]) < flat_fraction * abs(kl.slopes[0]))
     if len(flat) == 0:
-        raise ValueError(f"pre-rolling: the large amplitude ({A_l:g} m) never leaves pre-rolling "
-                         f"(no slope below {flat_fraction:g} of the initial one)")
+        raise ValueError(
+            f"pre-rolling: the large amplitude ({A_l:g} m) never leaves pre-rolling "
+            f"(no slope below {flat_fraction:g} of the initial one)"
+        )
     Delta = np.append(ks.knots / 2, kl.knots[flat[0]] / 2)
     if np.any(np.diff(Delta) <= 0):
-        raise ValueError(f"pre-rolling: Delta not increasing ({Delta.tolist()} m): the small "
-                         f"amplitude ({A_s:g} m) must exceed Delta_(N-1) and stay below Delta_N")
+        raise ValueError(
+            f"pre-rolling: Delta not increasing ({Delta.tolist()} m): the small "
+            f"amplitude ({A_s:g} m) must exceed Delta_(N-1) and stay below Delta_N"
+        )
     return Delta, kl, ks
 
 
-def _model_segment(run_data: tuple, tag: str, start: str, skip_reversals: int,
-                   phi0: float | Sequence[float]) -> tuple[np.ndarray, np.ndarray, float | Sequence[float]]:
+def _model_segment(
+    run_data: tuple, tag: str, start: str, skip_reversals: int, phi0: float | Sequence[float]
+) -> tuple[np.ndarray, np.ndarray, float | Sequence[float]]:
     """Step 4: where the Maxwell-slip model starts on a run, (x, F, initial state)."""
     _, x, F, hc = run_data
     if start == "record":
         return x, F, phi0
     if start != "reversal":
-        raise ValueError("pre-rolling: start must be 'reversal' or 'record', "
-                         f"got {start!r}")
+        raise ValueError(f"pre-rolling: start must be 'reversal' or 'record', got {start!r}")
     r0 = int(hc.reversals[skip_reversals])
     before = int(hc.reversals[skip_reversals - 1]) if skip_reversals > 0 else 0
-    direction = float(np.sign(x[r0] - x[before]))     # of the motion into r0
+    direction = float(np.sign(x[r0] - x[before]))  # of the motion into r0
     if direction == 0:
-        raise ValueError(f"pre-rolling: no motion before reversal {skip_reversals} "
-                         f"of the {tag} run")
+        raise ValueError(
+            f"pre-rolling: no motion before reversal {skip_reversals} of the {tag} run"
+        )
     return x[r0:], F[r0:], direction
 
 
-def _fitted_curves(segs: dict, use: tuple[str, ...], offs, Delta: np.ndarray, W: np.ndarray,
-                   fit_offset: bool) -> tuple[dict, dict, dict]:
+def _fitted_curves(
+    segs: dict, use: tuple[str, ...], offs, Delta: np.ndarray, W: np.ndarray, fit_offset: bool
+) -> tuple[dict, dict, dict]:
     """Step 6: the model along each run with its offset, the rms misfit and the curves."""
     rms, curves, offsets = {}, {}, {}
     for tag in ("large", "small"):
@@ -397,7 +463,7 @@ def _fitted_curves(segs: dict, use: tuple[str, ...], offs, Delta: np.ndarray, W:
         ok = np.isfinite(F)
         if tag in use:
             off = offs[use.index(tag)]
-        else:       # a run not used for W: its own offset (the mean misfit)
+        else:  # a run not used for W: its own offset (the mean misfit)
             off = float(np.mean(F[ok] - model[ok])) if fit_offset else 0.0
         rms[tag] = float(np.sqrt(np.mean((F[ok] - model[ok] - off) ** 2)))
         curves[tag] = (x[ok], F[ok], model[ok] + off)

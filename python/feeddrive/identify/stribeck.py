@@ -15,6 +15,7 @@ F_c + dF, F_s + dF and the viscous coefficient sigma2 + dsigma2) gives F_+ - F_-
 -(dF + dsigma2 |v|); a line fit returns dF and dsigma2.  A constant offset force and a bias of
 F_cg's constant term are indistinguishable from dF here (they enter the same way).
 """
+
 from __future__ import annotations
 
 from collections.abc import Sequence
@@ -43,9 +44,10 @@ NAMES = ("friction.F_s", "friction.F_c", "friction.V_s", "friction.delta", "fric
 @dataclass
 class StribeckPoints:
     """Eq. 13 per speed (one entry per pair of runs)."""
-    speed: np.ndarray           #: |v| [m/s] (mean of the pair)
-    friction: np.ndarray        #: mean F_f over position [N]
-    spread: np.ndarray          #: std of F_f over position [N]
+
+    speed: np.ndarray  #: |v| [m/s] (mean of the pair)
+    friction: np.ndarray  #: mean F_f over position [N]
+    spread: np.ndarray  #: std of F_f over position [N]
     asymmetry: np.ndarray | None  #: F_+ - F_- [N] (None without F_cg)
     pairs: list[tuple[str, str]]
 
@@ -53,22 +55,30 @@ class StribeckPoints:
 @dataclass
 class StribeckFit:
     """Fit of Eq. 12 (and the asymmetry line when available)."""
-    parameters: dict[str, float]    #: friction.F_s, F_c, V_s [m/s], delta, sigma2 [N s/m]
+
+    parameters: dict[str, float]  #: friction.F_s, F_c, V_s [m/s], delta, sigma2 [N s/m]
     stderr: dict[str, float]
     points: StribeckPoints
-    residual: np.ndarray            #: model - data at the points [N]
+    residual: np.ndarray  #: model - data at the points [N]
     rms_residual: float
-    asymmetry: dict[str, float] | None   #: asymmetry.dF, asymmetry.dsigma2 (+ stderr keys)
+    asymmetry: dict[str, float] | None  #: asymmetry.dF, asymmetry.dsigma2 (+ stderr keys)
 
     def curve(self, v: np.ndarray) -> np.ndarray:
         """The fitted steady friction (Eq. 12) at v [m/s]."""
         p = self.parameters
-        return steady_friction(np.asarray(v, dtype=float), p["friction.F_s"], p["friction.F_c"],
-                              p["friction.V_s"], p["friction.delta"], p["friction.sigma2"])
+        return steady_friction(
+            np.asarray(v, dtype=float),
+            p["friction.F_s"],
+            p["friction.F_c"],
+            p["friction.V_s"],
+            p["friction.delta"],
+            p["friction.sigma2"],
+        )
 
 
-def _pair_runs(runs: Sequence[Run], window: int, rel_tol: float, speed_tol: float,
-               dc_gain: float | None):
+def _pair_runs(
+    runs: Sequence[Run], window: int, rel_tol: float, speed_tol: float, dc_gain: float | None
+):
     items = []
     for k, run in enumerate(runs):
         label = f"[{k}] {run_label(run)}"
@@ -84,8 +94,10 @@ def _pair_runs(runs: Sequence[Run], window: int, rel_tol: float, speed_tol: floa
     for f in fw:
         cand = [(abs(abs(b[3]) - f[3]), j) for j, b in enumerate(bw) if j not in used]
         if not cand or min(cand)[0] > speed_tol * f[3]:
-            raise ValueError(f"Stribeck: run {f[0]} (v = {f[3]:g} m/s) has no opposite run "
-                             f"within {100 * speed_tol:g} % of its speed")
+            raise ValueError(
+                f"Stribeck: run {f[0]} (v = {f[3]:g} m/s) has no opposite run "
+                f"within {100 * speed_tol:g} % of its speed"
+            )
         j = min(cand)[1]
         used.add(j)
         pairs.append((f, bw[j]))
@@ -95,10 +107,17 @@ def _pair_runs(runs: Sequence[Run], window: int, rel_tol: float, speed_tol: floa
     return pairs
 
 
-def stribeck_points(runs: Sequence[Run], force_constant: MapSpec, cogging: MapSpec | None = None,
-                    grid_step: float = GRID_STEP, window: int = 201, rel_tol: float = 0.25,
-                    speed_tol: float = 0.1, resample: str = "bin",
-                    dc_gain: float | None = None) -> StribeckPoints:
+def stribeck_points(
+    runs: Sequence[Run],
+    force_constant: MapSpec,
+    cogging: MapSpec | None = None,
+    grid_step: float = GRID_STEP,
+    window: int = 201,
+    rel_tol: float = 0.25,
+    speed_tol: float = 0.1,
+    resample: str = "bin",
+    dc_gain: float | None = None,
+) -> StribeckPoints:
     """Eq. 13 for every +-v pair of runs (K_f from ``force_constant``: FMU params or callable).
 
     ``cogging`` (params or callable), when given, adds the forward-backward asymmetry.
@@ -113,10 +132,14 @@ def stribeck_points(runs: Sequence[Run], force_constant: MapSpec, cogging: MapSp
     sp, fr, spread, asym, names = [], [], [], [], []
     for f, b in pairs:
         if abs(f[4] - b[4]) > 0.5:
-            raise ValueError(f"Stribeck: runs {f[0]} and {b[0]} have different loads "
-                             f"({f[4]:g}, {b[4]:g} N)")
-        grid = common_grid([(f[1].min(), f[1].max()), (b[1].min(), b[1].max())], grid_step,
-                           label=f"{f[0]} / {b[0]}")
+            raise ValueError(
+                f"Stribeck: runs {f[0]} and {b[0]} have different loads ({f[4]:g}, {b[4]:g} N)"
+            )
+        grid = common_grid(
+            [(f[1].min(), f[1].max()), (b[1].min(), b[1].max())],
+            grid_step,
+            label=f"{f[0]} / {b[0]}",
+        )
         i_f = to_grid(f[1], f[2], grid, resample, grid_step)
         i_b = to_grid(b[1], b[2], grid, resample, grid_step)
         Kf = eval_map(force_constant, "ripple", grid)
@@ -128,13 +151,18 @@ def stribeck_points(runs: Sequence[Run], force_constant: MapSpec, cogging: MapSp
             Fcg = eval_map(cogging, "cogging", grid)
             asym.append(float(np.mean(Kf * (i_f + i_b) - 2 * (Fcg + f[4]))))
         names.append((f[0], b[0]))
-    return StribeckPoints(speed=np.array(sp), friction=np.array(fr), spread=np.array(spread),
-                          asymmetry=np.array(asym) if cogging is not None else None, pairs=names)
+    return StribeckPoints(
+        speed=np.array(sp),
+        friction=np.array(fr),
+        spread=np.array(spread),
+        asymmetry=np.array(asym) if cogging is not None else None,
+        pairs=names,
+    )
 
 
-def fit_stribeck(speed: np.ndarray, friction: np.ndarray,
-                 weights: np.ndarray | None = None
-                 ) -> tuple[dict[str, float], dict[str, float], np.ndarray]:
+def fit_stribeck(
+    speed: np.ndarray, friction: np.ndarray, weights: np.ndarray | None = None
+) -> tuple[dict[str, float], dict[str, float], np.ndarray]:
     """Nonlinear least-squares fit of Eq. 12 (v > 0) to points (speed [m/s], friction [N]).
 
     Returns parameters, standard errors (FMU names) and the residual model - data.
@@ -163,14 +191,19 @@ def fit_stribeck(speed: np.ndarray, friction: np.ndarray,
             sol = least_squares(resid, th0, bounds=(lb, ub), x_scale="jac")
             if best is None or sol.cost < best.cost:
                 best = sol
-    assert best is not None                 # the grid of starts is not empty
+    assert best is not None  # the grid of starts is not empty
     se = jacobian_stderr(np.asarray(best.jac), best.fun)
     params = {n: float(t) for n, t in zip(NAMES, best.x, strict=True)}
-    return params, {n: float(s) for n, s in zip(NAMES, se, strict=True)}, steady_friction(v, *best.x) - F
+    return (
+        params,
+        {n: float(s) for n, s in zip(NAMES, se, strict=True)},
+        steady_friction(v, *best.x) - F,
+    )
 
 
-def identify_stribeck(runs: Sequence[Run], force_constant: MapSpec,
-                      cogging: MapSpec | None = None, **kw) -> StribeckFit:
+def identify_stribeck(
+    runs: Sequence[Run], force_constant: MapSpec, cogging: MapSpec | None = None, **kw
+) -> StribeckFit:
     """Eq. 13 on the run pairs, then the fit of Eq. 12 (and the asymmetry line)."""
     pts = stribeck_points(runs, force_constant, cogging, **kw)
     params, se, r = fit_stribeck(pts.speed, pts.friction)
@@ -178,7 +211,17 @@ def identify_stribeck(runs: Sequence[Run], force_constant: MapSpec,
     if pts.asymmetry is not None and len(pts.speed) >= 3:
         A = np.column_stack((np.ones_like(pts.speed), pts.speed))
         th, s, _ = lstsq_with_stderr(A, pts.asymmetry)
-        asym = {"asymmetry.dF": float(-th[0]), "asymmetry.dsigma2": float(-th[1]),
-                "stderr.asymmetry.dF": float(s[0]), "stderr.asymmetry.dsigma2": float(s[1])}
-    return StribeckFit(parameters=params, stderr=se, points=pts, residual=r,
-                       rms_residual=float(np.sqrt(np.mean(r**2))), asymmetry=asym)
+        asym = {
+            "asymmetry.dF": float(-th[0]),
+            "asymmetry.dsigma2": float(-th[1]),
+            "stderr.asymmetry.dF": float(s[0]),
+            "stderr.asymmetry.dsigma2": float(s[1]),
+        }
+    return StribeckFit(
+        parameters=params,
+        stderr=se,
+        points=pts,
+        residual=r,
+        rms_residual=float(np.sqrt(np.mean(r**2))),
+        asymmetry=asym,
+    )

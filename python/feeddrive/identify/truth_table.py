@@ -23,6 +23,7 @@ has a standard error set by the force noise after the differentiator
 
 So :func:`c_factor` gives 1.05 when tau = F_s / C_true exceeds 0.1 s, else 1.15.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -52,10 +53,15 @@ class IdentifiedFits(Protocol):
 
 #: Relative tolerances of the round trip (fraction).
 REL_TOL: dict[str, float] = {
-    "current": 0.02, "friction.F_s": 0.03, "friction.F_c": 0.03, "friction.V_s": 0.15,
-    "friction.delta": 0.15, "friction.sigma2": 0.10, "m": 0.01,
+    "current": 0.02,
+    "friction.F_s": 0.03,
+    "friction.F_c": 0.03,
+    "friction.V_s": 0.15,
+    "friction.delta": 0.15,
+    "friction.sigma2": 0.10,
+    "m": 0.01,
 }
-MAP_TOL = 0.02              #: map rms error / range of the true map
+MAP_TOL = 0.02  #: map rms error / range of the true map
 
 
 def c_factor(C_true: float, F_s: float) -> float:
@@ -63,20 +69,22 @@ def c_factor(C_true: float, F_s: float) -> float:
     1.15 for a fast one."""
     return 1.05 if F_s / C_true > 0.1 else 1.15
 
-PREROLLING_TOL = 0.03       #: force rms / F_s
+
+PREROLLING_TOL = 0.03  #: force rms / F_s
 
 
 @dataclass
 class TruthRow:
     """One comparison."""
+
     quantity: str
     unit: str
     true: float
     identified: float
-    error: float            #: relative error, rms/range, or factor (see ``measure``)
-    measure: str            #: how ``error`` is defined
-    tolerance: float        #: NaN: no tolerance (information)
-    ok: bool | None         #: None: no tolerance
+    error: float  #: relative error, rms/range, or factor (see ``measure``)
+    measure: str  #: how ``error`` is defined
+    tolerance: float  #: NaN: no tolerance (information)
+    ok: bool | None  #: None: no tolerance
 
     def as_dict(self) -> dict[str, Any]:
         d = asdict(self)
@@ -91,8 +99,14 @@ def _rel(q: str, unit: str, t: float, i: float, tol: float | None) -> TruthRow:
     return TruthRow(q, unit, t, i, float(err), "relative", tol, bool(abs(err) <= tol))
 
 
-def map_error(name: str, identified: Mapping[str, Any], true: Mapping[str, Any],
-              x_min: float = 0.0, x_max: float = 0.3, step: float = 1e-4) -> tuple[float, float]:
+def map_error(
+    name: str,
+    identified: Mapping[str, Any],
+    true: Mapping[str, Any],
+    x_min: float = 0.0,
+    x_max: float = 0.3,
+    step: float = 1e-4,
+) -> tuple[float, float]:
     """rms of identified - true map over the stroke, and the true map's range (ptp)."""
     x = np.arange(x_min, x_max + step / 2, step)
     t = maps.evaluate(name, x, true)
@@ -110,8 +124,9 @@ def elements(p: Mapping[str, Any]) -> tuple[np.ndarray, np.ndarray]:
     return W[keep] / k[keep], W[keep]
 
 
-def prerolling_force_error(x: np.ndarray, identified: Mapping[str, Any],
-                           true: Mapping[str, Any]) -> float:
+def prerolling_force_error(
+    x: np.ndarray, identified: Mapping[str, Any], true: Mapping[str, Any]
+) -> float:
     """rms of identified - true Maxwell-slip force along x (started at a reversal, both fully
     strained against the first motion), its mean removed [N]."""
     x = np.asarray(x, float)
@@ -132,55 +147,132 @@ def truth_rows(res: IdentifiedFits, truth: ModelFile) -> list[TruthRow]:
         c = res.current_loop
         true_order = max([j for j in range(1, 6) if t[f"current.a[{j}]"] != 0] or [0])
         true_delay = min([j for j in range(6) if t[f"current.b[{j}]"] != 0] or [0])
-        rows.append(TruthRow("current loop order, delay", "", float(10 * true_order + true_delay),
-                             float(10 * c.order + c.delay), 0.0, "10 n + d", 0.0,
-                             (c.order, c.delay) == (true_order, true_delay)))
+        rows.append(
+            TruthRow(
+                "current loop order, delay",
+                "",
+                float(10 * true_order + true_delay),
+                float(10 * c.order + c.delay),
+                0.0,
+                "10 n + d",
+                0.0,
+                (c.order, c.delay) == (true_order, true_delay),
+            )
+        )
         for k in [f"current.a[{j}]" for j in range(1, 6)] + [f"current.b[{j}]" for j in range(6)]:
             if t[k] != 0 or p[k] != 0:
                 rows.append(_rel(k, "", t[k], p[k], REL_TOL["current"]))
     if res.maps is not None:
         x0, x1 = float(t["stroke.x_min"]), float(t["stroke.x_max"])
-        for name, q, unit in (("ripple", "K_f(x) rms / range", "N/A"),
-                              ("cogging", "F_cg(x) rms / range", "N")):
+        for name, q, unit in (
+            ("ripple", "K_f(x) rms / range", "N/A"),
+            ("cogging", "F_cg(x) rms / range", "N"),
+        ):
             rms, rng = map_error(name, p, t, x0, x1)
-            rows.append(TruthRow(q, unit, rng, rms, rms / rng, "rms / range of true map",
-                                 MAP_TOL, bool(rms / rng <= MAP_TOL)))
+            rows.append(
+                TruthRow(
+                    q,
+                    unit,
+                    rng,
+                    rms,
+                    rms / rng,
+                    "rms / range of true map",
+                    MAP_TOL,
+                    bool(rms / rng <= MAP_TOL),
+                )
+            )
     if res.stribeck is not None:
-        for k in ("friction.F_s", "friction.F_c", "friction.V_s", "friction.delta",
-                  "friction.sigma2"):
-            unit = {"friction.V_s": "m/s", "friction.delta": "", "friction.sigma2": "N s/m"}.get(k, "N")
+        for k in (
+            "friction.F_s",
+            "friction.F_c",
+            "friction.V_s",
+            "friction.delta",
+            "friction.sigma2",
+        ):
+            unit = {"friction.V_s": "m/s", "friction.delta": "", "friction.sigma2": "N s/m"}.get(
+                k, "N"
+            )
             rows.append(_rel(k, unit, t[k], p[k], REL_TOL[k]))
         if res.stribeck.asymmetry is not None:
             a = res.stribeck.asymmetry
             t_dF = compile(truth).friction.dF
-            rows.append(TruthRow("asymmetry.dF (diagnostic)", "N", t_dF, a["asymmetry.dF"],
-                                 a["asymmetry.dF"] - t_dF, "absolute", float("nan"), None))
+            rows.append(
+                TruthRow(
+                    "asymmetry.dF (diagnostic)",
+                    "N",
+                    t_dF,
+                    a["asymmetry.dF"],
+                    a["asymmetry.dF"] - t_dF,
+                    "absolute",
+                    float("nan"),
+                    None,
+                )
+            )
     if res.mass is not None:
         rows.append(_rel("m", "kg", t["m"], p["m"], REL_TOL["m"]))
     if res.attraction is not None:
         C_t, C_i = float(t["friction.C"]), float(p["friction.C"])
         f = max(C_i / C_t, C_t / C_i)
         tol = c_factor(C_t, float(t["friction.F_s"]))
-        rows.append(TruthRow("friction.C" + ("" if res.attraction.resolved else " (lower bound)"),
-                             "N/s", C_t, C_i, f, "factor max(C/C_true, C_true/C)", tol,
-                             bool(f <= tol)))
+        rows.append(
+            TruthRow(
+                "friction.C" + ("" if res.attraction.resolved else " (lower bound)"),
+                "N/s",
+                C_t,
+                C_i,
+                f,
+                "factor max(C/C_true, C_true/C)",
+                tol,
+                bool(f <= tol),
+            )
+        )
     if res.prerolling is not None:
         pr = res.prerolling
         F_s = float(t["friction.F_s"])
-        rows.append(TruthRow("min W_i", "N", float("nan"), float(pr.W.min()), float(pr.W.min()),
-                             "every W_i >= 0", 0.0, bool(pr.W.min() >= 0)))
+        rows.append(
+            TruthRow(
+                "min W_i",
+                "N",
+                float("nan"),
+                float(pr.W.min()),
+                float(pr.W.min()),
+                "every W_i >= 0",
+                0.0,
+                bool(pr.W.min() >= 0),
+            )
+        )
         for tag, (x, _, _) in pr.curves.items():
             e = prerolling_force_error(x, p, t)
-            rows.append(TruthRow(f"pre-rolling force, {tag} run: rms(id - true) / F_s", "N", F_s,
-                                 e, e / F_s, "rms / F_s", PREROLLING_TOL,
-                                 bool(e / F_s <= PREROLLING_TOL)))
-        rows.append(TruthRow("pre-rolling fit to data: rms / F_s", "N", F_s,
-                             pr.rms_relative * F_s, pr.rms_relative, "rms / F_s",
-                             PREROLLING_TOL, bool(pr.rms_relative <= PREROLLING_TOL)))
+            rows.append(
+                TruthRow(
+                    f"pre-rolling force, {tag} run: rms(id - true) / F_s",
+                    "N",
+                    F_s,
+                    e,
+                    e / F_s,
+                    "rms / F_s",
+                    PREROLLING_TOL,
+                    bool(e / F_s <= PREROLLING_TOL),
+                )
+            )
+        rows.append(
+            TruthRow(
+                "pre-rolling fit to data: rms / F_s",
+                "N",
+                F_s,
+                pr.rms_relative * F_s,
+                pr.rms_relative,
+                "rms / F_s",
+                PREROLLING_TOL,
+                bool(pr.rms_relative <= PREROLLING_TOL),
+            )
+        )
         D_t, W_t = elements(t)
         if len(D_t) == len(pr.Delta):
             for j, order in enumerate(np.argsort(D_t)):
-                rows.append(_rel(f"Delta_{j + 1}", "m", float(D_t[order]), float(pr.Delta[j]), None))
+                rows.append(
+                    _rel(f"Delta_{j + 1}", "m", float(D_t[order]), float(pr.Delta[j]), None)
+                )
             for j, order in enumerate(np.argsort(D_t)):
                 rows.append(_rel(f"W_{j + 1}", "N", float(W_t[order]), float(pr.W[j]), None))
     pf = getattr(res, "position_friction", None)
@@ -201,11 +293,26 @@ def profile_row(profile: FrictionProfile, truth: ModelFile) -> TruthRow:
     change = float(np.max(np.abs(p_true - 1.0)))
     err = float(np.max(np.abs(profile(x) - p_true)))
     if change == 0.0:
-        return TruthRow("friction profile p(x): max |p - 1| (truth has none)", "", 0.0, err, err,
-                        "absolute", float("nan"), None)
-    return TruthRow("friction profile p(x): max |error| / level change", "", change, err,
-                    err / change, "max |p_id - p_true| / max |p_true - 1|", PROFILE_TOL,
-                    bool(err / change <= PROFILE_TOL))
+        return TruthRow(
+            "friction profile p(x): max |p - 1| (truth has none)",
+            "",
+            0.0,
+            err,
+            err,
+            "absolute",
+            float("nan"),
+            None,
+        )
+    return TruthRow(
+        "friction profile p(x): max |error| / level change",
+        "",
+        change,
+        err,
+        err / change,
+        "max |p_id - p_true| / max |p_true - 1|",
+        PROFILE_TOL,
+        bool(err / change <= PROFILE_TOL),
+    )
 
 
 def format_rows(rows: list[TruthRow]) -> str:
@@ -220,9 +327,11 @@ def format_rows(rows: list[TruthRow]) -> str:
             err, tol = f"{100 * r.error:.2f} %", f"{100 * r.tolerance:.0f} %"
         else:
             err, tol = f"{r.error:.3g}", f"{r.tolerance:g}"
-        if r.tolerance != r.tolerance:          # NaN
+        if r.tolerance != r.tolerance:  # NaN
             tol = "-"
         ok = "" if r.ok is None else ("ok" if r.ok else "FAIL")
-        out.append(f"{r.quantity + (' [' + r.unit + ']' if r.unit else ''):52s} "
-                   f"{r.true:12.5g} {r.identified:12.5g} {err:>10s} {tol:>8s}  {ok}")
+        out.append(
+            f"{r.quantity + (' [' + r.unit + ']' if r.unit else ''):52s} "
+            f"{r.true:12.5g} {r.identified:12.5g} {err:>10s} {tol:>8s}  {ok}"
+        )
     return "\n".join(out)

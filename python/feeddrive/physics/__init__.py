@@ -16,6 +16,7 @@
 
 Identification, diagnosis and feedforward use only this package.
 """
+
 from .compliance import Compliance, load_acceleration, load_filter, load_free_response
 from .current_loop import (
     CurrentLoop,
@@ -44,13 +45,49 @@ from .plant import (
 )
 from .position_maps import MapSpec, PositionMap, eval_map
 
-__all__ = ["Compliance", "load_acceleration", "load_filter", "load_free_response", "CurrentLoop",
-           "current_loop_dc_gain", "current_loop_polynomials", "simulate_current", "FrictionCurve", "steady_friction",
-           "stribeck_drop", "stribeck_level", "FrictionProfile", "profile_basis",
-           "GMSFriction", "GMSParameters", "element_forces", "element_rates", "gms_force",
-           "DEFAULT_V_STICK", "karnopp_friction", "ParameterError", "PlantParameters",
-           "check_value", "compile", "parameter_values", "CURRENT_TIMINGS", "applied_force",
-           "eq1_friction", "eq1_terms", "force_residual", "held_current", "measured_motion",
-           "FRICTION_VELOCITY_S", "friction_velocity", "GMSStart", "initial_elements",
-           "memory_wiped", "started_friction",
-           "run_load", "run_load_mean", "MapSpec", "PositionMap", "eval_map"]
+__all__ = [
+    "Compliance",
+    "load_acceleration",
+    "load_filter",
+    "load_free_response",
+    "CurrentLoop",
+    "current_loop_dc_gain",
+    "current_loop_polynomials",
+    "simulate_current",
+    "FrictionCurve",
+    "steady_friction",
+    "stribeck_drop",
+    "stribeck_level",
+    "FrictionProfile",
+    "profile_basis",
+    "GMSFriction",
+    "GMSParameters",
+    "element_forces",
+    "element_rates",
+    "gms_force",
+    "DEFAULT_V_STICK",
+    "karnopp_friction",
+    "ParameterError",
+    "PlantParameters",
+    "check_value",
+    "compile",
+    "parameter_values",
+    "CURRENT_TIMINGS",
+    "applied_force",
+    "eq1_friction",
+    "eq1_terms",
+    "force_residual",
+    "held_current",
+    "measured_motion",
+    "FRICTION_VELOCITY_S",
+    "friction_velocity",
+    "GMSStart",
+    "initial_elements",
+    "memory_wiped",
+    "started_friction",
+    "run_load",
+    "run_load_mean",
+    "MapSpec",
+    "PositionMap",
+    "eval_map",
+]

@@ -17,6 +17,7 @@ acceleration: ``a2 = H(s) a`` with ``H(s) = (2 zeta w s + w^2) / (s^2 + 2 zeta w
 the force the load puts on the slide is ``-m2 a2`` (:func:`load_acceleration`), which is what
 identification and diagnosis regress on.
 """
+
 from __future__ import annotations
 
 import math
@@ -37,10 +38,10 @@ class Compliance:
     """The compiled compliance (compliance.c ``compile_compliance``); ``on`` False: no load."""
 
     on: bool
-    m2: float          #: [kg]
-    f: float           #: [Hz]
-    zeta: float        #: [1]
-    sensor_side: int   #: 0 motor slide, 1 load
+    m2: float  #: [kg]
+    f: float  #: [Hz]
+    zeta: float  #: [1]
+    sensor_side: int  #: 0 motor slide, 1 load
 
     @property
     def omega(self) -> float:
@@ -61,9 +62,13 @@ class Compliance:
     @classmethod
     def from_parameters(cls, val: Mapping[str, Any]) -> Compliance:
         """From FMU-named values (``effects.compliance``, ``compliance.*``)."""
-        return cls(on=bool(val["effects.compliance"]), m2=float(val["compliance.m2"]),
-                   f=float(val["compliance.f"]), zeta=float(val["compliance.zeta"]),
-                   sensor_side=int(val["compliance.sensor_side"]))
+        return cls(
+            on=bool(val["effects.compliance"]),
+            m2=float(val["compliance.m2"]),
+            f=float(val["compliance.f"]),
+            zeta=float(val["compliance.zeta"]),
+            sensor_side=int(val["compliance.sensor_side"]),
+        )
 
     def force(self, q: ArrayLike, w: ArrayLike) -> np.ndarray:
         """k2 q + c2 w [N]: the load's force on the slide (0 when off)."""
@@ -71,8 +76,9 @@ class Compliance:
             return np.zeros_like(np.asarray(q, dtype=float))
         return self.k2 * np.asarray(q, dtype=float) + self.c2 * np.asarray(w, dtype=float)
 
-    def derivatives(self, q: ArrayLike, w: ArrayLike, a: ArrayLike
-                    ) -> tuple[np.ndarray, np.ndarray]:
+    def derivatives(
+        self, q: ArrayLike, w: ArrayLike, a: ArrayLike
+    ) -> tuple[np.ndarray, np.ndarray]:
         """(dq/dt, dw/dt) given the slide's acceleration a (zeros when off)."""
         q, w, a = (np.asarray(z, dtype=float) for z in (q, w, a))
         if not self.on:
@@ -86,7 +92,7 @@ def _expm4(M: np.ndarray) -> np.ndarray:
     costs milliseconds per call on a loaded machine; the search needs hundreds of calls."""
     nrm = float(np.abs(M).sum(axis=1).max())
     k = max(0, int(math.ceil(math.log2(nrm))) + 1) if nrm > 0.5 else 0
-    A = M / (2.0 ** k)
+    A = M / (2.0**k)
     E = np.eye(len(M))
     T = np.eye(len(M))
     for j in range(1, 19):
@@ -102,8 +108,10 @@ def load_filter(f: float, zeta: float, Ts: float) -> tuple[np.ndarray, np.ndarra
     with a first-order hold at ``Ts`` (the input linear between samples; the construction of
     ``scipy.signal.cont2discrete(method='foh')``, written out for the 2-state system)."""
     if not (f > 0 and zeta >= 0 and Ts > 0):
-        raise ValueError(f"load_filter: f = {f!r} Hz, zeta = {zeta!r}, Ts = {Ts!r} s: allowed "
-                         "f > 0, zeta >= 0, Ts > 0")
+        raise ValueError(
+            f"load_filter: f = {f!r} Hz, zeta = {zeta!r}, Ts = {Ts!r} s: allowed "
+            "f > 0, zeta >= 0, Ts > 0"
+        )
     w = 2.0 * math.pi * f
     em = np.zeros((4, 4))
     em[0, 1] = 1.0
@@ -117,8 +125,12 @@ def load_filter(f: float, zeta: float, Ts: float) -> tuple[np.ndarray, np.ndarra
     dd = float(C @ B3)
     tr, det = Ad[0, 0] + Ad[1, 1], Ad[0, 0] * Ad[1, 1] - Ad[0, 1] * Ad[1, 0]
     den = np.array([1.0, -tr, det])
-    c0 = (-C[0] * Ad[1, 1] * Bd[0] + C[0] * Ad[0, 1] * Bd[1] + C[1] * Ad[1, 0] * Bd[0]
-          - C[1] * Ad[0, 0] * Bd[1])
+    c0 = (
+        -C[0] * Ad[1, 1] * Bd[0]
+        + C[0] * Ad[0, 1] * Bd[1]
+        + C[1] * Ad[1, 0] * Bd[0]
+        - C[1] * Ad[0, 0] * Bd[1]
+    )
     num = dd * den + np.array([0.0, float(C @ Bd), c0])
     return num, den
 

@@ -4,6 +4,7 @@
 
 ``current_dynamics`` off: i = G(1) u at once.  C twin: fmu_src/physics/current_loop.c.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -13,25 +14,26 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.signal import lfilter, lfiltic
 
-N_CURRENT_A = 5   #: current.a[1..5]
-N_CURRENT_B = 6   #: current.b[0..5]
+N_CURRENT_A = 5  #: current.a[1..5]
+N_CURRENT_B = 6  #: current.b[0..5]
 
 
 @dataclass(frozen=True)
 class CurrentLoop:
     """Eq. 2's coefficients, the DC gain and whether the dynamics are on."""
 
-    a: tuple[float, ...]          #: current.a[1..5]
-    b: tuple[float, ...]          #: current.b[0..5]
+    a: tuple[float, ...]  #: current.a[1..5]
+    b: tuple[float, ...]  #: current.b[0..5]
     dynamics: bool = True
 
     @classmethod
     def from_parameters(cls, params: Mapping[str, float]) -> CurrentLoop:
         """From ``current.a/b`` and ``effects.current_dynamics`` (missing names are 0 / on)."""
-        return cls(a=tuple(float(params.get(f"current.a[{j}]", 0.0))
-                           for j in range(1, N_CURRENT_A + 1)),
-                   b=tuple(float(params.get(f"current.b[{j}]", 0.0)) for j in range(N_CURRENT_B)),
-                   dynamics=bool(params.get("effects.current_dynamics", True)))
+        return cls(
+            a=tuple(float(params.get(f"current.a[{j}]", 0.0)) for j in range(1, N_CURRENT_A + 1)),
+            b=tuple(float(params.get(f"current.b[{j}]", 0.0)) for j in range(N_CURRENT_B)),
+            dynamics=bool(params.get("effects.current_dynamics", True)),
+        )
 
     @property
     def G1(self) -> float:
@@ -63,8 +65,13 @@ def current_loop_dc_gain(params: Mapping[str, float]) -> float:
     return CurrentLoop.from_parameters(params).G1
 
 
-def simulate_current(a: ArrayLike, b: ArrayLike, u: ArrayLike, i_init: ArrayLike | None = None,
-                     u_init: ArrayLike | None = None) -> np.ndarray:
+def simulate_current(
+    a: ArrayLike,
+    b: ArrayLike,
+    u: ArrayLike,
+    i_init: ArrayLike | None = None,
+    u_init: ArrayLike | None = None,
+) -> np.ndarray:
     """i[k] = sum a_j i[k-j] + sum b_j u[k-j] for any a (i lags 1..) and b (u lags 0..).
 
     ``i_init``/``u_init`` are the samples just before ``u[0]`` in time order (the last

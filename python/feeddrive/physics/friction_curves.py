@@ -4,6 +4,7 @@ The one Python statement of S(|v|); the GMS (:mod:`.friction_gms`), the static f
 (:mod:`.friction_static`), identification, diagnosis and feedforward all call it.
 C twin: ``friction_level`` in fmu_src/physics/friction_levels.c.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -13,8 +14,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 
-def stribeck_level(speed: ArrayLike, F_s: ArrayLike, F_c: ArrayLike, V_s: float,
-                   delta: float) -> np.ndarray:
+def stribeck_level(
+    speed: ArrayLike, F_s: ArrayLike, F_c: ArrayLike, V_s: float, delta: float
+) -> np.ndarray:
     """S(|v|) = F_c + (F_s - F_c) exp(-|v/V_s|^delta) [N]; S(0) = F_s."""
     s = np.abs(np.asarray(speed, dtype=float))
     Fc = np.asarray(F_c, dtype=float)
@@ -27,8 +29,9 @@ def stribeck_drop(v: ArrayLike, V_s: float, delta: float) -> np.ndarray:
     return np.sign(v) * np.exp(-np.power(np.abs(v) / V_s, delta))
 
 
-def steady_friction(v: ArrayLike, F_s: ArrayLike, F_c: ArrayLike, V_s: float,
-                    delta: float, sigma2: ArrayLike) -> np.ndarray:
+def steady_friction(
+    v: ArrayLike, F_s: ArrayLike, F_c: ArrayLike, V_s: float, delta: float, sigma2: ArrayLike
+) -> np.ndarray:
     """Steady sliding friction s(v) + sigma2 v (Eq. 12) [N]; 0 at v = 0 (sgn(0) = 0)."""
     v = np.asarray(v, dtype=float)
     return np.sign(v) * stribeck_level(v, F_s, F_c, V_s, delta) + sigma2 * v
@@ -50,18 +53,23 @@ class FrictionCurve:
     @classmethod
     def from_params(cls, params: Mapping[str, float]) -> FrictionCurve:
         """From FMU-named parameters as given (``asymmetry.*`` default 0; no switches)."""
-        return cls(F_s=float(params["friction.F_s"]), F_c=float(params["friction.F_c"]),
-                   V_s=float(params["friction.V_s"]), delta=float(params["friction.delta"]),
-                   sigma2=float(params["friction.sigma2"]),
-                   dF=float(params.get("asymmetry.dF", 0.0)),
-                   dsigma2=float(params.get("asymmetry.dsigma2", 0.0)))
+        return cls(
+            F_s=float(params["friction.F_s"]),
+            F_c=float(params["friction.F_c"]),
+            V_s=float(params["friction.V_s"]),
+            delta=float(params["friction.delta"]),
+            sigma2=float(params["friction.sigma2"]),
+            dF=float(params.get("asymmetry.dF", 0.0)),
+            dsigma2=float(params.get("asymmetry.dsigma2", 0.0)),
+        )
 
     def level(self, v: ArrayLike) -> np.ndarray:
         """S(|v|) of the side of v [N]; S(0) = F_s."""
         v = np.asarray(v, dtype=float)
         neg = v < 0
-        return stribeck_level(v, self.F_s + self.dF * neg, self.F_c + self.dF * neg,
-                              self.V_s, self.delta)
+        return stribeck_level(
+            v, self.F_s + self.dF * neg, self.F_c + self.dF * neg, self.V_s, self.delta
+        )
 
     def viscous(self, v: ArrayLike) -> np.ndarray:
         """sigma2 v, with sigma2 + dsigma2 for v < 0 [N]."""

@@ -26,6 +26,7 @@ Position (``position_friction``, :mod:`.friction_position`): the level of either
 p(x) S(|v|); along a motion each piece takes p at its mid position (the interval's start
 plus half the piece's displacement), as gms_track_step of friction_gms.c does.
 """
+
 from __future__ import annotations
 
 import math
@@ -67,8 +68,7 @@ class GMSParameters:
             raise ValueError("friction_gms.py: need C > 0 (inf allowed), V_s > 0, delta > 0")
 
     @classmethod
-    def from_params(cls, params: Mapping[str, float], apply_effects: bool = True
-                    ) -> GMSParameters:
+    def from_params(cls, params: Mapping[str, float], apply_effects: bool = True) -> GMSParameters:
         """From FMU-named parameters (``friction.*``, ``asymmetry.*``); the friction part of
         :func:`feeddrive.physics.params.compile`, which validates them first.
 
@@ -85,22 +85,34 @@ class GMSParameters:
             nu = [float(params[f"friction.nu[{j}]"]) for j in range(1, N + 1)]
             k = [float(params[f"friction.k[{j}]"]) for j in range(1, N + 1)]
             keep = [j for j in range(N) if nu[j] > 0.0]
-            p = cls(F_s=float(params["friction.F_s"]), F_c=float(params["friction.F_c"]),
-                    V_s=float(params["friction.V_s"]), delta=float(params["friction.delta"]),
-                    sigma2=float(params["friction.sigma2"]), C=float(params["friction.C"]),
-                    nu=tuple(nu[j] for j in keep), k=tuple(k[j] for j in keep),
-                    dF=float(params.get("asymmetry.dF", 0.0)),
-                    dsigma2=float(params.get("asymmetry.dsigma2", 0.0)),
-                    profile=FrictionProfile.from_params(params)
-                    if bool(params.get("effects.position_friction", False)) else None)
+            p = cls(
+                F_s=float(params["friction.F_s"]),
+                F_c=float(params["friction.F_c"]),
+                V_s=float(params["friction.V_s"]),
+                delta=float(params["friction.delta"]),
+                sigma2=float(params["friction.sigma2"]),
+                C=float(params["friction.C"]),
+                nu=tuple(nu[j] for j in keep),
+                k=tuple(k[j] for j in keep),
+                dF=float(params.get("asymmetry.dF", 0.0)),
+                dsigma2=float(params.get("asymmetry.dsigma2", 0.0)),
+                profile=FrictionProfile.from_params(params)
+                if bool(params.get("effects.position_friction", False))
+                else None,
+            )
         except KeyError as e:
             raise KeyError(f"friction_gms.py: parameter {e.args[0]!r} missing") from None
         if not apply_effects:
             return p
         val = apply_switches(params)
-        return replace(p, F_s=float(val["friction.F_s"]), sigma2=float(val["friction.sigma2"]),
-                       C=float(val["friction.C"]), dF=float(val.get("asymmetry.dF", 0.0)),
-                       dsigma2=float(val.get("asymmetry.dsigma2", 0.0)))
+        return replace(
+            p,
+            F_s=float(val["friction.F_s"]),
+            sigma2=float(val["friction.sigma2"]),
+            C=float(val["friction.C"]),
+            dF=float(val.get("asymmetry.dF", 0.0)),
+            dsigma2=float(val.get("asymmetry.dsigma2", 0.0)),
+        )
 
     def scale(self, x: ArrayLike | None) -> np.ndarray | float:
         """p(x) of ``position_friction`` [-]; 1 without a profile or without x."""
@@ -117,8 +129,9 @@ class GMSParameters:
     @property
     def curve(self) -> FrictionCurve:
         """The steady friction curve of these parameters (both sides)."""
-        return FrictionCurve(self.F_s, self.F_c, self.V_s, self.delta, self.sigma2, self.dF,
-                             self.dsigma2)
+        return FrictionCurve(
+            self.F_s, self.F_c, self.V_s, self.delta, self.sigma2, self.dF, self.dsigma2
+        )
 
     def level(self, v: ArrayLike, x: ArrayLike | None = None) -> np.ndarray:
         """S(|v|) of the side of v (v < 0: levels raised by dF) [N]; S(0) = F_s; with a
@@ -139,8 +152,14 @@ class GMSParameters:
         return np.sign(v) * self.level(v, x) + self.viscous(v)
 
 
-def element_forces(prm: GMSParameters, v: float, F: ArrayLike, slipping: ArrayLike,
-                   direction: int, x: float | None = None) -> np.ndarray:
+def element_forces(
+    prm: GMSParameters,
+    v: float,
+    F: ArrayLike,
+    slipping: ArrayLike,
+    direction: int,
+    x: float | None = None,
+) -> np.ndarray:
     """The element forces in a hybrid state (friction_gms.c ``gms_element_forces``): a stuck
     element's force is its state F_i; a slipping one's is F_i with ``frictional_lag`` on
     (C finite), else nu_i ``direction`` S(|v|) [N] (S at x with a profile)."""
@@ -152,8 +171,14 @@ def element_forces(prm: GMSParameters, v: float, F: ArrayLike, slipping: ArrayLi
     return F.copy()
 
 
-def element_rates(prm: GMSParameters, v: float, F: ArrayLike, slipping: ArrayLike,
-                  direction: int, x: float | None = None) -> np.ndarray:
+def element_rates(
+    prm: GMSParameters,
+    v: float,
+    F: ArrayLike,
+    slipping: ArrayLike,
+    direction: int,
+    x: float | None = None,
+) -> np.ndarray:
     """dF_i/dt in a hybrid state (``gms_derivatives``): k_i v when stuck; slipping with
     frictional lag, (C / S)(nu_i direction S - F_i); without it 0 [N/s]."""
     F = np.asarray(F, dtype=float)
@@ -165,8 +190,9 @@ def element_rates(prm: GMSParameters, v: float, F: ArrayLike, slipping: ArrayLik
     return np.where(slip, prm.C / S * (np.asarray(prm.nu) * direction * S - F), stuck_rate)
 
 
-def _pieces(x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters, last_dir: float
-            ) -> tuple[list[float], list[float], list[float], list[float], list[bool], np.ndarray]:
+def _pieces(
+    x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters, last_dir: float
+) -> tuple[list[float], list[float], list[float], list[float], list[bool], np.ndarray]:
     """Split the intervals into constant-direction pieces.
 
     Returns per piece: dx, direction, Stribeck level, decay factor, reversal flag; and the
@@ -217,9 +243,17 @@ def _pieces(x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters, last_di
     return (pdx.tolist(), pdir.tolist(), S.tolist(), decay.tolist(), rev.tolist(), last)
 
 
-def _run_element(F: float, stuck: bool, k: float, nu: float, dxs: list[float],
-                 dirs: list[float], Ss: list[float], decays: list[float], revs: list[bool]
-                 ) -> tuple[list[float], float, bool]:
+def _run_element(
+    F: float,
+    stuck: bool,
+    k: float,
+    nu: float,
+    dxs: list[float],
+    dirs: list[float],
+    Ss: list[float],
+    decays: list[float],
+    revs: list[bool],
+) -> tuple[list[float], float, bool]:
     """Advance one element over the pieces; its force after every piece."""
     out = [0.0] * len(dxs)
     for j, (dx, s, S, dec, rev) in enumerate(zip(dxs, dirs, Ss, decays, revs, strict=True)):
@@ -240,15 +274,32 @@ def _run_element(F: float, stuck: bool, k: float, nu: float, dxs: list[float],
 
 
 @overload
-def gms_force(x: ArrayLike, v: ArrayLike, dt: float, params: GMSParameters | Mapping[str, float],
-              F0: ArrayLike | None = None, return_elements: Literal[False] = False) -> np.ndarray: ...
+def gms_force(
+    x: ArrayLike,
+    v: ArrayLike,
+    dt: float,
+    params: GMSParameters | Mapping[str, float],
+    F0: ArrayLike | None = None,
+    return_elements: Literal[False] = False,
+) -> np.ndarray: ...
 @overload
-def gms_force(x: ArrayLike, v: ArrayLike, dt: float, params: GMSParameters | Mapping[str, float],
-              F0: ArrayLike | None = None, *, return_elements: Literal[True]
-              ) -> tuple[np.ndarray, np.ndarray]: ...
-def gms_force(x: ArrayLike, v: ArrayLike, dt: float, params: GMSParameters | Mapping[str, float],
-              F0: ArrayLike | None = None, return_elements: bool = False
-              ) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
+def gms_force(
+    x: ArrayLike,
+    v: ArrayLike,
+    dt: float,
+    params: GMSParameters | Mapping[str, float],
+    F0: ArrayLike | None = None,
+    *,
+    return_elements: Literal[True],
+) -> tuple[np.ndarray, np.ndarray]: ...
+def gms_force(
+    x: ArrayLike,
+    v: ArrayLike,
+    dt: float,
+    params: GMSParameters | Mapping[str, float],
+    F0: ArrayLike | None = None,
+    return_elements: bool = False,
+) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
     """GMS friction force F_f[k] in N along a motion sampled every ``dt``.
 
     Parameters
@@ -271,8 +322,9 @@ def gms_force(x: ArrayLike, v: ArrayLike, dt: float, params: GMSParameters | Map
     if len(x) > 1:
         dxs, dirs, Ss, decs, revs, last = _pieces(x, v, dt, prm, 0.0)
         for i in range(N):
-            out, _, _ = _run_element(float(F_init[i]), True, prm.k[i], prm.nu[i],
-                                     dxs, dirs, Ss, decs, revs)
+            out, _, _ = _run_element(
+                float(F_init[i]), True, prm.k[i], prm.nu[i], dxs, dirs, Ss, decs, revs
+            )
             Fe[1:, i] = np.asarray(out)[last]
     F = Fe.sum(axis=1) + prm.viscous(v)
     return (F, Fe) if return_elements else F
@@ -284,10 +336,16 @@ class GMSFriction:
     ``step(x, v)`` moves from the previous sample to (x, v) and returns F_f there.
     """
 
-    def __init__(self, params: GMSParameters | Mapping[str, float], dt: float,
-                 x0: float = 0.0, v0: float = 0.0) -> None:
-        self.prm = params if isinstance(params, GMSParameters) else \
-            GMSParameters.from_params(params)
+    def __init__(
+        self,
+        params: GMSParameters | Mapping[str, float],
+        dt: float,
+        x0: float = 0.0,
+        v0: float = 0.0,
+    ) -> None:
+        self.prm = (
+            params if isinstance(params, GMSParameters) else GMSParameters.from_params(params)
+        )
         self.dt = dt
         self._x0, self._v0 = x0, v0
         self.reset()
@@ -304,14 +362,17 @@ class GMSFriction:
         """Advance to position ``x`` [m], velocity ``v`` [m/s]; return F_f [N]."""
         prm, dt = self.prm, self.dt
         v0, dx = self.v, x - self.x
-        if v0 * v < 0:                                   # split at the velocity zero crossing
+        if v0 * v < 0:  # split at the velocity zero crossing
             th = v0 / (v0 - v)
             dxa = v0 * th * dt / 2
-            parts = [(dxa, v0, 0.5 * abs(v0), th * dt, self.x + 0.5 * dxa),
-                     (dx - dxa, v, 0.5 * abs(v), (1 - th) * dt, self.x + dxa + 0.5 * (dx - dxa))]
+            parts = [
+                (dxa, v0, 0.5 * abs(v0), th * dt, self.x + 0.5 * dxa),
+                (dx - dxa, v, 0.5 * abs(v), (1 - th) * dt, self.x + dxa + 0.5 * (dx - dxa)),
+            ]
         else:
-            parts = [(dx, v0 + v if v0 + v != 0 else dx, 0.5 * (abs(v0) + abs(v)), dt,
-                      self.x + 0.5 * dx)]
+            parts = [
+                (dx, v0 + v if v0 + v != 0 else dx, 0.5 * (abs(v0) + abs(v)), dt, self.x + 0.5 * dx)
+            ]
         dxs, dirs, Ss, decs, revs = [], [], [], [], []
         for pdx, sv, speed, tau, xm in parts:
             d = 1.0 if sv > 0 else (-1.0 if sv < 0 else 0.0)
@@ -324,7 +385,8 @@ class GMSFriction:
             if d != 0:
                 self.last_dir = d
         for i in range(len(self.F)):
-            _, self.F[i], self.stuck[i] = _run_element(self.F[i], self.stuck[i], prm.k[i],
-                                                       prm.nu[i], dxs, dirs, Ss, decs, revs)
+            _, self.F[i], self.stuck[i] = _run_element(
+                self.F[i], self.stuck[i], prm.k[i], prm.nu[i], dxs, dirs, Ss, decs, revs
+            )
         self.x, self.v = x, v
         return sum(self.F) + (prm.sigma2 + (prm.dsigma2 if v < 0 else 0.0)) * v

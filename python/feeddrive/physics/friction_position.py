@@ -12,6 +12,7 @@ The whole Stribeck level of either side is scaled by a smooth profile,
 on :meth:`FrictionProfile.basis`), and stays within [1 + min c, 1 + max c] (convex hull).
 C twin: fmu_src/physics/friction_position.c (same arithmetic, so both agree to rounding).
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -27,11 +28,12 @@ N_KNOTS_MAX = 16
 C_RANGE = (-0.9, 4.0)
 
 
-def _segments(x: ArrayLike, x_start: float, h: float, n: int
-              ) -> tuple[np.ndarray, tuple[np.ndarray, ...]]:
+def _segments(
+    x: ArrayLike, x_start: float, h: float, n: int
+) -> tuple[np.ndarray, tuple[np.ndarray, ...]]:
     """Segment index k and the four B-spline weights at x (friction_position.c)."""
     u = (np.asarray(x, dtype=float) - x_start) / h
-    u = np.where(u > 0.0, u, 0.0)                     # NaN -> 0 as in C
+    u = np.where(u > 0.0, u, 0.0)  # NaN -> 0 as in C
     u = np.minimum(u, float(n - 1))
     k = np.minimum(np.floor(u).astype(int), n - 2)
     t = u - k
@@ -51,8 +53,10 @@ def profile_basis(x: ArrayLike, x_start: float, x_end: float, n: int) -> np.ndar
     """The n basis functions B_j(x) (mirrored ends, constant outside), shape (len(x), n):
     p(x) = 1 + basis @ c.  Each row sums to 1."""
     if not x_end > x_start or n < 2:
-        raise ValueError(f"friction_position.py: need x_end > x_start and n >= 2, got "
-                         f"[{x_start}, {x_end}], n = {n}")
+        raise ValueError(
+            f"friction_position.py: need x_end > x_start and n >= 2, got "
+            f"[{x_start}, {x_end}], n = {n}"
+        )
     x = np.atleast_1d(np.asarray(x, dtype=float))
     k, w = _segments(x, x_start, (x_end - x_start) / (n - 1), n)
     B = np.zeros((len(x), n))
@@ -72,8 +76,10 @@ class FrictionProfile:
 
     def __post_init__(self) -> None:
         if not self.x_end > self.x_start or not 2 <= len(self.c) <= N_KNOTS_MAX:
-            raise ValueError(f"friction_position.py: need x_end > x_start and 2..{N_KNOTS_MAX} "
-                             f"knots, got [{self.x_start}, {self.x_end}] with {len(self.c)}")
+            raise ValueError(
+                f"friction_position.py: need x_end > x_start and 2..{N_KNOTS_MAX} "
+                f"knots, got [{self.x_start}, {self.x_end}] with {len(self.c)}"
+            )
 
     @property
     def n(self) -> int:
@@ -93,16 +99,19 @@ class FrictionProfile:
     def from_params(cls, params: Mapping[str, Any]) -> FrictionProfile:
         """From FMU-named parameters ``friction_profile.*`` (the FMU's defaults when absent)."""
         n = int(params.get("friction_profile.n", N_KNOTS_MAX))
-        return cls(x_start=float(params.get("friction_profile.x_start", 0.0)),
-                   x_end=float(params.get("friction_profile.x_end", 0.3)),
-                   c=tuple(float(params.get(f"friction_profile.c[{j}]", 0.0))
-                           for j in range(1, n + 1)))
+        return cls(
+            x_start=float(params.get("friction_profile.x_start", 0.0)),
+            x_end=float(params.get("friction_profile.x_end", 0.3)),
+            c=tuple(float(params.get(f"friction_profile.c[{j}]", 0.0)) for j in range(1, n + 1)),
+        )
 
     def parameters(self) -> dict[str, float | int]:
         """The FMU parameters of this profile (unused knot slots 0)."""
-        out: dict[str, float | int] = {"friction_profile.x_start": float(self.x_start),
-                                       "friction_profile.x_end": float(self.x_end),
-                                       "friction_profile.n": self.n}
+        out: dict[str, float | int] = {
+            "friction_profile.x_start": float(self.x_start),
+            "friction_profile.x_end": float(self.x_end),
+            "friction_profile.n": self.n,
+        }
         for j in range(1, N_KNOTS_MAX + 1):
             out[f"friction_profile.c[{j}]"] = float(self.c[j - 1]) if j <= self.n else 0.0
         return out
@@ -116,6 +125,10 @@ class FrictionProfile:
         n = self.n
         c = np.asarray(self.c, dtype=float)
         k, (w0, w1, w2, w3) = _segments(x, self.x_start, self.h, n)
-        s = (w0 * c[_mirror(k - 1, n)] + w1 * c[_mirror(k, n)] + w2 * c[_mirror(k + 1, n)]
-             + w3 * c[_mirror(k + 2, n)])
+        s = (
+            w0 * c[_mirror(k - 1, n)]
+            + w1 * c[_mirror(k, n)]
+            + w2 * c[_mirror(k + 1, n)]
+            + w3 * c[_mirror(k + 2, n)]
+        )
         return 1.0 + s

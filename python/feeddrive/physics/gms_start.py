@@ -48,6 +48,7 @@ the F_i is determined while everything sticks; the split between elements is det
 when each one slips.  The estimate absorbs at most N bounded forces over the first samples:
 an effect that acts after the memory is wiped is untouched by it.
 """
+
 from __future__ import annotations
 
 from collections.abc import Callable
@@ -108,11 +109,15 @@ class GMSStart:
 
     def to_json(self, Ts: float) -> dict[str, Any]:
         """diagnosis.json ``initial_friction`` entry of one run."""
-        return {"element_forces_N": [float(f) for f in self.F0],
-                "friction_N": float(np.sum(self.F0)),
-                "bounds_N": [[float(lo), float(hi)] for lo, hi in zip(self.lower, self.upper, strict=True)],
-                "memory_wiped_s": float(self.wiped * Ts), "samples_fitted": int(self.n_fit)}
-
+        return {
+            "element_forces_N": [float(f) for f in self.F0],
+            "friction_N": float(np.sum(self.F0)),
+            "bounds_N": [
+                [float(lo), float(hi)] for lo, hi in zip(self.lower, self.upper, strict=True)
+            ],
+            "memory_wiped_s": float(self.wiped * Ts),
+            "samples_fitted": int(self.n_fit),
+        }
 
 
 def element_bounds(prm: GMSParameters, x0: float) -> tuple[np.ndarray, np.ndarray]:
@@ -151,8 +156,17 @@ class _Tracks:
             lim = self.dirs[j] * self.prm.nu[i] * self.S[j]
             dxs, dirs, Ss, decs, revs = self.pieces
             s = slice(j + 1, None)
-            f, _, _ = _run_element(float(lim), False, self.prm.k[i], self.prm.nu[i], dxs[s], dirs[s], Ss[s],
-                                   decs[s], revs[s])
+            f, _, _ = _run_element(
+                float(lim),
+                False,
+                self.prm.k[i],
+                self.prm.nu[i],
+                dxs[s],
+                dirs[s],
+                Ss[s],
+                decs[s],
+                revs[s],
+            )
             self._tails[key] = np.concatenate(([lim], f))
         return self._tails[key]
 
@@ -174,8 +188,9 @@ class _Tracks:
         return np.column_stack([self.element(i, F0[i]) for i in range(len(F0))])
 
 
-def memory_wiped(x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters,
-                 tol: float = WIPE_TOL) -> int:
+def memory_wiped(
+    x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters, tol: float = WIPE_TOL
+) -> int:
     """First sample from which the friction is the same for every start state (len(x) when
     some element never forgets its start): each element run from both of its bounds."""
     lo, hi = element_bounds(prm, float(x[0]))
@@ -212,8 +227,13 @@ def _history_starts(prm: GMSParameters, lo: np.ndarray, hi: np.ndarray) -> list[
     return starts
 
 
-def _refined_starts(cost: Callable[[np.ndarray], float], starts: list[np.ndarray],
-                    prm: GMSParameters, lo: np.ndarray, hi: np.ndarray) -> list[np.ndarray]:
+def _refined_starts(
+    cost: Callable[[np.ndarray], float],
+    starts: list[np.ndarray],
+    prm: GMSParameters,
+    lo: np.ndarray,
+    hi: np.ndarray,
+) -> list[np.ndarray]:
     """The common fraction of the bounds and the Masing travel of each side, each refined
     between the grid points around its best (bounded scalar search): an element at its
     bound slips at the first sample that moves it outward, so a start on a grid point next to
@@ -228,7 +248,8 @@ def _refined_starts(cost: Callable[[np.ndarray], float], starts: list[np.ndarray
         return np.clip((lo if s > 0 else hi) + s * k * d, lo, hi)
 
     families: list[tuple[Callable[[float], np.ndarray], np.ndarray]] = [
-        (common, np.asarray(FRACTIONS))]
+        (common, np.asarray(FRACTIONS))
+    ]
     for s in (1.0, -1.0):
         families.append((partial(masing, s), 2.0 * travel * np.asarray(TRAVELS)))
     out = []
@@ -237,14 +258,19 @@ def _refined_starts(cost: Callable[[np.ndarray], float], starts: list[np.ndarray
         j = int(np.argmin(c))
         a, b = grid[max(j - 1, 0)], grid[min(j + 1, len(grid) - 1)]
         if b > a:
-            res = minimize_scalar(lambda g, make=make: cost(make(float(g))), bounds=(a, b),
-                                  method="bounded", options={"xatol": 1e-4 * (b - a)})
+            res = minimize_scalar(
+                lambda g, make=make: cost(make(float(g))),
+                bounds=(a, b),
+                method="bounded",
+                options={"xatol": 1e-4 * (b - a)},
+            )
             out.append(make(float(res.x)))
     return out
 
 
-def initial_elements(x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters,
-                     r_virgin: np.ndarray, K: np.ndarray) -> GMSStart:
+def initial_elements(
+    x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters, r_virgin: np.ndarray, K: np.ndarray
+) -> GMSStart:
     """The element forces at the first sample that best explain the residual's first samples.
 
     Parameters
@@ -301,8 +327,15 @@ def initial_elements(x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters
     def local(F_start: np.ndarray) -> tuple[np.ndarray, float]:
         """Bounded least squares from F_start; F_start itself when that is no better."""
         F_start = np.clip(F_start, lo, hi)
-        sol = least_squares(fun, F_start, jac=jac, bounds=(lo, hi + 1e-15 * span),
-                            method="trf", x_scale=span, max_nfev=50)
+        sol = least_squares(
+            fun,
+            F_start,
+            jac=jac,
+            bounds=(lo, hi + 1e-15 * span),
+            method="trf",
+            x_scale=span,
+            max_nfev=50,
+        )
         F = np.clip(sol.x, lo, hi)
         c, c0 = cost(F), cost(F_start)
         return (F, c) if c < c0 else (F_start, c0)
@@ -314,7 +347,7 @@ def initial_elements(x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters
     # only when it explains clearly more of the first samples: a plateau left behind, not
     # a few per cent of some other effect's residual fitted into the start forces
     wide = grid + _refined_starts(cost, grid, prm, lo, hi)
-    wide_costs = grid_costs + [cost(F) for F in wide[len(grid):]]
+    wide_costs = grid_costs + [cost(F) for F in wide[len(grid) :]]
     bar = (1.0 - REFINE_GAIN) * best_cost
     for k in np.argsort(wide_costs)[:REFINE_STARTS]:
         F, c = local(wide[k])
@@ -323,10 +356,15 @@ def initial_elements(x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters
     return GMSStart(best, lo, hi, wiped, int(ok.sum()), basis=sensitivity(best))
 
 
-
-def started_friction(x: np.ndarray, v: np.ndarray, dt: float, prm: GMSParameters,
-                     r_virgin: np.ndarray, K: np.ndarray, F_virgin: np.ndarray | None = None
-                     ) -> tuple[np.ndarray, GMSStart, np.ndarray]:
+def started_friction(
+    x: np.ndarray,
+    v: np.ndarray,
+    dt: float,
+    prm: GMSParameters,
+    r_virgin: np.ndarray,
+    K: np.ndarray,
+    F_virgin: np.ndarray | None = None,
+) -> tuple[np.ndarray, GMSStart, np.ndarray]:
     """The GMS friction along a measured motion from the estimated start, the start, and
     Eq. 1's residual with that friction.
 

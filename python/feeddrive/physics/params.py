@@ -21,6 +21,7 @@ every rule of the FMU in its order and applies the effect switches once:
 
 A broken rule raises :class:`ParameterError` whose message is the FMU's, byte for byte.
 """
+
 from __future__ import annotations
 
 import math
@@ -108,8 +109,10 @@ def check_value(name: str, value: float) -> None:
     v = float(value)
     unit = _unit(name)
     if not math.isfinite(v):
-        raise ParameterError(f"{name} = {_g(v)} is not a finite number: allowed values are "
-                             f"finite{' [' + unit + ']' if unit else ''}")
+        raise ParameterError(
+            f"{name} = {_g(v)} is not a finite number: allowed values are "
+            f"finite{' [' + unit + ']' if unit else ''}"
+        )
     r = _range_of(name)
     if r is not None:
         lo, lo_open, hi, hi_open = r
@@ -118,8 +121,10 @@ def check_value(name: str, value: float) -> None:
             raise ParameterError(f"{name} = {_num(v)} is out of range: allowed {rs} {unit}")
     declared = variables().get(name)
     if declared is not None and not declared.lo <= v <= declared.hi:
-        raise ParameterError(f"{name} = {_num(v)} is out of range: allowed "
-                             f"[{_bound(declared.lo)}, {_bound(declared.hi)}] {unit}")
+        raise ParameterError(
+            f"{name} = {_num(v)} is out of range: allowed "
+            f"[{_bound(declared.lo)}, {_bound(declared.hi)}] {unit}"
+        )
 
 
 @dataclass(frozen=True)
@@ -143,7 +148,7 @@ class PlantParameters:
     prerolling: bool
     F_offset: float
     values: Mapping[str, Any]
-    compliance: Compliance           #: the load on its spring-damper (effect compliance)
+    compliance: Compliance  #: the load on its spring-damper (effect compliance)
 
     def K_f(self, x: ArrayLike) -> np.ndarray:
         """K_f(x) [N/A] at x clamped to the stroke (Eq. 7, plant.c)."""
@@ -166,46 +171,63 @@ def _check_compiled(val: Mapping[str, Any]) -> None:
     """The rules of plant_params_compile on the whole set, in its order."""
     sa = sum(float(val[f"current.a[{j}]"]) for j in range(1, 6))
     if abs(1.0 - sa) < POLE_TOL:
-        raise ParameterError(f"current.a[1..5] sum to {sa:.17g}: the current loop has a pole at "
-                             "z = 1 and no finite DC gain; allowed: sum(current.a) != 1")
+        raise ParameterError(
+            f"current.a[1..5] sum to {sa:.17g}: the current loop has a pole at "
+            "z = 1 and no finite DC gain; allowed: sum(current.a) != 1"
+        )
     x0, x1 = float(val["stroke.x_min"]), float(val["stroke.x_max"])
     if not x1 > x0:
-        raise ParameterError(f"stroke.x_max = {x1:.17g} must exceed stroke.x_min = {x0:.17g}: "
-                             f"allowed stroke.x_max in ({x0:.17g}, inf) m")
+        raise ParameterError(
+            f"stroke.x_max = {x1:.17g} must exceed stroke.x_min = {x0:.17g}: "
+            f"allowed stroke.x_max in ({x0:.17g}, inf) m"
+        )
     Fs, Fc = float(val["friction.F_s"]), float(val["friction.F_c"])
     if Fc > Fs:
-        raise ParameterError(f"friction.F_c = {Fc:.17g} exceeds friction.F_s = {Fs:.17g}: "
-                             "allowed friction.F_c in [0, friction.F_s] N")
+        raise ParameterError(
+            f"friction.F_c = {Fc:.17g} exceeds friction.F_s = {Fs:.17g}: "
+            "allowed friction.F_c in [0, friction.F_s] N"
+        )
     if val["effects.asymmetric_friction"]:
-        eff = apply_switches(val)                        # friction_levels.c's compiled Fs[0], sigma2
+        eff = apply_switches(val)  # friction_levels.c's compiled Fs[0], sigma2
         Fc0 = Fc
         Fs0 = float(eff["friction.F_s"])
         s0 = float(eff["friction.sigma2"])
         dF, ds = float(val["asymmetry.dF"]), float(val["asymmetry.dsigma2"])
         if Fc0 + dF < 0.0 or Fs0 + dF <= 0.0:
-            raise ParameterError(f"asymmetry.dF = {dF:.17g} makes the friction level for v < 0 "
-                                 f"negative: allowed [{-Fc0:.17g}, inf) N")
+            raise ParameterError(
+                f"asymmetry.dF = {dF:.17g} makes the friction level for v < 0 "
+                f"negative: allowed [{-Fc0:.17g}, inf) N"
+            )
         if s0 + ds < 0.0:
-            raise ParameterError(f"asymmetry.dsigma2 = {ds:.17g} makes the viscous coefficient "
-                                 f"for v < 0 negative: allowed [{-s0:.17g}, inf) N.s/m")
+            raise ParameterError(
+                f"asymmetry.dsigma2 = {ds:.17g} makes the viscous coefficient "
+                f"for v < 0 negative: allowed [{-s0:.17g}, inf) N.s/m"
+            )
     N = float(val["friction.N"])
     if int(N) != N:
-        raise ParameterError(f"friction.N = {N:.17g} is not an integer: allowed 1..{N_ELEMENTS_MAX}")
+        raise ParameterError(
+            f"friction.N = {N:.17g} is not an integer: allowed 1..{N_ELEMENTS_MAX}"
+        )
     if val["effects.prerolling"]:
         s = sum(float(val[f"friction.nu[{j}]"]) for j in range(1, int(N) + 1))
         if abs(s - 1.0) > SUM_NU_TOL:
-            raise ParameterError(f"friction.nu[1..{int(N)}] sum to {s:.17g}: allowed 1 +- "
-                                 f"{SUM_NU_TOL:g} (Eq. 12 needs sum(nu) = 1; set "
-                                 f"friction.nu[{int(N)}] = 1 - sum of the others)")
+            raise ParameterError(
+                f"friction.nu[1..{int(N)}] sum to {s:.17g}: allowed 1 +- "
+                f"{SUM_NU_TOL:g} (Eq. 12 needs sum(nu) = 1; set "
+                f"friction.nu[{int(N)}] = 1 - sum of the others)"
+            )
     p0, p1 = float(val["friction_profile.x_start"]), float(val["friction_profile.x_end"])
     if not p1 > p0:
-        raise ParameterError(f"friction_profile.x_end = {p1:.17g} must exceed "
-                             f"friction_profile.x_start = {p0:.17g}: allowed "
-                             f"friction_profile.x_end in ({p0:.17g}, inf) m")
+        raise ParameterError(
+            f"friction_profile.x_end = {p1:.17g} must exceed "
+            f"friction_profile.x_start = {p0:.17g}: allowed "
+            f"friction_profile.x_end in ({p0:.17g}, inf) m"
+        )
     n = float(val["friction_profile.n"])
     if int(n) != n:
-        raise ParameterError(f"friction_profile.n = {n:.17g} is not an integer: allowed "
-                             f"2..{N_KNOTS_MAX}")
+        raise ParameterError(
+            f"friction_profile.n = {n:.17g} is not an integer: allowed 2..{N_KNOTS_MAX}"
+        )
 
 
 def compile(model: HasFmuParameters | Mapping[str, Any]) -> PlantParameters:
@@ -225,13 +247,21 @@ def compile(model: HasFmuParameters | Mapping[str, Any]) -> PlantParameters:
         check_value(name, v)
     _check_compiled(val)
     on = {e.id: bool(val[e.switch]) for e in switchable() if e.switch is not None}
-    maps = {name: PositionMap.from_parameters(name, val, on[per], on[aper])
-            for name, (per, aper) in MAP_EFFECTS.items()}
+    maps = {
+        name: PositionMap.from_parameters(name, val, on[per], on[aper])
+        for name, (per, aper) in MAP_EFFECTS.items()
+    }
     return PlantParameters(
-        m=float(val["m"]), Ts=float(val["Ts"]), current=CurrentLoop.from_parameters(val),
-        cogging=maps["cogging"], ripple=maps["ripple"],
-        x_min=float(val["stroke.x_min"]), x_max=float(val["stroke.x_max"]),
-        friction=GMSParameters.from_params(val), prerolling=on["prerolling"],
+        m=float(val["m"]),
+        Ts=float(val["Ts"]),
+        current=CurrentLoop.from_parameters(val),
+        cogging=maps["cogging"],
+        ripple=maps["ripple"],
+        x_min=float(val["stroke.x_min"]),
+        x_max=float(val["stroke.x_max"]),
+        friction=GMSParameters.from_params(val),
+        prerolling=on["prerolling"],
         F_offset=float(apply_switches(val)["offset.F"]),
-        values=types.MappingProxyType(val), compliance=Compliance.from_parameters(val))
-
+        values=types.MappingProxyType(val),
+        compliance=Compliance.from_parameters(val),
+    )

@@ -7,6 +7,7 @@ The current is held over each sample interval (Eq. 2 is sampled), so the central
 difference at t_k sees the mean of the two held values around t_k (:func:`held_current`).
 The external load F_e of a run comes from :func:`run_load`.  C twin: fmu_src/physics/plant.c.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -62,8 +63,9 @@ def _load(run: Run) -> tuple[np.ndarray | float, str]:
             try:
                 return float(meta[key]), f"meta[{key!r}]"
             except (TypeError, ValueError):
-                raise ValueError(f"{run_label(run)}: meta[{key!r}] = {meta[key]!r} "
-                                 "is not a number") from None
+                raise ValueError(
+                    f"{run_label(run)}: meta[{key!r}] = {meta[key]!r} is not a number"
+                ) from None
     return 0.0, "absent (0)"
 
 
@@ -83,8 +85,9 @@ def run_load_mean(run: Run) -> tuple[float, str]:
     return float(np.mean(F)) if isinstance(F, np.ndarray) else F, src
 
 
-def measured_motion(x: ArrayLike, Ts: float, window: int, polyorder: int = DEFAULT_POLYORDER
-                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def measured_motion(
+    x: ArrayLike, Ts: float, window: int, polyorder: int = DEFAULT_POLYORDER
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(v, a, K) of a measured position: Savitzky-Golay velocity, acceleration (NaN within
     half a window of the ends) and the kernel K the acceleration estimate applies."""
     x = np.asarray(x, dtype=float)
@@ -95,8 +98,9 @@ def measured_motion(x: ArrayLike, Ts: float, window: int, polyorder: int = DEFAU
     return v, a, K
 
 
-def friction_velocity(x: np.ndarray, Ts: float, window: int,
-                      polyorder: int = DEFAULT_POLYORDER) -> np.ndarray:
+def friction_velocity(
+    x: np.ndarray, Ts: float, window: int, polyorder: int = DEFAULT_POLYORDER
+) -> np.ndarray:
     """The velocity the GMS friction is driven by [m/s]: Savitzky-Golay over the shortest
     window of at least ``FRICTION_VELOCITY_S`` whose rounding noise, for the position step
     of ``x`` (its smallest step between distinct values), stays below
@@ -107,8 +111,9 @@ def friction_velocity(x: np.ndarray, Ts: float, window: int,
     d = d[d > 1e-12]
     q = float(d.min()) if d.size else 0.0
     top = odd_window(window, len(x))
-    w = max(odd_window(int(round(FRICTION_VELOCITY_S / Ts)), len(x)),
-            odd_window(polyorder + 2, len(x)))
+    w = max(
+        odd_window(int(round(FRICTION_VELOCITY_S / Ts)), len(x)), odd_window(polyorder + 2, len(x))
+    )
     while w < top:
         p = min(polyorder, w - 1)
         c = savgol_coeffs(w, p, deriv=1, delta=Ts)
@@ -119,17 +124,28 @@ def friction_velocity(x: np.ndarray, Ts: float, window: int,
     return savgol_filter(x, w, min(polyorder, w - 1), deriv=1, delta=Ts)
 
 
-def applied_force(F_motor: ArrayLike, F_cg: ArrayLike, F_load: ArrayLike = 0.0,
-                  F_offset: float = 0.0) -> np.ndarray:
+def applied_force(
+    F_motor: ArrayLike, F_cg: ArrayLike, F_load: ArrayLike = 0.0, F_offset: float = 0.0
+) -> np.ndarray:
     """The force on the stage without friction, F_motor - F_cg - F_e - F_offset [N]."""
-    return (np.asarray(F_motor, dtype=float) - np.asarray(F_cg, dtype=float) - np.asarray(F_load, dtype=float)
-            - F_offset)
+    return (
+        np.asarray(F_motor, dtype=float)
+        - np.asarray(F_cg, dtype=float)
+        - np.asarray(F_load, dtype=float)
+        - F_offset
+    )
 
 
-def eq1_terms(time: ArrayLike, x: ArrayLike, i: ArrayLike, force_constant: MapSpec,
-              cogging: MapSpec, F_load: ArrayLike = 0.0, window: int = 41,
-              current_timing: str = "held"
-              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, float]:
+def eq1_terms(
+    time: ArrayLike,
+    x: ArrayLike,
+    i: ArrayLike,
+    force_constant: MapSpec,
+    cogging: MapSpec,
+    F_load: ArrayLike = 0.0,
+    window: int = 41,
+    current_timing: str = "held",
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, float]:
     """The known terms of Eq. 1 along a run: (force, a, v, K, Ts) with
     force = K_f(x) i - F_cg(x) - F_e (unfiltered), a and K from :func:`measured_motion`, the
     current taken as :func:`held_current` with ``current_timing``."""
@@ -137,24 +153,35 @@ def eq1_terms(time: ArrayLike, x: ArrayLike, i: ArrayLike, force_constant: MapSp
     x, i = np.asarray(x, dtype=float), np.asarray(i, dtype=float)
     Ts = sample_time(t)
     v, a, K = measured_motion(x, Ts, window)
-    force = applied_force(eval_map(force_constant, "ripple", x) * held_current(i, current_timing),
-                          eval_map(cogging, "cogging", x),
-                          np.broadcast_to(np.asarray(F_load, dtype=float), x.shape))
+    force = applied_force(
+        eval_map(force_constant, "ripple", x) * held_current(i, current_timing),
+        eval_map(cogging, "cogging", x),
+        np.broadcast_to(np.asarray(F_load, dtype=float), x.shape),
+    )
     return force, a, v, K, Ts
 
 
-def eq1_friction(time: ArrayLike, x: ArrayLike, i: ArrayLike, m: float,
-                 force_constant: MapSpec, cogging: MapSpec, F_load: ArrayLike = 0.0,
-                 window: int = 41, current_timing: str = "held"
-                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+def eq1_friction(
+    time: ArrayLike,
+    x: ArrayLike,
+    i: ArrayLike,
+    m: float,
+    force_constant: MapSpec,
+    cogging: MapSpec,
+    F_load: ArrayLike = 0.0,
+    window: int = 41,
+    current_timing: str = "held",
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
     """Friction from Eq. 1, F_f = K (K_f(x) i - F_cg(x) - F_e) - m a (:func:`eq1_terms`).
     Returns (F_f, v, K, Ts); F_f is NaN within half a window of the ends."""
-    force, a, v, K, Ts = eq1_terms(time, x, i, force_constant, cogging, F_load, window,
-                                   current_timing)
+    force, a, v, K, Ts = eq1_terms(
+        time, x, i, force_constant, cogging, F_load, window, current_timing
+    )
     return apply_kernel(force, K) - m * a, v, K, Ts
 
 
-def force_residual(F_app: ArrayLike, F_f: ArrayLike, a: ArrayLike, m: float, K: np.ndarray
-                   ) -> np.ndarray:
+def force_residual(
+    F_app: ArrayLike, F_f: ArrayLike, a: ArrayLike, m: float, K: np.ndarray
+) -> np.ndarray:
     """Eq. 1's residual r = K (F_app - F_f) - m a [N] (NaN near the ends)."""
     return apply_kernel(np.asarray(F_app, dtype=float) - F_f, K) - m * np.asarray(a, dtype=float)

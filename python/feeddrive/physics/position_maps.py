@@ -9,6 +9,7 @@ a = b = 0 are skipped.  C twin:
 fmu_src/physics/position_maps.c (the FMU evaluates at x clamped to the stroke, see
 :meth:`feeddrive.physics.params.PlantParameters.K_f`).
 """
+
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
@@ -36,15 +37,19 @@ class PositionMap:
     b: tuple[float, ...] = ()
 
     @classmethod
-    def from_parameters(cls, name: str, params: Mapping[str, float], periodic: bool = True,
-                        aperiodic: bool = True) -> PositionMap:
+    def from_parameters(
+        cls, name: str, params: Mapping[str, float], periodic: bool = True, aperiodic: bool = True
+    ) -> PositionMap:
         """Map ``name`` ("cogging" or "ripple") from FMU-named parameters with the given
         parts on (missing names count as zero; a used slot needs its wavelength)."""
         if name not in POLY_ORDER:
             raise ValueError(f"position map {name!r}: allowed 'cogging' or 'ripple'")
-        c = tuple(float(params.get(f"{name}.c[{k}]", 0.0))
-                  if aperiodic or (name == "ripple" and k == 0) else 0.0
-                  for k in range(POLY_ORDER[name] + 1))
+        c = tuple(
+            float(params.get(f"{name}.c[{k}]", 0.0))
+            if aperiodic or (name == "ripple" and k == 0)
+            else 0.0
+            for k in range(POLY_ORDER[name] + 1)
+        )
         lam, a, b = [], [], []
         if periodic:
             for j in range(1, N_HARMONICS + 1):
@@ -69,8 +74,14 @@ class PositionMap:
         return out
 
 
-def evaluate(name: str, x: ArrayLike, params: Mapping[str, float], periodic: bool = True,
-             aperiodic: bool = True, clamp: bool = True) -> np.ndarray:
+def evaluate(
+    name: str,
+    x: ArrayLike,
+    params: Mapping[str, float],
+    periodic: bool = True,
+    aperiodic: bool = True,
+    clamp: bool = True,
+) -> np.ndarray:
     """Map ``name`` ("cogging" [N] or "ripple" [N/A]) at ``x`` [m] from FMU-named parameters.
 
     ``periodic``/``aperiodic`` include the Fourier / polynomial part (see

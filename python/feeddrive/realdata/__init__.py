@@ -4,6 +4,7 @@
   (ODrive, G. Chen): position spectrum, short-time position spectrum (the paper's DSTFT),
   crosstalk line, friction from forward/reverse maps, slow-run correlation and velocity ripple.
 """
+
 from .odrive import OdriveFindings, analyse, findings_text
 
 __all__ = ["OdriveFindings", "analyse", "findings_text"]

@@ -1,4 +1,5 @@
 """Figures and the HTML report."""
+
 from .page import Page
 
 __all__ = ["Page"]

@@ -1,4 +1,5 @@
 """Figures of the closed-loop reproductions: analogues of the paper's Figs. 14 and 16."""
+
 from __future__ import annotations
 
 import matplotlib.pyplot as plt
@@ -17,8 +18,13 @@ def fig14(sec3, window: float = 0.2) -> plt.Figure:
     for ax, name, tag in zip(np.atleast_1d(axes), names, "abc", strict=False):
         x_top = run.x[top]
         ax.plot(run.time[sl], (run.x[sl] - x_top) * 1e6, "k-", lw=1.6, label="measured")
-        ax.plot(sec3.simulated[name]["time"][sl], (sec3.simulated[name]["x"][sl] - x_top) * 1e6, "r--",
-                lw=1.2, label="simulated")
+        ax.plot(
+            sec3.simulated[name]["time"][sl],
+            (sec3.simulated[name]["x"][sl] - x_top) * 1e6,
+            "r--",
+            lw=1.2,
+            label="simulated",
+        )
         ax.set_title(f"({tag}) {name}", fontsize=9)
         ax.set_xlabel("t [s]")
         ax.grid(alpha=0.3)

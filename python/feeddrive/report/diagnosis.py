@@ -9,6 +9,7 @@ the residual of the start and final models against time, position and displaceme
 reversal, the spatial spectrum of the starting residual, and one overlay per step: the
 residual before and after against the noise band (+-1 and +-3 x the per-sample noise floor).
 """
+
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable
@@ -43,10 +44,17 @@ def _vs_dsr(q: RunResidual) -> tuple[np.ndarray, dict, bool]:
     return d, {"marker": ".", "linestyle": "none", "ms": 1}, True
 
 
-def residual_figure(axis: Axis, before: list[RunResidual], after: list[RunResidual],
-                    title: str, xlabel: str, label_b: str = "before",
-                    label_a: str = "after", band: list[np.ndarray] | None = None,
-                    factor: float = NOISE_FACTOR) -> plt.Figure:
+def residual_figure(
+    axis: Axis,
+    before: list[RunResidual],
+    after: list[RunResidual],
+    title: str,
+    xlabel: str,
+    label_b: str = "before",
+    label_a: str = "after",
+    band: list[np.ndarray] | None = None,
+    factor: float = NOISE_FACTOR,
+) -> plt.Figure:
     """One panel per run: the residual before and after against ``axis``; with ``band``
     (per run, per-sample noise floor [N]) also +-band and +-``factor`` x band."""
     n = len(before)
@@ -56,10 +64,19 @@ def residual_figure(axis: Axis, before: list[RunResidual], after: list[RunResidu
         xb, kw, log = axis(qb)
         if band is not None and not log and not kw:
             ok = qb.valid
-            for f, alpha, lab in ((factor, 0.15, f"{factor:g} x noise floor"),
-                                  (1.0, 0.3, "noise floor")):
-                ax.fill_between(xb[ok], -f * band[j][ok], f * band[j][ok], color="grey",
-                                alpha=alpha, lw=0, label=lab if j == 0 else None)
+            for f, alpha, lab in (
+                (factor, 0.15, f"{factor:g} x noise floor"),
+                (1.0, 0.3, "noise floor"),
+            ):
+                ax.fill_between(
+                    xb[ok],
+                    -f * band[j][ok],
+                    f * band[j][ok],
+                    color="grey",
+                    alpha=alpha,
+                    lw=0,
+                    label=lab if j == 0 else None,
+                )
         ax.plot(xb[qb.valid], qb.r[qb.valid], lw=0.6, label=label_b, **kw)
         xa, kw, log = axis(qa)
         ax.plot(xa[qa.valid], qa.r[qa.valid], lw=0.6, label=label_a, alpha=0.8, **kw)
@@ -98,22 +115,34 @@ def _step_row(k: int, s: dict) -> list[list[str]]:
     ev = s["evidence"]
     where = ", ".join(w["regime"] for w in ev["where"])
     amb = ", ".join(s["ambiguous_with"]) or "-"
-    params = [f"{n} = {_fmt(p['value'])} {p['unit']} (was {_fmt(p['before'])})"
-              for n, p in s["parameters"].items()]
+    params = [
+        f"{n} = {_fmt(p['value'])} {p['unit']} (was {_fmt(p['before'])})"
+        for n, p in s["parameters"].items()
+    ]
     ga, gb = s["gap_after"], s["gap_before"]
     ref = s.get("refinement")
-    change = [f"refinement: the model force changes by {_fmt(ref['force_change_rms_N'])} N rms"] \
-        if ref else []
-    return [[str(k)],
-            [s["effect"], s["decision"], f"cannot be told from: {amb}", *change],
-            [f"held-out improvement {_fmt(ev['heldout_improvement'])}, t = {_fmt(ev['t_blocks'])}, "
-             f"blocks improved {ev['blocks_improved']}",
-             f"explains {_fmt(ev['explained_force_N'])} N rms on held-out blocks "
-             f"({_fmt(ev['x_noise_floor'])} x noise floor; threshold {_fmt(ev['threshold_N'])} N)",
-             ev["variant"], f"where: {where}"],
-            params or ["-"],
-            [f"{_fmt(gb['force_rms_N'])} N -> {_fmt(ga['force_rms_N'])} N "
-             f"(held-out {_fmt(ga.get('force_rms_heldout_N'))} N)"]]
+    change = (
+        [f"refinement: the model force changes by {_fmt(ref['force_change_rms_N'])} N rms"]
+        if ref
+        else []
+    )
+    return [
+        [str(k)],
+        [s["effect"], s["decision"], f"cannot be told from: {amb}", *change],
+        [
+            f"held-out improvement {_fmt(ev['heldout_improvement'])}, t = {_fmt(ev['t_blocks'])}, "
+            f"blocks improved {ev['blocks_improved']}",
+            f"explains {_fmt(ev['explained_force_N'])} N rms on held-out blocks "
+            f"({_fmt(ev['x_noise_floor'])} x noise floor; threshold {_fmt(ev['threshold_N'])} N)",
+            ev["variant"],
+            f"where: {where}",
+        ],
+        params or ["-"],
+        [
+            f"{_fmt(gb['force_rms_N'])} N -> {_fmt(ga['force_rms_N'])} N "
+            f"(held-out {_fmt(ga.get('force_rms_heldout_N'))} N)"
+        ],
+    ]
 
 
 def _time_table(page: Page, ax: dict) -> None:
@@ -121,17 +150,30 @@ def _time_table(page: Page, ax: dict) -> None:
     rows = []
     for run, tab in ax.get("runs", {}).items():
         for b in tab["blocks"]:
-            rows.append({"run": run, "t [s]": f"{b['t_lo_s']:.2f}-{b['t_hi_s']:.2f}",
-                         "rms [N]": b["rms_N"], "noise floor [N]": b.get("floor_N"),
-                         "excess [N]": b.get("excess_N"),
-                         "run trend [N/s]": tab.get("trend_N_per_s")})
+            rows.append(
+                {
+                    "run": run,
+                    "t [s]": f"{b['t_lo_s']:.2f}-{b['t_hi_s']:.2f}",
+                    "rms [N]": b["rms_N"],
+                    "noise floor [N]": b.get("floor_N"),
+                    "excess [N]": b.get("excess_N"),
+                    "run trend [N/s]": tab.get("trend_N_per_s"),
+                }
+            )
     if rows:
-        page.table(rows, caption="time axis: the final residual per time block of each run "
-                                 "(a drift or a warm-up shows as a trend)")
+        page.table(
+            rows,
+            caption="time axis: the final residual per time block of each run "
+            "(a drift or a warm-up shows as a trend)",
+        )
 
 
-def write_diagnosis(diag: Diagnosis, out_dir: str | Path,
-                    inputs: Iterable[str | Path | None] = (), force: bool = False) -> Path:
+def write_diagnosis(
+    diag: Diagnosis,
+    out_dir: str | Path,
+    inputs: Iterable[str | Path | None] = (),
+    force: bool = False,
+) -> Path:
     """diagnosis.json, model.json (+ one per step) and report.html with PNGs in ``out_dir``;
     returns the path of report.html.
 
@@ -150,75 +192,161 @@ def _write_diagnosis(diag: Diagnosis, out: Path) -> Path:
     page.text(f"Verdict: {doc['verdict']['sentence']}")
     loc = doc["verdict"].get("where")
     if loc:
-        rows = [{"where": key, "regime": loc[key]["regime"],
-                 **{k: v for k, v in loc[key]["table"].get(loc[key]["regime"], {}).items()
-                    if k != "n"}} for key in ("speed", "direction", "since_reversal")]
+        rows = [
+            {
+                "where": key,
+                "regime": loc[key]["regime"],
+                **{
+                    k: v
+                    for k, v in loc[key]["table"].get(loc[key]["regime"], {}).items()
+                    if k != "n"
+                },
+            }
+            for key in ("speed", "direction", "since_reversal")
+        ]
         sb = loc["stroke_band"]
-        rows.insert(0, {"where": "stroke band",
-                        "regime": f"{sb['x_lo_m'] * 1e3:.1f}-{sb['x_hi_m'] * 1e3:.1f} mm",
-                        **{k: sb[k] for k in ("rms_N", "floor_N", "excess_share",
-                                              "sample_share", "concentration") if k in sb}})
-        page.table(rows, caption="where the residual above the noise floor sits "
-                                 "(concentration: share of the excess energy / share of samples)")
+        rows.insert(
+            0,
+            {
+                "where": "stroke band",
+                "regime": f"{sb['x_lo_m'] * 1e3:.1f}-{sb['x_hi_m'] * 1e3:.1f} mm",
+                **{
+                    k: sb[k]
+                    for k in ("rms_N", "floor_N", "excess_share", "sample_share", "concentration")
+                    if k in sb
+                },
+            },
+        )
+        page.table(
+            rows,
+            caption="where the residual above the noise floor sits "
+            "(concentration: share of the excess energy / share of samples)",
+        )
     conf = doc["confirmation"]
     mj, ma = conf["model_json"], conf["model_all_fits_json"]
-    page.lines([f"Runs: {', '.join(doc['runs'])}. Start model: {doc['model_start']}.",
-                f"model.json: {mj['name']}, the effects the diagnosis confirmed "
-                f"({', '.join(mj['effects_added']) or 'none added'}; force gap "
-                f"{_fmt(mj['gap_N'])} N). model_all_fits.json: {ma['name']}, every fit "
-                f"({', '.join(ma['effects_added']) or 'none added'}; force gap "
-                f"{_fmt(ma['gap_N'])} N).", f"Confirmed: {conf['rule']}."])
+    page.lines(
+        [
+            f"Runs: {', '.join(doc['runs'])}. Start model: {doc['model_start']}.",
+            f"model.json: {mj['name']}, the effects the diagnosis confirmed "
+            f"({', '.join(mj['effects_added']) or 'none added'}; force gap "
+            f"{_fmt(mj['gap_N'])} N). model_all_fits.json: {ma['name']}, every fit "
+            f"({', '.join(ma['effects_added']) or 'none added'}; force gap "
+            f"{_fmt(ma['gap_N'])} N).",
+            f"Confirmed: {conf['rule']}.",
+        ]
+    )
     if conf["steps"]:
-        page.table([{"effect": r["effect"], "confirmed": r["confirmed"],
-                     "where it acted": ", ".join(r["regimes"]),
-                     "final residual there [N]": r.get("rms_final_N"),
-                     "noise floor there [N]": r.get("floor_N"), "excess [N]": r.get("excess_N"),
-                     "threshold [N]": r["threshold_N"], "why": r["why"]} for r in conf["steps"]],
-                   caption="which fitted effects are confirmed (model.json) and which are only "
-                           "in model_all_fits.json")
+        page.table(
+            [
+                {
+                    "effect": r["effect"],
+                    "confirmed": r["confirmed"],
+                    "where it acted": ", ".join(r["regimes"]),
+                    "final residual there [N]": r.get("rms_final_N"),
+                    "noise floor there [N]": r.get("floor_N"),
+                    "excess [N]": r.get("excess_N"),
+                    "threshold [N]": r["threshold_N"],
+                    "why": r["why"],
+                }
+                for r in conf["steps"]
+            ],
+            caption="which fitted effects are confirmed (model.json) and which are only "
+            "in model_all_fits.json",
+        )
     if doc["verdict"].get("hints"):
-        page.table([{"signature": h["signature"], "explained force [N]": h["explained_force_N"],
-                     "size": h["text"]} for h in doc["verdict"]["hints"]],
-                   caption="signatures outside the catalogue fitted to the final residual "
-                           "(hints, never model changes; the best is in the verdict)")
+        page.table(
+            [
+                {
+                    "signature": h["signature"],
+                    "explained force [N]": h["explained_force_N"],
+                    "size": h["text"],
+                }
+                for h in doc["verdict"]["hints"]
+            ],
+            caption="signatures outside the catalogue fitted to the final residual "
+            "(hints, never model changes; the best is in the verdict)",
+        )
     _time_table(page, doc["localisation_final"].get("time", {}))
     page.lines(doc["notes"])
     nf, sig = doc["noise_floor"], doc["significance"]
     page.heading("Noise floor")
     names = list(nf["runs"])
     fields = list(dict.fromkeys(k for row in nf["runs"].values() for k in row))
-    page.table([{"quantity": k, **{n: nf["runs"][n].get(k, "-") for n in names}} for k in fields],
-               caption="noise floor per run (a column each): position step, force noise, "
-                       "timing jitter and the force each leaves in the residual [N]")
+    page.table(
+        [{"quantity": k, **{n: nf["runs"][n].get(k, "-") for n in names}} for k in fields],
+        caption="noise floor per run (a column each): position step, force noise, "
+        "timing jitter and the force each leaves in the residual [N]",
+    )
     ls, lf = doc["localisation_start"]["regimes"], doc["localisation_final"]["regimes"]
-    page.table([{"regime": k, "noise floor [N]": f, "start model [N]": ls.get(k, {}).get("rms"),
-                 "final model [N]": lf.get(k, {}).get("rms")}
-                for k, f in nf["regimes_rms_N"].items()],
-               caption="noise floor and residual per regime (rms)")
-    page.lines([f"Overall noise floor {_fmt(nf['rms_N'])} N rms. A candidate is named only "
-                f"when it explains at least {_fmt(sig['threshold_N'])} N rms on held-out "
-                f"blocks: {_fmt(sig['noise_factor'])} x the floor "
-                f"({_fmt(sig['noise_threshold_N'])} N) and {sig['practical_share']:.1%} of "
-                f"the friction level {_fmt(sig['level_N'])} N ({sig['level_source']})."])
+    page.table(
+        [
+            {
+                "regime": k,
+                "noise floor [N]": f,
+                "start model [N]": ls.get(k, {}).get("rms"),
+                "final model [N]": lf.get(k, {}).get("rms"),
+            }
+            for k, f in nf["regimes_rms_N"].items()
+        ],
+        caption="noise floor and residual per regime (rms)",
+    )
+    page.lines(
+        [
+            f"Overall noise floor {_fmt(nf['rms_N'])} N rms. A candidate is named only "
+            f"when it explains at least {_fmt(sig['threshold_N'])} N rms on held-out "
+            f"blocks: {_fmt(sig['noise_factor'])} x the floor "
+            f"({_fmt(sig['noise_threshold_N'])} N) and {sig['practical_share']:.1%} of "
+            f"the friction level {_fmt(sig['level_N'])} N ({sig['level_source']})."
+        ]
+    )
     page.heading("Steps")
-    page.cells(["#", "effect", "evidence", "parameters", "force gap (rms)"],
-               [_step_row(k, s) for k, s in enumerate(doc["steps"], 1)])
+    page.cells(
+        ["#", "effect", "evidence", "parameters", "force gap (rms)"],
+        [_step_row(k, s) for k, s in enumerate(doc["steps"], 1)],
+    )
     page.lines([f"Stopped: {doc['stop'].get('reason')}"])
     page.heading("Plots")
     r0, r1 = diag.residual_start, diag.residual_final
     band = [f.sigma for f in diag.floors] if diag.floors else None
     for name, axis, xl, title in (
-            ("residual_time", _vs_time, "time [s]", "force residual against time"),
-            ("residual_position", _vs_position, "position [mm]", "force residual against position"),
-            ("residual_reversal", _vs_dsr, "displacement since reversal [um]",
-             "force residual against displacement since reversal")):
-        page.figure(residual_figure(axis, r0, r1, title + " (start model / final model)", xl,
-                                    "start model", "final model", band=band), name, title,
-                    dpi=90)
+        ("residual_time", _vs_time, "time [s]", "force residual against time"),
+        ("residual_position", _vs_position, "position [mm]", "force residual against position"),
+        (
+            "residual_reversal",
+            _vs_dsr,
+            "displacement since reversal [um]",
+            "force residual against displacement since reversal",
+        ),
+    ):
+        page.figure(
+            residual_figure(
+                axis,
+                r0,
+                r1,
+                title + " (start model / final model)",
+                xl,
+                "start model",
+                "final model",
+                band=band,
+            ),
+            name,
+            title,
+            dpi=90,
+        )
     page.figure(spectrum_figure(r0), "spectrum", "spatial spectrum", dpi=90)
     for k, st in enumerate(diag.steps, 1):
-        page.figure(residual_figure(_vs_time, st.residual_before, st.residual_after,
-                                    f"step {k}: {st.decision} {st.effect} - residual before / "
-                                    "after against the noise band", "time [s]", band=band),
-                    f"step{k}_{st.effect}", f"step {k} overlay", dpi=90)
+        page.figure(
+            residual_figure(
+                _vs_time,
+                st.residual_before,
+                st.residual_after,
+                f"step {k}: {st.decision} {st.effect} - residual before / "
+                "after against the noise band",
+                "time [s]",
+                band=band,
+            ),
+            f"step{k}_{st.effect}",
+            f"step {k} overlay",
+            dpi=90,
+        )
     return page.write("report.html")

@@ -22,6 +22,7 @@ and, beyond the paper's figures, :func:`fig_current_loop` (PRBS response, Eq. 2)
 true model is known, adds the Sec. 4 scenario simulated with the identified versus the true
 plant (:func:`fig_sec4_comparison`).
 """
+
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
@@ -46,7 +47,7 @@ from ..physics import position_maps as maps
 from ..signals import run_label
 from .page import Page
 
-MM = 1e3            #: m -> mm for axes
+MM = 1e3  #: m -> mm for axes
 WAVELENGTHS_COGGING = (0.0375, 0.01875, 0.0125)
 WAVELENGTHS_RIPPLE = (0.0375, 0.01875, 0.0125, 0.025)
 
@@ -54,8 +55,9 @@ WAVELENGTHS_RIPPLE = (0.0375, 0.01875, 0.0125, 0.025)
 def _need(res: IdentificationResult, attr: str, what: str) -> Any:
     value = getattr(res, attr)
     if value is None:
-        raise ValueError(f"figure of {what}: that step was not run "
-                         f"({res.skipped.get(what, 'no result')})")
+        raise ValueError(
+            f"figure of {what}: that step was not run ({res.skipped.get(what, 'no result')})"
+        )
     return value
 
 
@@ -72,7 +74,9 @@ def fig5_maps(res: IdentificationResult) -> plt.Figure:
     ax[1].plot(s.x * MM, s.F_cg, lw=0.8)
     ax[1].set_ylabel("F_cg [N]")
     ax[1].set_xlabel("x [mm]")
-    ax[0].set_title(f"Force ripple and cogging (Eqs. 4-5, loads {', '.join(f'{P:g}' for P in np.round(s.loads, 2))} N)")
+    ax[0].set_title(
+        f"Force ripple and cogging (Eqs. 4-5, loads {', '.join(f'{P:g}' for P in np.round(s.loads, 2))} N)"
+    )
     for a in ax:
         a.grid(alpha=0.3)
     return fig
@@ -87,11 +91,12 @@ def _dstft(res: IdentificationResult, which: str) -> DSTFT:
 def _dstft_figure(D: DSTFT, label: str, unit: str, marks: Sequence[float]) -> plt.Figure:
     fig, ax = plt.subplots(1, 2, figsize=(11, 4.2), gridspec_kw={"width_ratios": [1.6, 1]})
     k = np.arange(1, len(D.wavelengths))
-    keep = D.wavelengths[k] >= 4e-3                    # wavelengths down to 4 mm
+    keep = D.wavelengths[k] >= 4e-3  # wavelengths down to 4 mm
     k = k[keep]
     mag = D.magnitude[k]
-    im = ax[0].pcolormesh(D.positions * MM, D.wavelengths[k] * MM, mag, shading="nearest",
-                          cmap="viridis")
+    im = ax[0].pcolormesh(
+        D.positions * MM, D.wavelengths[k] * MM, mag, shading="nearest", cmap="viridis"
+    )
     ax[0].set_yscale("log")
     ax[0].set_xlabel("window centre x [mm]")
     ax[0].set_ylabel("wavelength [mm]")
@@ -151,8 +156,10 @@ def fig10_map_fits(res: IdentificationResult) -> plt.Figure:
     m = _need(res, "maps", "position maps")
     s, truth = m.samples, _truth(res)
     fig, ax = plt.subplots(2, 1, figsize=(8, 5.5), sharex=True)
-    for a, fit, y, unit in ((ax[0], m.ripple, s.K_f, "K_f [N/A]"),
-                            (ax[1], m.cogging, s.F_cg, "F_cg [N]")):
+    for a, fit, y, unit in (
+        (ax[0], m.ripple, s.K_f, "K_f [N/A]"),
+        (ax[1], m.cogging, s.F_cg, "F_cg [N]"),
+    ):
         a.plot(s.x * MM, y, lw=0.6, color="0.5", label="Eqs. 4-5")
         a.plot(s.x * MM, fit(s.x), lw=1.2, label=f"fit (rms {fit.rms_full:.3g})")
         if truth is not None:
@@ -188,14 +195,29 @@ def fig12_stribeck(res: IdentificationResult) -> plt.Figure:
     s = _need(res, "stribeck", "Stribeck")
     pts = s.points
     fig, ax = plt.subplots(figsize=(7, 4.2))
-    ax.errorbar(pts.speed * MM, pts.friction, yerr=pts.spread, fmt="o", ms=4, capsize=2,
-                label="Eq. 13 (mean +- std over position)")
+    ax.errorbar(
+        pts.speed * MM,
+        pts.friction,
+        yerr=pts.spread,
+        fmt="o",
+        ms=4,
+        capsize=2,
+        label="Eq. 13 (mean +- std over position)",
+    )
     v = np.geomspace(pts.speed.min() / 2, pts.speed.max() * 1.5, 300)
     ax.plot(v * MM, s.curve(v), label="fit of Eq. 12")
     truth = _truth(res)
     if truth is not None:
-        F = stribeck_level(v, truth["friction.F_s"], truth["friction.F_c"], truth["friction.V_s"],
-                           truth["friction.delta"]) + truth["friction.sigma2"] * v
+        F = (
+            stribeck_level(
+                v,
+                truth["friction.F_s"],
+                truth["friction.F_c"],
+                truth["friction.V_s"],
+                truth["friction.delta"],
+            )
+            + truth["friction.sigma2"] * v
+        )
         ax.plot(v * MM, F, "k--", lw=0.8, label="true")
     ax.set_xscale("log")
     ax.set_xlabel("v [mm/s]")
@@ -252,14 +274,15 @@ def fig_attraction(res: IdentificationResult) -> plt.Figure:
     p = res.model.parameters
     if run.i is None:
         raise ValueError(f"{run_label(run)}: the variable-speed run has no current column")
-    F, v, _K, Ts = eq1_friction(run.time, run.x, run.i, p["m"], p, p,
-                               run.F_load if run.F_load is not None else 0.0)
+    F, v, _K, Ts = eq1_friction(
+        run.time, run.x, run.i, p["m"], p, p, run.F_load if run.F_load is not None else 0.0
+    )
     G = F - p["friction.sigma2"] * v
     s = _level(v, p)
     t = np.asarray(run.time, float)
     x = np.asarray(run.x, float)
     ok = np.isfinite(G) & (v > 2e-4)
-    ok &= np.abs(x - x[np.argmax(ok)]) >= 5e-4          # after the break-away (as the fit)
+    ok &= np.abs(x - x[np.argmax(ok)]) >= 5e-4  # after the break-away (as the fit)
     idx = np.flatnonzero(ok)
     fig, ax = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
     ax[0].plot(t[ok], G[ok], lw=0.5, color="0.5", label="F_f - sigma2 v (Eq. 1)")
@@ -282,25 +305,52 @@ def fig_attraction(res: IdentificationResult) -> plt.Figure:
 
 #: (function, file stem, caption, step attribute) in page order.
 FIGURES: tuple[tuple[Callable[[IdentificationResult], plt.Figure], str, str, str], ...] = (
-    (fig_current_loop, "id_current_loop", "Current loop: PRBS response and identified G(z)",
-     "current_loop"),
-    (fig5_maps, "id_fig05_maps", "Analogue of Fig. 5: force ripple K_f(x) and cogging F_cg(x)",
-     "maps"),
+    (
+        fig_current_loop,
+        "id_current_loop",
+        "Current loop: PRBS response and identified G(z)",
+        "current_loop",
+    ),
+    (
+        fig5_maps,
+        "id_fig05_maps",
+        "Analogue of Fig. 5: force ripple K_f(x) and cogging F_cg(x)",
+        "maps",
+    ),
     (fig6_dstft_cogging, "id_fig06_dstft_cogging", "Analogue of Fig. 6: DSTFT of F_cg(x)", "maps"),
-    (fig7_cogging_components, "id_fig07_cogging_components",
-     "Analogue of Fig. 7: magnitude and unwrapped phase of X_F", "maps"),
+    (
+        fig7_cogging_components,
+        "id_fig07_cogging_components",
+        "Analogue of Fig. 7: magnitude and unwrapped phase of X_F",
+        "maps",
+    ),
     (fig8_dstft_ripple, "id_fig08_dstft_ripple", "Analogue of Fig. 8: DSTFT of K_f(x)", "maps"),
-    (fig9_ripple_components, "id_fig09_ripple_components",
-     "Analogue of Fig. 9: magnitude and unwrapped phase of X_K", "maps"),
-    (fig10_map_fits, "id_fig10_map_fits", "Analogue of Fig. 10: sampled and fitted curves",
-     "maps"),
-    (fig11_elements, "id_fig11_elements", "GMS elements identified (model of Fig. 11)",
-     "prerolling"),
-    (fig12_stribeck, "id_fig12_stribeck", "Analogue of Fig. 12: Stribeck points and fit",
-     "stribeck"),
+    (
+        fig9_ripple_components,
+        "id_fig09_ripple_components",
+        "Analogue of Fig. 9: magnitude and unwrapped phase of X_K",
+        "maps",
+    ),
+    (fig10_map_fits, "id_fig10_map_fits", "Analogue of Fig. 10: sampled and fitted curves", "maps"),
+    (
+        fig11_elements,
+        "id_fig11_elements",
+        "GMS elements identified (model of Fig. 11)",
+        "prerolling",
+    ),
+    (
+        fig12_stribeck,
+        "id_fig12_stribeck",
+        "Analogue of Fig. 12: Stribeck points and fit",
+        "stribeck",
+    ),
     (fig_attraction, "id_attraction", "Attraction parameter C: frictional lag", "attraction"),
-    (fig13_prerolling, "id_fig13_prerolling", "Analogue of Fig. 13: pre-rolling, measured and model",
-     "prerolling"),
+    (
+        fig13_prerolling,
+        "id_fig13_prerolling",
+        "Analogue of Fig. 13: pre-rolling, measured and model",
+        "prerolling",
+    ),
 )
 
 
@@ -310,14 +360,14 @@ INTERVAL_METHODS = {"parametric": "parametric, bias-corrected", "runs": "runs, p
 #: What stands behind each method's intervals (the table's caption).
 INTERVAL_EVIDENCE = {
     "parametric": "parametric: every run simulated again on the identified model with the "
-                  "measured noise and identified again; interval = estimate - bias +- "
-                  "t s sqrt(1 + 1/B) over the B replicates (the bias column is the b "
-                  "subtracted). Its coverage over 20 campaigns made by the FMU, per parameter, "
-                  "is in docs/intervals.md (Coverage); the current loop's coefficients are "
-                  "conditional on the order/delay the estimate chose.",
+    "measured noise and identified again; interval = estimate - bias +- "
+    "t s sqrt(1 + 1/B) over the B replicates (the bias column is the b "
+    "subtracted). Its coverage over 20 campaigns made by the FMU, per parameter, "
+    "is in docs/intervals.md (Coverage); the current loop's coefficients are "
+    "conditional on the order/delay the estimate chose.",
     "runs": "runs: percentiles over whole runs resampled within cells of repeats: the noise "
-            "spread only, without the method's bias (their coverage of the Stribeck "
-            "parameters over FMU campaigns is in docs/intervals.md: far below the level).",
+    "spread only, without the method's bias (their coverage of the Stribeck "
+    "parameters over FMU campaigns is in docs/intervals.md: far below the level).",
 }
 
 
@@ -328,11 +378,16 @@ def uncertainty_rows(res: IdentificationResult) -> list[dict[str, Any]]:
     truth = _truth(res)
     rows = []
     for name, iv in res.model.uncertainty.items():
-        row: dict[str, Any] = {"parameter": name, "value": res.model.parameters[name],
-                               "lo": iv["lo"], "hi": iv["hi"], "level": iv["level"],
-                               "method": INTERVAL_METHODS.get(iv.get("method", "runs"), "?"),
-                               "replicates": iv["replicates"],
-                               "bias corrected": iv.get("bias", "not estimated")}
+        row: dict[str, Any] = {
+            "parameter": name,
+            "value": res.model.parameters[name],
+            "lo": iv["lo"],
+            "hi": iv["hi"],
+            "level": iv["level"],
+            "method": INTERVAL_METHODS.get(iv.get("method", "runs"), "?"),
+            "replicates": iv["replicates"],
+            "bias corrected": iv.get("bias", "not estimated"),
+        }
         if truth is not None:
             row["true"] = truth[name]
             row["true inside"] = "yes" if iv["lo"] <= truth[name] <= iv["hi"] else "no"
@@ -351,9 +406,15 @@ def effect_rows(res: IdentificationResult) -> list[dict[str, Any]]:
             done = "no step of its own"
         else:
             done = f"{step}: " + ("fitted" if getattr(res, step) is not None else "not fitted")
-        rows.append({"effect": e.id, "on": "yes" if res.model.effects[e.id] else "no",
-                     "step": done, "identified by": e.identification.how,
-                     "shown by": "; ".join(e.report) or "-"})
+        rows.append(
+            {
+                "effect": e.id,
+                "on": "yes" if res.model.effects[e.id] else "no",
+                "step": done,
+                "identified by": e.identification.how,
+                "shown by": "; ".join(e.report) or "-",
+            }
+        )
     return rows
 
 
@@ -366,22 +427,41 @@ def add_to_page(page: Page, results: IdentificationResult, level: int = 2) -> li
     page.heading("Identification (Secs. 2.2-2.4) from a folder of runs", level)
     page.pre(results.text() if not results.table else results.text().split("\n\n")[0])
     if results.table:
-        page.table([r.as_dict() for r in results.table],
-                   f"true ({results.truth.name if results.truth else 'truth'}) vs identified "
-                   "(error: relative, rms/range, or factor for C; see tolerance)", digits=5)
+        page.table(
+            [r.as_dict() for r in results.table],
+            f"true ({results.truth.name if results.truth else 'truth'}) vs identified "
+            "(error: relative, rms/range, or factor for C; see tolerance)",
+            digits=5,
+        )
     if results.model.uncertainty:
         methods = {iv.get("method", "runs") for iv in results.model.uncertainty.values()}
-        page.table(uncertainty_rows(results), "bootstrap intervals of the identified parameters: "
-                   + " ".join(INTERVAL_EVIDENCE[m] for m in sorted(methods)), digits=6)
-    page.table(effect_rows(results), "the effects of the catalogue in the identified model "
-               "(steps that did not run: the summary above says why)")
+        page.table(
+            uncertainty_rows(results),
+            "bootstrap intervals of the identified parameters: "
+            + " ".join(INTERVAL_EVIDENCE[m] for m in sorted(methods)),
+            digits=6,
+        )
+    page.table(
+        effect_rows(results),
+        "the effects of the catalogue in the identified model "
+        "(steps that did not run: the summary above says why)",
+    )
     paths = []
     for fn, stem, caption, attr in FIGURES:
         if getattr(results, attr) is None:
             continue
-        if fn in (fig6_dstft_cogging, fig8_dstft_ripple, fig7_cogging_components,
-                  fig9_ripple_components) and results.maps is not None and len(results.maps.samples.x) < 750:
-            continue                    # the DSTFT needs a 75 mm stretch of map
+        if (
+            fn
+            in (
+                fig6_dstft_cogging,
+                fig8_dstft_ripple,
+                fig7_cogging_components,
+                fig9_ripple_components,
+            )
+            and results.maps is not None
+            and len(results.maps.samples.x) < 750
+        ):
+            continue  # the DSTFT needs a 75 mm stretch of map
         paths.append(page.figure(fn(results), stem, caption))
     return paths
 
@@ -404,9 +484,13 @@ def fig_sec4_comparison(cmp: Sec4Comparison) -> plt.Figure:
     return fig
 
 
-def identification_section(page: Page, runs: str | Path | Sequence[Run] | IdentificationResult,
-                           truth: Any = None, out: str | Path | None = None,
-                           sec4: bool = True) -> IdentificationResult:
+def identification_section(
+    page: Page,
+    runs: str | Path | Sequence[Run] | IdentificationResult,
+    truth: Any = None,
+    out: str | Path | None = None,
+    sec4: bool = True,
+) -> IdentificationResult:
     """Identify a folder (or list) of runs and add the section to ``page``.
 
     Parameters
@@ -430,21 +514,28 @@ def identification_section(page: Page, runs: str | Path | Sequence[Run] | Identi
     if sec4 and res.truth is not None:
         cmp = compare_sec4(res.model.fmu_parameters(), res.truth.fmu_parameters())
         page.heading("Sec. 4 scenario: identified model versus truth", 3)
-        page.text("Controller and feedforward designed on the identified model; the same loop "
-                  "simulated with the true model as plant (the machine) and with the identified "
-                  f"one (the prediction). Criterion: reversal peaks within {REVERSAL_TOL * 1e6:g} "
-                  f"um in every case: {'met' if cmp.ok else 'NOT met'}.")
+        page.text(
+            "Controller and feedforward designed on the identified model; the same loop "
+            "simulated with the true model as plant (the machine) and with the identified "
+            f"one (the prediction). Criterion: reversal peaks within {REVERSAL_TOL * 1e6:g} "
+            f"um in every case: {'met' if cmp.ok else 'NOT met'}."
+        )
         page.table(cmp.rows, "reversal peaks of the tracking error [um]")
-        page.figure(fig_sec4_comparison(cmp), "id_sec4_comparison",
-                    "Sec. 4 tracking error: true plant vs identified plant")
+        page.figure(
+            fig_sec4_comparison(cmp),
+            "id_sec4_comparison",
+            "Sec. 4 tracking error: true plant vs identified plant",
+        )
     return res
 
 
-
-def identification_page(runs_dir: str | Path, out_dir: str | Path, truth: Any = None,
-                        force: bool = False,
-                        progress: Callable[[str], None] | None = None
-                        ) -> tuple[Path, IdentificationResult]:
+def identification_page(
+    runs_dir: str | Path,
+    out_dir: str | Path,
+    truth: Any = None,
+    force: bool = False,
+    progress: Callable[[str], None] | None = None,
+) -> tuple[Path, IdentificationResult]:
     """Identify the runs of ``runs_dir`` and write the identification report into ``out_dir``:
     ``index.html`` with every figure, and ``model.json`` (the identified model).
 
@@ -458,7 +549,7 @@ def identification_page(runs_dir: str | Path, out_dir: str | Path, truth: Any = 
     reads = Reads.of(run_folders=[runs_dir])
     with output_dir(out_dir, reads, force, what="identification") as stage:
         res = identify_folder(runs_dir, stage / "model.json", truth=truth, progress=progress)
-        res.out_path = out_dir / "model.json"           # where it is once the folder is in place
+        res.out_path = out_dir / "model.json"  # where it is once the folder is in place
         page = Page(stage, f"feeddrive: identification from {runs_dir}")
         if progress is not None:
             progress("figures")

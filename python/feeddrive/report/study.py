@@ -2,6 +2,7 @@
 metrics, a scatter matrix of metrics against parameters and (one-at-a-time studies) the
 tornado chart of the sensitivities; and the page of a bootstrap study (the interval table and
 the identification's figures)."""
+
 from __future__ import annotations
 
 import math
@@ -39,8 +40,14 @@ def scatter_matrix(res: StudyResult) -> plt.Figure:
     """Each metric (rows) against each parameter (columns), runs that succeeded."""
     ok = [r for r in res.rows if r["status"] == OK]
     ps, ms = res.study.parameter_names, res.study.metric_columns
-    fig, axes = plt.subplots(len(ms), len(ps), figsize=(2.8 * len(ps), 2.4 * len(ms)),
-                             squeeze=False, sharex="col", sharey="row")
+    fig, axes = plt.subplots(
+        len(ms),
+        len(ps),
+        figsize=(2.8 * len(ps), 2.4 * len(ms)),
+        squeeze=False,
+        sharex="col",
+        sharey="row",
+    )
     for i, m in enumerate(ms):
         for j, p in enumerate(ps):
             ax = axes[i][j]
@@ -57,8 +64,9 @@ def scatter_matrix(res: StudyResult) -> plt.Figure:
 def tornado(res: StudyResult) -> plt.Figure:
     """Change of each metric with each parameter at its low / high end (largest on top)."""
     ms = res.study.metric_columns
-    fig, axes = plt.subplots(1, len(ms), figsize=(4.2 * len(ms), 0.5 * len(res.study.parameters)
-                                                  + 1.6), squeeze=False)
+    fig, axes = plt.subplots(
+        1, len(ms), figsize=(4.2 * len(ms), 0.5 * len(res.study.parameters) + 1.6), squeeze=False
+    )
     for ax, m in zip(axes[0], ms, strict=True):
         items = [s for s in res.sensitivities if s.metric == m][::-1]
         y = np.arange(len(items))
@@ -79,15 +87,22 @@ def write_study_report(res: StudyResult, out: str | Path) -> Path:
     page.pre(res.summary())
     if res.failed:
         page.heading("Failed runs")
-        page.table([{"run": r["run"], "message": r["message"]} for r in res.rows
-                    if r["status"] != OK][:50], caption="first 50")
+        page.table(
+            [{"run": r["run"], "message": r["message"]} for r in res.rows if r["status"] != OK][
+                :50
+            ],
+            caption="first 50",
+        )
     if any(r["status"] == OK for r in res.rows):
         page.heading("Metrics")
         page.figure(histograms(res), "study_histograms", "metrics over the runs that succeeded")
         page.figure(scatter_matrix(res), "study_scatter", "metrics against parameters")
         if res.study.design["type"] == "oat":
-            page.figure(tornado(res), "study_tornado",
-                        "one at a time: change of each metric from base at each end")
+            page.figure(
+                tornado(res),
+                "study_tornado",
+                "one at a time: change of each metric from base at each end",
+            )
     return page.write("report.html")
 
 

@@ -13,6 +13,7 @@ serially or on Dask ``distributed`` (a LocalCluster by default, or a scheduler's
 - :mod:`.bootstrap_study`: the bootstrap as a study file (``"kind": "bootstrap"``),
   :func:`load_study_file` for either kind.
 """
+
 from .bootstrap_study import (
     BootstrapStudy,
     BootstrapStudyResult,
@@ -27,8 +28,30 @@ from .sensitivity import Sensitivity, sensitivities, sensitivity_text
 from .sweep import StudyResult, run_study
 from .table import ResultsTable, read_table
 
-__all__ = ["FAILED", "OK", "RunTask", "run_batch", "run_case", "Case", "cases", "METRICS",
-           "SCHEMA", "Study", "StudyError", "load_study", "parse_study", "Sensitivity",
-           "sensitivities", "sensitivity_text", "StudyResult", "run_study", "ResultsTable",
-           "read_table", "BootstrapStudy", "BootstrapStudyResult", "load_study_file",
-           "run_bootstrap_study", "study_reads"]
+__all__ = [
+    "FAILED",
+    "OK",
+    "RunTask",
+    "run_batch",
+    "run_case",
+    "Case",
+    "cases",
+    "METRICS",
+    "SCHEMA",
+    "Study",
+    "StudyError",
+    "load_study",
+    "parse_study",
+    "Sensitivity",
+    "sensitivities",
+    "sensitivity_text",
+    "StudyResult",
+    "run_study",
+    "ResultsTable",
+    "read_table",
+    "BootstrapStudy",
+    "BootstrapStudyResult",
+    "load_study_file",
+    "run_bootstrap_study",
+    "study_reads",
+]

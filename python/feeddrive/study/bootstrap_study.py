@@ -18,6 +18,7 @@ written at the end (:func:`feeddrive.outputs.output_dir`): an interrupted bootst
 previous results in place; a replicate depends on (seed, r) only, so a rerun gives the same
 table.
 """
+
 from __future__ import annotations
 
 import csv
@@ -38,8 +39,18 @@ from .bootstrap import METHODS, bootstrap_folder
 from .schema import KINDS, SCHEMA, Study, StudyError, parse_study, read_study_json
 
 KIND = "bootstrap"
-_KEYS = ("schema", "kind", "name", "description", "runs", "replicates", "level", "seed", "truth",
-         "method")
+_KEYS = (
+    "schema",
+    "kind",
+    "name",
+    "description",
+    "runs",
+    "replicates",
+    "level",
+    "seed",
+    "truth",
+    "method",
+)
 MODEL_NAME, CSV_NAME, PARQUET_NAME = "model.json", "replicates.csv", "replicates.parquet"
 
 
@@ -68,7 +79,9 @@ def parse_bootstrap_study(raw: dict[str, Any], src: str, base: Path) -> Bootstra
     """Check a bootstrap study's JSON object; :class:`StudyError` names the field."""
     for k in raw:
         if k not in _KEYS:
-            raise StudyError(src, k, f"unknown key for kind 'bootstrap' (known: {', '.join(_KEYS)})")
+            raise StudyError(
+                src, k, f"unknown key for kind 'bootstrap' (known: {', '.join(_KEYS)})"
+            )
     if raw.get("schema") != SCHEMA:
         raise StudyError(src, "schema", f"must be {SCHEMA!r}, got {raw.get('schema')!r}")
     runs = raw.get("runs")
@@ -89,10 +102,16 @@ def parse_bootstrap_study(raw: dict[str, Any], src: str, base: Path) -> Bootstra
     name = raw.get("name", Path(src).stem)
     if not isinstance(name, str):
         raise StudyError(src, "name", f"must be a string, got {name!r}")
-    return BootstrapStudy(source=src, name=name, runs=runs_dir,
-                          replicates=_int(raw, "replicates", src, 2), level=float(level),
-                          seed=_int(raw, "seed", src, 0, 0), method=method,
-                          truth=(base / truth).resolve() if truth is not None else None)
+    return BootstrapStudy(
+        source=src,
+        name=name,
+        runs=runs_dir,
+        replicates=_int(raw, "replicates", src, 2),
+        level=float(level),
+        seed=_int(raw, "seed", src, 0, 0),
+        method=method,
+        truth=(base / truth).resolve() if truth is not None else None,
+    )
 
 
 def study_reads(path: str | Path) -> Reads:
@@ -110,10 +129,13 @@ def study_reads(path: str | Path) -> Reads:
 
     def rel(value: Any) -> Path | None:
         return path.parent / value if isinstance(value, str) and value else None
+
     exp = raw.get("experiment")
-    return Reads.of(files=[path, rel(raw.get("model")), rel(raw.get("truth"))],
-                    runs=[rel(exp.get("measured")) if isinstance(exp, dict) else None],
-                    run_folders=[rel(raw.get("runs"))])
+    return Reads.of(
+        files=[path, rel(raw.get("model")), rel(raw.get("truth"))],
+        runs=[rel(exp.get("measured")) if isinstance(exp, dict) else None],
+        run_folders=[rel(raw.get("runs"))],
+    )
 
 
 def load_study_file(path: str | Path) -> Study | BootstrapStudy:
@@ -140,12 +162,18 @@ class BootstrapStudyResult:
 
     def summary(self) -> str:
         """Counts and cost, then one line per interval."""
-        lines = [f"study {self.study.name}, " + self.bootstrap.text(),
-                 f"{'parameter':24s} {'value':>14s} {'lo':>14s} {'hi':>14s}"]
+        lines = [
+            f"study {self.study.name}, " + self.bootstrap.text(),
+            f"{'parameter':24s} {'value':>14s} {'lo':>14s} {'hi':>14s}",
+        ]
         model = self.identification.model
         for name, iv in model.uncertainty.items():
-            lines.append(f"{name:24s} {model.parameters[name]:14.6g} {iv['lo']:14.6g} {iv['hi']:14.6g}")
-        lines.append(f"wrote {self.out / MODEL_NAME}, {self.out / CSV_NAME}, {self.out / PARQUET_NAME}")
+            lines.append(
+                f"{name:24s} {model.parameters[name]:14.6g} {iv['lo']:14.6g} {iv['hi']:14.6g}"
+            )
+        lines.append(
+            f"wrote {self.out / MODEL_NAME}, {self.out / CSV_NAME}, {self.out / PARQUET_NAME}"
+        )
         return "\n".join(lines)
 
 
@@ -161,33 +189,62 @@ def _write_rows(rows: list[dict[str, Any]], folder: Path) -> None:
 
     def column(c: str) -> pa.Array:
         vals = [r.get(c) for r in rows]
-        if all((isinstance(v, (int, float)) and not isinstance(v, bool)) or v is None for v in vals) \
-                and c not in ("status", "message"):
-            return pa.array([math.nan if v is None else float(v) for v in vals], pa.float64()) \
-                if c != "replicate" else pa.array(vals, pa.int64())
+        if all(
+            (isinstance(v, (int, float)) and not isinstance(v, bool)) or v is None for v in vals
+        ) and c not in ("status", "message"):
+            return (
+                pa.array([math.nan if v is None else float(v) for v in vals], pa.float64())
+                if c != "replicate"
+                else pa.array(vals, pa.int64())
+            )
         return pa.array(["" if v is None else str(v) for v in vals], pa.string())
+
     pq.write_table(pa.table({c: column(c) for c in cols}), folder / PARQUET_NAME)
 
 
-def run_bootstrap_study(study: BootstrapStudy, out: str | Path, scheduler: str | None = None,
-                        workers: int | None = None, parallel: bool = True,
-                        progress: bool = False, force: bool = False) -> BootstrapStudyResult:
+def run_bootstrap_study(
+    study: BootstrapStudy,
+    out: str | Path,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    parallel: bool = True,
+    progress: bool = False,
+    force: bool = False,
+) -> BootstrapStudyResult:
     """Run ``study`` into the folder ``out`` (checked first; written whole at the end; a
     non-empty folder feeddrive did not write is refused unless ``force``)."""
     out = Path(out)
     inputs = [study.runs, Path(study.source)] + ([study.truth] if study.truth else [])
     with output_dir(out, inputs, force=force, what="bootstrap study") as stage:
-        res, boot = bootstrap_folder(study.runs, stage / MODEL_NAME, study.replicates,
-                                     seed=study.seed, level=study.level,
-                                     truth=load_model(study.truth).fmu_parameters()
-                                     if study.truth else None,
-                                     scheduler=scheduler, workers=workers, parallel=parallel,
-                                     progress=progress, method=study.method)
+        res, boot = bootstrap_folder(
+            study.runs,
+            stage / MODEL_NAME,
+            study.replicates,
+            seed=study.seed,
+            level=study.level,
+            truth=load_model(study.truth).fmu_parameters() if study.truth else None,
+            scheduler=scheduler,
+            workers=workers,
+            parallel=parallel,
+            progress=progress,
+            method=study.method,
+        )
         _write_rows(boot.rows, stage)
-        (stage / "study.json").write_text(json.dumps(
-            {"kind": KIND, "source": study.source, "runs": str(study.runs),
-             "replicates": study.replicates, "level": study.level, "seed": study.seed,
-             "method": study.method},
-            indent=1) + "\n", encoding="utf-8")
+        (stage / "study.json").write_text(
+            json.dumps(
+                {
+                    "kind": KIND,
+                    "source": study.source,
+                    "runs": str(study.runs),
+                    "replicates": study.replicates,
+                    "level": study.level,
+                    "seed": study.seed,
+                    "method": study.method,
+                },
+                indent=1,
+            )
+            + "\n",
+            encoding="utf-8",
+        )
     res.out_path = out / MODEL_NAME
     return BootstrapStudyResult(study=study, identification=res, bootstrap=boot, out=out)

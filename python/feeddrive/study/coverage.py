@@ -17,6 +17,7 @@ run with fresh noise (the 'runs' method needs two or more).
 (``make interval-coverage``) runs the study and writes the table and every campaign's
 intervals.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -46,8 +47,18 @@ from .bootstrap import METHODS, run_bootstrap, run_parametric
 #: Constant-speed runs of the campaign [m/s] (both directions each).
 SPEEDS = (0.5e-3, 1e-3, 2e-3, 8e-3, 30e-3, 120e-3)
 #: The parameters the campaign identifies and the study checks.
-CHECKED = ("m", "friction.F_s", "friction.F_c", "friction.V_s", "friction.delta",
-           "friction.sigma2", "current.a[1]", "current.a[2]", "current.b[2]", "current.b[3]")
+CHECKED = (
+    "m",
+    "friction.F_s",
+    "friction.F_c",
+    "friction.V_s",
+    "friction.delta",
+    "friction.sigma2",
+    "current.a[1]",
+    "current.a[2]",
+    "current.b[2]",
+    "current.b[3]",
+)
 
 
 def coverage_truth() -> ModelFile:
@@ -62,8 +73,12 @@ def coverage_truth() -> ModelFile:
     p["friction.V_s"] *= 1.3
     p["friction.delta"] = 0.7
     p["friction.sigma2"] *= 0.9
-    return ModelFile(name="coverage truth", effects=paper_model().effects, parameters=p,
-                     description="paper model, mass, current-loop gain and Stribeck changed")
+    return ModelFile(
+        name="coverage truth",
+        effects=paper_model().effects,
+        parameters=p,
+        description="paper model, mass, current-loop gain and Stribeck changed",
+    )
 
 
 def _jobs():
@@ -112,11 +127,15 @@ class Coverage:
             given = [r[n] for r in self.rows if r[n].get("lo") is not None]
             inside = sum(g["lo"] <= truth[n] <= g["hi"] for g in given)
             widths = [(g["hi"] - g["lo"]) / abs(truth[n]) for g in given]
-            out[n] = {"given": len(given), "inside": inside,
-                      "refused": len(self.rows) - len(given),
-                      "mean_rel_width": float(np.mean(widths)) if widths else math.nan,
-                      "mean_rel_error": float(np.mean([abs(r[n]["estimate"] - truth[n])
-                                                       / abs(truth[n]) for r in self.rows]))}
+            out[n] = {
+                "given": len(given),
+                "inside": inside,
+                "refused": len(self.rows) - len(given),
+                "mean_rel_width": float(np.mean(widths)) if widths else math.nan,
+                "mean_rel_error": float(
+                    np.mean([abs(r[n]["estimate"] - truth[n]) / abs(truth[n]) for r in self.rows])
+                ),
+            }
         return out
 
     def failures(self, alpha: float = 0.01) -> list[str]:
@@ -124,72 +143,122 @@ class Coverage:
         bad = []
         for n, s in self.summary().items():
             if s["given"] and s["inside"] < lowest_count(s["given"], self.level, alpha):
-                bad.append(f"{n}: truth inside {s['inside']} of {s['given']} intervals "
-                           f"(binomial({s['given']}, {self.level}) 1 % quantile "
-                           f"{lowest_count(s['given'], self.level, alpha)})")
+                bad.append(
+                    f"{n}: truth inside {s['inside']} of {s['given']} intervals "
+                    f"(binomial({s['given']}, {self.level}) 1 % quantile "
+                    f"{lowest_count(s['given'], self.level, alpha)})"
+                )
         return bad
 
     def table(self) -> str:
         """A Markdown table: parameter, intervals given, truth inside, mean width."""
-        L = [f"method {self.method}, {len(self.rows)} campaigns, {self.replicates} replicates, "
-             f"{self.repeats} repeat(s) of every run, level {self.level}, "
-             f"{self.cpu_s:.0f} s",
-             "| parameter | intervals | truth inside | refused | mean width (% of value) "
-             "| mean estimate error (%) |", "|---|---|---|---|---|---|"]
+        L = [
+            f"method {self.method}, {len(self.rows)} campaigns, {self.replicates} replicates, "
+            f"{self.repeats} repeat(s) of every run, level {self.level}, "
+            f"{self.cpu_s:.0f} s",
+            "| parameter | intervals | truth inside | refused | mean width (% of value) "
+            "| mean estimate error (%) |",
+            "|---|---|---|---|---|---|",
+        ]
         for n, s in self.summary().items():
-            L.append(f"| {n} | {s['given']} | {s['inside']} | {s['refused']} | "
-                     f"{100 * s['mean_rel_width']:.3g} | {100 * s['mean_rel_error']:.3g} |")
+            L.append(
+                f"| {n} | {s['given']} | {s['inside']} | {s['refused']} | "
+                f"{100 * s['mean_rel_width']:.3g} | {100 * s['mean_rel_error']:.3g} |"
+            )
         return "\n".join(L)
 
 
-def campaign_intervals(runs: Sequence[Run], method: str, replicates: int, seed: int,
-                       level: float, names: Sequence[str], parallel: bool = False,
-                       workers: int | None = None) -> dict[str, dict[str, Any]]:
+def campaign_intervals(
+    runs: Sequence[Run],
+    method: str,
+    replicates: int,
+    seed: int,
+    level: float,
+    names: Sequence[str],
+    parallel: bool = False,
+    workers: int | None = None,
+) -> dict[str, dict[str, Any]]:
     """One campaign's row: per parameter the estimate and the interval (lo, hi; None when
     refused, with the reason)."""
     fit = identify_runs(runs)
     if method == "runs":
-        boot = run_bootstrap(runs, fit.model, fit.defaulted, replicates, seed=seed,
-                             level=level, parallel=parallel, workers=workers)
+        boot = run_bootstrap(
+            runs,
+            fit.model,
+            fit.defaulted,
+            replicates,
+            seed=seed,
+            level=level,
+            parallel=parallel,
+            workers=workers,
+        )
     else:
-        boot = run_parametric(runs, fit, replicates, seed=seed, level=level,
-                              parallel=parallel, workers=workers)
+        boot = run_parametric(
+            runs, fit, replicates, seed=seed, level=level, parallel=parallel, workers=workers
+        )
     row: dict[str, dict[str, Any]] = {}
     for n in names:
         iv = boot.uncertainty.get(n)
-        row[n] = {"estimate": float(fit.model.parameters[n]),
-                  "lo": iv["lo"] if iv else None, "hi": iv["hi"] if iv else None,
-                  "bias": iv.get("bias") if iv else None,
-                  "refused": boot.refused.get(n, "" if iv else "no interval")}
+        row[n] = {
+            "estimate": float(fit.model.parameters[n]),
+            "lo": iv["lo"] if iv else None,
+            "hi": iv["hi"] if iv else None,
+            "bias": iv.get("bias") if iv else None,
+            "refused": boot.refused.get(n, "" if iv else "no interval"),
+        }
     return row
 
 
-def coverage_study(K: int, method: str = "parametric", replicates: int = 20,
-                   repeats: int = 1, level: float = 0.95, names: Sequence[str] = CHECKED,
-                   parallel: bool = False, workers: int | None = None,
-                   log: Any = None, first: int = 0) -> Coverage:
+def coverage_study(
+    K: int,
+    method: str = "parametric",
+    replicates: int = 20,
+    repeats: int = 1,
+    level: float = 0.95,
+    names: Sequence[str] = CHECKED,
+    parallel: bool = False,
+    workers: int | None = None,
+    log: Any = None,
+    first: int = 0,
+) -> Coverage:
     """K campaigns (:func:`coverage_campaign` first..first+K-1), each identified and given
     intervals by ``method``; the truth is :func:`coverage_truth`."""
     if method not in METHODS:
         raise ValueError(f"method {method!r}: must be one of {', '.join(METHODS)}")
-    cov = Coverage(method=method, level=level, replicates=replicates, repeats=repeats,
-                   names=tuple(names))
+    cov = Coverage(
+        method=method, level=level, replicates=replicates, repeats=repeats, names=tuple(names)
+    )
     t0 = time.process_time()
     for k in range(first, first + K):
         runs = coverage_campaign(k, repeats)
-        cov.rows.append(campaign_intervals(runs, method, replicates, seed=k, level=level,
-                                           names=names, parallel=parallel, workers=workers))
+        cov.rows.append(
+            campaign_intervals(
+                runs,
+                method,
+                replicates,
+                seed=k,
+                level=level,
+                names=names,
+                parallel=parallel,
+                workers=workers,
+            )
+        )
         if log is not None:
-            print(f"campaign {k + 1 - first}/{K} done ({time.process_time() - t0:.0f} s cpu)",
-                  file=log, flush=True)
+            print(
+                f"campaign {k + 1 - first}/{K} done ({time.process_time() - t0:.0f} s cpu)",
+                file=log,
+                flush=True,
+            )
     cov.cpu_s = time.process_time() - t0
     return cov
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """``python -m feeddrive.study.coverage``: the study, its table, a JSON of every row."""
-    ap = argparse.ArgumentParser(prog="python -m feeddrive.study.coverage",
-                                 description="coverage of identify --bootstrap intervals")
+    ap = argparse.ArgumentParser(
+        prog="python -m feeddrive.study.coverage",
+        description="coverage of identify --bootstrap intervals",
+    )
     ap.add_argument("--campaigns", type=int, default=20)
     ap.add_argument("--first", type=int, default=0, help="number of the first campaign")
     ap.add_argument("--replicates", type=int, default=20)
@@ -198,14 +267,18 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--level", type=float, default=0.95)
     ap.add_argument("--out", type=Path, default=None, help="JSON file of the rows and table")
     a = ap.parse_args(argv)
-    cov = coverage_study(a.campaigns, a.method, a.replicates, a.repeats, a.level, log=sys.stderr,
-                         first=a.first)
+    cov = coverage_study(
+        a.campaigns, a.method, a.replicates, a.repeats, a.level, log=sys.stderr, first=a.first
+    )
     print(cov.table())
     for f in cov.failures():
         print("BELOW THE BINOMIAL QUANTILE:", f)
     if a.out is not None:
-        a.out.write_text(json.dumps({"table": cov.table(), "summary": cov.summary(),
-                                     "rows": cov.rows}, indent=1) + "\n", encoding="utf-8")
+        a.out.write_text(
+            json.dumps({"table": cov.table(), "summary": cov.summary(), "rows": cov.rows}, indent=1)
+            + "\n",
+            encoding="utf-8",
+        )
     return 0
 
 

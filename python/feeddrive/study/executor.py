@@ -12,6 +12,7 @@
 A batch whose worker was lost (killed twice over) leaves its runs missing: they are
 computed by the next ``--resume``.  Progress: tqdm (runs done, failures, ETA).
 """
+
 from __future__ import annotations
 
 import logging
@@ -41,7 +42,7 @@ def default_batch_size(n_runs: int) -> int:
 
 def batches(cases: Sequence[T], size: int) -> list[list[T]]:
     """``cases`` in consecutive batches of ``size``."""
-    return [list(cases[k:k + size]) for k in range(0, len(cases), size)]
+    return [list(cases[k : k + size]) for k in range(0, len(cases), size)]
 
 
 class Progress:
@@ -49,8 +50,9 @@ class Progress:
 
     def __init__(self, total: int, initial: int, enabled: bool) -> None:
         self.failed = 0
-        self.bar = tqdm(total=total, initial=initial, unit="run", disable=not enabled,
-                        dynamic_ncols=True)
+        self.bar = tqdm(
+            total=total, initial=initial, unit="run", disable=not enabled, dynamic_ncols=True
+        )
 
     def update(self, rows: list[dict[str, Any]]) -> None:
         self.failed += sum(r["status"] == FAILED for r in rows)
@@ -61,8 +63,9 @@ class Progress:
         self.bar.close()
 
 
-def execute_serial(task: Any, work: Sequence[list[Any]], sink: RowsSink,
-                   fn: BatchFn = run_batch) -> int:
+def execute_serial(
+    task: Any, work: Sequence[list[Any]], sink: RowsSink, fn: BatchFn = run_batch
+) -> int:
     """Run every batch here (``fn(task, batch)``, default a study's :func:`run_batch`);
     returns the number of runs left missing (0)."""
     for b in work:
@@ -70,8 +73,9 @@ def execute_serial(task: Any, work: Sequence[list[Any]], sink: RowsSink,
     return 0
 
 
-def execute_dask(task: Any, work: Sequence[list[Any]], sink: RowsSink,
-                 client: Client, fn: BatchFn = run_batch) -> int:
+def execute_dask(
+    task: Any, work: Sequence[list[Any]], sink: RowsSink, client: Client, fn: BatchFn = run_batch
+) -> int:
     """Run every batch as a task ``fn(task, batch)`` on ``client`` (default a study's
     :func:`run_batch`); returns the runs left missing (lost workers)."""
     if not work:
@@ -83,7 +87,7 @@ def execute_dask(task: Any, work: Sequence[list[Any]], sink: RowsSink,
     for fut in as_completed(futures):
         try:
             rows = fut.result()
-        except Exception:        # a lost worker (KilledWorker) or a broken batch: not rows
+        except Exception:  # a lost worker (KilledWorker) or a broken batch: not rows
             missing += size[fut.key]
             continue
         finally:
@@ -101,7 +105,14 @@ def local_client(scheduler: str | None = None, workers: int | None = None) -> It
             yield client
         return
     n = workers or os.cpu_count() or 1
-    with LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                      dashboard_address=None, silence_logs=logging.ERROR) as cluster, \
-            Client(cluster) as client:
+    with (
+        LocalCluster(
+            n_workers=n,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+            silence_logs=logging.ERROR,
+        ) as cluster,
+        Client(cluster) as client,
+    ):
         yield client

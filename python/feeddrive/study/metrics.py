@@ -10,6 +10,7 @@ residual of the run's model against a measured run.
 
 x is the true stage position (not the scale's reading).
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -23,14 +24,18 @@ from ..residual import force_residual
 from .schema import METRICS, Experiment
 
 
-def tracking_metrics(x_ref: np.ndarray, x: np.ndarray, Ts: float, exp: Experiment
-                     ) -> dict[str, float]:
+def tracking_metrics(
+    x_ref: np.ndarray, x: np.ndarray, Ts: float, exp: Experiment
+) -> dict[str, float]:
     """reversal_error_m, rms_error_m, max_error_m of the error x_ref - x."""
     e = np.asarray(x_ref, float) - np.asarray(x, float)
     s = summarise(e, x_ref, Ts, half_width=exp.half_width, skip_start=exp.skip_start)
     k0 = int(round(exp.skip_start / Ts))
-    return {"reversal_error_m": float(s.reversal_peak), "rms_error_m": float(s.rms),
-            "max_error_m": float(np.max(np.abs(e[k0:]))) if len(e) > k0 else float("nan")}
+    return {
+        "reversal_error_m": float(s.reversal_peak),
+        "rms_error_m": float(s.rms),
+        "max_error_m": float(np.max(np.abs(e[k0:]))) if len(e) > k0 else float("nan"),
+    }
 
 
 def residual_metric(measured: Run, model: ModelFile) -> float:

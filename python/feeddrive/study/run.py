@@ -6,6 +6,7 @@ controller before every run (:func:`feeddrive.harness.simulate_closed_loop` does
 Plant per tolerance (each run starts a fresh FMI instance on it with the run's parameters:
 no new fmpy wrapper per run), and reads a measured run once.
 """
+
 from __future__ import annotations
 
 import json
@@ -28,8 +29,11 @@ from .samplers import Case
 from .schema import CIRCLE_METRICS, METRICS, Experiment, Study
 
 OK, FAILED = "ok", "failed"
-_PROFILES: dict[str, Callable[..., Reference]] = {"sinusoid": sinusoid, "point_to_point": point_to_point,
-             "back_and_forth": back_and_forth}
+_PROFILES: dict[str, Callable[..., Reference]] = {
+    "sinusoid": sinusoid,
+    "point_to_point": point_to_point,
+    "back_and_forth": back_and_forth,
+}
 
 
 @dataclass(frozen=True)
@@ -67,7 +71,7 @@ class _ProcessCache:
         if tolerance not in self.plants:
             self.plants[tolerance] = Plant(tolerance=tolerance)
         plant = self.plants[tolerance]
-        plant.parameters = dict(parameters)      # applied by the next start()
+        plant.parameters = dict(parameters)  # applied by the next start()
         return plant
 
     def loop(self, exp: Experiment) -> tuple[Reference, Controller]:
@@ -93,8 +97,9 @@ def _simulate(model: ModelFile, exp: Experiment) -> dict[str, float]:
     ref, ctrl = _CACHE.loop(exp)
     F = exp.F_load + exp.sensors.force_disturbance(ref.n + 1)
     plant = _CACHE.plant(model.fmu_parameters(), exp.tolerance)
-    res = simulate_closed_loop(plant, ctrl, ref.n, float(ref.x[0]), Ts=ref.Ts,
-                               quantum=exp.sensors.quantum, F_ext=F)
+    res = simulate_closed_loop(
+        plant, ctrl, ref.n, float(ref.x[0]), Ts=ref.Ts, quantum=exp.sensors.quantum, F_ext=F
+    )
     return tracking_metrics(ref.x, res["x"], ref.Ts, exp)
 
 
@@ -108,14 +113,23 @@ def _circle(base: ModelFile, model: ModelFile, exp: Experiment) -> dict[str, flo
     assert c is not None
     nom_x = base.fmu_parameters()
     plant_x = model.fmu_parameters()
-    axes = (AxisModel("X", nom_x, plant_x, "study"),
-            AxisModel("Y", _y_of(nom_x, c["y_axis"]), _y_of(plant_x, c["y_axis"]), "study"))
+    axes = (
+        AxisModel("X", nom_x, plant_x, "study"),
+        AxisModel("Y", _y_of(nom_x, c["y_axis"]), _y_of(plant_x, c["y_axis"]), "study"),
+    )
     key = json.dumps([c, nom_x], sort_keys=True, default=str)
     if key not in _CACHE.circle_controllers:
         _CACHE.circle_controllers.clear()
         _CACHE.circle_controllers[key] = [controller_values(a, c["feedforward"]) for a in axes]
-    case = circular_case(axes, c["radius"], c["feed"], c["feedforward"], c["directions"],
-                         tolerance=exp.tolerance, controllers=_CACHE.circle_controllers[key])
+    case = circular_case(
+        axes,
+        c["radius"],
+        c["feed"],
+        c["feedforward"],
+        c["directions"],
+        tolerance=exp.tolerance,
+        controllers=_CACHE.circle_controllers[key],
+    )
     G = max(r.trace.G for r in case.runs.values())
     return {"G_m": G, "H_m": case.H, "max_glitch_m": case.max_glitch()}
 
@@ -129,7 +143,7 @@ def run_case(task: RunTask, case: Case) -> dict[str, Any]:
     try:
         params = dict(task.model.parameters)
         params.update(case.values)
-        model = replace(task.model, parameters=params)      # validated like a model file
+        model = replace(task.model, parameters=params)  # validated like a model file
         tracking = ("reversal_error", "rms_error", "max_error")
         if any(m in task.metrics for m in tracking):
             values.update(_simulate(model, task.experiment))
@@ -139,9 +153,10 @@ def run_case(task: RunTask, case: Case) -> dict[str, Any]:
             if task.experiment.measured is None:
                 raise ValueError("force_residual: the experiment names no measured run")
             values["force_residual_N"] = residual_metric(
-                _CACHE.measured(task.experiment.measured), model)
+                _CACHE.measured(task.experiment.measured), model
+            )
         status, message = OK, ""
-    except Exception as e:      # a failed run is a row (any error of the model, FMU, metric)
+    except Exception as e:  # a failed run is a row (any error of the model, FMU, metric)
         status, message = FAILED, f"{type(e).__name__}: {e}".replace("\n", " ")
     row.update(select(values, task.metrics))
     row.update({"wall_s": time.perf_counter() - t0, "status": status, "message": message})
@@ -151,4 +166,3 @@ def run_case(task: RunTask, case: Case) -> dict[str, Any]:
 def run_batch(task: RunTask, batch: Sequence[Case]) -> list[dict[str, Any]]:
     """:func:`run_case` of every case of a batch (one task of the executor)."""
     return [run_case(task, c) for c in batch]
-

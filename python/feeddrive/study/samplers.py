@@ -9,6 +9,7 @@
 
 Integer parameters (``friction.N``) are rounded to the nearest integer.
 """
+
 from __future__ import annotations
 
 import itertools
@@ -42,8 +43,10 @@ def _range(p: ParameterSpec) -> tuple[float, float]:
 
 
 def _grid(params: tuple[ParameterSpec, ...], levels: int) -> np.ndarray:
-    axes = [np.asarray(p.values) if p.values is not None else np.linspace(*_range(p), levels)
-            for p in params]
+    axes = [
+        np.asarray(p.values) if p.values is not None else np.linspace(*_range(p), levels)
+        for p in params
+    ]
     return np.array(list(itertools.product(*axes)), dtype=float)
 
 
@@ -54,8 +57,9 @@ def _lhs(params: tuple[ParameterSpec, ...], runs: int, seed: int) -> np.ndarray:
 
 def _monte_carlo(params: tuple[ParameterSpec, ...], runs: int, seed: int) -> np.ndarray:
     rng = np.random.default_rng(seed)
-    return np.column_stack([p.frozen_distribution().rvs(size=runs, random_state=rng)
-                            for p in params])
+    return np.column_stack(
+        [p.frozen_distribution().rvs(size=runs, random_state=rng) for p in params]
+    )
 
 
 def cases(study: Study) -> list[Case]:
@@ -78,4 +82,7 @@ def cases(study: Study) -> list[Case]:
         x = _lhs(params, d["runs"], d["seed"])
     else:
         x = _monte_carlo(params, d["runs"], d["seed"])
-    return [Case(k, "", {n: _typed(n, v) for n, v in zip(names, row, strict=True)}) for k, row in enumerate(x)]
+    return [
+        Case(k, "", {n: _typed(n, v) for n, v in zip(names, row, strict=True)})
+        for k, row in enumerate(x)
+    ]

@@ -43,6 +43,7 @@ Paths are relative to the study file.  A parameter is a range (``low``/``high``,
 or a list of ``values`` (grid only).  :func:`load_study` raises :class:`StudyError` naming the
 file and the field of the first problem.
 """
+
 from __future__ import annotations
 
 import json
@@ -68,22 +69,46 @@ REFERENCES: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
     "back_and_forth": (("speeds",), ("stroke", "x0", "Ts", "accel", "dwell")),
 }
 #: Metric names a study may ask for, and the table column each gives.
-METRICS: dict[str, str] = {"reversal_error": "reversal_error_m", "rms_error": "rms_error_m",
-                           "max_error": "max_error_m", "force_residual": "force_residual_N",
-                           "circular_deviation": "G_m", "hysteresis": "H_m",
-                           "max_glitch": "max_glitch_m"}
+METRICS: dict[str, str] = {
+    "reversal_error": "reversal_error_m",
+    "rms_error": "rms_error_m",
+    "max_error": "max_error_m",
+    "force_residual": "force_residual_N",
+    "circular_deviation": "G_m",
+    "hysteresis": "H_m",
+    "max_glitch": "max_glitch_m",
+}
 #: metrics of the circle experiment (the others need a reference and a controller)
 CIRCLE_METRICS = ("circular_deviation", "hysteresis", "max_glitch")
 _CIRCLE = ("radius", "feed", "feedforward", "directions", "y_axis")
 Y_AXES = ("derived", "same")
 DESIGNS = ("grid", "lhs", "monte_carlo", "oat")
-_TOP = ("schema", "kind", "name", "description", "model", "experiment", "parameters", "design",
-        "metrics", "batch_size")
+_TOP = (
+    "schema",
+    "kind",
+    "name",
+    "description",
+    "model",
+    "experiment",
+    "parameters",
+    "design",
+    "metrics",
+    "batch_size",
+)
 #: Study kinds: a parameter sweep (this module, the default) or the identification bootstrap
 #: (:mod:`.bootstrap_study`).
 KINDS = ("sweep", "bootstrap")
-_EXPERIMENT = ("reference", "controller", "sensors", "F_load", "tolerance", "skip_start",
-               "half_width", "measured", "circle")
+_EXPERIMENT = (
+    "reference",
+    "controller",
+    "sensors",
+    "F_load",
+    "tolerance",
+    "skip_start",
+    "half_width",
+    "measured",
+    "circle",
+)
 
 
 class StudyError(ValueError):
@@ -144,7 +169,7 @@ class Study:
     design: Mapping[str, Any]
     metrics: tuple[str, ...]
     batch_size: int | None = None
-    text: str = ""          #: the file's canonical JSON (a study's identity for --resume)
+    text: str = ""  #: the file's canonical JSON (a study's identity for --resume)
 
     @property
     def parameter_names(self) -> tuple[str, ...]:
@@ -155,8 +180,9 @@ class Study:
         return tuple(METRICS[m] for m in self.metrics)
 
 
-def _number(v: Any, src: str, fld: str, positive: bool = False, minimum: float | None = None
-            ) -> float:
+def _number(
+    v: Any, src: str, fld: str, positive: bool = False, minimum: float | None = None
+) -> float:
     if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
         raise StudyError(src, fld, f"must be a finite number, got {v!r}")
     if positive and not v > 0:
@@ -172,8 +198,7 @@ def _integer(v: Any, src: str, fld: str, minimum: int = 1) -> int:
     return v
 
 
-def _object(v: Any, src: str, fld: str, allowed: tuple[str, ...] | None = None
-            ) -> dict[str, Any]:
+def _object(v: Any, src: str, fld: str, allowed: tuple[str, ...] | None = None) -> dict[str, Any]:
     if not isinstance(v, dict):
         raise StudyError(src, fld, f"must be an object, got {type(v).__name__}")
     if allowed is not None:
@@ -188,8 +213,9 @@ def _reference(raw: Any, src: str) -> dict[str, Any]:
     raw = _object(raw, src, fld)
     kind = raw.get("type")
     if kind not in REFERENCES:
-        raise StudyError(src, f"{fld}.type", f"{kind!r} is not a reference; known: "
-                                            f"{', '.join(REFERENCES)}")
+        raise StudyError(
+            src, f"{fld}.type", f"{kind!r} is not a reference; known: {', '.join(REFERENCES)}"
+        )
     required, optional = REFERENCES[kind]
     _object(raw, src, fld, ("type",) + required + optional)
     for k in required:
@@ -204,8 +230,12 @@ def _reference(raw: Any, src: str) -> dict[str, Any]:
             for j, s in enumerate(v):
                 _number(s, src, f"{fld}.speeds[{j}]", positive=True)
         else:
-            _number(v, src, f"{fld}.{k}", positive=k in ("period", "duration", "speed", "accel",
-                                                          "Ts", "stroke"))
+            _number(
+                v,
+                src,
+                f"{fld}.{k}",
+                positive=k in ("period", "duration", "speed", "accel", "Ts", "stroke"),
+            )
     return dict(raw)
 
 
@@ -214,10 +244,13 @@ def _controller(raw: Any, src: str) -> dict[str, Any]:
     raw = _object(raw, src, fld)
     kind = raw.get("type")
     if kind not in CONTROLLERS:
-        raise StudyError(src, f"{fld}.type", f"{kind!r} is not a controller; known: "
-                                            f"{', '.join(sorted(CONTROLLERS))}")
+        raise StudyError(
+            src,
+            f"{fld}.type",
+            f"{kind!r} is not a controller; known: {', '.join(sorted(CONTROLLERS))}",
+        )
     spec = CONTROLLERS[kind].default_spec()
-    if kind == "lti" and {"A", "B", "C", "D"} & set(raw):      # the other form than the default's
+    if kind == "lti" and {"A", "B", "C", "D"} & set(raw):  # the other form than the default's
         spec.pop("num"), spec.pop("den")
     spec.update(raw)
     return spec
@@ -225,8 +258,9 @@ def _controller(raw: Any, src: str) -> dict[str, Any]:
 
 def _sensors(raw: Any, src: str) -> Sensors:
     try:
-        return Sensors.from_json(_object(raw, src, "experiment.sensors"),
-                                 where="experiment.sensors")
+        return Sensors.from_json(
+            _object(raw, src, "experiment.sensors"), where="experiment.sensors"
+        )
     except ValueError as e:
         raise StudyError(src, "experiment.sensors", str(e)) from None
 
@@ -236,15 +270,25 @@ def _circle(raw: Any, src: str) -> dict[str, Any]:
     raw = _object(raw, src, fld, _CIRCLE)
     for k in ("radius", "feed"):
         if k not in raw:
-            raise StudyError(src, f"{fld}.{k}", "missing (a circle needs radius [m] and feed [m/s])")
-    out: dict[str, Any] = {k: _number(raw[k], src, f"{fld}.{k}", positive=True) for k in ("radius", "feed")}
+            raise StudyError(
+                src, f"{fld}.{k}", "missing (a circle needs radius [m] and feed [m/s])"
+            )
+    out: dict[str, Any] = {
+        k: _number(raw[k], src, f"{fld}.{k}", positive=True) for k in ("radius", "feed")
+    }
     ff = raw.get("feedforward", "none")
     if ff not in FEEDFORWARD:
         raise StudyError(src, f"{fld}.feedforward", f"{ff!r}: allowed {', '.join(FEEDFORWARD)}")
     dirs = raw.get("directions", ["ccw", "cw"])
-    if (not isinstance(dirs, list) or not dirs or any(d not in ("ccw", "cw") for d in dirs)
-            or len(set(dirs)) != len(dirs)):
-        raise StudyError(src, f"{fld}.directions", f"must be a list of 'ccw' and/or 'cw', got {dirs!r}")
+    if (
+        not isinstance(dirs, list)
+        or not dirs
+        or any(d not in ("ccw", "cw") for d in dirs)
+        or len(set(dirs)) != len(dirs)
+    ):
+        raise StudyError(
+            src, f"{fld}.directions", f"must be a list of 'ccw' and/or 'cw', got {dirs!r}"
+        )
     y = raw.get("y_axis", "derived")
     if y not in Y_AXES:
         raise StudyError(src, f"{fld}.y_axis", f"{y!r}: allowed {', '.join(Y_AXES)}")
@@ -255,12 +299,18 @@ def _circle(raw: Any, src: str) -> dict[str, Any]:
 def _circle_experiment(raw: dict[str, Any], src: str) -> Experiment:
     bad = sorted(set(raw) - {"circle", "tolerance"})
     if bad:
-        raise StudyError(src, f"experiment.{bad[0]}", "not used by a circle experiment "
-                                                      "(allowed: circle, tolerance)")
-    return Experiment(reference={}, controller={}, sensors=Sensors(quantum=1e-7, current_noise=0.0),
-                      tolerance=_number(raw.get("tolerance", 1e-6), src, "experiment.tolerance",
-                                        positive=True),
-                      circle=_circle(raw["circle"], src))
+        raise StudyError(
+            src,
+            f"experiment.{bad[0]}",
+            "not used by a circle experiment (allowed: circle, tolerance)",
+        )
+    return Experiment(
+        reference={},
+        controller={},
+        sensors=Sensors(quantum=1e-7, current_noise=0.0),
+        tolerance=_number(raw.get("tolerance", 1e-6), src, "experiment.tolerance", positive=True),
+        circle=_circle(raw["circle"], src),
+    )
 
 
 def _experiment(raw: Any, src: str, folder: Path) -> Experiment:
@@ -284,9 +334,11 @@ def _experiment(raw: Any, src: str, folder: Path) -> Experiment:
         F_load=_number(raw.get("F_load", 0.0), src, "experiment.F_load"),
         tolerance=_number(raw.get("tolerance", 1e-6), src, "experiment.tolerance", positive=True),
         skip_start=_number(raw.get("skip_start", 0.0), src, "experiment.skip_start", minimum=0.0),
-        half_width=_number(raw.get("half_width", 0.25), src, "experiment.half_width",
-                           positive=True),
-        measured=measured)
+        half_width=_number(
+            raw.get("half_width", 0.25), src, "experiment.half_width", positive=True
+        ),
+        measured=measured,
+    )
 
 
 def _parameter(name: str, raw: Any, base: float, src: str) -> ParameterSpec:
@@ -318,13 +370,17 @@ def _parameter(name: str, raw: Any, base: float, src: str) -> ParameterSpec:
         vals = raw["values"]
         if not isinstance(vals, list) or not vals:
             raise StudyError(src, f"{fld}.values", f"must be a non-empty list, got {vals!r}")
-        return ParameterSpec(name, base, values=tuple(
-            _number(v, src, f"{fld}.values[{j}]") for j, v in enumerate(vals)))
+        return ParameterSpec(
+            name,
+            base,
+            values=tuple(_number(v, src, f"{fld}.values[{j}]") for j, v in enumerate(vals)),
+        )
     dist = raw["distribution"]
     cls = getattr(scipy.stats, dist, None) if isinstance(dist, str) else None
     if not isinstance(cls, scipy.stats.rv_continuous):
-        raise StudyError(src, f"{fld}.distribution",
-                         f"{dist!r} is not a continuous distribution of scipy.stats")
+        raise StudyError(
+            src, f"{fld}.distribution", f"{dist!r} is not a continuous distribution of scipy.stats"
+        )
     args = {k: _number(v, src, f"{fld}.{k}") for k, v in raw.items() if k != "distribution"}
     try:
         frozen = cls(**args)
@@ -340,9 +396,15 @@ def _design(raw: Any, src: str, params: tuple[ParameterSpec, ...]) -> dict[str, 
     raw = _object(raw, src, "design")
     kind = raw.get("type")
     if kind not in DESIGNS:
-        raise StudyError(src, "design.type", f"{kind!r} is not a design; known: {', '.join(DESIGNS)}")
-    allowed = {"grid": ("type", "levels"), "lhs": ("type", "runs", "seed"),
-               "monte_carlo": ("type", "runs", "seed"), "oat": ("type",)}[kind]
+        raise StudyError(
+            src, "design.type", f"{kind!r} is not a design; known: {', '.join(DESIGNS)}"
+        )
+    allowed = {
+        "grid": ("type", "levels"),
+        "lhs": ("type", "runs", "seed"),
+        "monte_carlo": ("type", "runs", "seed"),
+        "oat": ("type",),
+    }[kind]
     _object(raw, src, "design", allowed)
     out: dict[str, Any] = {"type": kind}
     if kind == "grid":
@@ -355,9 +417,12 @@ def _design(raw: Any, src: str, params: tuple[ParameterSpec, ...]) -> dict[str, 
         need_range = kind == "oat"
         bad = [p for p in params if p.values is not None or (need_range and p.low is None)]
     if bad:
-        raise StudyError(src, f"parameters[{bad[0].name!r}]",
-                         f"cannot be used by a {kind} design (grid: ranges or values; lhs, "
-                         f"monte_carlo: ranges or distributions; oat: ranges)")
+        raise StudyError(
+            src,
+            f"parameters[{bad[0].name!r}]",
+            f"cannot be used by a {kind} design (grid: ranges or values; lhs, "
+            f"monte_carlo: ranges or distributions; oat: ranges)",
+        )
     return out
 
 
@@ -367,8 +432,12 @@ def parse_study(raw: Any, source: str, folder: Path) -> Study:
     if raw.get("schema") != SCHEMA:
         raise StudyError(source, "schema", f"must be {SCHEMA!r}, got {raw.get('schema')!r}")
     if raw.get("kind", "sweep") != "sweep":
-        raise StudyError(source, "kind", f"a parameter sweep has kind 'sweep' (or none), got "
-                                         f"{raw.get('kind')!r}: load it with load_study_file")
+        raise StudyError(
+            source,
+            "kind",
+            f"a parameter sweep has kind 'sweep' (or none), got "
+            f"{raw.get('kind')!r}: load it with load_study_file",
+        )
     for k in ("experiment", "parameters", "design", "metrics"):
         if k not in raw:
             raise StudyError(source, k, "missing")
@@ -389,39 +458,64 @@ def parse_study(raw: Any, source: str, folder: Path) -> Study:
     praw = _object(raw["parameters"], source, "parameters")
     if not praw:
         raise StudyError(source, "parameters", "no parameter is varied")
-    params = tuple(_parameter(n, v, float(model.parameters.get(n, 0.0)), source)
-                   for n, v in praw.items())
+    params = tuple(
+        _parameter(n, v, float(model.parameters.get(n, 0.0)), source) for n, v in praw.items()
+    )
     design = _design(raw["design"], source, params)
     metrics = raw["metrics"]
     if not isinstance(metrics, list) or not metrics:
         raise StudyError(source, "metrics", f"must be a non-empty list of {', '.join(METRICS)}")
     for j, m in enumerate(metrics):
         if m not in METRICS:
-            raise StudyError(source, f"metrics[{j}]", f"{m!r} is not a metric; known: "
-                                                     f"{', '.join(METRICS)}")
+            raise StudyError(
+                source, f"metrics[{j}]", f"{m!r} is not a metric; known: {', '.join(METRICS)}"
+            )
     circ = experiment.circle
     circle = circ is not None
     for j, m in enumerate(metrics):
         if (m in CIRCLE_METRICS) != circle:
-            raise StudyError(source, f"metrics[{j}]", f"{m!r} needs " + (
-                "a reference and a controller, not a circle" if circle else "a circle experiment"))
+            raise StudyError(
+                source,
+                f"metrics[{j}]",
+                f"{m!r} needs "
+                + (
+                    "a reference and a controller, not a circle"
+                    if circle
+                    else "a circle experiment"
+                ),
+            )
     if circ is not None and "hysteresis" in metrics and len(circ["directions"]) != 2:
-        raise StudyError(source, "experiment.circle.directions", "the hysteresis metric needs "
-                                                                 "both directions")
+        raise StudyError(
+            source, "experiment.circle.directions", "the hysteresis metric needs both directions"
+        )
     if circ is not None:
-        top = float(model.parameters.get("stroke.x_max", 0.3)) - float(model.parameters.get("stroke.x_min", 0.0))
+        top = float(model.parameters.get("stroke.x_max", 0.3)) - float(
+            model.parameters.get("stroke.x_min", 0.0)
+        )
         if not circ["radius"] < top / 2:
-            raise StudyError(source, "experiment.circle.radius",
-                             f"{circ['radius']} m does not fit the stroke ({top} m)")
+            raise StudyError(
+                source,
+                "experiment.circle.radius",
+                f"{circ['radius']} m does not fit the stroke ({top} m)",
+            )
     if "force_residual" in metrics and experiment.measured is None:
-        raise StudyError(source, "experiment.measured", "the force_residual metric needs a "
-                                                        "measured run")
+        raise StudyError(
+            source, "experiment.measured", "the force_residual metric needs a measured run"
+        )
     batch = raw.get("batch_size")
     if batch is not None:
         batch = _integer(batch, source, "batch_size")
-    return Study(source=source, name=name, model=model, experiment=experiment, parameters=params,
-                 design=design, metrics=tuple(dict.fromkeys(metrics)), batch_size=batch,
-                 text=json.dumps(raw, sort_keys=True))
+    return Study(
+        source=source,
+        name=name,
+        model=model,
+        experiment=experiment,
+        parameters=params,
+        design=design,
+        metrics=tuple(dict.fromkeys(metrics)),
+        batch_size=batch,
+        text=json.dumps(raw, sort_keys=True),
+    )
 
 
 def load_study(path: str | Path) -> Study:
@@ -445,6 +539,7 @@ def read_study_json(path: str | Path) -> Any:
     try:
         raw = json.loads(text)
     except json.JSONDecodeError as e:
-        raise StudyError(src, "(file)", f"invalid JSON at line {e.lineno}, column {e.colno}: "
-                                        f"{e.msg}") from None
+        raise StudyError(
+            src, "(file)", f"invalid JSON at line {e.lineno}, column {e.colno}: {e.msg}"
+        ) from None
     return raw

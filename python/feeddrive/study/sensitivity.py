@@ -5,6 +5,7 @@
 - a sampled study (grid, lhs, monte_carlo): Spearman's rank correlation of each parameter
   with each metric over the runs that succeeded (scipy.stats.spearmanr).
 """
+
 from __future__ import annotations
 
 import math
@@ -29,7 +30,7 @@ class Sensitivity:
 
     parameter: str
     metric: str
-    kind: str          #: "oat" or "spearman"
+    kind: str  #: "oat" or "spearman"
     low: float
     high: float
     value: float
@@ -68,8 +69,9 @@ def sensitivities(study: Study, rows: Sequence[dict[str, Any]]) -> list[Sensitiv
     """Every (metric, parameter) sensitivity, largest |value| first within each metric."""
     s = _oat(study, rows) if study.design["type"] == "oat" else _spearman(study, rows)
     order = {m: j for j, m in enumerate(study.metric_columns)}
-    return sorted(s, key=lambda e: (order[e.metric],
-                                    -abs(e.value) if math.isfinite(e.value) else math.inf))
+    return sorted(
+        s, key=lambda e: (order[e.metric], -abs(e.value) if math.isfinite(e.value) else math.inf)
+    )
 
 
 def sensitivity_text(items: Sequence[Sensitivity]) -> str:

@@ -4,6 +4,7 @@ written as the runs finish, the sensitivities at the end.
 >>> res = run_study(load_study("study.json"), "build/study", workers=2)   # doctest: +SKIP
 >>> print(res.summary())                                                 # doctest: +SKIP
 """
+
 from __future__ import annotations
 
 import time
@@ -35,8 +36,8 @@ class StudyResult:
     csv: Path
     parquet: Path
     n_runs: int
-    computed: int          #: runs computed by this call (the others were resumed)
-    missing: int           #: runs with no row (lost workers): run again with resume
+    computed: int  #: runs computed by this call (the others were resumed)
+    missing: int  #: runs with no row (lost workers): run again with resume
     wall_s: float
     sensitivities: list[Sensitivity]
 
@@ -46,16 +47,24 @@ class StudyResult:
 
     def summary(self) -> str:
         """Counts, the files and the sensitivity table."""
-        head = (f"study {self.study.name}: {len(self.rows)}/{self.n_runs} runs in the table "
-                f"({self.computed} computed now in {self.wall_s:.1f} s, {self.failed} failed"
-                + (f", {self.missing} missing: rerun with --resume" if self.missing else "")
-                + f"); wrote {self.csv}, {self.parquet}")
+        head = (
+            f"study {self.study.name}: {len(self.rows)}/{self.n_runs} runs in the table "
+            f"({self.computed} computed now in {self.wall_s:.1f} s, {self.failed} failed"
+            + (f", {self.missing} missing: rerun with --resume" if self.missing else "")
+            + f"); wrote {self.csv}, {self.parquet}"
+        )
         return head + "\n" + sensitivity_text(self.sensitivities)
 
 
-def run_study(study: Study, out: str | Path, scheduler: str | None = None,
-              workers: int | None = None, resume: bool = False, progress: bool = False,
-              parallel: bool = True) -> StudyResult:
+def run_study(
+    study: Study,
+    out: str | Path,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    resume: bool = False,
+    progress: bool = False,
+    parallel: bool = True,
+) -> StudyResult:
     """Run ``study`` into the folder ``out`` (see :mod:`feeddrive.study.table`).
 
     Parameters
@@ -89,7 +98,14 @@ def run_study(study: Study, out: str | Path, scheduler: str | None = None,
         bar.close()
         csv_path, pq_path = table.close()
     rows = table.sorted_rows()
-    return StudyResult(study=study, rows=rows, csv=csv_path, parquet=pq_path,
-                       n_runs=len(all_cases), computed=len(todo) - missing, missing=missing,
-                       wall_s=time.perf_counter() - t0,
-                       sensitivities=sensitivities(study, rows))
+    return StudyResult(
+        study=study,
+        rows=rows,
+        csv=csv_path,
+        parquet=pq_path,
+        n_runs=len(all_cases),
+        computed=len(todo) - missing,
+        missing=missing,
+        wall_s=time.perf_counter() - t0,
+        sensitivities=sensitivities(study, rows),
+    )

@@ -11,6 +11,7 @@ output folder:
   a folder holding another study's results is refused, and this study's finished rows are
   kept and skipped on ``resume``.
 """
+
 from __future__ import annotations
 
 import csv
@@ -46,8 +47,12 @@ class ResultsTable:
 
     def __init__(self, out: str | Path, study: Study, resume: bool = False) -> None:
         self.out = Path(out)
-        self.columns = (["run", "label"] + list(study.parameter_names)
-                        + list(study.metric_columns) + ["wall_s", "status", "message"])
+        self.columns = (
+            ["run", "label"]
+            + list(study.parameter_names)
+            + list(study.metric_columns)
+            + ["wall_s", "status", "message"]
+        )
         self._types: dict[str, type] = dict.fromkeys(self.columns, float)
         self._types.update({"run": int, "label": str, "status": str, "message": str})
         self._types.update({n: int for n in study.parameter_names if n in INTEGER_PARAMETERS})
@@ -61,15 +66,19 @@ class ResultsTable:
             except (OSError, ValueError, AttributeError):
                 old = None
             if old != ident["sha256"]:
-                raise ValueError(f"{self.out}: holds the results of another study (its "
-                                 f"{IDENTITY_NAME} differs); give another --out, or --force to replace them")
+                raise ValueError(
+                    f"{self.out}: holds the results of another study (its "
+                    f"{IDENTITY_NAME} differs); give another --out, or --force to replace them"
+                )
             if not resume:
-                raise ValueError(f"{self.out}: already holds results of this study; give "
-                                 f"--resume to compute only the missing runs, --force to start again, or another --out")
+                raise ValueError(
+                    f"{self.out}: already holds results of this study; give "
+                    f"--resume to compute only the missing runs, --force to start again, or another --out"
+                )
             self.rows = self._read(csv_path) if csv_path.exists() else {}
         self.out.mkdir(parents=True, exist_ok=True)
         id_path.write_text(json.dumps(ident, indent=1, sort_keys=True) + "\n", encoding="utf-8")
-        self._rewrite_csv()          # drops a partial last line of an interrupted study
+        self._rewrite_csv()  # drops a partial last line of an interrupted study
         # held open for the rows to come; close() closes it
         self._file = open(csv_path, "a", newline="", encoding="utf-8")  # noqa: SIM115
         self._writer = csv.writer(self._file)
@@ -79,13 +88,14 @@ class ResultsTable:
         with open(path, newline="", encoding="utf-8") as f:
             reader = csv.DictReader(f)
             if reader.fieldnames != self.columns:
-                raise ValueError(f"{path}: columns {reader.fieldnames} are not this study's "
-                                 f"{self.columns}")
+                raise ValueError(
+                    f"{path}: columns {reader.fieldnames} are not this study's {self.columns}"
+                )
             for raw in reader:
                 try:
                     row = {c: self._types[c](raw[c]) for c in self.columns}
                 except (TypeError, ValueError):
-                    continue            # an interrupted write: the run is computed again
+                    continue  # an interrupted write: the run is computed again
                 rows[row["run"]] = row
         return rows
 
@@ -118,8 +128,9 @@ class ResultsTable:
         """The rows in run order as a pyarrow Table (typed columns)."""
         kinds = {float: pa.float64(), int: pa.int64(), str: pa.string()}
         rows = self.sorted_rows()
-        return pa.table({c: pa.array([r[c] for r in rows], type=kinds[self._types[c]])
-                         for c in self.columns})
+        return pa.table(
+            {c: pa.array([r[c] for r in rows], type=kinds[self._types[c]]) for c in self.columns}
+        )
 
     def close(self) -> tuple[Path, Path]:
         """Rewrite the CSV in run order, write the Parquet file; their paths."""
@@ -133,4 +144,3 @@ def read_table(path: str | Path) -> list[dict[str, Any]]:
     """Rows of a study's ``results.parquet`` (as dicts, run order)."""
     t = pq.read_table(path)
     return t.to_pylist()
-

@@ -15,6 +15,7 @@ h = Ts that is one sample, so their files carry ``ctrl.delay`` = ``delay`` - 1 (
 ``delay`` 1 runs them at h = Ts and reproduces the harness with delay 1); a system with
 ``delay`` 0 runs them at h = Ts/``jacobi_substeps`` (a delay of h the harness does not have).
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -36,6 +37,7 @@ CONNECTIONS = (("plant", "x", "controller", "x_meas"), ("controller", "u", "plan
 @dataclass
 class ClosedLoopSystem:
     """Everything an engine needs: FMU files, start values per component, timing."""
+
     name: str
     plant: Values
     controller: Values
@@ -77,32 +79,61 @@ class ClosedLoopSystem:
         return {"plant": plant, "controller": ctrl}
 
 
-def _system(name: str, plant: Mapping[str, float | int | bool], spec: Mapping,
-            amplitude: float, period: float, centre: float, duration: float) -> ClosedLoopSystem:
-    ctrl = controller_fmu_parameters(spec, reference=sinusoid_source(amplitude, period, centre,
-                                                                     duration), quantum=1e-7)
+def _system(
+    name: str,
+    plant: Mapping[str, float | int | bool],
+    spec: Mapping,
+    amplitude: float,
+    period: float,
+    centre: float,
+    duration: float,
+) -> ClosedLoopSystem:
+    ctrl = controller_fmu_parameters(
+        spec, reference=sinusoid_source(amplitude, period, centre, duration), quantum=1e-7
+    )
     delay = int(spec.get("delay", 0))
-    return ClosedLoopSystem(name=name, plant=dict(plant), controller=ctrl,
-                            x0=centre - amplitude, stop_time=duration, Ts=float(ctrl["Ts"]),
-                            jacobi_substeps=1 if delay else 10, delay=delay)
+    return ClosedLoopSystem(
+        name=name,
+        plant=dict(plant),
+        controller=ctrl,
+        x0=centre - amplitude,
+        stop_time=duration,
+        Ts=float(ctrl["Ts"]),
+        jacobi_substeps=1 if delay else 10,
+        delay=delay,
+    )
 
 
 def sec3_system(delay: int = 0) -> ClosedLoopSystem:
     """Sec. 3: state space + ZPETC on the paper's plant, 30 mm / 6 s sinusoid, 100 nm scale;
     ``delay`` samples of computation delay (designed for)."""
     spec = {**state_space_spec(), "delay": delay} if delay else state_space_spec()
-    return _system("sec3" if not delay else f"sec3_delay{delay}", paper_parameters(), spec,
-                   sec3.AMPLITUDE, sec3.PERIOD, sec3.CENTRE, sec3.PERIOD)
+    return _system(
+        "sec3" if not delay else f"sec3_delay{delay}",
+        paper_parameters(),
+        spec,
+        sec3.AMPLITUDE,
+        sec3.PERIOD,
+        sec3.CENTRE,
+        sec3.PERIOD,
+    )
 
 
-def sec4_system(friction: FrictionFeedforward = "gms", duration: float = sec4.DURATION,
-                delay: int = 0) -> ClosedLoopSystem:
+def sec4_system(
+    friction: FrictionFeedforward = "gms", duration: float = sec4.DURATION, delay: int = 0
+) -> ClosedLoopSystem:
     """Sec. 4: feedforward (``friction`` static/gms, with cogging and ripple) on the paper's
     nominal parameters, the perturbed plant, 5 mm / 6 s sinusoid, 100 nm scale; ``delay``
     samples of computation delay."""
     spec = state_space_spec(paper_parameters(), feedforward=FeedforwardOptions(friction=friction))
     if delay:
         spec["delay"] = delay
-    return _system(f"sec4_{friction}" + (f"_delay{delay}" if delay else ""),
-                   sec4.perturbed_plant(), spec, sec4.AMPLITUDE, sec4.PERIOD, sec4.CENTRE,
-                   duration)
+    return _system(
+        f"sec4_{friction}" + (f"_delay{delay}" if delay else ""),
+        sec4.perturbed_plant(),
+        spec,
+        sec4.AMPLITUDE,
+        sec4.PERIOD,
+        sec4.CENTRE,
+        duration,
+    )

@@ -1,4 +1,5 @@
 """Run one system in every engine and compare with the harness's two-FMU run."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -21,16 +22,27 @@ def compare_engines(system: ClosedLoopSystem, files: dict[str, Path]) -> list[st
     def gap(r, ref) -> float:
         return float(np.nanmax(np.abs(r["x"][1:] - ref["x"][1:]))) * 1e6
 
-    lines = [f"{system.name}: {system.n} samples of Ts = {system.Ts * 1e3:g} ms; harness: macro "
-             f"step Ts, computation delay {system.delay} sample(s); Jacobi engines: macro step "
-             f"Ts/{N}, one step late, ctrl.delay {system.ctrl_delay(jacobi=True)}"]
-    runs = [("fmpy container FMU (simulate_fmu)", run_container(files["container"], system.n,
-                                                                system.Ts), False),
-            ("libcosim (OspSystemStructure.xml)", run_libcosim_osp(files["osp"].parent, system.n,
-                                                                   system.Ts, N), True),
-            ("fmpy simulate_ssp (.ssp)", run_fmpy_ssp(files["ssp"], system.n, system.Ts, N), True)]
+    lines = [
+        f"{system.name}: {system.n} samples of Ts = {system.Ts * 1e3:g} ms; harness: macro "
+        f"step Ts, computation delay {system.delay} sample(s); Jacobi engines: macro step "
+        f"Ts/{N}, one step late, ctrl.delay {system.ctrl_delay(jacobi=True)}"
+    ]
+    runs = [
+        (
+            "fmpy container FMU (simulate_fmu)",
+            run_container(files["container"], system.n, system.Ts),
+            False,
+        ),
+        (
+            "libcosim (OspSystemStructure.xml)",
+            run_libcosim_osp(files["osp"].parent, system.n, system.Ts, N),
+            True,
+        ),
+        ("fmpy simulate_ssp (.ssp)", run_fmpy_ssp(files["ssp"], system.n, system.Ts, N), True),
+    ]
     for name, r, jacobi in runs:
         extra = f", vs the Jacobi master {gap(r, j):.4g} um" if jacobi else ""
-        lines.append(f"  {name:36s} vs harness {gap(r, h):9.4g} um{extra}, wall "
-                     f"{float(r['wall']):.3f} s")
+        lines.append(
+            f"  {name:36s} vs harness {gap(r, h):9.4g} um{extra}, wall {float(r['wall']):.3f} s"
+        )
     return lines

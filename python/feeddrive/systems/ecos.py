@@ -13,6 +13,7 @@ loop's ``u`` is read where the plant received it, ``plant::u``.
 it; the PyPI package ``tbb`` installs that library into the environment's ``lib/``, loaded
 here before ``ecospy`` (:func:`load_ecospy`).
 """
+
 from __future__ import annotations
 
 import ctypes
@@ -38,9 +39,12 @@ def load_ecospy() -> ModuleType:
     try:
         ctypes.CDLL(str(lib) if lib.is_file() else TBB, mode=ctypes.RTLD_GLOBAL)
     except OSError as e:
-        raise ImportError(f"ecospy needs {TBB} (PyPI package tbb): not in {lib.parent} "
-                          f"nor on the library path ({e})") from e
+        raise ImportError(
+            f"ecospy needs {TBB} (PyPI package tbb): not in {lib.parent} "
+            f"nor on the library path ({e})"
+        ) from e
     import ecospy  # optional: the test extra
+
     ecospy.EcosLib.set_log_level("warn")
     return ecospy
 
@@ -49,16 +53,22 @@ def _typed(v: float | int | bool) -> float | int | bool:
     return v if isinstance(v, (bool, int)) else float(v)
 
 
-def run_ecos_plant(fmu: str | Path, t: np.ndarray, u: np.ndarray, start_values: Mapping[str, float],
-                   record: Sequence[str]) -> Result:
+def run_ecos_plant(
+    fmu: str | Path,
+    t: np.ndarray,
+    u: np.ndarray,
+    start_values: Mapping[str, float],
+    record: Sequence[str],
+) -> Result:
     """The plant FMU alone in Ecos: step h = t[1] - t[0], ``u[k]`` set before the step from
     t_k, ``record`` read after each step (row k + 1; row 0 after initialisation)."""
     ecospy = load_ecospy()
     n = len(t) - 1
     ss = ecospy.EcosSimulationStructure()
     ss.add_model("plant", str(fmu))
-    ss.add_parameter_set("init", {f"plant::{k}": _typed(v)
-                                  for k, v in {**start_values, "u": float(u[0])}.items()})
+    ss.add_parameter_set(
+        "init", {f"plant::{k}": _typed(v) for k, v in {**start_values, "u": float(u[0])}.items()}
+    )
     sim = ecospy.EcosSimulation(structure=ss, step_size=float(t[1] - t[0]))
     try:
         sim.init(parameter_set="init")
@@ -74,7 +84,9 @@ def run_ecos_plant(fmu: str | Path, t: np.ndarray, u: np.ndarray, start_values: 
     finally:
         sim.free()
         ss.free()
-    return Result({"time": np.asarray(t, dtype=float), **{c: out[:, j] for j, c in enumerate(record)}})
+    return Result(
+        {"time": np.asarray(t, dtype=float), **{c: out[:, j] for j, c in enumerate(record)}}
+    )
 
 
 @contextmanager
@@ -87,9 +99,17 @@ def _closed_loop(system: ClosedLoopSystem, substeps: int | None) -> Iterator:
     ss.add_model("controller", str(system.controller_fmu))
     for a, av, b, bv in CONNECTIONS:
         ss.make_real_connection(f"{a}::{av}", f"{b}::{bv}")
-    ss.add_parameter_set("init", {f"{comp}::{k}": _typed(v) for comp, vals in system.start_values(jacobi=True).items()
-                                  for k, v in vals.items()})
-    sim = ecospy.EcosSimulation(structure=ss, step_size=system.Ts / (substeps or system.jacobi_substeps))
+    ss.add_parameter_set(
+        "init",
+        {
+            f"{comp}::{k}": _typed(v)
+            for comp, vals in system.start_values(jacobi=True).items()
+            for k, v in vals.items()
+        },
+    )
+    sim = ecospy.EcosSimulation(
+        structure=ss, step_size=system.Ts / (substeps or system.jacobi_substeps)
+    )
     try:
         sim.init(parameter_set="init")
         yield sim

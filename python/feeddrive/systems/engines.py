@@ -11,6 +11,7 @@ connections during initialisation; fmpy's ``simulate_ssp`` starts every connecto
 (the first macro step sees x_meas = 0 and u = 0) and does not apply the SSD's parameter
 bindings itself (:func:`run_fmpy_ssp` reads the ``.ssv`` files and passes them, typed).
 """
+
 from __future__ import annotations
 
 import time
@@ -26,14 +27,16 @@ SSV_FILES = {"plant": "resources/plant.ssv", "controller": "resources/controller
 
 def _libcosim_run(execution, n: int, Ts: float, substeps: int = 10) -> Result:
     from libcosimpy.CosimObserver import CosimObserver  # optional: the test extra
+
     obs = CosimObserver.create_last_value()
     execution.add_observer(obs)
     idx = {s.name.decode(): s.index for s in execution.slave_infos()}
     vr = {}
     for comp, var in (("plant", "x"), ("controller", "u")):
-        vr[comp] = next(v.reference for v in execution.slave_variables(idx[comp])
-                        if v.name.decode() == var)
-    xs, us = np.full(n + 1, np.nan), np.full(n + 1, np.nan)   # row 0: not observed before a step
+        vr[comp] = next(
+            v.reference for v in execution.slave_variables(idx[comp]) if v.name.decode() == var
+        )
+    xs, us = np.full(n + 1, np.nan), np.full(n + 1, np.nan)  # row 0: not observed before a step
     wall0 = time.perf_counter()
     for k in range(1, n + 1):
         if not execution.step(substeps):
@@ -47,12 +50,14 @@ def _libcosim_run(execution, n: int, Ts: float, substeps: int = 10) -> Result:
 def quiet_libcosim() -> None:
     """libcosim's own log at warning level (its default, debug, prints every FMI call)."""
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
+
     log_output_level(CosimLogLevel.WARNING)
 
 
 def run_libcosim_osp(directory: str | Path, n: int, Ts: float, substeps: int = 10) -> Result:
     """libcosim on ``directory/OspSystemStructure.xml`` (fixed step, base step Ts), n steps."""
     from libcosimpy.CosimExecution import CosimExecution  # optional: the test extra
+
     quiet_libcosim()
     execution = CosimExecution.from_osp_config_file(str(directory))
     return _libcosim_run(execution, n, Ts, substeps)
@@ -65,6 +70,7 @@ def run_libcosim_ssp(path: str | Path, n: int, Ts: float, substeps: int = 10) ->
     parameter bindings (inline or ``.ssv``): the FMUs run on their defaults.  Kept to show
     it; the OSP structure is the libcosim path."""
     from libcosimpy.CosimExecution import CosimExecution  # optional: the test extra
+
     quiet_libcosim()
     execution = CosimExecution.from_ssp_file(str(path), step_size=int(round(Ts / substeps * 1e9)))
     return _libcosim_run(execution, n, Ts, substeps)
@@ -87,6 +93,7 @@ def run_fmpy_ssp(path: str | Path, n: int, Ts: float, substeps: int = 10) -> Res
     typed."""
     from fmpy.ssp.simulation import simulate_ssp
     from fmpy.ssp.ssd import ParameterSet, read_ssv
+
     merged = ParameterSet(name="closed_loop")
     for comp, res in SSV_FILES.items():
         for p in read_ssv(str(path), resource=res).parameters:
@@ -95,8 +102,9 @@ def run_fmpy_ssp(path: str | Path, n: int, Ts: float, substeps: int = 10) -> Res
             merged.parameters.append(p)
     wall0 = time.perf_counter()
     h = Ts / substeps
-    out = simulate_ssp(str(path), stop_time=(n - 0.5 / substeps) * Ts, step_size=h,
-                       parameter_set=merged)
+    out = simulate_ssp(
+        str(path), stop_time=(n - 0.5 / substeps) * Ts, step_size=h, parameter_set=merged
+    )
     wall = time.perf_counter() - wall0
     # row j is recorded after the step [t_j, t_j + h], stamped t_j: x, u at t_j + h
     rows = np.arange(substeps - 1, n * substeps, substeps)
@@ -108,18 +116,27 @@ def run_fmpy_ssp(path: str | Path, n: int, Ts: float, substeps: int = 10) -> Res
 def run_container(path: str | Path, n: int, Ts: float) -> Result:
     """fmpy's ``simulate_fmu`` on the container FMU ``path`` (output interval Ts), n steps."""
     from fmpy import simulate_fmu
+
     wall0 = time.perf_counter()
-    out = simulate_fmu(str(path), stop_time=n * Ts, step_size=Ts, output_interval=Ts,
-                       output=["x", "u"])
+    out = simulate_fmu(
+        str(path), stop_time=n * Ts, step_size=Ts, output_interval=Ts, output=["x", "u"]
+    )
     wall = time.perf_counter() - wall0
-    return Result({"time": np.asarray(out["time"][:n + 1]), "x": np.asarray(out["x"][:n + 1]),
-                   "u": np.asarray(out["u"][:n + 1]), "wall": np.array(wall)})
+    return Result(
+        {
+            "time": np.asarray(out["time"][: n + 1]),
+            "x": np.asarray(out["x"][: n + 1]),
+            "u": np.asarray(out["u"][: n + 1]),
+            "wall": np.array(wall),
+        }
+    )
 
 
 def time_libcosim_osp(directory: str | Path, stop_time: float) -> float:
     """Wall time [s] of libcosim's ``simulate_until(stop_time)`` on the OSP structure, no
     observer (execution creation -- loading and instantiating the FMUs -- not counted)."""
     from libcosimpy.CosimExecution import CosimExecution  # optional: the test extra
+
     quiet_libcosim()
     execution = CosimExecution.from_osp_config_file(str(directory))
     wall0 = time.perf_counter()

@@ -16,6 +16,7 @@ structure and a fmpy container FMU.
   nested, fixed step Ts, the start values as its parameters (``plant.m`` ...), outputs
   ``x`` (plant) and ``u`` (controller).
 """
+
 from __future__ import annotations
 
 import shutil
@@ -88,62 +89,91 @@ def _ssd(system: ClosedLoopSystem) -> bytes:
     ET.register_namespace("ssv", SSV)
     ET.register_namespace("osp", OSP_SSP)
     ET.register_namespace("fd", FD)
-    root = ET.Element(f"{{{SSD}}}SystemStructureDescription",
-                      {"version": "1.0", "name": f"feeddrive_{system.name}"})
+    root = ET.Element(
+        f"{{{SSD}}}SystemStructureDescription",
+        {"version": "1.0", "name": f"feeddrive_{system.name}"},
+    )
     sysel = ET.SubElement(root, f"{{{SSD}}}System", {"name": "closed_loop"})
     elements = ET.SubElement(sysel, f"{{{SSD}}}Elements")
     fmus = {"controller": system.controller_fmu, "plant": system.plant_fmu}
     typed = _typed(system)
     for comp, fmu in fmus.items():
-        c = ET.SubElement(elements, f"{{{SSD}}}Component",
-                          {"name": comp, "type": FMU_TYPE, "source": f"resources/{fmu.name}"})
+        c = ET.SubElement(
+            elements,
+            f"{{{SSD}}}Component",
+            {"name": comp, "type": FMU_TYPE, "source": f"resources/{fmu.name}"},
+        )
         conns = ET.SubElement(c, f"{{{SSD}}}Connectors")
         for a, ac, b, bc in CONNECTIONS:
             if a == comp:
-                ET.SubElement(ET.SubElement(conns, f"{{{SSD}}}Connector",
-                                            {"name": ac, "kind": "output"}), f"{{{SSC}}}Real")
+                ET.SubElement(
+                    ET.SubElement(conns, f"{{{SSD}}}Connector", {"name": ac, "kind": "output"}),
+                    f"{{{SSC}}}Real",
+                )
             if b == comp:
-                ET.SubElement(ET.SubElement(conns, f"{{{SSD}}}Connector",
-                                            {"name": bc, "kind": "input"}), f"{{{SSC}}}Real")
+                ET.SubElement(
+                    ET.SubElement(conns, f"{{{SSD}}}Connector", {"name": bc, "kind": "input"}),
+                    f"{{{SSC}}}Real",
+                )
         binds = ET.SubElement(c, f"{{{SSD}}}ParameterBindings")
-        values = ET.SubElement(ET.SubElement(binds, f"{{{SSD}}}ParameterBinding"),
-                               f"{{{SSD}}}ParameterValues")
+        values = ET.SubElement(
+            ET.SubElement(binds, f"{{{SSD}}}ParameterBinding"), f"{{{SSD}}}ParameterValues"
+        )
         values.append(_parameter_set(comp, typed[comp]))
     connections = ET.SubElement(sysel, f"{{{SSD}}}Connections")
     for a, ac, b, bc in CONNECTIONS:
-        ET.SubElement(connections, f"{{{SSD}}}Connection", {
-            "startElement": a, "startConnector": ac, "endElement": b, "endConnector": bc})
-    exp = ET.SubElement(root, f"{{{SSD}}}DefaultExperiment",
-                        {"startTime": "0.0", "stopTime": repr(float(system.stop_time))})
+        ET.SubElement(
+            connections,
+            f"{{{SSD}}}Connection",
+            {"startElement": a, "startConnector": ac, "endElement": b, "endConnector": bc},
+        )
+    exp = ET.SubElement(
+        root,
+        f"{{{SSD}}}DefaultExperiment",
+        {"startTime": "0.0", "stopTime": repr(float(system.stop_time))},
+    )
     notes = ET.SubElement(exp, f"{{{SSD}}}Annotations")
     # libcosim's fixed-step algorithm stepping the FMUs on the calling thread (no pool wake-up)
-    osp = ET.SubElement(ET.SubElement(notes, f"{{{SSC}}}Annotation",
-                                      {"type": "com.opensimulationplatform"}),
-                        f"{{{OSP_SSP}}}Algorithm")
-    ET.SubElement(osp, f"{{{OSP_SSP}}}FixedStepAlgorithm",
-                  {"baseStepSize": repr(float(system.jacobi_step)), "numWorkerThreads": "0"})
-    conv = ET.SubElement(ET.SubElement(notes, f"{{{SSC}}}Annotation",
-                                       {"type": "org.feeddrive.delay"}), f"{{{FD}}}Delay")
+    osp = ET.SubElement(
+        ET.SubElement(notes, f"{{{SSC}}}Annotation", {"type": "com.opensimulationplatform"}),
+        f"{{{OSP_SSP}}}Algorithm",
+    )
+    ET.SubElement(
+        osp,
+        f"{{{OSP_SSP}}}FixedStepAlgorithm",
+        {"baseStepSize": repr(float(system.jacobi_step)), "numWorkerThreads": "0"},
+    )
+    conv = ET.SubElement(
+        ET.SubElement(notes, f"{{{SSC}}}Annotation", {"type": "org.feeddrive.delay"}),
+        f"{{{FD}}}Delay",
+    )
     conv.attrib.update(_convention(system))
     return ET.tostring(root, encoding="utf-8", xml_declaration=True)
 
 
 def _convention(system: ClosedLoopSystem) -> dict[str, str]:
     """The delay convention a Jacobi engine's file carries (see :mod:`.closed_loop`)."""
-    return {"harnessDelay": str(system.delay) if system.jacobi_substeps == 1 else "none",
-            "ctrlDelay": str(system.ctrl_delay(jacobi=True)),
-            "macroStep": repr(float(system.jacobi_step)), "master": "jacobi"}
+    return {
+        "harnessDelay": str(system.delay) if system.jacobi_substeps == 1 else "none",
+        "ctrlDelay": str(system.ctrl_delay(jacobi=True)),
+        "macroStep": repr(float(system.jacobi_step)),
+        "master": "jacobi",
+    }
 
 
 def _convention_text(system: ClosedLoopSystem) -> str:
     c = _convention(system)
     if c["harnessDelay"] == "none":
-        return (f" Jacobi master at h = {c['macroStep']} s (Ts/{system.jacobi_substeps}), "
-                f"ctrl.delay = {c['ctrlDelay']}: the controller's u lags x by h, a delay the "
-                "harness run does not have. ")
-    return (f" Jacobi master at h = Ts = {c['macroStep']} s: the engine's handover is one "
-            f"sample of computation delay; ctrl.delay = {c['ctrlDelay']} here reproduces the "
-            f"harness run with delay = {c['harnessDelay']}. ")
+        return (
+            f" Jacobi master at h = {c['macroStep']} s (Ts/{system.jacobi_substeps}), "
+            f"ctrl.delay = {c['ctrlDelay']}: the controller's u lags x by h, a delay the "
+            "harness run does not have. "
+        )
+    return (
+        f" Jacobi master at h = Ts = {c['macroStep']} s: the engine's handover is one "
+        f"sample of computation delay; ctrl.delay = {c['ctrlDelay']} here reproduces the "
+        f"harness run with delay = {c['harnessDelay']}. "
+    )
 
 
 def write_ssp(system: ClosedLoopSystem, path: str | Path) -> Path:
@@ -160,9 +190,13 @@ def write_ssp(system: ClosedLoopSystem, path: str | Path) -> Path:
     return path
 
 
-def osp_structure(directory: str | Path, step: float,
-                  simulators: Sequence[tuple[str, Path, list[tuple[str, str, str]]]],
-                  connections: Sequence[tuple[str, str, str, str]], note: str = "") -> Path:
+def osp_structure(
+    directory: str | Path,
+    step: float,
+    simulators: Sequence[tuple[str, Path, list[tuple[str, str, str]]]],
+    connections: Sequence[tuple[str, str, str, str]],
+    note: str = "",
+) -> Path:
     """Write ``directory/OspSystemStructure.xml`` (fixed step ``step`` [s]) with each simulator
     (name, FMU, typed initial values (variable, kind, literal)) and its FMU copied beside it,
     and the connections (simulator, output, simulator, input); returns the XML's path."""
@@ -181,12 +215,18 @@ def osp_structure(directory: str | Path, step: float,
         if fmu not in copied:
             shutil.copyfile(fmu, d / fmu.name)
             copied.add(fmu)
-        s = ET.SubElement(sims, f"{{{OSP}}}Simulator", {"name": name, "source": fmu.name,
-                                                         "stepSize": repr(float(step))})
+        s = ET.SubElement(
+            sims,
+            f"{{{OSP}}}Simulator",
+            {"name": name, "source": fmu.name, "stepSize": repr(float(step))},
+        )
         iv = ET.SubElement(s, f"{{{OSP}}}InitialValues")
         for var, kind, lit in values:
-            ET.SubElement(ET.SubElement(iv, f"{{{OSP}}}InitialValue", {"variable": var}),
-                          f"{{{OSP}}}{kind}", {"value": lit})
+            ET.SubElement(
+                ET.SubElement(iv, f"{{{OSP}}}InitialValue", {"variable": var}),
+                f"{{{OSP}}}{kind}",
+                {"value": lit},
+            )
     conns = ET.SubElement(root, f"{{{OSP}}}Connections")
     for a, ac, b, bc in connections:
         vc = ET.SubElement(conns, f"{{{OSP}}}VariableConnection")
@@ -200,9 +240,13 @@ def osp_structure(directory: str | Path, step: float,
 def write_osp(system: ClosedLoopSystem, directory: str | Path) -> Path:
     """Write ``directory/OspSystemStructure.xml`` and the two FMUs beside it; returns the XML."""
     fmus = {"controller": system.controller_fmu, "plant": system.plant_fmu}
-    return osp_structure(directory, system.jacobi_step,
-                         [(comp, fmus[comp], values) for comp, values in _typed(system).items()],
-                         CONNECTIONS, note=_convention_text(system))
+    return osp_structure(
+        directory,
+        system.jacobi_step,
+        [(comp, fmus[comp], values) for comp, values in _typed(system).items()],
+        CONNECTIONS,
+        note=_convention_text(system),
+    )
 
 
 def write_container(system: ClosedLoopSystem, path: str | Path) -> Path:
@@ -213,55 +257,97 @@ def write_container(system: ClosedLoopSystem, path: str | Path) -> Path:
     mds = {c: read_model_description(str(f), validate=False) for c, f in fmus.items()}
     comps = {c: Component(name=c, filename=fmus[c], modelDescription=mds[c]) for c in fmus}
     var = {c: {v.name: v for v in mds[c].modelVariables} for c in fmus}
-    md = ModelDescription(fmiVersion="2.0", modelName=f"feeddrive_{system.name}",
-                          instantiationToken="{feedd12c-0000-4000-8000-"
-                          + f"{zlib.crc32(system.name.encode()):012d}" + "}",
-                          description="feeddrive closed loop: controller FMU + plant FMU",
-                          coSimulation=CoSimulation(modelIdentifier="container_fmu",
-                                                    fixedInternalStepSize=float(system.Ts)),
-                          defaultExperiment=DefaultExperiment(startTime="0",
-                                                              stopTime=repr(float(system.stop_time)),
-                                                              stepSize=repr(float(system.Ts))))
+    md = ModelDescription(
+        fmiVersion="2.0",
+        modelName=f"feeddrive_{system.name}",
+        instantiationToken="{feedd12c-0000-4000-8000-"
+        + f"{zlib.crc32(system.name.encode()):012d}"
+        + "}",
+        description="feeddrive closed loop: controller FMU + plant FMU",
+        coSimulation=CoSimulation(
+            modelIdentifier="container_fmu", fixedInternalStepSize=float(system.Ts)
+        ),
+        defaultExperiment=DefaultExperiment(
+            startTime="0", stopTime=repr(float(system.stop_time)), stepSize=repr(float(system.Ts))
+        ),
+    )
     # fmpy 0.3.32's container binary reserves value reference 0 for the time and maps
     # reference k to the k-th entry of container.json's variables (k >= 1), while
     # create_container_fmu numbers the modelDescription's variables from 0: the variable
     # ``time`` (independent, not in the mappings) takes reference 0 so the two agree
-    md.modelVariables.append(ModelVariable(name="time", type="Real", causality="independent",
-                                           variability="continuous"))
+    md.modelVariables.append(
+        ModelVariable(name="time", type="Real", causality="independent", variability="continuous")
+    )
     entries: list[tuple[ModelVariable, Component, ModelVariable]] = []
     for comp, name in (("plant", "x"), ("controller", "u")):
-        entries.append((ModelVariable(name=name, type="Real", causality="output",
-                                      variability="continuous",
-                                      initial="calculated" if comp == "controller" else "exact",
-                                      start=None if comp == "controller" else repr(float(system.x0))),
-                        comps[comp], var[comp][name]))
+        entries.append(
+            (
+                ModelVariable(
+                    name=name,
+                    type="Real",
+                    causality="output",
+                    variability="continuous",
+                    initial="calculated" if comp == "controller" else "exact",
+                    start=None if comp == "controller" else repr(float(system.x0)),
+                ),
+                comps[comp],
+                var[comp][name],
+            )
+        )
     for kind_wanted in ("Real", "Integer", "Boolean"):
         for comp, values in _typed(system, jacobi=False).items():
             for name, kind, lit in values:
                 src = var[comp][name]
-                if kind != kind_wanted or (src.causality not in ("parameter", "input")
-                                           and src.initial != "exact"):
+                if kind != kind_wanted or (
+                    src.causality not in ("parameter", "input") and src.initial != "exact"
+                ):
                     continue
-                entries.append((ModelVariable(name=f"{comp}.{name}", type=kind,
-                                              causality="parameter",
-                                              variability="fixed" if src.variability == "fixed"
-                                              else "tunable", initial="exact", start=lit),
-                                comps[comp], src))
+                entries.append(
+                    (
+                        ModelVariable(
+                            name=f"{comp}.{name}",
+                            type=kind,
+                            causality="parameter",
+                            variability="fixed" if src.variability == "fixed" else "tunable",
+                            initial="exact",
+                            start=lit,
+                        ),
+                        comps[comp],
+                        src,
+                    )
+                )
     mappings: dict[ModelVariable, list[tuple[Component, ModelVariable]]] = {}
     for v, comp_obj, src in entries:
         md.modelVariables.append(v)
         mappings[v] = [(comp_obj, src)]
+
     # fmpy 0.3.32 writes a connection's type as the variable's ("Real"), which its container
     # binary does not parse ("Float64" expected): connect copies typed Float64
     def f64(v: ModelVariable) -> ModelVariable:
-        return ModelVariable(name=v.name, valueReference=v.valueReference, type="Float64",
-                             causality=v.causality, variability=v.variability)
-    connections = [Connection(startElement=comps[a], startConnectors=[f64(var[a][ac])],
-                              endElement=comps[b], endConnectors=[f64(var[b][bc])])
-                   for a, ac, b, bc in CONNECTIONS]
-    config = Configuration(parallelDoStep=False, modelDescription=md,
-                           components=list(comps.values()), connections=connections,
-                           variableMappings=mappings)
+        return ModelVariable(
+            name=v.name,
+            valueReference=v.valueReference,
+            type="Float64",
+            causality=v.causality,
+            variability=v.variability,
+        )
+
+    connections = [
+        Connection(
+            startElement=comps[a],
+            startConnectors=[f64(var[a][ac])],
+            endElement=comps[b],
+            endConnectors=[f64(var[b][bc])],
+        )
+        for a, ac, b, bc in CONNECTIONS
+    ]
+    config = Configuration(
+        parallelDoStep=False,
+        modelDescription=md,
+        components=list(comps.values()),
+        connections=connections,
+        variableMappings=mappings,
+    )
     with tempfile.TemporaryDirectory() as tmp:
         create_container_fmu(config, Path(tmp), path.resolve())
     return path
@@ -270,6 +356,8 @@ def write_container(system: ClosedLoopSystem, path: str | Path) -> Path:
 def write_all(system: ClosedLoopSystem, out: str | Path) -> dict[str, Path]:
     """The three forms under ``out``: ``<name>.ssp``, ``<name>_osp/``, ``<name>_container.fmu``."""
     out = Path(out)
-    return {"ssp": write_ssp(system, out / f"{system.name}.ssp"),
-            "osp": write_osp(system, out / f"{system.name}_osp"),
-            "container": write_container(system, out / f"{system.name}_container.fmu")}
+    return {
+        "ssp": write_ssp(system, out / f"{system.name}.ssp"),
+        "osp": write_osp(system, out / f"{system.name}_osp"),
+        "container": write_container(system, out / f"{system.name}_container.fmu"),
+    }

@@ -6,6 +6,7 @@ spends per macro step on this pair is its floor (scheduling, the transfer of the
 values, its observers); the closed loop's time beyond it is the plant's and the
 controller's.
 """
+
 from __future__ import annotations
 
 import time
@@ -26,8 +27,7 @@ PAIR = (("a", "u", "b", "x_meas"), ("b", "u", "a", "x_meas"))
 def pair_values(Ts: float = 5e-4) -> dict[str, float | int | bool]:
     """Start values of one instance: a PID with a proportional gain only (Kp = 10 N/m, 0.13
     V/m at the paper's force per volt: the pair's loop gain is below 1), reference input 0."""
-    return {**controller_fmu_parameters(pid_spec(Kp=10.0, Kv=0.0, Ki=0.0), Ts=Ts),
-            "x_meas": 0.0}
+    return {**controller_fmu_parameters(pid_spec(Kp=10.0, Kv=0.0, Ki=0.0), Ts=Ts), "x_meas": 0.0}
 
 
 def write_pair_osp(directory: str | Path, Ts: float = 5e-4) -> Path:
@@ -35,13 +35,19 @@ def write_pair_osp(directory: str | Path, Ts: float = 5e-4) -> Path:
     fmu = controller_fmu_path()
     types = _types(fmu)
     values = [(k, types[k], _literal(types[k], v)) for k, v in pair_values(Ts).items()]
-    return osp_structure(directory, Ts, [("a", fmu, values), ("b", fmu, values)], PAIR,
-                         note=" A trivial pair of FMUs: the engine's per-step floor. ")
+    return osp_structure(
+        directory,
+        Ts,
+        [("a", fmu, values), ("b", fmu, values)],
+        PAIR,
+        note=" A trivial pair of FMUs: the engine's per-step floor. ",
+    )
 
 
 def time_libcosim_pair(directory: str | Path, n: int, Ts: float = 5e-4) -> float:
     """Wall time [s] of libcosim's ``simulate_until(n Ts)`` on the pair (OSP structure)."""
     from libcosimpy.CosimExecution import CosimExecution  # optional: the test extra
+
     quiet_libcosim()
     osp = write_pair_osp(directory, Ts)
     execution = CosimExecution.from_osp_config_file(str(osp.parent))
@@ -61,8 +67,14 @@ def time_ecos_pair(n: int, Ts: float = 5e-4) -> float:
     for a, av, b, bv in PAIR:
         ss.make_real_connection(f"{a}::{av}", f"{b}::{bv}")
     vals = pair_values(Ts)
-    ss.add_parameter_set("init", {f"{c}::{k}": (v if isinstance(v, (bool, int)) else float(v))
-                                  for c in ("a", "b") for k, v in vals.items()})
+    ss.add_parameter_set(
+        "init",
+        {
+            f"{c}::{k}": (v if isinstance(v, (bool, int)) else float(v))
+            for c in ("a", "b")
+            for k, v in vals.items()
+        },
+    )
     sim = ecospy.EcosSimulation(structure=ss, step_size=Ts)
     try:
         sim.init(parameter_set="init")
@@ -89,22 +101,38 @@ def write_pair_ssp(path: str | Path, Ts: float = 5e-4) -> Path:
     system = ET.SubElement(root, f"{{{SSD}}}System", {"name": "pair"})
     elements = ET.SubElement(system, f"{{{SSD}}}Elements")
     for name in ("a", "b"):
-        c = ET.SubElement(elements, f"{{{SSD}}}Component",
-                          {"name": name, "type": FMU_TYPE, "source": f"resources/{fmu.name}"})
+        c = ET.SubElement(
+            elements,
+            f"{{{SSD}}}Component",
+            {"name": name, "type": FMU_TYPE, "source": f"resources/{fmu.name}"},
+        )
         conns = ET.SubElement(c, f"{{{SSD}}}Connectors")
         for var, kind in (("x_meas", "input"), ("u", "output")):
-            ET.SubElement(ET.SubElement(conns, f"{{{SSD}}}Connector", {"name": var, "kind": kind}),
-                          f"{{{SSC}}}Real")
+            ET.SubElement(
+                ET.SubElement(conns, f"{{{SSD}}}Connector", {"name": var, "kind": kind}),
+                f"{{{SSC}}}Real",
+            )
     connections = ET.SubElement(system, f"{{{SSD}}}Connections")
     for a, av, b, bv in PAIR:
-        ET.SubElement(connections, f"{{{SSD}}}Connection", {
-            "startElement": a, "startConnector": av, "endElement": b, "endConnector": bv})
+        ET.SubElement(
+            connections,
+            f"{{{SSD}}}Connection",
+            {"startElement": a, "startConnector": av, "endElement": b, "endConnector": bv},
+        )
     exp = ET.SubElement(root, f"{{{SSD}}}DefaultExperiment", {"startTime": "0.0"})
-    alg = ET.SubElement(ET.SubElement(ET.SubElement(exp, f"{{{SSD}}}Annotations"),
-                                      f"{{{SSC}}}Annotation", {"type": "com.opensimulationplatform"}),
-                        f"{{{OSP_SSP}}}Algorithm")
-    ET.SubElement(alg, f"{{{OSP_SSP}}}FixedStepAlgorithm",
-                  {"baseStepSize": repr(float(Ts)), "numWorkerThreads": "0"})
+    alg = ET.SubElement(
+        ET.SubElement(
+            ET.SubElement(exp, f"{{{SSD}}}Annotations"),
+            f"{{{SSC}}}Annotation",
+            {"type": "com.opensimulationplatform"},
+        ),
+        f"{{{OSP_SSP}}}Algorithm",
+    )
+    ET.SubElement(
+        alg,
+        f"{{{OSP_SSP}}}FixedStepAlgorithm",
+        {"baseStepSize": repr(float(Ts)), "numWorkerThreads": "0"},
+    )
     path.parent.mkdir(parents=True, exist_ok=True)
     with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as z:
         z.writestr("SystemStructure.ssd", ET.tostring(root, encoding="utf-8", xml_declaration=True))
@@ -116,6 +144,7 @@ def time_libcosim_pair_ssp(directory: str | Path, n: int, Ts: float = 5e-4) -> f
     """Wall time [s] of libcosim's ``simulate_until(n Ts)`` on the pair's SSP package: the
     fixed step on the calling thread, libcosim's floor without its thread pool."""
     from libcosimpy.CosimExecution import CosimExecution  # optional: the test extra
+
     quiet_libcosim()
     ssp = write_pair_ssp(Path(directory) / "pair.ssp", Ts)
     execution = CosimExecution.from_ssp_file(str(ssp))

@@ -11,6 +11,7 @@ quantisation level and grow to micrometres.  The controller's u read at
 t_k is thus computed from x(t_k - h): at h = Ts one sample of computation delay, the
 harness's ``delay`` 1 with the files' ``ctrl.delay`` 0 (:mod:`.closed_loop`).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -24,13 +25,16 @@ def simulate_jacobi(system: ClosedLoopSystem) -> Result:
     """Run ``system`` with the Jacobi master; x, u at t_k = k Ts, k = 0..n (after the step)."""
     sv = system.start_values(jacobi=True)
     N, n = system.jacobi_substeps, system.n
-    h_ns = int(round(system.jacobi_step * 1e9))   # libcosim's clock: integer nanoseconds
+    h_ns = int(round(system.jacobi_step * 1e9))  # libcosim's clock: integer nanoseconds
     h = h_ns / 1e9
     ctrl_par = {k: v for k, v in sv["controller"].items() if k != "x_meas"}
     plant_par = {k: v for k, v in sv["plant"].items() if k not in ("x", "v")}
-    with ControllerFMU(ctrl_par, path=system.controller_fmu) as ctrl, \
-            Plant(plant_par, interface="cs", tolerance=system.tolerance,
-                  path=system.plant_fmu) as plant:
+    with (
+        ControllerFMU(ctrl_par, path=system.controller_fmu) as ctrl,
+        Plant(
+            plant_par, interface="cs", tolerance=system.tolerance, path=system.plant_fmu
+        ) as plant,
+    ):
         ctrl.start({"x_meas": system.x0})
         u = float(ctrl.raw(["u"]).get()[0])
         plant.start({"x": system.x0, "v": 0.0, "u": u}, t0=0.0)
@@ -42,8 +46,9 @@ def simulate_jacobi(system: ClosedLoopSystem) -> Result:
         for j in range(n * N):
             t = j * h_ns / 1e9
             if cr.do_step(cr.component, t, h, 1) > 1 or pr.do_step(pr.component, t, h, 1) > 1:
-                raise FMUError(f"fmi2DoStep at t = {t}: "
-                               + ((ctrl.messages + plant.messages) or [""])[-1])
+                raise FMUError(
+                    f"fmi2DoStep at t = {t}: " + ((ctrl.messages + plant.messages) or [""])[-1]
+                )
             x, u = float(pio.get()[0]), float(cio.get()[0])
             xm.set((x,))
             pu.set((u,))

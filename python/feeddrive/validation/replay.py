@@ -1,6 +1,7 @@
 """`feeddrive validate`: replay a measured run's reference through the model and controller and
 report the gap (position error at reversals and elsewhere; force residual along the measured
 trajectory)."""
+
 from __future__ import annotations
 
 import math
@@ -33,17 +34,25 @@ class ValidationReport:
         lines += [f"  note: {n}" for n in self.notes]
         if self.position is not None:
             p = self.position
-            lines.append("  position gap x_sim - x_meas (simulated minus measured position, after "
-                         "the first 0.5 s):")
-            lines.append("    reversal peak (largest |gap| within 0.25 s of a reversal of x_ref): " + _um(
-                p.reversal_peak, "no reversal of x_ref after the first 0.5 s"))
-            lines.append("    elsewhere max: " + _um(
-                p.band, "every sample after the first 0.5 s is near a reversal"))
+            lines.append(
+                "  position gap x_sim - x_meas (simulated minus measured position, after "
+                "the first 0.5 s):"
+            )
+            lines.append(
+                "    reversal peak (largest |gap| within 0.25 s of a reversal of x_ref): "
+                + _um(p.reversal_peak, "no reversal of x_ref after the first 0.5 s")
+            )
+            lines.append(
+                "    elsewhere max: "
+                + _um(p.band, "every sample after the first 0.5 s is near a reversal")
+            )
             lines.append("    rms: " + _um(p.rms, "the run is no longer than 0.5 s"))
         if self.force:
-            lines.append("  force residual K_f(x) i - m a - F_cg(x) - F_f - F_load (the force the "
-                         "model does not explain) [N]: " +
-                         ", ".join(f"{k} {v:.3f}" for k, v in self.force.items()))
+            lines.append(
+                "  force residual K_f(x) i - m a - F_cg(x) - F_f - F_load (the force the "
+                "model does not explain) [N]: "
+                + ", ".join(f"{k} {v:.3f}" for k, v in self.force.items())
+            )
         return "\n".join(lines)
 
 
@@ -59,14 +68,23 @@ def force_residual_summary(run: Run, model: ModelFile) -> tuple[dict[str, float]
     notes = [] if run.has_current else [f"no measured current: motor force from {fr.force_source}"]
     valid = np.asarray(fr.valid, bool)
     lost = np.flatnonzero(valid & ~np.isfinite(r))
-    if lost.size:       # never an answer from the samples that happen to stay finite
-        raise DataError(run.path or run.name, int(lost[0]) + 2, None,
-                        f"the force residual is not finite on {lost.size} of {valid.sum()} "
-                        "samples (values too large for the model)")
+    if lost.size:  # never an answer from the samples that happen to stay finite
+        raise DataError(
+            run.path or run.name,
+            int(lost[0]) + 2,
+            None,
+            f"the force residual is not finite on {lost.size} of {valid.sum()} "
+            "samples (values too large for the model)",
+        )
     ok = np.isfinite(r) & valid
     if not ok.any():
-        raise DataError(run.path or run.name, None, None, "no sample where the force "
-                        "residual can be computed (run shorter than the acceleration window?)")
+        raise DataError(
+            run.path or run.name,
+            None,
+            None,
+            "no sample where the force "
+            "residual can be computed (run shorter than the acceleration window?)",
+        )
     out = {"rms": float(np.sqrt(np.mean(r[ok] ** 2))), "peak": float(np.abs(r[ok]).max())}
     if run.x_ref is not None:
         near, far = reversal_mask(run.x_ref, run.Ts)
@@ -77,8 +95,12 @@ def force_residual_summary(run: Run, model: ModelFile) -> tuple[dict[str, float]
     return out, notes
 
 
-def validate(run: Run, model: ModelFile, side: Sidecar | None = None,
-             progress: Callable[[str], None] | None = None) -> ValidationReport:
+def validate(
+    run: Run,
+    model: ModelFile,
+    side: Sidecar | None = None,
+    progress: Callable[[str], None] | None = None,
+) -> ValidationReport:
     """Replay ``run`` (closed loop when its sidecar names a controller the registry builds)
     and compute the gap.
 
@@ -104,20 +126,26 @@ def validate(run: Run, model: ModelFile, side: Sidecar | None = None,
         x_sim = replay(model.fmu_parameters(), run, side)
         pos = summarise(x_sim - run.x, run.x_ref, Ts)
     elif side.foreign_controller is not None:
-        notes.append("closed-loop position gap not computed: the sidecar's controller is not "
-                     "one the registry builds (see above); only the force residual")
+        notes.append(
+            "closed-loop position gap not computed: the sidecar's controller is not "
+            "one the registry builds (see above); only the force residual"
+        )
     else:
-        notes.append("no controller in the run's sidecar (or no x_ref): the closed-loop position gap "
-                     "is not computed; only the force residual")
+        notes.append(
+            "no controller in the run's sidecar (or no x_ref): the closed-loop position gap "
+            "is not computed; only the force residual"
+        )
     stage("force residual")
     force, fnotes = force_residual_summary(run, model)
     notes += fnotes
-    return ValidationReport(run=run, model_name=model.name, position=pos, force=force, notes=notes,
-                            x_sim=x_sim)
+    return ValidationReport(
+        run=run, model_name=model.name, position=pos, force=force, notes=notes, x_sim=x_sim
+    )
 
 
-def validate_file(measured: Path, model_path: Path | None = None,
-                  progress: Callable[[str], None] | None = None) -> ValidationReport:
+def validate_file(
+    measured: Path, model_path: Path | None = None, progress: Callable[[str], None] | None = None
+) -> ValidationReport:
     """CLI entry: load the run and the model file (default: the paper's model)."""
     if progress is not None:
         progress("load")

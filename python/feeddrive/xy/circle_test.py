@@ -8,6 +8,7 @@ and ``gms`` (GMS friction), the latter two with cogging and ripple compensation,
 the axis's nominal model.  The scale (100 nm) is read by the controller FMU
 (``scale.quantum``); the evaluation uses the stages' true positions.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
@@ -32,9 +33,13 @@ from .machine import AxisModel
 from .path import DIRECTIONS, CirclePath, circle_path
 from .table import AxisLoop, simulate_axes
 
-FEEDFORWARD: dict[str, FrictionFeedforward | None] = {"none": None, "static": "static", "gms": "gms"}
+FEEDFORWARD: dict[str, FrictionFeedforward | None] = {
+    "none": None,
+    "static": "static",
+    "gms": "gms",
+}
 QUANTUM = 1e-7
-MIN_PER_M_S = 60.0          #: feed: 1 m/s = 60 m/min
+MIN_PER_M_S = 60.0  #: feed: 1 m/s = 60 m/min
 
 
 def controller_values(axis: AxisModel, feedforward: str, Ts: float = 5e-4) -> dict[str, Any]:
@@ -44,7 +49,9 @@ def controller_values(axis: AxisModel, feedforward: str, Ts: float = 5e-4) -> di
     fr = FEEDFORWARD[feedforward]
     nominal = dict(axis.nominal)
     nominal["Ts"] = Ts
-    spec = state_space_spec(nominal, feedforward=None if fr is None else FeedforwardOptions(friction=fr))
+    spec = state_space_spec(
+        nominal, feedforward=None if fr is None else FeedforwardOptions(friction=fr)
+    )
     return controller_fmu_parameters(spec, Ts=Ts, quantum=QUANTUM)
 
 
@@ -62,8 +69,11 @@ class CircleRun:
 
 def centre_of(axes: Sequence[AxisModel]) -> tuple[float, float]:
     """Mid-stroke of each axis [m]."""
-    return tuple(0.5 * (float(a.nominal.get("stroke.x_min", 0.0))
-                        + float(a.nominal.get("stroke.x_max", 0.3))) for a in axes)  # type: ignore[return-value]
+    return tuple(
+        0.5
+        * (float(a.nominal.get("stroke.x_min", 0.0)) + float(a.nominal.get("stroke.x_max", 0.3)))
+        for a in axes
+    )  # type: ignore[return-value]
 
 
 def check_fits(axes: Sequence[AxisModel], radius: float) -> None:
@@ -71,26 +81,42 @@ def check_fits(axes: Sequence[AxisModel], radius: float) -> None:
     if not (isinstance(radius, (int, float)) and np.isfinite(radius) and radius > 0):
         raise ValueError(f"circle: radius = {radius!r} must be a finite number > 0 [m]")
     for a in axes:
-        lo, hi = float(a.nominal.get("stroke.x_min", 0.0)), float(a.nominal.get("stroke.x_max", 0.3))
+        lo, hi = (
+            float(a.nominal.get("stroke.x_min", 0.0)),
+            float(a.nominal.get("stroke.x_max", 0.3)),
+        )
         if radius >= (hi - lo) / 2:
-            raise ValueError(f"circle: radius {radius * 1e3:g} mm does not fit axis {a.name}'s "
-                             f"stroke {lo * 1e3:g}..{hi * 1e3:g} mm about its middle")
+            raise ValueError(
+                f"circle: radius {radius * 1e3:g} mm does not fit axis {a.name}'s "
+                f"stroke {lo * 1e3:g}..{hi * 1e3:g} mm about its middle"
+            )
 
 
-def run_circle(axes: Sequence[AxisModel], radius: float, feed: float, direction: str,
-               feedforward: str, Ts: float = 5e-4, tolerance: float = 1e-6,
-               controllers: Sequence[Mapping[str, Any]] | None = None) -> CircleRun:
+def run_circle(
+    axes: Sequence[AxisModel],
+    radius: float,
+    feed: float,
+    direction: str,
+    feedforward: str,
+    Ts: float = 5e-4,
+    tolerance: float = 1e-6,
+    controllers: Sequence[Mapping[str, Any]] | None = None,
+) -> CircleRun:
     """Run one circle on the table ``axes`` (X, Y) and evaluate its 360 deg."""
     check_fits(axes, radius)
     path = circle_path(radius, feed, direction, centre=centre_of(axes), Ts=Ts)
     ctrls = controllers or [controller_values(a, feedforward, Ts) for a in axes]
-    loops = [AxisLoop(a.name, a.plant, c, ref) for a, c, ref in zip(axes, ctrls, (path.x, path.y), strict=True)]
+    loops = [
+        AxisLoop(a.name, a.plant, c, ref)
+        for a, c, ref in zip(axes, ctrls, (path.x, path.y), strict=True)
+    ]
     res = simulate_axes(loops, Ts=Ts, tolerance=tolerance)
     x, y = res[axes[0].name]["x"], res[axes[1].name]["x"]
     sl = slice(path.eval_start, path.eval_stop)
     tr = trace(x[sl], y[sl], radius, direction)
-    return CircleRun(path, x, y, tr, glitches(tr, glitch_window(radius, feed)),
-                     float(res[axes[0].name]["wall"]))
+    return CircleRun(
+        path, x, y, tr, glitches(tr, glitch_window(radius, feed)), float(res[axes[0].name]["wall"])
+    )
 
 
 @dataclass
@@ -121,8 +147,11 @@ class CircleCase:
 
     def row(self) -> dict[str, Any]:
         """Table row: figures in um, feed in m/min."""
-        out: dict[str, Any] = {"radius_mm": self.radius * 1e3, "feed_m_min": self.feed * MIN_PER_M_S,
-                               "feedforward": self.feedforward}
+        out: dict[str, Any] = {
+            "radius_mm": self.radius * 1e3,
+            "feed_m_min": self.feed * MIN_PER_M_S,
+            "feedforward": self.feedforward,
+        }
         for d, r in self.runs.items():
             out[f"G_{d}_um"] = r.trace.G * 1e6
         out["H_um"], out["G_b_um"] = self.H * 1e6, self.G_b * 1e6
@@ -135,10 +164,16 @@ class CircleCase:
         return out
 
 
-def circular_case(axes: Sequence[AxisModel], radius: float, feed: float, feedforward: str,
-                  directions: Sequence[str] = ("ccw", "cw"), Ts: float = 5e-4,
-                  tolerance: float = 1e-6,
-                  controllers: Sequence[Mapping[str, Any]] | None = None) -> CircleCase:
+def circular_case(
+    axes: Sequence[AxisModel],
+    radius: float,
+    feed: float,
+    feedforward: str,
+    directions: Sequence[str] = ("ccw", "cw"),
+    Ts: float = 5e-4,
+    tolerance: float = 1e-6,
+    controllers: Sequence[Mapping[str, Any]] | None = None,
+) -> CircleCase:
     """Both (or the given) directions of one case (``controllers``: the axes' controller
     FMU parameters, default :func:`controller_values`)."""
     ctrls = controllers or [controller_values(a, feedforward, Ts) for a in axes]
@@ -150,11 +185,16 @@ def circular_case(axes: Sequence[AxisModel], radius: float, feed: float, feedfor
 
 def circle_table(cases: Sequence[CircleCase]) -> str:
     """The printed table: G per direction, H, glitch heights (CCW / CW) per quadrant [um]."""
-    head = (f"{'r [mm]':>6s} {'F [m/min]':>9s} {'FF':>6s} {'G ccw':>6s} {'G cw':>6s} {'H':>6s} "
-            + " ".join(f"{f'glitch {q}':>13s}" for q in ("0", "90", "180", "270"))
-            + f" {'wall [s]':>8s}")
-    lines = ["ISO 230-4 circular test, X-Y table (4 FMUs); G, H and quadrant glitch heights "
-             "[um], glitch ccw/cw (+ outwards)", head]
+    head = (
+        f"{'r [mm]':>6s} {'F [m/min]':>9s} {'FF':>6s} {'G ccw':>6s} {'G cw':>6s} {'H':>6s} "
+        + " ".join(f"{f'glitch {q}':>13s}" for q in ("0", "90", "180", "270"))
+        + f" {'wall [s]':>8s}"
+    )
+    lines = [
+        "ISO 230-4 circular test, X-Y table (4 FMUs); G, H and quadrant glitch heights "
+        "[um], glitch ccw/cw (+ outwards)",
+        head,
+    ]
     for c in cases:
         r = c.row()
 
@@ -165,7 +205,10 @@ def circle_table(cases: Sequence[CircleCase]) -> str:
         gl = []
         for q in ("0", "90", "180", "270"):
             gl.append(f"{fig(f'glitch_ccw_{q}_um') + '/' + fig(f'glitch_cw_{q}_um'):>13s}")
-        lines.append(f"{r['radius_mm']:6.0f} {r['feed_m_min']:9.2f} {c.feedforward:>6s} "
-                     f"{fig('G_ccw_um'):>6s} {fig('G_cw_um'):>6s} {fig('H_um'):>6s} "
-                     + " ".join(gl) + f" {r['wall_s']:8.2f}")
+        lines.append(
+            f"{r['radius_mm']:6.0f} {r['feed_m_min']:9.2f} {c.feedforward:>6s} "
+            f"{fig('G_ccw_um'):>6s} {fig('G_cw_um'):>6s} {fig('H_um'):>6s} "
+            + " ".join(gl)
+            + f" {r['wall_s']:8.2f}"
+        )
     return "\n".join(lines)

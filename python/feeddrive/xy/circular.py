@@ -25,6 +25,7 @@ The least-squares circle minimises sum (|p_i - c| - R)^2 (scipy.optimize.least_s
 started from the algebraic fit); the path's samples are equally spaced in time at constant
 feed, so equally weighted in angle.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -51,10 +52,11 @@ def fit_circle(x: ArrayLike, y: ArrayLike) -> CircleFit:
     """The least-squares circle through the points (x, y) (at least 3, not collinear)."""
     x, y = np.asarray(x, float), np.asarray(y, float)
     if x.shape != y.shape or x.ndim != 1 or x.size < 3:
-        raise ValueError(f"fit_circle: x and y must be 1-D of the same length >= 3 "
-                         f"(got {x.shape}, {y.shape})")
+        raise ValueError(
+            f"fit_circle: x and y must be 1-D of the same length >= 3 (got {x.shape}, {y.shape})"
+        )
     mx, my = x.mean(), y.mean()
-    u, v = x - mx, y - my                       # algebraic (Kasa) fit, centred for conditioning
+    u, v = x - mx, y - my  # algebraic (Kasa) fit, centred for conditioning
     A = np.column_stack([u, v, np.ones_like(u)])
     sol, *_ = np.linalg.lstsq(A, u**2 + v**2, rcond=None)
     c0 = np.array([sol[0] / 2, sol[1] / 2])
@@ -66,8 +68,9 @@ def fit_circle(x: ArrayLike, y: ArrayLike) -> CircleFit:
     def res(p: np.ndarray) -> np.ndarray:
         return (np.hypot(u - p[0] * scale, v - p[1] * scale) - p[2] * scale) / scale
 
-    fit = least_squares(res, np.array([c0[0], c0[1], r0]) / scale, method="lm",
-                        xtol=1e-15, ftol=1e-15, gtol=1e-15)
+    fit = least_squares(
+        res, np.array([c0[0], c0[1], r0]) / scale, method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15
+    )
     cx, cy, r = fit.x * scale
     return CircleFit(float(cx + mx), float(cy + my), float(abs(r)))
 
@@ -145,8 +148,8 @@ class Glitch:
     """The reversal spike at one quadrant transition."""
 
     angle_deg: float
-    axis: str               #: the axis that reverses there
-    height: float           #: [m], signed, positive outwards
+    axis: str  #: the axis that reverses there
+    height: float  #: [m], signed, positive outwards
 
 
 def glitch_window(radius: float, feed: float, duration: float = 0.4) -> float:
@@ -158,13 +161,14 @@ def glitch_window(radius: float, feed: float, duration: float = 0.4) -> float:
 def glitches(t: Trace, lag_deg: float, lead_deg: float = LEAD_DEG) -> list[Glitch]:
     """The four quadrant glitches of a trace (module docstring)."""
     if not (0 < lead_deg < FLANK_DEG and 0 < lag_deg < FLANK_DEG):
-        raise ValueError(f"glitches: lead {lead_deg} and lag {lag_deg} deg must be in "
-                         f"(0, {FLANK_DEG})")
+        raise ValueError(
+            f"glitches: lead {lead_deg} and lag {lag_deg} deg must be in (0, {FLANK_DEG})"
+        )
     s = -1.0 if t.direction == "cw" else 1.0
     th, F = np.rad2deg(t.theta), t.F
     out = []
     for q, axis in QUADRANTS:
-        d = s * ((th - q + 180.0) % 360.0 - 180.0)      # travelled past theta_q [deg]
+        d = s * ((th - q + 180.0) % 360.0 - 180.0)  # travelled past theta_q [deg]
         inner, before = (d >= -lead_deg) & (d <= lag_deg), (d >= -FLANK_DEG) & (d < -lead_deg)
         if not inner.any() or not before.any():
             raise ValueError(f"glitches: the path has no samples near {q:g} deg")

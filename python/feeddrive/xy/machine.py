@@ -16,6 +16,7 @@ simulated **plant** of an axis is its nominal model times the Sec. 4 mismatch
 (:data:`feeddrive.experiments.sec4.PERTURBATION`: a real machine is never its model), or the
 nominal model itself with ``mismatch="none"``.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -83,18 +84,27 @@ class AxisModel:
     source: str
 
 
-def xy_axes(x_model: str | Path | None = None, y_model: str | Path | None = None,
-            mismatch: str = "sec4") -> tuple[AxisModel, AxisModel]:
+def xy_axes(
+    x_model: str | Path | None = None, y_model: str | Path | None = None, mismatch: str = "sec4"
+) -> tuple[AxisModel, AxisModel]:
     """The X and Y axes: the defaults, or the model files given (ValueError naming the file)."""
     if mismatch not in MISMATCH:
         raise ValueError(f"mismatch = {mismatch!r}: allowed {', '.join(MISMATCH)}")
     x_nom = dict(load_model(x_model).fmu_parameters()) if x_model else dict(paper_parameters())
     y_nom = dict(load_model(y_model).fmu_parameters()) if y_model else y_axis_parameters()
     plant = mismatched if mismatch == "sec4" else dict
-    return (AxisModel("X", x_nom, plant(x_nom), str(x_model) if x_model else "paper drive"),
-            AxisModel("Y", y_nom, plant(y_nom), str(y_model) if y_model else
-                      f"paper drive carrying X: friction x{Y_FRICTION:g}, magnets "
-                      f"+{Y_MAGNET_SHIFT * 1e3:g} mm"))
+    return (
+        AxisModel("X", x_nom, plant(x_nom), str(x_model) if x_model else "paper drive"),
+        AxisModel(
+            "Y",
+            y_nom,
+            plant(y_nom),
+            str(y_model)
+            if y_model
+            else f"paper drive carrying X: friction x{Y_FRICTION:g}, magnets "
+            f"+{Y_MAGNET_SHIFT * 1e3:g} mm",
+        ),
+    )
 
 
 def identical_axes(mismatch: str = "sec4") -> tuple[AxisModel, AxisModel]:

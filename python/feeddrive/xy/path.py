@@ -14,6 +14,7 @@ close the run (at rest over the ZPETC preview, the controller FMU's inputs and t
 pre-filter start alike).
 x, v, a of each axis are exact (analytic) at every sample.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -34,13 +35,13 @@ class CirclePath:
     x: Reference
     y: Reference
     radius: float
-    feed: float                     #: [m/s]
-    direction: str                  #: "ccw" or "cw"
+    feed: float  #: [m/s]
+    direction: str  #: "ccw" or "cw"
     centre: tuple[float, float]
-    theta: np.ndarray               #: nominal angle per sample [rad] (unwrapped)
-    eval_start: int                 #: first sample of the evaluated revolution
-    eval_stop: int                  #: one past its last sample
-    ramp: float                     #: [s]
+    theta: np.ndarray  #: nominal angle per sample [rad] (unwrapped)
+    eval_start: int  #: first sample of the evaluated revolution
+    eval_stop: int  #: one past its last sample
+    ramp: float  #: [s]
 
     @property
     def omega(self) -> float:
@@ -63,8 +64,11 @@ def _profile(t: np.ndarray, w0: float, T: float, Tc: float) -> tuple[np.ndarray,
     c = 2 * np.pi / T
 
     def up(s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        return (w0 * (s**2 / (2 * T) - (1 - np.cos(c * s)) / (c**2 * T)),
-                w0 * (s / T - np.sin(c * s) / (2 * np.pi)), w0 / T * (1 - np.cos(c * s)))
+        return (
+            w0 * (s**2 / (2 * T) - (1 - np.cos(c * s)) / (c**2 * T)),
+            w0 * (s / T - np.sin(c * s) / (2 * np.pi)),
+            w0 / T * (1 - np.cos(c * s)),
+        )
 
     total = w0 * (T + Tc)
     phi, dphi, ddphi = (np.zeros_like(t) for _ in range(3))
@@ -80,10 +84,17 @@ def _profile(t: np.ndarray, w0: float, T: float, Tc: float) -> tuple[np.ndarray,
     return phi, dphi, ddphi
 
 
-def circle_path(radius: float, feed: float, direction: str = "ccw",
-                centre: tuple[float, float] = (0.15, 0.15), Ts: float = 5e-4,
-                ramp: float | None = None, settle: float = 0.25, dwell: float = 0.05,
-                eval_start_deg: float = 45.0) -> CirclePath:
+def circle_path(
+    radius: float,
+    feed: float,
+    direction: str = "ccw",
+    centre: tuple[float, float] = (0.15, 0.15),
+    Ts: float = 5e-4,
+    ramp: float | None = None,
+    settle: float = 0.25,
+    dwell: float = 0.05,
+    eval_start_deg: float = 45.0,
+) -> CirclePath:
     """The circle's references on X and Y (see the module docstring).
 
     Parameters
@@ -100,8 +111,10 @@ def circle_path(radius: float, feed: float, direction: str = "ccw",
         raise ValueError(f"circle: direction = {direction!r}: allowed 'ccw' or 'cw'")
     T = default_ramp(feed) if ramp is None else float(ramp)
     if not T > 0 or settle < 0 or dwell < 0:
-        raise ValueError(f"circle: ramp = {T}, settle = {settle}, dwell = {dwell}: ramp must be "
-                         f"> 0, settle and dwell >= 0 [s]")
+        raise ValueError(
+            f"circle: ramp = {T}, settle = {settle}, dwell = {dwell}: ramp must be "
+            f"> 0, settle and dwell >= 0 [s]"
+        )
     s = DIRECTIONS[direction]
     w0 = feed / radius
     t_rev = 2 * np.pi / w0
@@ -119,6 +132,15 @@ def circle_path(radius: float, feed: float, direction: str = "ccw",
     t_e = dwell + T + settle
     k0 = int(np.ceil(t_e / Ts - 1e-9))
     k1 = int(np.floor((t_e + t_rev) / Ts + 1e-9)) + 1
-    return CirclePath(x=x, y=y, radius=float(radius), feed=float(feed), direction=direction,
-                      centre=(cx, cy), theta=theta, eval_start=k0, eval_stop=min(k1, n + 1),
-                      ramp=T)
+    return CirclePath(
+        x=x,
+        y=y,
+        radius=float(radius),
+        feed=float(feed),
+        direction=direction,
+        centre=(cx, cy),
+        theta=theta,
+        eval_start=k0,
+        eval_stop=min(k1, n + 1),
+        ramp=T,
+    )

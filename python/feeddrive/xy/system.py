@@ -11,6 +11,7 @@ the reference already moves at feed, so the first revolution is the start transi
 see :mod:`feeddrive.systems.engines`).  :func:`master_run` runs the same system on
 :func:`feeddrive.xy.table.simulate_axes` (the harness's convention) for comparison.
 """
+
 from __future__ import annotations
 
 import time
@@ -64,12 +65,19 @@ class XYSystem:
         w = 2 * np.pi / c["ref.period"]
         th = w * t + c["ref.phase"]
         A = c["ref.amplitude"]
-        return Reference(self.Ts, c["ref.centre"] - A * np.cos(th), A * w * np.sin(th),
-                         A * w**2 * np.cos(th))
+        return Reference(
+            self.Ts, c["ref.centre"] - A * np.cos(th), A * w * np.sin(th), A * w**2 * np.cos(th)
+        )
 
 
-def circle_system(axes: Sequence[AxisModel], radius: float, feed: float, direction: str,
-                  feedforward: str, Ts: float = 5e-4) -> XYSystem:
+def circle_system(
+    axes: Sequence[AxisModel],
+    radius: float,
+    feed: float,
+    direction: str,
+    feedforward: str,
+    Ts: float = 5e-4,
+) -> XYSystem:
     """The circle of ``radius`` [m] at ``feed`` [m/s], two revolutions from 45 deg."""
     check_fits(axes, radius)
     if direction not in DIRECTIONS:
@@ -88,10 +96,20 @@ def circle_system(axes: Sequence[AxisModel], radius: float, feed: float, directi
         ctrls[a.name] = values
         plants[a.name] = dict(a.plant)
         x0[a.name] = float(c - radius * np.cos(ph))
-    name = f"circle_r{radius * 1e3:g}mm_F{feed * 60:g}mmin_{direction}_{feedforward}".replace(".", "p")
-    return XYSystem(name=name, axes=names,
-                    plants=plants, controllers=ctrls, x0=x0, radius=float(radius), Ts=Ts,
-                    n=int(round(duration / Ts)), period=period)
+    name = f"circle_r{radius * 1e3:g}mm_F{feed * 60:g}mmin_{direction}_{feedforward}".replace(
+        ".", "p"
+    )
+    return XYSystem(
+        name=name,
+        axes=names,
+        plants=plants,
+        controllers=ctrls,
+        x0=x0,
+        radius=float(radius),
+        Ts=Ts,
+        n=int(round(duration / Ts)),
+        period=period,
+    )
 
 
 def _literal(kind: str, value: Any) -> str:
@@ -103,7 +121,9 @@ def _literal(kind: str, value: Any) -> str:
 
 
 def _typed(fmu: Path, values: Mapping[str, Any]) -> list[tuple[str, str, str]]:
-    types = {v.name: v.type for v in read_model_description(str(fmu), validate=False).modelVariables}
+    types = {
+        v.name: v.type for v in read_model_description(str(fmu), validate=False).modelVariables
+    }
     bad = sorted(set(values) - set(types))
     if bad:
         raise ValueError(f"{fmu}: no variable(s) {bad}")
@@ -115,19 +135,26 @@ def components(system: XYSystem) -> dict[str, tuple[Path, dict[str, Any]]]:
     out: dict[str, tuple[Path, dict[str, Any]]] = {}
     for ax in system.axes:
         x0 = system.x0[ax]
-        out[f"{ax.lower()}_controller"] = (controller_fmu_path(),
-                                           {**system.controllers[ax], "x_meas": x0})
-        out[f"{ax.lower()}_plant"] = (fmu_path(), {**system.plants[ax], "x": x0, "v": 0.0,
-                                                   "solver.tol": system.tolerance})
+        out[f"{ax.lower()}_controller"] = (
+            controller_fmu_path(),
+            {**system.controllers[ax], "x_meas": x0},
+        )
+        out[f"{ax.lower()}_plant"] = (
+            fmu_path(),
+            {**system.plants[ax], "x": x0, "v": 0.0, "solver.tol": system.tolerance},
+        )
     return out
 
 
 def write_xy_osp(system: XYSystem, directory: str | Path) -> Path:
     """``directory/OspSystemStructure.xml`` and both FMUs beside it; returns the XML."""
     sims = [(name, fmu, _typed(fmu, values)) for name, (fmu, values) in components(system).items()]
-    conns = [(a, ac, b, bc) for ax in system.axes
-             for c, p in ((f"{ax.lower()}_controller", f"{ax.lower()}_plant"),)
-             for a, ac, b, bc in ((p, "x", c, "x_meas"), (c, "u", p, "u"))]
+    conns = [
+        (a, ac, b, bc)
+        for ax in system.axes
+        for c, p in ((f"{ax.lower()}_controller", f"{ax.lower()}_plant"),)
+        for a, ac, b, bc in ((p, "x", c, "x_meas"), (c, "u", p, "u"))
+    ]
     return osp_structure(directory, system.Ts / system.jacobi_substeps, sims, conns)
 
 
@@ -135,14 +162,17 @@ def run_libcosim_xy(directory: str | Path, system: XYSystem) -> tuple[dict[str, 
     """libcosim on the OSP structure: each plant's x at t_k (row 0 NaN), and the wall time [s]."""
     from libcosimpy.CosimExecution import CosimExecution  # optional: the test extra
     from libcosimpy.CosimObserver import CosimObserver
+
     quiet_libcosim()
     ex = CosimExecution.from_osp_config_file(str(directory))
     obs = CosimObserver.create_last_value()
     ex.add_observer(obs)
     idx = {s.name.decode(): s.index for s in ex.slave_infos()}
     plants = {ax: f"{ax.lower()}_plant" for ax in system.axes}
-    vr = {ax: next(v.reference for v in ex.slave_variables(idx[p]) if v.name.decode() == "x")
-          for ax, p in plants.items()}
+    vr = {
+        ax: next(v.reference for v in ex.slave_variables(idx[p]) if v.name.decode() == "x")
+        for ax, p in plants.items()
+    }
     xs = {ax: np.full(system.n + 1, np.nan) for ax in system.axes}
     wall0 = time.perf_counter()
     for k in range(1, system.n + 1):
@@ -155,7 +185,11 @@ def run_libcosim_xy(directory: str | Path, system: XYSystem) -> tuple[dict[str, 
 
 def master_run(system: XYSystem) -> dict[str, np.ndarray]:
     """The same system on the X-Y master (reference as inputs, the harness's convention)."""
-    loops = [AxisLoop(ax, system.plants[ax], {**system.controllers[ax], "ref.source": 0},
-                      system.reference(ax)) for ax in system.axes]
+    loops = [
+        AxisLoop(
+            ax, system.plants[ax], {**system.controllers[ax], "ref.source": 0}, system.reference(ax)
+        )
+        for ax in system.axes
+    ]
     res = simulate_axes(loops, Ts=system.Ts, tolerance=system.tolerance)
     return {ax: np.asarray(res[ax]["x"]) for ax in system.axes}

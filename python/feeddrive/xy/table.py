@@ -12,6 +12,7 @@ values (x_meas = x0, the first reference inputs) and is the plant's start value 
 The axes are mechanically independent (an X-Y table on separate guides): the master couples
 them only in time.
 """
+
 from __future__ import annotations
 
 import ctypes
@@ -50,12 +51,17 @@ class _Axis:
 
     def __init__(self, loop: AxisLoop, ctrl: ControllerFMU, plant: Plant, n: int) -> None:
         if int(loop.controller.get("ref.source", 0)) != 0:
-            raise ValueError(f"axis {loop.name}: the master feeds the reference: the controller "
-                             f"needs ref.source 0")
+            raise ValueError(
+                f"axis {loop.name}: the master feeds the reference: the controller "
+                f"needs ref.source 0"
+            )
         if loop.reference.n < n:
-            raise ValueError(f"axis {loop.name}: the reference has {loop.reference.n} samples, "
-                             f"the run {n}")
-        preview = int(loop.controller.get("zpetc.preview", 0)) if loop.controller.get("zpetc.on") else 0
+            raise ValueError(
+                f"axis {loop.name}: the reference has {loop.reference.n} samples, the run {n}"
+            )
+        preview = (
+            int(loop.controller.get("zpetc.preview", 0)) if loop.controller.get("zpetc.on") else 0
+        )
         xr, vr, ar = preview_inputs(loop.reference, preview)
         self.xr, self.vr, self.ar = xr.tolist(), vr.tolist(), ar.tolist()
         self.ctrl, self.plant = ctrl, plant
@@ -66,8 +72,15 @@ class _Axis:
         cr, pr = ctrl.raw_calls(), plant.raw_calls()
         self.cc, self.pc = cr.component, pr.component
         self.c_step, self.p_step = cr.do_step, pr.do_step
-        self.c_get, self.c_set, self.p_get, self.p_set = cr.get_real, cr.set_real, pr.get_real, pr.set_real
-        self.vr_in = (ctypes.c_uint * 4)(*(ctrl.vr(v) for v in ("x_meas", "x_ref", "v_ref", "a_ref")))
+        self.c_get, self.c_set, self.p_get, self.p_set = (
+            cr.get_real,
+            cr.set_real,
+            pr.get_real,
+            pr.set_real,
+        )
+        self.vr_in = (ctypes.c_uint * 4)(
+            *(ctrl.vr(v) for v in ("x_meas", "x_ref", "v_ref", "a_ref"))
+        )
         self.vr_u_c = (ctypes.c_uint * 1)(ctrl.vr("u"))
         self.vr_u_p = (ctypes.c_uint * 1)(plant.vr("u"))
         self.vr_x = (ctypes.c_uint * 1)(plant.vr("x"))
@@ -80,9 +93,14 @@ class _Axis:
             raise FMUError(f"axis {loop.name}: plant fmi2GetReal x: {_message(plant)}")
 
 
-def simulate_axes(loops: Sequence[AxisLoop], n: int | None = None, Ts: float = 5e-4,
-                  tolerance: float = 1e-6, controller_path: str | Path | None = None,
-                  plant_path: str | Path | None = None) -> dict[str, Result]:
+def simulate_axes(
+    loops: Sequence[AxisLoop],
+    n: int | None = None,
+    Ts: float = 5e-4,
+    tolerance: float = 1e-6,
+    controller_path: str | Path | None = None,
+    plant_path: str | Path | None = None,
+) -> dict[str, Result]:
     """Run the axes n samples (default: the shortest reference); per axis a Result of time,
     x (the plant's, k = 0..n), u; each with the run's ``wall`` [s] (all axes together)."""
     if not loops:
@@ -90,15 +108,18 @@ def simulate_axes(loops: Sequence[AxisLoop], n: int | None = None, Ts: float = 5
     n = min(lp.reference.n for lp in loops) if n is None else int(n)
     for lp in loops:
         if float(lp.controller.get("Ts", Ts)) != Ts or lp.reference.Ts != Ts:
-            raise ValueError(f"axis {lp.name}: controller Ts {lp.controller.get('Ts')} and "
-                             f"reference Ts {lp.reference.Ts} must be the master's {Ts}")
+            raise ValueError(
+                f"axis {lp.name}: controller Ts {lp.controller.get('Ts')} and "
+                f"reference Ts {lp.reference.Ts} must be the master's {Ts}"
+            )
     with ExitStack() as stack:
         wall0 = time.perf_counter()
         axes = []
         for lp in loops:
             ctrl = stack.enter_context(ControllerFMU(lp.controller, path=controller_path))
-            plant = stack.enter_context(Plant(lp.plant, interface="cs", tolerance=tolerance,
-                                              path=plant_path))
+            plant = stack.enter_context(
+                Plant(lp.plant, interface="cs", tolerance=tolerance, path=plant_path)
+            )
             axes.append(_Axis(lp, ctrl, plant, n))
         for k in range(n):
             t = k * Ts
@@ -107,8 +128,11 @@ def simulate_axes(loops: Sequence[AxisLoop], n: int | None = None, Ts: float = 5
                     inp = ax.inp
                     inp[0], inp[1], inp[2], inp[3] = ax.xs[k], ax.xr[k], ax.vr[k], ax.ar[k]
                     at = ax.base_u + 8 * k
-                    if (ax.c_set(ax.cc, ax.vr_in, 4, inp) > 1 or ax.c_get(ax.cc, ax.vr_u_c, 1, at) > 1
-                            or ax.p_set(ax.pc, ax.vr_u_p, 1, at) > 1):
+                    if (
+                        ax.c_set(ax.cc, ax.vr_in, 4, inp) > 1
+                        or ax.c_get(ax.cc, ax.vr_u_c, 1, at) > 1
+                        or ax.p_set(ax.pc, ax.vr_u_p, 1, at) > 1
+                    ):
                         raise FMUError(f"exchange at t = {t}: {_message(ax.ctrl, ax.plant)}")
                 if ax.c_step(ax.cc, t, Ts, 1) > 1 or ax.p_step(ax.pc, t, Ts, 1) > 1:
                     raise FMUError(f"fmi2DoStep at t = {t}: {_message(ax.ctrl, ax.plant)}")
@@ -118,6 +142,12 @@ def simulate_axes(loops: Sequence[AxisLoop], n: int | None = None, Ts: float = 5
         out = {}
         for lp, ax in zip(loops, axes, strict=True):
             ax.us[n] = ax.us[n - 1]
-            out[lp.name] = Result({"time": np.arange(n + 1) * Ts, "x": np.array(ax.xs),
-                                   "u": np.array(ax.us), "wall": np.array(wall)})
+            out[lp.name] = Result(
+                {
+                    "time": np.arange(n + 1) * Ts,
+                    "x": np.array(ax.xs),
+                    "u": np.array(ax.us),
+                    "wall": np.array(wall),
+                }
+            )
     return out

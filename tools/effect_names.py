@@ -11,6 +11,7 @@ Usage: ``python tools/effect_names.py [ROOT]`` prints the count and the files pe
 
 from __future__ import annotations
 
+import argparse
 import ast
 import re
 import sys
@@ -108,7 +109,22 @@ def naming_files(root: Path, effect_ids: Iterable[str]) -> dict[str, list[str]]:
 
 
 def main(argv: list[str]) -> int:
-    root = Path(argv[0]) if argv else Path(__file__).resolve().parents[1]
+    ap = argparse.ArgumentParser(
+        description="Print, for each effect of the catalogue, how many product files name it "
+        "and which (the rule: this module's docstring, docs/adding-an-effect.md)."
+    )
+    ap.add_argument(
+        "root",
+        nargs="?",
+        type=Path,
+        default=Path(__file__).resolve().parents[1],
+        help="the repository's root (default: the one this tool is in)",
+    )
+    a = ap.parse_args(argv)
+    root: Path = a.root
+    if not (root / "python" / "feeddrive" / "effects").is_dir():
+        print(f"{root}: not a feeddrive checkout (no python/feeddrive/effects/)", file=sys.stderr)
+        return 2
     sys.path.insert(0, str(root / "python"))
     from feeddrive.effects import effect_ids
 

@@ -30,7 +30,7 @@ from ..harness.sidecar import SCHEMA
 from ..model_file import ModelFile
 from ..paper import MAGNET_PITCH_MM, MM
 from ..physics import CurrentLoop
-from .constant_speed import PAPER_LOADS
+from .constant_speed import PAPER_LOADS, STRIBECK_SPEEDS
 from .force_open_loop import square_wave_input
 from .prerolling_excitation import AMPLITUDES as PREROLLING_AMPLITUDES
 from .recording import HOLD, STROKE_MARGIN
@@ -43,19 +43,7 @@ MAP_SPAN = 2 * PITCH
 #: speed of the constant-speed runs for the maps [m/s] (Eq. 3 cancels friction symmetric in
 #: v, so the speed is free: 10 mm/s crosses 0.3 m in 30 s)
 MAP_SPEED = 10e-3
-#: candidate speeds of the Stribeck runs [m/s], both directions, unloaded
-STRIBECK_SPEEDS: tuple[float, ...] = (
-    0.3e-3,
-    0.6e-3,
-    1e-3,
-    2e-3,
-    4e-3,
-    8e-3,
-    15e-3,
-    30e-3,
-    60e-3,
-    120e-3,
-)
+#: the Stribeck runs' candidate speeds are the campaign's (constant_speed.STRIBECK_SPEEDS)
 MIN_STRIBECK_SPEEDS = 6  #: Eq. 12's fit needs >= 6 speeds (both directions each)
 STRIBECK_CRUISE = 60.0  #: cruise time aimed at [s], ...
 STRIBECK_MAX_LENGTH = 0.24  #: ... within one pitch .. this length [m]

@@ -10,6 +10,7 @@ import ctypes
 import math
 import re
 from collections.abc import Iterator
+from pathlib import Path
 
 import pytest
 from fmpy import extract, read_model_description
@@ -24,7 +25,7 @@ from fmpy.fmi2 import (
 from fmpy.fmi3 import FMU3Model, FMU3Slave, fmi3Boolean, fmi3Float64
 
 from conftest import FMU3, VERSIONS
-from feeddrive.fmu import Plant
+from feeddrive.fmu import FMUError, Plant
 
 FMI_ERROR = 3
 # the functions the call-sequence tests call, by version
@@ -376,3 +377,31 @@ def test_instance_survives_and_can_be_reset(me: Raw) -> None:
     me.reset()
     me.initialized()
     assert math.isfinite(me.get("F_cogging"))
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_plant_start_refused_is_an_fmu_error(
+    version: str, fmu2_path: Path, fmu3_path: Path
+) -> None:
+    """A call refused while Plant.start sets up the instance (here a negative tolerance: the
+    FMU allows a finite tolerance > 0) is an FMUError with the FMU's message, not fmpy's bare
+    Exception."""
+    path = fmu2_path if version == "2.0" else fmu3_path
+    plant = Plant(path=path, tolerance=-1.0)
+    with pytest.raises(FMUError, match=r"tolerance = -1"):
+        plant.start()
+    plant.close()
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_step_past_stop_time_names_the_call_that_set_it(
+    version: str, fmu2_path: Path, fmu3_path: Path
+) -> None:
+    """The stop time comes from fmi2SetupExperiment (FMI 2.0) or fmi3EnterInitializationMode
+    (FMI 3.0); the refusal of a step past it names the call of the instance's version."""
+    plant = Plant(path=fmu2_path if version == "2.0" else fmu3_path)
+    plant.start(stop_time=0.01)
+    setter = "fmi2SetupExperiment" if version == "2.0" else "fmi3EnterInitializationMode"
+    with pytest.raises(FMUError, match=rf"passes the stopTime 0\.01 given to {setter}$"):
+        plant.do_step(0.0, 0.02)
+    plant.close()

@@ -64,8 +64,8 @@ double fmu_ulp_slack(double t) {
 int fmu_finite_result(instance_t *c, const char *fn, const double *x, size_t n) {
     size_t j;
     if (!c->m.params_ok) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "%s: the model is not initialized (no successful "
-                "fmi2ExitInitializationMode)", fn);
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: the model is not initialized (no successful %s)", fn,
+                c->fmi3 ? "fmi3ExitInitializationMode" : "fmi2ExitInitializationMode");
         return 0;
     }
     for (j = 0; j < n; j++) {

@@ -32,6 +32,7 @@ import shutil
 import tempfile
 import threading
 from collections.abc import Callable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Protocol, Self
@@ -249,15 +250,31 @@ class Plant:
         if self._instantiated:
             self._fmi.free()
         self.messages.clear()
-        self._fmi.instantiate(self._log)
+        with self._refused("instantiating"):
+            self._fmi.instantiate(self._log)
         self._instantiated = True
         self.generation += 1
-        self._fmi.prepare(self.tolerance, t0, stop_time)
+        with self._refused("setting up the experiment"):
+            self._fmi.prepare(self.tolerance, t0, stop_time)
         self.set(self.parameters)
         if start_values:
             self.set(start_values)
-        self._fmi.initialise(self.tolerance, t0, stop_time)
+        with self._refused("initialising"):
+            self._fmi.initialise(self.tolerance, t0, stop_time)
         self.time = t0
+
+    @contextmanager
+    def _refused(self, what: str) -> Iterator[None]:
+        """Turn fmpy's bare exception for a refused FMI call into an :class:`FMUError` that
+        names the step and carries the FMU's last message."""
+        try:
+            yield
+        except FMUError:
+            raise
+        except Exception as e:  # fmpy raises Exception on fmi2Error / fmi3Error
+            raise FMUError(
+                f"{what} {self.path.name}: " + (self.messages[-1] if self.messages else str(e))
+            ) from None
 
     def do_step(self, t: float, h: float) -> bool:
         """Co-simulation: one step [t, t + h] (fmi2DoStep / fmi3DoStep); True when the FMU

@@ -58,8 +58,8 @@ static int step_args_ok(instance_t *c, const char *fn, double t, double h, doubl
         return 0;
     }
     if (m->stop_defined && t + h > m->stop_time + eps) {
-        fmu_log(c, fmi2Error, LOG_ERROR, "%s: step to %.17g passes the stopTime %.17g given to "
-                "fmi2SetupExperiment", fn, t + h, m->stop_time);
+        fmu_log(c, fmi2Error, LOG_ERROR, "%s: step to %.17g passes the stopTime %.17g given to %s", fn,
+                t + h, m->stop_time, c->fmi3 ? "fmi3EnterInitializationMode" : "fmi2SetupExperiment");
         return 0;
     }
     return 1;

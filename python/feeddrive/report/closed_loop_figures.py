@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+from string import ascii_lowercase
+
 import matplotlib.pyplot as plt
 import numpy as np
 
 
 def fig14(sec3, window: float = 0.2) -> plt.Figure:
-    """Top reversal of the 30 mm sinusoid: measured vs each simulated model (Fig. 14 a-c)."""
+    """Top reversal of the 30 mm sinusoid: measured vs each simulated model (Fig. 14 a-c; one panel per model)."""
     run = sec3.measured
     top = sec3.top_reversal
     Ts = run.time[1] - run.time[0]
@@ -15,7 +17,7 @@ def fig14(sec3, window: float = 0.2) -> plt.Figure:
     sl = slice(max(0, top - w), top + w + 1)
     names = list(sec3.simulated)
     fig, axes = plt.subplots(1, len(names), figsize=(4.2 * len(names), 3.4), sharey=True)
-    for ax, name, tag in zip(np.atleast_1d(axes), names, "abc", strict=False):
+    for ax, name, tag in zip(np.atleast_1d(axes), names, ascii_lowercase, strict=False):
         x_top = run.x[top]
         ax.plot(run.time[sl], (run.x[sl] - x_top) * 1e6, "k-", lw=1.6, label="measured")
         ax.plot(
@@ -48,10 +50,10 @@ def sim_minus_measured(sec3) -> plt.Figure:
 
 
 def fig16(sec4) -> plt.Figure:
-    """Tracking error against time for each feedforward (Fig. 16 a-c)."""
+    """Tracking error against time for each feedforward (Fig. 16 a-c; one panel per case)."""
     cases = list(sec4.errors)
     fig, axes = plt.subplots(len(cases), 1, figsize=(9, 2.4 * len(cases)), sharex=True, sharey=True)
-    for ax, name, tag in zip(np.atleast_1d(axes), cases, "abc", strict=False):
+    for ax, name, tag in zip(np.atleast_1d(axes), cases, ascii_lowercase, strict=False):
         t, e = sec4.time, sec4.errors[name]
         ax.plot(t, e * 1e6, "k-", lw=0.7)
         ax.set_title(f"({tag}) {name}", fontsize=9)

@@ -21,7 +21,14 @@ SUB = next(a for a in PARSER._actions if isinstance(a, argparse._SubParsersActio
 ROLES = cli.path_roles(PARSER)
 
 #: what --help may import of the package: the package itself, the parser and its one helper
-LIGHT = {"feeddrive", "feeddrive.cli", "feeddrive.inputs"}
+LIGHT = {
+    "feeddrive",
+    "feeddrive.cli",
+    "feeddrive.cli.arguments",
+    "feeddrive.cli.data_commands",
+    "feeddrive.cli.simulation_commands",
+    "feeddrive.inputs",
+}
 HEAVY = ("numpy", "scipy", "fmpy", "matplotlib", "dask", "distributed", "pandas", "pyarrow", "tqdm")
 
 
@@ -131,7 +138,7 @@ def test_one_option_vocabulary():
         if model is not None:  # --model is a model file the command reads
             assert ROLES[name][model.dest] == cli.FILE, name
         if workers is not None:  # --workers: processes, an integer >= 1
-            assert workers.type is cli._STEPS, name
+            assert workers.type is cli.STEPS, name
 
 
 def test_choices_are_the_modules_own():

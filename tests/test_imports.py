@@ -14,7 +14,8 @@ each other)::
     <- harness (closed loop, sidecar, checked runs) <- experiments (the campaign, Secs. 3 and 4)
     <- residual (the force residual), systems (SSP, OSP, container)
     <- identify, validation, diagnose, realdata, xy (the X-Y table and its circular test)
-    <- study <- report <- cli, commands, bench
+    <- study <- report <- commands, bench_c, bench_campaign, bench_study
+    <- cli (the parser), bench_cli (times it), bench (the `make bench` table)
 """
 
 from __future__ import annotations
@@ -55,14 +56,14 @@ LAYERS: dict[str, int] = {
     "xy": 8,
     "study": 9,
     "report": 10,
-    "cli": 11,
+    "cli": 12,
     "commands": 11,
-    "bench": 11,
+    "bench": 12,
     "bench_c": 11,
     "bench_campaign": 11,
-    "bench_cli": 11,
+    "bench_cli": 12,
     "bench_study": 11,
-    "__main__": 11,
+    "__main__": 12,
 }
 
 
@@ -174,7 +175,8 @@ def test_no_import_cycle() -> None:
     assert not real, f"import cycles: {real}"
 
 
-#: the modules that may import the package inside functions (lazy loading of the commands)
+#: the modules (and their submodules) that may import the package inside functions (lazy
+#: loading of the commands)
 LAZY = {"feeddrive.cli"}
 
 
@@ -182,7 +184,7 @@ def test_no_function_local_package_import() -> None:
     bad = [
         f"{p.relative_to(PKG.parent)}:{line} imports {t}"
         for p in sorted(PKG.rglob("*.py"))
-        if _module_name(p) not in LAZY
+        if not any(_module_name(p) == m or _module_name(p).startswith(m + ".") for m in LAZY)
         for t, line, in_func in _imports(p)
         if in_func
     ]

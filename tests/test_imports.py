@@ -10,7 +10,7 @@ each other)::
     effects (the effect registry)
     <- paper, data, data_csv, signals, model_description, inputs, outputs  <- physics, plausibility
     <- model_file, fits (fits identification and diagnosis share)
-    <- fmu (fmu3: its FMI 3.0 adapter), export_fmu <- control
+    <- fmu (fmu2, fmu3: its FMI 2.0 and 3.0 adapters; fmu_extraction), export_fmu <- control
     <- harness (closed loop, sidecar, checked runs) <- experiments (the campaign, Secs. 3 and 4)
     <- residual (the force residual), systems (SSP, OSP, container)
     <- identify, validation, diagnose, realdata, xy (the X-Y table and its circular test)
@@ -42,7 +42,9 @@ LAYERS: dict[str, int] = {
     "model_file": 2,
     "fits": 2,
     "fmu": 3,
+    "fmu2": 3,
     "fmu3": 3,
+    "fmu_extraction": 3,
     "export_fmu": 3,
     "control": 4,
     "harness": 5,

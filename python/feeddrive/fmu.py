@@ -9,49 +9,36 @@ Two interfaces of the same ``.fmu``:
   state events and time events handled here as FMI 2.0 prescribes.  The reference path.
 
 The FMU file's ``fmiVersion`` picks the FMI version once, when a :class:`Plant` is made: the
-calls that differ go through one adapter (:class:`_FMI2` here, :class:`feeddrive.fmu3.FMI3`),
+calls that differ go through one adapter (:class:`feeddrive.fmu2.FMI2`, :class:`feeddrive.fmu3.FMI3`),
 so an FMI 3.0 build (``LinearMotorFeedDrive3.fmu``) runs behind the same API (fmpy's
 FMU3Slave / FMU3Model), FMI 2.0 names included: ``friction.F[3]`` is element 3 of the FMI 3.0 array ``friction.F``,
 ``friction.N`` is set in Configuration Mode (:mod:`feeddrive.fmu3`), and :meth:`Plant.raw_calls`
 gives fmi3DoStep / fmi3GetFloat64 / fmi3SetFloat64 in the FMI 2.0 call shapes.
 
-Every :class:`Plant` of one ``.fmu`` file (same path, same modification time and size) in a
-process shares one extraction and one parsed model description (:func:`unpacked`); each Plant
-still has its own fmpy wrapper and FMI instance (the library is loaded once: ``dlopen`` of
-the same file counts references, fmpy's ``freeInstance`` drops one, and the cache holds one
-for the process).  The extractions are
-removed when the process that made them exits.
+Every :class:`Plant` of one ``.fmu`` file in a process shares one extraction and one parsed
+model description (:func:`feeddrive.fmu_extraction.unpacked`); each Plant still has its own
+fmpy wrapper and FMI instance.
 """
 
 from __future__ import annotations
 
-import atexit
 import ctypes
-import os
-import shutil
-import tempfile
-import threading
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Protocol, Self
 
 import numpy as np
-from fmpy import extract, platform_tuple, read_model_description, sharedLibraryExtension
-from fmpy import platform as fmpy_platform
 from fmpy.fmi2 import (
-    FMU2Model,
-    FMU2Slave,
-    defaultCallbacks,
-    fmi2CallbackFunctions,
-    fmi2CallbackLoggerTYPE,
     fmi2Real,
     fmi2ValueReference,
 )
 from fmpy.model_description import ModelDescription, ScalarVariable
 
-from . import fmu3
+from . import fmu2, fmu3
+from .fmu_extraction import Unpacked as Unpacked
+from .fmu_extraction import unpacked as unpacked
 from .model_description import DEFAULT_FMU as DEFAULT_FMU
 from .model_description import FMU_ENV as FMU_ENV
 from .model_description import FMUError as FMUError
@@ -60,79 +47,6 @@ from .model_description import fmi_version as fmi_version
 from .model_description import fmu_path as fmu_path
 
 OUTPUTS = ("x", "v", "a", "i", "F_motor", "F_cogging", "F_friction", "K_f")
-
-
-@dataclass(frozen=True)
-class Unpacked:
-    """One extraction of an ``.fmu``: its folder and parsed model description (shared, read-only)."""
-
-    path: Path
-    directory: str
-    md: ModelDescription
-    vars: Mapping[str, ScalarVariable]
-    #: the process's own reference on the shared libraries: a Plant's ``freeInstance``
-    #: (dlclose) never unloads a library other Plants use
-    libraries: tuple[ctypes.CDLL, ...] = ()
-    #: FMI 3.0: the model description at each configured friction.N (made on first use)
-    dimensioned: dict[int, ModelDescription] = field(default_factory=dict)
-
-    def with_n(self, n: int) -> ModelDescription:
-        """The model description with arrays of ``friction.N = n`` elements (FMI 3.0; shared)."""
-        md = self.dimensioned.get(n)
-        if md is None:
-            md = self.dimensioned[n] = fmu3.with_dimension(self.md, n)
-        return md
-
-
-class _ExtractionCache:
-    """Extractions by (resolved path, mtime, size), made once per process, removed at exit."""
-
-    def __init__(self) -> None:
-        self._lock = threading.Lock()
-        self._entries: dict[tuple[str, int, int], Unpacked] = {}
-        self._owner = os.getpid()  # a forked child must not remove its parent's folders
-        atexit.register(self.clear)
-
-    def get(self, path: Path) -> Unpacked:
-        st = path.stat()
-        key = (str(path.resolve()), st.st_mtime_ns, st.st_size)
-        with self._lock:
-            hit = self._entries.get(key)
-            if hit is None:
-                md = read_model_description(str(path))
-                directory = tempfile.mkdtemp(prefix="feeddrive_fmu_")
-                extract(str(path), directory)
-                ids = {i.modelIdentifier for i in (md.coSimulation, md.modelExchange) if i}
-                plat = platform_tuple if md.fmiVersion.startswith("3") else fmpy_platform
-                libs = tuple(
-                    ctypes.CDLL(
-                        os.path.join(directory, "binaries", plat, i + sharedLibraryExtension)
-                    )
-                    for i in sorted(ids)
-                )
-                hit = Unpacked(path, directory, md, {v.name: v for v in md.modelVariables}, libs)
-                self._entries[key] = hit
-            return hit
-
-    def clear(self) -> None:
-        """Remove the extractions (at exit; a Plant still open keeps its loaded library)."""
-        with self._lock:
-            entries, self._entries = self._entries, {}
-        if os.getpid() == self._owner:
-            for e in entries.values():
-                shutil.rmtree(e.directory, ignore_errors=True)
-
-
-_CACHE = _ExtractionCache()
-
-
-def unpacked(path: str | Path) -> Unpacked:
-    """The process's extraction of the ``.fmu`` at ``path`` (made on first use).
-
-    A file changed since (another mtime or size) is extracted again; the previous
-    extraction stays until exit for the Plants that use it.
-    """
-    return _CACHE.get(Path(path))
 
 
 @dataclass
@@ -155,7 +69,7 @@ class Plant:
     """One FMU instance of the feed drive.
 
     The calls that differ between FMI 2.0 and FMI 3.0 are made by one adapter chosen here
-    from the file's ``fmiVersion`` (:class:`_FMI2`, :class:`feeddrive.fmu3.FMI3`).
+    from the file's ``fmiVersion`` (:class:`feeddrive.fmu2.FMI2`, :class:`feeddrive.fmu3.FMI3`).
 
     Parameters
     ----------
@@ -192,7 +106,7 @@ class Plant:
         self._fmi: _Version = (
             fmu3.FMI3(self.path, shared, self.parameters, self.messages)
             if self.fmi_version.startswith("3")
-            else _FMI2(self.path, shared, self.messages)
+            else fmu2.FMI2(self.path, shared, self.messages)
         )
         self.md = self._fmi.md
         self.vars = self._fmi.vars
@@ -369,7 +283,7 @@ class Plant:
 
 class _Version(Protocol):
     """The FMI calls of a :class:`Plant` that differ between FMI 2.0 and FMI 3.0, chosen once
-    when the Plant is made (:class:`_FMI2`; :class:`feeddrive.fmu3.FMI3`)."""
+    when the Plant is made (:class:`feeddrive.fmu2.FMI2`; :class:`feeddrive.fmu3.FMI3`)."""
 
     @property
     def md(self) -> ModelDescription:
@@ -434,133 +348,6 @@ class _Version(Protocol):
 
     def check_raw(self, names: Sequence[str]) -> None:
         """KeyError naming a variable the raw calls cannot reach."""
-
-
-class _FMI2:
-    """FMI 2.0 behind :class:`Plant`: fmpy's FMU2Slave / FMU2Model, every name a scalar."""
-
-    def __init__(self, path: Path, shared: Unpacked, messages: list[str]) -> None:
-        self.path = path
-        self.md = shared.md
-        self.vars = shared.vars
-        self.messages = messages
-        self.fmu: Any = None
-
-    def wrapper_class(self, interface: str) -> Any:
-        return FMU2Slave if interface == "cs" else FMU2Model
-
-    def _logger(
-        self, env: object, name: object, status: object, category: object, message: object
-    ) -> None:  # fmpy callback
-        self.messages.append(message.decode() if isinstance(message, bytes) else str(message))
-
-    def element(self, name: str) -> tuple[ScalarVariable, int] | None:
-        return None
-
-    def set(self, values: Mapping[str, float | int | bool]) -> None:
-        for name, value in values.items():
-            v = self.vars.get(name)
-            if v is None:
-                raise KeyError(f"{name!r} is not a variable of {self.path.name}")
-            try:
-                if v.type == "Real":
-                    self.fmu.setReal([v.valueReference], [float(value)])
-                elif v.type == "Integer":
-                    self.fmu.setInteger([v.valueReference], [int(value)])
-                elif v.type == "Boolean":
-                    self.fmu.setBoolean([v.valueReference], [bool(value)])
-            except Exception as e:  # fmpy raises on fmi2Error
-                raise FMUError(
-                    f"setting {name} = {value!r}: "
-                    + (self.messages[-1] if self.messages else str(e))
-                ) from None
-
-    def get(self, names: Sequence[str]) -> dict[str, float]:
-        out = {}
-        for name in names:
-            v = self.vars[name]
-            if v.type == "Real":
-                out[name] = self.fmu.getReal([v.valueReference])[0]
-            elif v.type == "Integer":
-                out[name] = self.fmu.getInteger([v.valueReference])[0]
-            else:
-                out[name] = self.fmu.getBoolean([v.valueReference])[0]
-        return out
-
-    def free(self) -> None:
-        self.fmu.fmi2FreeInstance(self.fmu.component)
-
-    def instantiate(self, log: bool) -> None:
-        cb = fmi2CallbackFunctions()
-        self._logger_c = fmi2CallbackLoggerTYPE(self._logger)  # kept alive with the instance
-        cb.logger = self._logger_c
-        cb.allocateMemory = defaultCallbacks.allocateMemory
-        cb.freeMemory = defaultCallbacks.freeMemory
-        self._callbacks = cb
-        self.fmu.instantiate(loggingOn=log, callbacks=cb)
-
-    def prepare(self, tolerance: float, t0: float, stop_time: float | None) -> None:
-        self.fmu.setupExperiment(tolerance=tolerance, startTime=t0, stopTime=stop_time)
-
-    def initialise(self, tolerance: float, t0: float, stop_time: float | None) -> None:
-        self.fmu.enterInitializationMode()
-        try:
-            self.fmu.exitInitializationMode()
-        except Exception:
-            raise FMUError(
-                "initialisation failed: " + (self.messages[-1] if self.messages else "")
-            ) from None
-
-    def do_step(self, t: float, h: float) -> bool:
-        self.fmu.doStep(currentCommunicationPoint=t, communicationStepSize=h)
-        return False
-
-    def update_discrete_states(self) -> tuple[Any, ...]:
-        out: tuple[Any, ...] = self.fmu.newDiscreteStates()
-        return out
-
-    def derivatives(self) -> Callable[..., Any]:
-        f: Callable[..., Any] = self.fmu.getDerivatives
-        return f
-
-    def get_state(self) -> object:
-        return self.fmu.getFMUstate()
-
-    def set_state(self, state: object) -> None:
-        self.fmu.setFMUstate(state)
-
-    def serialize_state(self, state: object) -> bytes:
-        blob: bytes = self.fmu.serializeFMUstate(state)
-        return blob
-
-    def deserialize_state(self, blob: bytes) -> object:
-        return self.fmu.deSerializeFMUstate(blob)
-
-    def reset(self) -> None:
-        self.fmu.reset()
-
-    def raw_handles(self) -> tuple[Callable[..., int], ...]:
-        return _load_raw_handles(self.fmu.dll)
-
-    def check_raw(self, names: Sequence[str]) -> None:
-        return None
-
-
-def _load_raw_handles(dll: ctypes.CDLL) -> tuple[Callable[..., int], ...]:
-    """fmi2DoStep, fmi2GetReal, fmi2SetReal of ``dll`` with our own ctypes signatures."""
-    ptr, n = ctypes.c_void_p, ctypes.c_size_t
-    sigs: tuple[tuple[str, list[Any]], ...] = (
-        ("fmi2DoStep", [ptr, ctypes.c_double, ctypes.c_double, ctypes.c_int]),
-        ("fmi2GetReal", [ptr, ptr, n, ptr]),
-        ("fmi2SetReal", [ptr, ptr, n, ptr]),
-    )
-    out = []
-    for name, argtypes in sigs:
-        f = dll[name]  # a new function object: fmpy's own handle is left alone
-        f.restype = ctypes.c_int
-        f.argtypes = argtypes
-        out.append(f)
-    return tuple(out)
 
 
 @dataclass(frozen=True)

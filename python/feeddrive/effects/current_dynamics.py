@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from .effect import Candidate, Effect, Identification, Parameter
+from .effect import Candidate, Effect, Identification, Parameter, Structure
 
 EFFECT = Effect(
     id="current_dynamics",
@@ -28,4 +28,5 @@ EFFECT = Effect(
         "current loop: order, delay, G(1) and fit percentage",
         "figure: PRBS response and identified G(z)",
     ),
+    structure=Structure.CURRENT_FILTER,
 )

@@ -49,10 +49,10 @@ from effect_names import naming_files, product_files  # noqa: E402
 MAX_FILES = 4
 NO_SWITCH_FILES = 2
 
-#: Python files that still hold code for an effect outside its module: the physics' switch
-#: handling, the diagnosis candidate builders, identification steps, experiment groups and
-#: run kinds spelled like the effect, scenarios that switch it.  Each entry is a move into
-#: ``feeddrive/effects/<id>.py`` still to do; the test fails when one is no longer needed.
+#: Python files that still hold code for an effect outside its module: the diagnosis
+#: candidate builders, identification steps, experiment groups and run kinds spelled like the
+#: effect.  Each entry is a move into ``feeddrive/effects/<id>.py`` still to do; the test
+#: fails when one is no longer needed.
 PYTHON_ALLOWANCE: dict[str, frozenset[str]] = {
     "python/feeddrive/diagnose/candidates.py": frozenset(effect_ids()),
     "python/feeddrive/diagnose/emps.py": frozenset({"mass", "viscous", "offset_force"}),

@@ -13,10 +13,10 @@ every rule of the FMU in its order and applies the effect switches once:
   ``min``/``max`` that modelDescription.xml declares (read from the FMU's own file by
   :mod:`feeddrive.model_description`), the interval that keeps the arithmetic finite;
 - the compiled set (``plant_params_compile``; the FMU checks it when initialisation ends or a
-  tunable changes, logging the message itself): sum(current.a) != 1, x_max > x_min,
-  F_c <= F_s, then the rules the effect modules own (:func:`feeddrive.effects.broken_rule`:
-  every effect's ``compile_rule``, then every ``check_rule``, in catalogue order, as the
-  FMU's effect table): with asymmetry the levels and viscous coefficient for v < 0
+  tunable changes, logging the message itself): the rules the effect modules own
+  (:func:`feeddrive.effects.broken_rule`: every effect's ``compile_rule``, then every
+  ``check_rule``, in catalogue order, as the FMU's effect table): sum(current.a) != 1,
+  x_max > x_min, F_c <= F_s, with asymmetry the levels and viscous coefficient for v < 0
   non-negative, N an integer, with pre-rolling |sum(nu_1..N) - 1| <= 1e-3,
   friction_profile.x_end > friction_profile.x_start and friction_profile.n an integer (the
   knot values' range [-0.9, 4] is the XML's and keeps p(x) >= 0.1).
@@ -50,8 +50,6 @@ from .position_maps import MAP_EFFECTS, PositionMap
 
 #: FMU parameters of the integrator, not of the plant (checked for finiteness only).
 SOLVER_PARAMETERS = ("solver.tol", "solver.fast")
-#: |1 - sum(current.a)| below which the current loop has a pole at z = 1.
-POLE_TOL = 1e-9
 
 
 class ParameterError(ValueError):
@@ -171,32 +169,6 @@ def parameter_values(model: HasFmuParameters | Mapping[str, Any]) -> dict[str, A
     return values
 
 
-def _check_compiled(val: Mapping[str, Any]) -> None:
-    """The rules of plant_params_compile on the whole set, in its order (the effects' rules
-    from the registry)."""
-    sa = sum(float(val[f"current.a[{j}]"]) for j in range(1, 6))
-    if abs(1.0 - sa) < POLE_TOL:
-        raise ParameterError(
-            f"current.a[1..5] sum to {sa:.17g}: the current loop has a pole at "
-            "z = 1 and no finite DC gain; allowed: sum(current.a) != 1"
-        )
-    x0, x1 = float(val["stroke.x_min"]), float(val["stroke.x_max"])
-    if not x1 > x0:
-        raise ParameterError(
-            f"stroke.x_max = {x1:.17g} must exceed stroke.x_min = {x0:.17g}: "
-            f"allowed stroke.x_max in ({x0:.17g}, inf) m"
-        )
-    Fs, Fc = float(val["friction.F_s"]), float(val["friction.F_c"])
-    if Fc > Fs:
-        raise ParameterError(
-            f"friction.F_c = {Fc:.17g} exceeds friction.F_s = {Fs:.17g}: "
-            "allowed friction.F_c in [0, friction.F_s] N"
-        )
-    msg = broken_rule(val)
-    if msg is not None:
-        raise ParameterError(msg)
-
-
 def compile(model: HasFmuParameters | Mapping[str, Any]) -> PlantParameters:
     """Check ``model``'s parameters as the FMU does and compile them (module docstring).
 
@@ -212,7 +184,9 @@ def compile(model: HasFmuParameters | Mapping[str, Any]) -> PlantParameters:
             raise KeyError(f"{name!r} is not a parameter of the FMU")
     for name, v in val.items():
         check_value(name, v)
-    _check_compiled(val)
+    msg = broken_rule(val)  # plant_params_compile's rules, the effect table's order
+    if msg is not None:
+        raise ParameterError(msg)
     on = {e.id: bool(val[e.switch]) for e in switchable() if e.switch is not None}
     maps = {
         name: PositionMap.from_parameters(name, val, on[per], on[aper])

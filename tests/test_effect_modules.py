@@ -20,7 +20,20 @@ import pytest
 
 from feeddrive import paper
 from feeddrive.diagnose.candidates import CANDIDATES
-from feeddrive.effects import EFFECTS, Effect, effect, effect_ids, resolve, switched_off
+from feeddrive.effects import (
+    EFFECTS,
+    Effect,
+    Structure,
+    broken_rule,
+    effect,
+    effect_ids,
+    paper_scenarios,
+    resolve,
+    structure_off,
+    structure_on,
+    switched_off,
+)
+from feeddrive.experiments import sec3
 from feeddrive.identify.pipeline import IdentificationResult
 from feeddrive.model_file import paper_model
 from feeddrive.physics import GMSParameters, compile
@@ -36,21 +49,14 @@ from effect_names import naming_files, product_files  # noqa: E402
 MAX_FILES = 4
 NO_SWITCH_FILES = 2
 
-#: Python files that still hold code for an effect outside its module: the physics' switch
-#: handling, the diagnosis candidate builders, identification steps, experiment groups and
-#: run kinds spelled like the effect, scenarios that switch it.  Each entry is a move into
-#: ``feeddrive/effects/<id>.py`` still to do; the test fails when one is no longer needed.
+#: Python files that still hold code for an effect outside its module: the diagnosis
+#: candidate builders, identification steps, experiment groups and run kinds spelled like the
+#: effect.  Each entry is a move into ``feeddrive/effects/<id>.py`` still to do; the test
+#: fails when one is no longer needed.
 PYTHON_ALLOWANCE: dict[str, frozenset[str]] = {
     "python/feeddrive/diagnose/candidates.py": frozenset(effect_ids()),
-    "python/feeddrive/physics/params.py": frozenset({"prerolling", "asymmetric_friction"}),
-    "python/feeddrive/physics/friction_gms.py": frozenset({"position_friction"}),
-    "python/feeddrive/physics/current_loop.py": frozenset({"current_dynamics"}),
-    "python/feeddrive/physics/compliance.py": frozenset({"compliance"}),
-    "python/feeddrive/control/feedforward.py": frozenset({"offset_force"}),
     "python/feeddrive/diagnose/emps.py": frozenset({"mass", "viscous", "offset_force"}),
     "python/feeddrive/diagnose/workflow.py": frozenset({"mass", "compliance"}),
-    "python/feeddrive/experiments/sec3.py": frozenset({"cogging_aperiodic", "prerolling"}),
-    "python/feeddrive/bench.py": frozenset({"prerolling"}),
     "python/feeddrive/identify/pipeline.py": frozenset({"prerolling", "mass", "position_friction"}),
     "python/feeddrive/identify/bootstrap.py": frozenset({"prerolling"}),
     "python/feeddrive/identify/position_friction.py": frozenset(
@@ -179,18 +185,19 @@ def test_lists_of_effects_come_from_the_registry() -> None:
 
 def test_effect_modules_import_only_the_effect_type() -> None:
     """The registry sits below every other module: an effect module imports nothing of the
-    package but :mod:`feeddrive.effects.effect`."""
+    package but the shared modules of :mod:`feeddrive.effects` (``from .effect import``);
+    the standard library, numpy and scipy are free."""
     pkg = ROOT / "python/feeddrive/effects"
     for f in sorted(pkg.glob("*.py")):
         if f.name in ("__init__.py", "effect.py"):
             continue
-        tree = ast.parse(f.read_text())
-        imported = [
-            n.module
-            for n in ast.walk(tree)
-            if isinstance(n, ast.ImportFrom) and n.module != "__future__"
-        ]
-        assert imported == ["effect"], f"{f.name} imports {imported}"
+        for n in ast.walk(ast.parse(f.read_text())):
+            if isinstance(n, ast.ImportFrom) and n.level:
+                assert (n.level, n.module) == (1, "effect"), f"{f.name} imports .{n.module}"
+            elif isinstance(n, ast.ImportFrom):
+                assert (n.module or "").split(".")[0] != "feeddrive", f"{f.name}: {n.module}"
+            elif isinstance(n, ast.Import):
+                assert all(a.name.split(".")[0] != "feeddrive" for a in n.names), f.name
 
 
 @pytest.mark.parametrize("e", [e for e in EFFECTS if e.off], ids=lambda e: e.id)
@@ -238,3 +245,54 @@ def test_the_identification_report_has_a_row_per_effect() -> None:
         and rows["stribeck"]["step"] == "stribeck: not fitted"
     )
     assert rows["offset_force"]["on"] == "no" and rows["viscous"]["step"] == "no step of its own"
+
+
+def test_every_plant_structure_is_selected_by_one_switch() -> None:
+    """Each structural option of the compiled plant belongs to one switchable effect; its
+    switch (missing: the FMU's default) decides it in the compiled types."""
+    for s in Structure:
+        owners = [e for e in EFFECTS if e.structure is s]
+        assert len(owners) == 1 and owners[0].switch is not None, s
+        assert structure_on({}, s) is owners[0].in_paper
+        assert structure_off(s) == {owners[0].switch: False}
+    on = compile({e.switch: True for e in EFFECTS if e.structure and e.switch})
+    off = compile({k: v for s in Structure for k, v in structure_off(s).items()})
+    assert on.prerolling and on.current.dynamics and on.compliance.on and on.friction.profile
+    assert not (off.prerolling or off.current.dynamics or off.compliance.on)
+    assert off.friction.profile is None
+    assert off.current.polynomials()[1].tolist() == [1.0]
+
+
+def test_effect_rules_are_the_fmu_rules_in_table_order() -> None:
+    """The effects' rules pass the paper's parameters and refuse in the FMU's order: every
+    compile rule (the asymmetry's levels) before any check rule (N, sum(nu), the profile)."""
+    v = paper.paper_parameters()
+    assert broken_rule(v) is None
+    bad = {
+        **v,
+        "effects.asymmetric_friction": True,
+        "asymmetry.dF": -50.0,
+        "friction.N": 3.5,
+        "friction_profile.n": 3.5,
+    }
+    assert (broken_rule(bad) or "").startswith("asymmetry.dF = -50 makes the friction level")
+    bad["asymmetry.dF"] = 0.0
+    assert broken_rule(bad) == "friction.N = 3.5 is not an integer: allowed 1..10"
+    bad["friction.N"] = 3.0
+    nu = sum(v[f"friction.nu[{j}]"] for j in (1, 2, 3))
+    assert broken_rule(bad) == (
+        f"friction.nu[1..3] sum to {nu:.17g}: allowed 1 +- 0.001 (Eq. 12 needs sum(nu) = 1; "
+        "set friction.nu[3] = 1 - sum of the others)"
+    )
+    bad["effects.prerolling"] = False
+    assert broken_rule(bad) == "friction_profile.n = 3.5 is not an integer: allowed 2..16"
+
+
+def test_the_paper_scenarios_switch_paper_effects_off() -> None:
+    """Sec. 3's variants: the full model, then one per effect that declares a scenario."""
+    scenarios = paper_scenarios()
+    assert list(scenarios) == ["without aperiodic cogging", "static friction instead of GMS"]
+    for label, change in scenarios.items():
+        (e,) = [e for e in EFFECTS if e.scenario == label]
+        assert e.in_paper and change == {e.switch: False}
+    assert sec3.VARIANTS == {"full model": {}, **scenarios}

@@ -23,6 +23,7 @@ from .bench_campaign import campaign_rows
 from .bench_cli import help_rows
 from .bench_study import study_rows
 from .data import Run, write_run
+from .effects import Structure, structure_off
 from .fmu import Plant
 from .harness.controller_fmu import ControllerFMU, controller_fmu_parameters, sinusoid_source
 from .harness.controllers import make_controller, state_space_spec
@@ -245,7 +246,8 @@ def fast_path_rows() -> list[tuple[str, str, str]]:
     ref = sinusoid(0.030, 6.0, 0.150, 6.0)
     spec, ideal = state_space_spec(), Sensors(quantum=0.0, current_noise=0.0)
     rows = []
-    for name, change in (("GMS", {}), ("static friction", {"effects.prerolling": False})):
+    static = structure_off(Structure.SLIP_ELEMENTS)  # static friction instead of GMS
+    for name, change in (("GMS", {}), ("static friction", static)):
         p = {**paper_parameters(), **change}
         me = run_closed_loop(p, spec, ref, sensors=ideal, interface="me", tolerance=1e-10)
         fast = run_closed_loop(p, spec, ref, sensors=ideal)
@@ -264,7 +266,7 @@ def fast_path_rows() -> list[tuple[str, str, str]]:
         paper_parameters(), spec, ref, Sensors(seed=3), experiment="sec3_sinusoid"
     )
     top, w = int(np.argmax(ref.x)), int(round(0.3 / ref.Ts))
-    p = {**paper_parameters(), "effects.prerolling": False}
+    p = {**paper_parameters(), **static}
     peak = {
         tol: float(
             np.abs(run_closed_loop(p, spec, ref, tolerance=tol)["x"] - run.x)[

@@ -26,8 +26,9 @@ without feedforward; "static" ~20 um (two peaks of opposite sign, -20/+19 um; v_
 current_loop="dc", ~0.07 um with "inverse" (unrealistically good: the plant is the model); "gms" on
 parameters off by 5-20 % ~3.5 um.
 
-Every term uses the *nominal* parameters passed in (FMU names, SI; ``effects.<id>``
-switches of that dict respected), which need not equal the simulated plant's.
+Every term uses the *nominal* parameters passed in (FMU names, SI; the effect switches of that
+dict respected, as :func:`feeddrive.physics.compile` applies them), which need not equal the
+simulated plant's.
 """
 
 from __future__ import annotations
@@ -58,7 +59,7 @@ class FeedforwardOptions:
     cogging : F_cg(x_ref).   ripple : divide by K_f(x_ref) (else by K_f0 = ripple.c[0]).
     friction : "none", "static" (regularised Tustin/Stribeck curve) or "gms".
     v_eps : regularisation speed of "static" [m/s].
-    offset : the constant offset force offset.F (if effects.offset_force is on).
+    offset : the compiled plant's constant offset force (offset.F, 0 with its effect off).
     current_loop : "dc" (divide by G(1)) or "inverse" (exact inverse of Eq. 2 with preview).
     """
 
@@ -157,7 +158,7 @@ def feedforward(
         forces["inertia"] = P.m * a
     if options.cogging:
         forces["cogging"] = P.F_cg(x)
-    if options.offset and P.values["effects.offset_force"]:
+    if options.offset and P.F_offset != 0.0:
         forces["offset"] = np.full_like(x, P.F_offset)
     if options.friction == "static":
         forces["friction"] = static_friction(v, P.friction, options.v_eps, x)

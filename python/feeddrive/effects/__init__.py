@@ -25,7 +25,19 @@ from . import (
     stribeck,
     viscous,
 )
-from .effect import Candidate, Effect, Identification, Parameter, resolve, switched_off
+from .effect import (
+    Candidate,
+    Effect,
+    Identification,
+    Parameter,
+    Rule,
+    Structure,
+    is_on,
+    resolve,
+    selected,
+    slot_count,
+    switched_off,
+)
 
 #: Every effect of the catalogue, in catalogue order (the first nine are the paper's model).
 EFFECTS: tuple[Effect, ...] = (
@@ -79,6 +91,44 @@ def apply_switches(values: Mapping[str, Any]) -> dict[str, Any]:
     return switched_off(values, EFFECTS)
 
 
+def broken_rule(values: Mapping[str, Any]) -> str | None:
+    """The FMU's message for the first effect rule the FMU-named ``values`` (every parameter)
+    break, else None: every :attr:`Effect.compile_rule`, then every :attr:`Effect.check_rule`,
+    in catalogue order (the order of the FMU's effect table)."""
+    effective = apply_switches(values)
+    for rules in ([(e, e.compile_rule) for e in EFFECTS], [(e, e.check_rule) for e in EFFECTS]):
+        for e, rule in rules:
+            msg = None if rule is None else rule(values, effective, is_on(e, values))
+            if msg is not None:
+                return msg
+    return None
+
+
+def structure_on(values: Mapping[str, Any], structure: Structure) -> bool:
+    """Whether the plant structure ``structure`` is on for FMU-named ``values``: the switch
+    of the effect that selects it (a missing switch takes the FMU's default)."""
+    return selected(values, structure, EFFECTS)
+
+
+def structure_off(structure: Structure) -> dict[str, bool]:
+    """The switch setting that turns the plant structure ``structure`` off, FMU-named.
+
+    Raises
+    ------
+    LookupError : no switchable effect selects ``structure``.
+    """
+    for e in EFFECTS:
+        if e.structure is structure and e.switch is not None:
+            return {e.switch: False}
+    raise LookupError(f"no effect switch selects the plant structure {structure.name}")
+
+
+def paper_scenarios() -> dict[str, dict[str, bool]]:
+    """The paper's Sec. 3 scenarios that switch one effect off, by label: each effect's
+    :attr:`Effect.scenario` with its switch off, in catalogue order."""
+    return {e.scenario: {e.switch: False} for e in EFFECTS if e.scenario and e.switch is not None}
+
+
 def position_map_effects() -> dict[str, tuple[str, str]]:
     """The ids of the (periodic, aperiodic) parts of each position map (Eqs. 6-7)."""
     parts: dict[str, dict[str, str]] = {}
@@ -96,11 +146,20 @@ __all__ = [
     "Effect",
     "Identification",
     "Parameter",
+    "Rule",
+    "Structure",
     "apply_switches",
+    "broken_rule",
     "effect",
     "effect_ids",
+    "is_on",
+    "paper_scenarios",
     "position_map_effects",
     "resolve",
+    "selected",
+    "slot_count",
+    "structure_off",
+    "structure_on",
     "switchable",
     "switched_off",
 ]

@@ -2,7 +2,34 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from typing import Any
+
 from .effect import Candidate, Effect, Identification, Parameter
+
+
+def check_levels(values: Mapping[str, Any], effective: Mapping[str, Any], on: bool) -> str | None:
+    """With the asymmetry on, the friction level and the viscous coefficient for v < 0
+    non-negative (friction_levels.c compile_asymmetric_friction; the levels for v > 0 with
+    the other effects' switches applied): the FMU's message, else None."""
+    if not on:
+        return None
+    Fc0 = float(values["friction.F_c"])
+    Fs0 = float(effective["friction.F_s"])
+    s0 = float(effective["friction.sigma2"])
+    dF, ds = float(values["asymmetry.dF"]), float(values["asymmetry.dsigma2"])
+    if Fc0 + dF < 0.0 or Fs0 + dF <= 0.0:
+        return (
+            f"asymmetry.dF = {dF:.17g} makes the friction level for v < 0 "
+            f"negative: allowed [{-Fc0:.17g}, inf) N"
+        )
+    if s0 + ds < 0.0:
+        return (
+            f"asymmetry.dsigma2 = {ds:.17g} makes the viscous coefficient "
+            f"for v < 0 negative: allowed [{-s0:.17g}, inf) N.s/m"
+        )
+    return None
+
 
 EFFECT = Effect(
     id="asymmetric_friction",
@@ -27,4 +54,5 @@ EFFECT = Effect(
     ),
     report=(),
     off=(("asymmetry.dF", 0.0), ("asymmetry.dsigma2", 0.0)),
+    compile_rule=check_levels,
 )

@@ -22,4 +22,5 @@ EFFECT = Effect(
     report=("figure: sampled and fitted F_cg(x)",),
     position_map=("cogging", "aperiodic"),
     off=(("cogging.c[j]", 0.0),),
+    scenario="without aperiodic cogging",
 )

@@ -2,7 +2,23 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from typing import Any
+
 from .effect import Candidate, Effect, Identification, Parameter
+
+
+def check_stroke(values: Mapping[str, Any], effective: Mapping[str, Any], on: bool) -> str | None:
+    """stroke.x_max > stroke.x_min, the interval the position maps are clamped to (checked by
+    the first map entry of position_maps.c): the FMU's message, else None."""
+    x0, x1 = float(values["stroke.x_min"]), float(values["stroke.x_max"])
+    if not x1 > x0:
+        return (
+            f"stroke.x_max = {x1:.17g} must exceed stroke.x_min = {x0:.17g}: "
+            f"allowed stroke.x_max in ({x0:.17g}, inf) m"
+        )
+    return None
+
 
 EFFECT = Effect(
     id="cogging_periodic",
@@ -28,4 +44,5 @@ EFFECT = Effect(
     report=("figures: DSTFT of F_cg(x), its components, sampled and fitted F_cg(x)",),
     position_map=("cogging", "periodic"),
     off=(("cogging.a[j]", 0.0), ("cogging.b[j]", 0.0)),
+    compile_rule=check_stroke,
 )

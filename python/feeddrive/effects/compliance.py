@@ -3,7 +3,7 @@ moving mass)."""
 
 from __future__ import annotations
 
-from .effect import Candidate, Effect, Identification, Parameter
+from .effect import Candidate, Effect, Identification, Parameter, Structure
 
 EFFECT = Effect(
     id="compliance",
@@ -28,4 +28,5 @@ EFFECT = Effect(
         "f=<Hz>, zeta=<ratio>",
     ),
     report=(),
+    structure=Structure.LOAD_ON_SPRING,
 )

@@ -10,8 +10,9 @@ resolves every reference of the registry, so none can go stale.
 from __future__ import annotations
 
 import importlib
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
+from enum import Enum
 from typing import Any
 
 
@@ -75,6 +76,14 @@ class Effect:
     off : what switching the effect off does to the parameters, (name, value) pairs: a
         number, or the name of the parameter whose value it takes (``name[j]``: every slot);
         empty when off changes the model's structure instead (no values express it).
+    structure : the structural option of the compiled plant its switch selects (a
+        :class:`Structure`), None when its ``off`` rule's values say all.
+    compile_rule : a :data:`Rule` the plant's compilation checks (``compile_rule`` of every
+        effect in catalogue order, as the FMU's effect entries compile), or None.
+    check_rule : a :data:`Rule` of combination checked after every ``compile_rule``
+        (catalogue order, as the FMU's entries' checks), or None.
+    scenario : the label of the paper's scenario (Sec. 3, Fig. 14) that switches the effect
+        off, "" when none does.
     """
 
     id: str
@@ -88,6 +97,10 @@ class Effect:
     report: tuple[str, ...]
     position_map: tuple[str, str] | None = None
     off: tuple[tuple[str, float | str], ...] = ()
+    structure: Structure | None = None
+    compile_rule: Rule | None = None
+    check_rule: Rule | None = None
+    scenario: str = ""
 
     def __post_init__(self) -> None:
         if self.switch is not None and self.switch != f"effects.{self.id}":
@@ -152,3 +165,46 @@ def resolve(reference: str) -> object:
     for part in attr.split("."):
         obj = getattr(obj, part)
     return obj
+
+
+class Structure(Enum):
+    """A structural option of the compiled plant that one effect's switch selects
+    (:attr:`Effect.structure`); the value says what it is on and what replaces it off."""
+
+    CURRENT_FILTER = "the current loop's dynamics G(z), Eq. 2 (off: i = G(1) u at once)"
+    SLIP_ELEMENTS = "the GMS's Maxwell-slip elements (off: static friction, Eq. 12)"
+    LEVEL_PROFILE = "the friction level's profile p(x) along the stroke (off: p = 1)"
+    LOAD_ON_SPRING = "a load on a spring-damper on the slide (off: one rigid moving mass)"
+
+
+#: A rule of an effect on the plant's parameters (:attr:`Effect.compile_rule`,
+#: :attr:`Effect.check_rule`): from the FMU-named values as given, the same values with every
+#: switched-off effect's ``off`` rule applied (:func:`switched_off`) and whether the effect is
+#: on, the FMU's message for the first rule broken, else None.
+Rule = Callable[[Mapping[str, Any], Mapping[str, Any], bool], str | None]
+
+
+def is_on(e: Effect, values: Mapping[str, Any]) -> bool:
+    """Whether ``e`` is on for FMU-named ``values``: its switch's value, the FMU's default
+    when the switch is missing (on for an effect of the paper's model); always for mass."""
+    return e.switch is None or bool(values.get(e.switch, e.in_paper))
+
+
+def selected(values: Mapping[str, Any], structure: Structure, effects: Iterable[Effect]) -> bool:
+    """Whether ``structure`` is on for FMU-named ``values``: the switch of the effect of
+    ``effects`` that selects it (:func:`is_on`).
+
+    Raises
+    ------
+    LookupError : no effect of ``effects`` selects ``structure``.
+    """
+    for e in effects:
+        if e.structure is structure:
+            return is_on(e, values)
+    raise LookupError(f"no effect selects the plant structure {structure.name}")
+
+
+def slot_count(name: str, values: Mapping[str, Any]) -> int:
+    """How many slots ``name[j]`` the FMU-named ``values`` hold (the FMU's array size when
+    ``values`` hold every parameter)."""
+    return len(_slots(name, values))

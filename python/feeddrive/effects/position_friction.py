@@ -3,7 +3,28 @@ scaling F_s and F_c (guideway wear, lubrication, preload)."""
 
 from __future__ import annotations
 
-from .effect import Candidate, Effect, Identification, Parameter
+from collections.abc import Mapping
+from typing import Any
+
+from .effect import Candidate, Effect, Identification, Parameter, Structure, slot_count
+
+
+def check_profile(values: Mapping[str, Any], effective: Mapping[str, Any], on: bool) -> str | None:
+    """friction_profile.x_end > friction_profile.x_start and friction_profile.n an integer,
+    on or off (friction_position.c check_position_friction): the FMU's message, else None."""
+    p0, p1 = float(values["friction_profile.x_start"]), float(values["friction_profile.x_end"])
+    if not p1 > p0:
+        return (
+            f"friction_profile.x_end = {p1:.17g} must exceed "
+            f"friction_profile.x_start = {p0:.17g}: allowed "
+            f"friction_profile.x_end in ({p0:.17g}, inf) m"
+        )
+    n = float(values["friction_profile.n"])
+    if int(n) != n:
+        n_max = slot_count("friction_profile.c[j]", values)
+        return f"friction_profile.n = {n:.17g} is not an integer: allowed 2..{n_max}"
+    return None
+
 
 EFFECT = Effect(
     id="position_friction",
@@ -34,4 +55,6 @@ EFFECT = Effect(
         "<n> knots over <from>-<to> mm",
     ),
     report=("truth table rows friction_profile.c[j]",),
+    structure=Structure.LEVEL_PROFILE,
+    check_rule=check_profile,
 )

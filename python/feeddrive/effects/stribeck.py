@@ -2,7 +2,23 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from typing import Any
+
 from .effect import Candidate, Effect, Identification, Parameter
+
+
+def check_levels(values: Mapping[str, Any], effective: Mapping[str, Any], on: bool) -> str | None:
+    """friction.F_c <= friction.F_s, on or off (friction_levels.c compile_stribeck): the FMU's
+    message, else None."""
+    Fs, Fc = float(values["friction.F_s"]), float(values["friction.F_c"])
+    if Fc > Fs:
+        return (
+            f"friction.F_c = {Fc:.17g} exceeds friction.F_s = {Fs:.17g}: "
+            "allowed friction.F_c in [0, friction.F_s] N"
+        )
+    return None
+
 
 EFFECT = Effect(
     id="stribeck",
@@ -31,4 +47,5 @@ EFFECT = Effect(
         "truth table rows friction.F_s, friction.F_c, friction.V_s, friction.delta",
     ),
     off=(("friction.F_s", "friction.F_c"),),
+    compile_rule=check_levels,
 )

@@ -11,17 +11,16 @@ from pathlib import Path
 import numpy as np
 
 from ..data import RECORDING_DECIMALS, Run, write_run
+from ..effects import paper_scenarios
 from ..harness.controllers import state_space_spec
 from ..harness.references import sinusoid
 from ..harness.runs import closed_loop_run, run_closed_loop
 from ..harness.sensors import Sensors
 from ..paper import paper_parameters
 
-VARIANTS = {
-    "full model": {},
-    "without aperiodic cogging": {"effects.cogging_aperiodic": False},
-    "static friction instead of GMS": {"effects.prerolling": False},
-}
+#: The simulated models by label: the full model, then each effect's paper scenario that
+#: switches it off (:attr:`feeddrive.effects.Effect.scenario`, catalogue order).
+VARIANTS: dict[str, dict[str, bool]] = {"full model": {}, **paper_scenarios()}
 AMPLITUDE, PERIOD, CENTRE = 0.030, 6.0, 0.150
 
 

@@ -15,6 +15,11 @@
 - :mod:`.plant` (plant.c): Eq. 1 on measured data (held current, run load, residual).
 
 Identification, diagnosis and feedforward use only this package.
+
+The effect switches reach the physics through the registry (:mod:`feeddrive.effects`), never by
+name: the values of each switched-off effect's ``off`` rule (``apply_switches``), the plant
+structure each structural effect selects (``structure_on`` with a
+:class:`~feeddrive.effects.Structure`) and the rules each effect owns (``broken_rule``).
 """
 
 from .compliance import Compliance, load_acceleration, load_filter, load_free_response

@@ -29,6 +29,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.signal import lfilter, lfilter_zi
 
+from ..effects import Structure, structure_on
+
 #: The FMU's range of compliance.f [Hz] (modelDescription.xml).
 F_RANGE = (20.0, 200.0)
 
@@ -61,9 +63,10 @@ class Compliance:
 
     @classmethod
     def from_parameters(cls, val: Mapping[str, Any]) -> Compliance:
-        """From FMU-named values (``effects.compliance``, ``compliance.*``)."""
+        """From FMU-named values (``compliance.*`` and the switch that selects the plant
+        structure :attr:`~feeddrive.effects.Structure.LOAD_ON_SPRING`)."""
         return cls(
-            on=bool(val["effects.compliance"]),
+            on=structure_on(val, Structure.LOAD_ON_SPRING),
             m2=float(val["compliance.m2"]),
             f=float(val["compliance.f"]),
             zeta=float(val["compliance.zeta"]),

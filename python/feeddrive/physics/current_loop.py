@@ -2,7 +2,9 @@
 
     i[k] = sum_{j=1..5} a_j i[k-j] + sum_{j=0..5} b_j u[k-j],   G(1) = sum b / (1 - sum a)
 
-``current_dynamics`` off: i = G(1) u at once.  C twin: fmu_src/physics/current_loop.c.
+With the dynamics off (the effect ``current_dynamics``, the plant structure
+:attr:`~feeddrive.effects.Structure.CURRENT_FILTER`): i = G(1) u at once.  C twin:
+fmu_src/physics/current_loop.c.
 """
 
 from __future__ import annotations
@@ -13,6 +15,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 from scipy.signal import lfilter, lfiltic
+
+from ..effects import Structure, structure_on
 
 N_CURRENT_A = 5  #: current.a[1..5]
 N_CURRENT_B = 6  #: current.b[0..5]
@@ -28,11 +32,12 @@ class CurrentLoop:
 
     @classmethod
     def from_parameters(cls, params: Mapping[str, float]) -> CurrentLoop:
-        """From ``current.a/b`` and ``effects.current_dynamics`` (missing names are 0 / on)."""
+        """From ``current.a/b`` and the switch that selects the dynamics (missing names are
+        0 / on)."""
         return cls(
             a=tuple(float(params.get(f"current.a[{j}]", 0.0)) for j in range(1, N_CURRENT_A + 1)),
             b=tuple(float(params.get(f"current.b[{j}]", 0.0)) for j in range(N_CURRENT_B)),
-            dynamics=bool(params.get("effects.current_dynamics", True)),
+            dynamics=structure_on(params, Structure.CURRENT_FILTER),
         )
 
     @property

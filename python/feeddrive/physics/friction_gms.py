@@ -37,7 +37,7 @@ from typing import Literal, overload
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..effects import apply_switches
+from ..effects import Structure, apply_switches, structure_on
 from .friction_curves import FrictionCurve
 from .friction_position import FrictionProfile
 
@@ -77,7 +77,8 @@ class GMSParameters:
         ``off`` rule (:func:`feeddrive.effects.apply_switches`): ``stribeck`` off sets
         F_s = F_c (the Coulomb level, as the effect catalogue says), ``viscous`` off sets
         sigma2 = dsigma2 = 0, ``frictional_lag`` off sets C = inf, ``asymmetric_friction`` off
-        sets dF = dsigma2 = 0; ``position_friction`` on adds the profile p(x) of
+        sets dF = dsigma2 = 0; ``position_friction`` on (the plant structure
+        :attr:`~feeddrive.effects.Structure.LEVEL_PROFILE`) adds the profile p(x) of
         ``friction_profile.*``.
         """
         try:
@@ -97,7 +98,7 @@ class GMSParameters:
                 dF=float(params.get("asymmetry.dF", 0.0)),
                 dsigma2=float(params.get("asymmetry.dsigma2", 0.0)),
                 profile=FrictionProfile.from_params(params)
-                if bool(params.get("effects.position_friction", False))
+                if structure_on(params, Structure.LEVEL_PROFILE)
                 else None,
             )
         except KeyError as e:

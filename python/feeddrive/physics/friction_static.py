@@ -1,4 +1,5 @@
-"""The memoryless alternative to the GMS (``prerolling`` off): Eq. 12 with Karnopp stiction.
+"""The memoryless alternative to the GMS (``prerolling`` off, the plant structure
+:attr:`~feeddrive.effects.Structure.SLIP_ELEMENTS` off): Eq. 12 with Karnopp stiction.
 
 Sliding, friction is s(v) + sigma2 v (:func:`.friction_curves.steady_friction`, per side);
 at rest it balances the applied force F_app while |F_app| is below the break-away level

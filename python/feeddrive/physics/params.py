@@ -13,11 +13,18 @@ every rule of the FMU in its order and applies the effect switches once:
   ``min``/``max`` that modelDescription.xml declares (read from the FMU's own file by
   :mod:`feeddrive.model_description`), the interval that keeps the arithmetic finite;
 - the compiled set (``plant_params_compile``; the FMU checks it when initialisation ends or a
-  tunable changes, logging the message itself): sum(current.a) != 1, x_max > x_min,
-  F_c <= F_s, with asymmetry the levels and viscous coefficient for v < 0 non-negative,
-  N an integer, with pre-rolling |sum(nu_1..N) - 1| <= 1e-3, friction_profile.x_end >
-  friction_profile.x_start and friction_profile.n an integer (``position_friction``; the
+  tunable changes, logging the message itself): the rules the effect modules own
+  (:func:`feeddrive.effects.broken_rule`: every effect's ``compile_rule``, then every
+  ``check_rule``, in catalogue order, as the FMU's effect table): sum(current.a) != 1,
+  x_max > x_min, F_c <= F_s, with asymmetry the levels and viscous coefficient for v < 0
+  non-negative, N an integer, with pre-rolling |sum(nu_1..N) - 1| <= 1e-3,
+  friction_profile.x_end > friction_profile.x_start and friction_profile.n an integer (the
   knot values' range [-0.9, 4] is the XML's and keeps p(x) >= 0.1).
+
+The structural switches (the current loop's dynamics, the GMS elements, the level profile,
+the load on a spring) reach the compiled types through the structure each effect declares
+(:class:`feeddrive.effects.Structure`); the others act through their ``off`` rules
+(:func:`feeddrive.effects.apply_switches`).
 
 A broken rule raises :class:`ParameterError` whose message is the FMU's, byte for byte.
 """
@@ -33,21 +40,16 @@ from typing import Any, Protocol
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..effects import apply_switches, switchable
+from ..effects import Structure, apply_switches, broken_rule, structure_on, switchable
 from ..model_description import variables
 from ..paper import N_ELEMENTS_MAX, paper_parameters
 from .compliance import Compliance
 from .current_loop import CurrentLoop
 from .friction_gms import GMSParameters
-from .friction_position import N_KNOTS_MAX
 from .position_maps import MAP_EFFECTS, PositionMap
 
-#: |sum(nu_i) - 1| allowed (friction_gms.c SUM_NU_TOL).
-SUM_NU_TOL = 1e-3
 #: FMU parameters of the integrator, not of the plant (checked for finiteness only).
 SOLVER_PARAMETERS = ("solver.tol", "solver.fast")
-#: |1 - sum(current.a)| below which the current loop has a pole at z = 1.
-POLE_TOL = 1e-9
 
 
 class ParameterError(ValueError):
@@ -167,69 +169,6 @@ def parameter_values(model: HasFmuParameters | Mapping[str, Any]) -> dict[str, A
     return values
 
 
-def _check_compiled(val: Mapping[str, Any]) -> None:
-    """The rules of plant_params_compile on the whole set, in its order."""
-    sa = sum(float(val[f"current.a[{j}]"]) for j in range(1, 6))
-    if abs(1.0 - sa) < POLE_TOL:
-        raise ParameterError(
-            f"current.a[1..5] sum to {sa:.17g}: the current loop has a pole at "
-            "z = 1 and no finite DC gain; allowed: sum(current.a) != 1"
-        )
-    x0, x1 = float(val["stroke.x_min"]), float(val["stroke.x_max"])
-    if not x1 > x0:
-        raise ParameterError(
-            f"stroke.x_max = {x1:.17g} must exceed stroke.x_min = {x0:.17g}: "
-            f"allowed stroke.x_max in ({x0:.17g}, inf) m"
-        )
-    Fs, Fc = float(val["friction.F_s"]), float(val["friction.F_c"])
-    if Fc > Fs:
-        raise ParameterError(
-            f"friction.F_c = {Fc:.17g} exceeds friction.F_s = {Fs:.17g}: "
-            "allowed friction.F_c in [0, friction.F_s] N"
-        )
-    if val["effects.asymmetric_friction"]:
-        eff = apply_switches(val)  # friction_levels.c's compiled Fs[0], sigma2
-        Fc0 = Fc
-        Fs0 = float(eff["friction.F_s"])
-        s0 = float(eff["friction.sigma2"])
-        dF, ds = float(val["asymmetry.dF"]), float(val["asymmetry.dsigma2"])
-        if Fc0 + dF < 0.0 or Fs0 + dF <= 0.0:
-            raise ParameterError(
-                f"asymmetry.dF = {dF:.17g} makes the friction level for v < 0 "
-                f"negative: allowed [{-Fc0:.17g}, inf) N"
-            )
-        if s0 + ds < 0.0:
-            raise ParameterError(
-                f"asymmetry.dsigma2 = {ds:.17g} makes the viscous coefficient "
-                f"for v < 0 negative: allowed [{-s0:.17g}, inf) N.s/m"
-            )
-    N = float(val["friction.N"])
-    if int(N) != N:
-        raise ParameterError(
-            f"friction.N = {N:.17g} is not an integer: allowed 1..{N_ELEMENTS_MAX}"
-        )
-    if val["effects.prerolling"]:
-        s = sum(float(val[f"friction.nu[{j}]"]) for j in range(1, int(N) + 1))
-        if abs(s - 1.0) > SUM_NU_TOL:
-            raise ParameterError(
-                f"friction.nu[1..{int(N)}] sum to {s:.17g}: allowed 1 +- "
-                f"{SUM_NU_TOL:g} (Eq. 12 needs sum(nu) = 1; set "
-                f"friction.nu[{int(N)}] = 1 - sum of the others)"
-            )
-    p0, p1 = float(val["friction_profile.x_start"]), float(val["friction_profile.x_end"])
-    if not p1 > p0:
-        raise ParameterError(
-            f"friction_profile.x_end = {p1:.17g} must exceed "
-            f"friction_profile.x_start = {p0:.17g}: allowed "
-            f"friction_profile.x_end in ({p0:.17g}, inf) m"
-        )
-    n = float(val["friction_profile.n"])
-    if int(n) != n:
-        raise ParameterError(
-            f"friction_profile.n = {n:.17g} is not an integer: allowed 2..{N_KNOTS_MAX}"
-        )
-
-
 def compile(model: HasFmuParameters | Mapping[str, Any]) -> PlantParameters:
     """Check ``model``'s parameters as the FMU does and compile them (module docstring).
 
@@ -245,7 +184,9 @@ def compile(model: HasFmuParameters | Mapping[str, Any]) -> PlantParameters:
             raise KeyError(f"{name!r} is not a parameter of the FMU")
     for name, v in val.items():
         check_value(name, v)
-    _check_compiled(val)
+    msg = broken_rule(val)  # plant_params_compile's rules, the effect table's order
+    if msg is not None:
+        raise ParameterError(msg)
     on = {e.id: bool(val[e.switch]) for e in switchable() if e.switch is not None}
     maps = {
         name: PositionMap.from_parameters(name, val, on[per], on[aper])
@@ -260,7 +201,7 @@ def compile(model: HasFmuParameters | Mapping[str, Any]) -> PlantParameters:
         x_min=float(val["stroke.x_min"]),
         x_max=float(val["stroke.x_max"]),
         friction=GMSParameters.from_params(val),
-        prerolling=on["prerolling"],
+        prerolling=structure_on(val, Structure.SLIP_ELEMENTS),
         F_offset=float(apply_switches(val)["offset.F"]),
         values=types.MappingProxyType(val),
         compliance=Compliance.from_parameters(val),

@@ -56,6 +56,9 @@ COMPILED = [
     {"friction.nu[5]": 0.713},  # sum(nu) = 1.33
     {"friction.N": 4},  # sum(nu_1..4) = 0.617
     {"current.a[1]": 1.5, "current.a[2]": -0.5},  # pole at z = 1
+    {"current.a[1]": 2.1, "current.a[2]": -1.2},  # complex poles at |z| = 1.095
+    {"current.a[1]": 0.2, "current.a[2]": 1.5},  # a real pole at z = -1.13
+    {"current.a[1]": 0.0, "current.a[2]": 0.0, "current.a[3]": 1.2},  # |k_3| = 1.2
     {"stroke.x_min": 0.3, "stroke.x_max": 0.3},
     {"stroke.x_min": 0.2, "stroke.x_max": 0.1},
     {"effects.asymmetric_friction": True, "asymmetry.dF": -30.0},
@@ -75,6 +78,7 @@ COMPILED = [
     },
 ]
 ACCEPTED = [
+    {"current.a[1]": 1.5, "current.a[2]": -0.6},  # poles 0.75 +- 0.19j: stable
     {"effects.asymmetric_friction": True, "effects.stribeck": False, "asymmetry.dF": -21.0},
     {},
     {"effects.prerolling": False, "friction.nu[5]": 0.713},  # sum(nu) only with GMS

@@ -11,14 +11,41 @@ from .effect import Candidate, Effect, Identification, Parameter, Structure
 POLE_TOL = 1e-9
 
 
+def _unstable_order(a: list[float]) -> tuple[int, float]:
+    """Schur-Cohn (step-down) test of the denominator z^n - a_1 z^(n-1) - ... - a_n of Eq. 2
+    (current_loop.c): with alpha_i = -a_i the reflection coefficient of order j is
+    k_j = alpha_j^(j), and alpha_i^(j-1) = (alpha_i - k_j alpha_(j-i)) / (1 - k_j^2); every root
+    lies inside the unit circle iff |k_j| < 1 for j = n..1.  Returns (0, 0) when stable, else
+    the order j whose |k_j| >= 1 and k_j."""
+    al = [0.0] + [-x for x in a]
+    for j in range(len(a), 0, -1):
+        k = al[j]
+        if not abs(k) < 1.0:
+            return j, k
+        al[1:j] = [(al[i] - k * al[j - i]) / (1.0 - k * k) for i in range(1, j)]
+    return 0, 0.0
+
+
 def check_dc_gain(values: Mapping[str, Any], effective: Mapping[str, Any], on: bool) -> str | None:
-    """sum(current.a) != 1, on or off (a finite DC gain G(1); current_loop.c
-    compile_current_dynamics): the FMU's message, else None."""
-    sa = sum(float(values[f"current.a[{j}]"]) for j in range(1, 6))
+    """sum(current.a) != 1 and every pole of G(z) inside the unit circle, on or off (a finite
+    DC gain G(1) of a stable loop; current_loop.c compile_current_dynamics): the FMU's
+    message, else None."""
+    a = [float(values[f"current.a[{j}]"]) for j in range(1, 6)]
+    sa = sum(a)
     if abs(1.0 - sa) < POLE_TOL:
         return (
             f"current.a[1..5] sum to {sa:.17g}: the current loop has a pole at "
             "z = 1 and no finite DC gain; allowed: sum(current.a) != 1"
+        )
+    n = max((j for j in range(1, 6) if a[j - 1] != 0.0), default=0)
+    bad, k = _unstable_order(a[:n])
+    if bad:
+        shown = ", ".join(f"{x:.9g}" for x in a)
+        return (
+            f"current.a[1..5] = {shown}: the current loop is unstable (a root of its "
+            f"denominator z^n - a_1 z^(n-1) - ... - a_n, n = {n}, lies on or outside the unit "
+            f"circle: Schur-Cohn reflection coefficient k_{bad} = {k:.9g}); allowed: every root "
+            "inside |z| < 1 (all |k_j| < 1)"
         )
     return None
 
@@ -29,7 +56,7 @@ EFFECT = Effect(
     in_paper=True,
     description="current-loop dynamics G(z), Eq. 2",
     parameters=(
-        Parameter("current.a[j]", "1", "sum(current.a) != 1 (a finite DC gain G(1))"),
+        Parameter("current.a[j]", "1", "sum(current.a) != 1 and every pole of G(z) inside |z| < 1"),
         Parameter("current.b[j]", "A/V"),
     ),
     physics="feeddrive.physics.current_loop:CurrentLoop",

@@ -11,9 +11,11 @@ import pytest
 from feeddrive.control.pid import DEFAULT_FORCE_PER_VOLT
 from feeddrive.systems.floor import (
     pair_values,
+    time_container_pair,
     time_ecos_pair,
     time_libcosim_pair,
     time_libcosim_pair_ssp,
+    write_pair_container,
     write_pair_osp,
 )
 
@@ -25,6 +27,25 @@ def test_pair_structure(ctrl_fmu_path, tmp_path) -> None:
     assert abs(v["pid.Kp"] / DEFAULT_FORCE_PER_VOLT) < 1.0
     text = write_pair_osp(tmp_path).read_text()
     assert text.count("<Simulator ") == 2 and text.count("<VariableConnection>") == 2
+
+
+def test_pair_container(ctrl_fmu_path, tmp_path) -> None:
+    """The pair as fmpy's container FMU: two components, two connections, the outputs a_u,
+    b_u, the pair's start values as its parameters; simulate_fmu steps it at Ts."""
+    from fmpy import read_model_description, simulate_fmu
+
+    fmu = write_pair_container(tmp_path / "pair.fmu", n=200)
+    md = read_model_description(str(fmu))
+    names = {v.name for v in md.modelVariables}
+    assert {"a_u", "b_u", "a.pid.Kp", "b.pid.Kp"} <= names
+    assert float(md.defaultExperiment.stepSize) == 5e-4
+    r = simulate_fmu(str(fmu), stop_time=0.1, step_size=5e-4, output=["a_u", "b_u"])
+    # each u = k (x_ref - x_meas), k = Kp / force_per_volt, x_meas the other's u, x_ref the
+    # FMU's default input 0.15 m: the loop gain k^2 < 1 settles both at k x_ref / (1 + k)
+    k = pair_values()["pid.Kp"] / pair_values()["pid.force_per_volt"]
+    fixed = k * 0.15 / (1.0 + k)
+    assert abs(r["a_u"][-1] - fixed) < 1e-9 and abs(r["b_u"][-1] - fixed) < 1e-9
+    assert np.isfinite(time_container_pair(tmp_path, 200))
 
 
 def test_engines_step_the_pair(ctrl_fmu_path, tmp_path) -> None:

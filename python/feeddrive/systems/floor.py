@@ -17,8 +17,19 @@ from xml.etree import ElementTree as ET
 from ..harness.controller_fmu import controller_fmu_parameters, controller_fmu_path
 from ..harness.controllers import pid_spec
 from .ecos import load_ecospy
-from .engines import quiet_libcosim
-from .files import FMU_TYPE, OSP_SSP, SSC, SSD, _literal, _types, osp_structure
+from .engines import quiet_libcosim, simulate_container
+from .files import (
+    FMU_TYPE,
+    OSP_SSP,
+    SSC,
+    SSD,
+    SSV,
+    _literal,
+    _parameter_set,
+    _types,
+    container_fmu,
+    osp_structure,
+)
 
 #: the pair's connections (start component, output, end component, input)
 PAIR = (("a", "u", "b", "x_meas"), ("b", "u", "a", "x_meas"))
@@ -30,11 +41,15 @@ def pair_values(Ts: float = 5e-4) -> dict[str, float | int | bool]:
     return {**controller_fmu_parameters(pid_spec(Kp=10.0, Kv=0.0, Ki=0.0), Ts=Ts), "x_meas": 0.0}
 
 
+def _pair_typed(Ts: float) -> list[tuple[str, str, str]]:
+    types = _types(controller_fmu_path())
+    return [(k, types[k], _literal(types[k], v)) for k, v in pair_values(Ts).items()]
+
+
 def write_pair_osp(directory: str | Path, Ts: float = 5e-4) -> Path:
     """The pair as an OSP system structure at h = Ts (the controller FMU copied beside it)."""
     fmu = controller_fmu_path()
-    types = _types(fmu)
-    values = [(k, types[k], _literal(types[k], v)) for k, v in pair_values(Ts).items()]
+    values = _pair_typed(Ts)
     return osp_structure(
         directory,
         Ts,
@@ -90,12 +105,14 @@ def time_ecos_pair(n: int, Ts: float = 5e-4) -> float:
 
 def write_pair_ssp(path: str | Path, Ts: float = 5e-4) -> Path:
     """The pair as an SSP package for libcosim, its fixed step at h = Ts without worker threads
-    (``numWorkerThreads="0"``).  No parameter bindings (libcosimpy 0.0.6 does not apply
-    them): both instances run on the controller FMU's defaults, a PID on ``x_meas``."""
+    (``numWorkerThreads="0"``), each instance's start values as its inline parameter set
+    (all of them parameters or inputs, which libcosim's SSP loader binds)."""
     path = Path(path)
     fmu = controller_fmu_path()
+    values = _pair_typed(Ts)
     ET.register_namespace("ssd", SSD)
     ET.register_namespace("ssc", SSC)
+    ET.register_namespace("ssv", SSV)
     ET.register_namespace("osp", OSP_SSP)
     root = ET.Element(f"{{{SSD}}}SystemStructureDescription", {"version": "1.0", "name": "pair"})
     system = ET.SubElement(root, f"{{{SSD}}}System", {"name": "pair"})
@@ -112,6 +129,12 @@ def write_pair_ssp(path: str | Path, Ts: float = 5e-4) -> Path:
                 ET.SubElement(conns, f"{{{SSD}}}Connector", {"name": var, "kind": kind}),
                 f"{{{SSC}}}Real",
             )
+        ET.SubElement(
+            ET.SubElement(
+                ET.SubElement(c, f"{{{SSD}}}ParameterBindings"), f"{{{SSD}}}ParameterBinding"
+            ),
+            f"{{{SSD}}}ParameterValues",
+        ).append(_parameter_set(name, values))
     connections = ET.SubElement(system, f"{{{SSD}}}Connections")
     for a, av, b, bv in PAIR:
         ET.SubElement(
@@ -152,3 +175,27 @@ def time_libcosim_pair_ssp(directory: str | Path, n: int, Ts: float = 5e-4) -> f
     if not execution.simulate_until(int(round(n * Ts * 1e9))):
         raise RuntimeError("libcosim: simulate_until failed on the trivial pair (SSP)")
     return time.perf_counter() - wall0
+
+
+def write_pair_container(path: str | Path, Ts: float = 5e-4, n: int = 12000) -> Path:
+    """The pair as fmpy's container FMU (fixed step Ts), outputs ``a_u`` and ``b_u``: the
+    closed loop's container with the plant and the controller replaced by the two gains."""
+    fmu = controller_fmu_path()
+    values = _pair_typed(Ts)
+    return container_fmu(
+        path,
+        "pair",
+        Ts,
+        n * Ts,
+        {"a": fmu, "b": fmu},
+        PAIR,
+        [("a_u", "a", "u", None), ("b_u", "b", "u", None)],
+        {"a": values, "b": values},
+    )
+
+
+def time_container_pair(directory: str | Path, n: int, Ts: float = 5e-4) -> float:
+    """Wall time [s] of fmpy's ``simulate_fmu`` on the pair's container FMU, n steps of Ts,
+    two outputs recorded: the same call as the closed loop's (:func:`.engines.run_container`)."""
+    fmu = write_pair_container(Path(directory) / "pair_container.fmu", Ts, n)
+    return simulate_container(fmu, n, Ts, ("a_u", "b_u"))[1]

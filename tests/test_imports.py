@@ -60,6 +60,7 @@ LAYERS: dict[str, int] = {
     "bench": 11,
     "bench_c": 11,
     "bench_campaign": 11,
+    "bench_engines": 11,
     "bench_cli": 11,
     "bench_study": 11,
     "__main__": 11,

@@ -17,10 +17,14 @@ from __future__ import annotations
 import time
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..fmu import Result
+
+if TYPE_CHECKING:
+    from libcosimpy.CosimLogging import CosimLogLevel
 
 #: the SSP package's parameter sets, one per component
 SSV_FILES = {"plant": "resources/plant.ssv", "controller": "resources/controller.ssv"}
@@ -50,11 +54,12 @@ def _libcosim_run(execution, n: int, Ts: float, substeps: int = 10) -> Result:
     return Result({"time": np.arange(n + 1) * Ts, "x": xs, "u": us, "wall": np.array(wall)})
 
 
-def quiet_libcosim() -> None:
-    """libcosim's own log at warning level (its default, debug, prints every FMI call)."""
+def quiet_libcosim(level: CosimLogLevel | None = None) -> None:
+    """libcosim's own log at ``level``, by default warning (libcosim's default, debug, prints
+    every FMI call)."""
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
 
-    log_output_level(CosimLogLevel.WARNING)
+    log_output_level(CosimLogLevel.WARNING if level is None else level)
 
 
 def run_libcosim_osp(directory: str | Path, n: int, Ts: float, substeps: int = 10) -> Result:
@@ -66,10 +71,9 @@ def run_libcosim_osp(directory: str | Path, n: int, Ts: float, substeps: int = 1
     return _libcosim_run(execution, n, Ts, substeps)
 
 
-def libcosim_ssp_execution(path: str | Path, step: float | None = None):
-    """A libcosim execution of the SSP package ``path``: the SSD's algorithm (fixed step,
-    ``numWorkerThreads="0"``: every FMU steps on the calling thread) unless ``step`` [s] is
-    given (then libcosim's default pool).
+def libcosim_ssp_execution(path: str | Path):
+    """A libcosim execution of the SSP package ``path`` with the SSD's algorithm (fixed step,
+    ``numWorkerThreads="0"``: every FMU steps on the calling thread).
 
     libcosim's SSP loader applies a component's parameter set to its parameters and inputs
     only (a warning for any other): the plant's start state ``x``, ``v`` is refused.  Those
@@ -77,12 +81,12 @@ def libcosim_ssp_execution(path: str | Path, step: float | None = None):
     as the OSP loader sets every ``InitialValue``."""
     from fmpy.ssp.ssd import read_ssv
     from libcosimpy.CosimExecution import CosimExecution  # optional: the test extra
+    from libcosimpy.CosimLogging import CosimLogLevel
 
+    # the loader's warning for each refused value, which is set below: errors only
+    quiet_libcosim(CosimLogLevel.ERROR)
+    execution = CosimExecution.from_ssp_file(str(path))
     quiet_libcosim()
-    if step is None:
-        execution = CosimExecution.from_ssp_file(str(path))
-    else:
-        execution = CosimExecution.from_ssp_file(str(path), step_size=int(round(step * 1e9)))
     setters = {
         "Real": execution.real_initial_value,
         "Integer": execution.integer_initial_value,
@@ -90,6 +94,8 @@ def libcosim_ssp_execution(path: str | Path, step: float | None = None):
     }
     for info in execution.slave_infos():
         comp = info.name.decode()
+        if comp not in SSV_FILES:
+            continue
         refused = {
             v.name.decode(): v.reference
             for v in execution.slave_variables(info.index)
@@ -112,7 +118,7 @@ def run_libcosim_ssp(path: str | Path, n: int, Ts: float, substeps: int = 10) ->
 def time_libcosim_ssp(path: str | Path, stop_time: float) -> float:
     """Wall time [s] of libcosim's ``simulate_until(stop_time)`` on the SSP package, no
     observer (execution creation not counted)."""
-    return _simulate_until(libcosim_ssp_execution(path), stop_time)
+    return timed_simulate_until(libcosim_ssp_execution(path), stop_time)
 
 
 def _typed_value(kind: str, literal: str) -> float | int | bool:
@@ -179,7 +185,8 @@ def run_container(path: str | Path, n: int, Ts: float) -> Result:
     )
 
 
-def _simulate_until(execution, stop_time: float) -> float:
+def timed_simulate_until(execution, stop_time: float) -> float:
+    """Wall time [s] of a libcosim execution's ``simulate_until(stop_time)``."""
     wall0 = time.perf_counter()
     if not execution.simulate_until(int(round(stop_time * 1e9))):
         raise RuntimeError(f"libcosim: simulate_until({stop_time}) failed")
@@ -192,4 +199,4 @@ def time_libcosim_osp(directory: str | Path, stop_time: float) -> float:
     from libcosimpy.CosimExecution import CosimExecution  # optional: the test extra
 
     quiet_libcosim()
-    return _simulate_until(CosimExecution.from_osp_config_file(str(directory)), stop_time)
+    return timed_simulate_until(CosimExecution.from_osp_config_file(str(directory)), stop_time)

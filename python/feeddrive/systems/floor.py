@@ -1,10 +1,11 @@
 """An engine's own per-step cost: the same engine stepping a trivial pair of FMUs.
 
 Two instances of the controller FMU as a PID with a gain only (a handful of flops per
-sample), each one's ``u`` connected to the other's ``x_meas``, at h = Ts.  What an engine
-spends per macro step on this pair is its floor (scheduling, the transfer of the connected
-values, its observers); the closed loop's time beyond it is the plant's and the
-controller's.
+sample), each one's ``u`` connected to the other's ``x_meas``, at h = Ts, in each engine's
+form: OSP structure and SSP package (libcosim), container FMU (fmpy's ``simulate_fmu``),
+Ecos's structure.  What an engine spends per macro step on this pair is its floor
+(scheduling, the transfer of the connected values, its observers, per-call setup such as
+extracting the FMU); the closed loop's time beyond it is the plant's and the controller's.
 """
 
 from __future__ import annotations
@@ -17,7 +18,12 @@ from xml.etree import ElementTree as ET
 from ..harness.controller_fmu import controller_fmu_parameters, controller_fmu_path
 from ..harness.controllers import pid_spec
 from .ecos import load_ecospy
-from .engines import quiet_libcosim, simulate_container
+from .engines import (
+    libcosim_ssp_execution,
+    quiet_libcosim,
+    simulate_container,
+    timed_simulate_until,
+)
 from .files import (
     FMU_TYPE,
     OSP_SSP,
@@ -37,7 +43,8 @@ PAIR = (("a", "u", "b", "x_meas"), ("b", "u", "a", "x_meas"))
 
 def pair_values(Ts: float = 5e-4) -> dict[str, float | int | bool]:
     """Start values of one instance: a PID with a proportional gain only (Kp = 10 N/m, 0.13
-    V/m at the paper's force per volt: the pair's loop gain is below 1), reference input 0."""
+    V/m at the paper's force per volt: the pair's loop gain is below 1), the reference the
+    FMU's default input ``x_ref`` (0.15 m)."""
     return {**controller_fmu_parameters(pid_spec(Kp=10.0, Kv=0.0, Ki=0.0), Ts=Ts), "x_meas": 0.0}
 
 
@@ -65,11 +72,7 @@ def time_libcosim_pair(directory: str | Path, n: int, Ts: float = 5e-4) -> float
 
     quiet_libcosim()
     osp = write_pair_osp(directory, Ts)
-    execution = CosimExecution.from_osp_config_file(str(osp.parent))
-    wall0 = time.perf_counter()
-    if not execution.simulate_until(int(round(n * Ts * 1e9))):
-        raise RuntimeError("libcosim: simulate_until failed on the trivial pair")
-    return time.perf_counter() - wall0
+    return timed_simulate_until(CosimExecution.from_osp_config_file(str(osp.parent)), n * Ts)
 
 
 def time_ecos_pair(n: int, Ts: float = 5e-4) -> float:
@@ -166,15 +169,8 @@ def write_pair_ssp(path: str | Path, Ts: float = 5e-4) -> Path:
 def time_libcosim_pair_ssp(directory: str | Path, n: int, Ts: float = 5e-4) -> float:
     """Wall time [s] of libcosim's ``simulate_until(n Ts)`` on the pair's SSP package: the
     fixed step on the calling thread, libcosim's floor without its thread pool."""
-    from libcosimpy.CosimExecution import CosimExecution  # optional: the test extra
-
-    quiet_libcosim()
     ssp = write_pair_ssp(Path(directory) / "pair.ssp", Ts)
-    execution = CosimExecution.from_ssp_file(str(ssp))
-    wall0 = time.perf_counter()
-    if not execution.simulate_until(int(round(n * Ts * 1e9))):
-        raise RuntimeError("libcosim: simulate_until failed on the trivial pair (SSP)")
-    return time.perf_counter() - wall0
+    return timed_simulate_until(libcosim_ssp_execution(ssp), n * Ts)
 
 
 def write_pair_container(path: str | Path, Ts: float = 5e-4, n: int = 12000) -> Path:

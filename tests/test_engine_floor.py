@@ -68,3 +68,20 @@ def ctrl_fmu_path(fmu_path):
     p = controller_fmu_path()
     assert p.is_file()
     return p
+
+
+def test_engine_row_says_what_stops_the_target() -> None:
+    """The bench row: our figure beside the floor; a missed target names the floor when the
+    floor alone exceeds it, else what the loop takes beyond the floor."""
+    from feeddrive.bench_engines import engine_row
+
+    py, n = 0.042, 12000  # the target is 14 ms
+    met = engine_row("e", 0.012, 0.010, py, n)
+    assert met[2].endswith(": met") and "ours beyond it 2 ms" in met[1]
+    floor = engine_row("e", 0.106, 0.085, py, n)
+    assert "the engine's floor alone is 85 ms" in floor[2]
+    ours = engine_row("e", 0.030, 0.010, py, n)
+    assert "leaves 4 ms to the FMUs, the loop takes 20 ms beyond it" in ours[2]
+    below = engine_row("e", 0.080, 0.085, py, n)
+    assert "at or below it" in below[1]
+    assert engine_row("e", float("nan"), float("nan"), py, n)[1].startswith("not measured")

@@ -1,7 +1,9 @@
-"""Run the system files in existing engines: libcosim (``libcosimpy``: the OSP structure or the
-SSP package, fixed-step algorithm), fmpy's ``simulate_ssp`` and the container FMU under fmpy's
-``simulate_fmu``.  Each returns the plant's ``x`` and the controller's ``u`` at t_k = k Ts,
-k = 0..n, as :class:`~..fmu.Result`, plus ``wall`` [s] of the engine's run.
+"""Run the system files in existing engines: libcosim (``libcosimpy``: the OSP structure with
+libcosim's worker pool, or the SSP package with the fixed step on the calling thread -- the
+SSD's ``numWorkerThreads="0"``, the only place libcosim 0.11 reads a thread count), fmpy's
+``simulate_ssp`` and the container FMU under fmpy's ``simulate_fmu``.  Each returns the
+plant's ``x`` and the controller's ``u`` at t_k = k Ts, k = 0..n, as :class:`~..fmu.Result`,
+plus ``wall`` [s] of the engine's run.
 
 Convention: these engines step all FMUs over [t_k, t_k+1] and transfer the outputs *after*
 the step (Jacobi).  The controller FMU's ``u`` read at t_k+1 is computed from the ``x_meas``

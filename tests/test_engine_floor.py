@@ -5,6 +5,9 @@ the outputs stay near 0 (loop gain (Kp/fpv)^2 < 1)."""
 
 from __future__ import annotations
 
+import json
+import zipfile
+
 import numpy as np
 import pytest
 
@@ -39,6 +42,9 @@ def test_pair_container(ctrl_fmu_path, tmp_path) -> None:
     names = {v.name for v in md.modelVariables}
     assert {"a_u", "b_u", "a.pid.Kp", "b.pid.Kp"} <= names
     assert float(md.defaultExperiment.stepSize) == 5e-4
+    with zipfile.ZipFile(fmu) as z:  # read a byte per call by the container: compact
+        conf = z.read("resources/container.json")
+    assert b"\n" not in conf and len(json.loads(conf)["components"]) == 2
     r = simulate_fmu(str(fmu), stop_time=0.1, step_size=5e-4, output=["a_u", "b_u"])
     # each u = k (x_ref - x_meas), k = Kp / force_per_volt, x_meas the other's u, x_ref the
     # FMU's default input 0.15 m: the loop gain k^2 < 1 settles both at k x_ref / (1 + k)

@@ -19,6 +19,7 @@ structure and a fmpy container FMU.
 
 from __future__ import annotations
 
+import json
 import shutil
 import tempfile
 import zipfile
@@ -42,6 +43,8 @@ OSP = "http://opensimulationplatform.com/MSMI/OSPSystemStructure"
 OSP_SSP = "http://opensimulationplatform.com/SSP/OSPAnnotations"
 FD = "https://feeddrive.invalid/ssp/delay"
 FMU_TYPE = "application/x-fmu-sharedlibrary"
+#: the container FMU's configuration, read by its binary at instantiation
+CONTAINER_JSON = "resources/container.json"
 
 
 def _types(fmu: Path) -> dict[str, str]:
@@ -357,7 +360,21 @@ def container_fmu(
     )
     with tempfile.TemporaryDirectory() as tmp:
         create_container_fmu(config, Path(tmp), path.resolve())
+    _compact_container_json(path)
     return path
+
+
+def _compact_container_json(path: Path) -> None:
+    """Rewrite the container's ``resources/container.json`` without indentation: fmpy
+    0.3.32's container binary reads it one byte per ``read`` call at instantiation (the
+    closed loop's, indented, 66 kB: 22 ms), the same content compact is a third of it."""
+    with zipfile.ZipFile(path) as z:
+        entries = [(info, z.read(info)) for info in z.infolist()]
+    with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as z:
+        for info, data in entries:
+            if info.filename == CONTAINER_JSON:
+                data = json.dumps(json.loads(data), separators=(",", ":")).encode()
+            z.writestr(info, data)
 
 
 def write_container(system: ClosedLoopSystem, path: str | Path) -> Path:

@@ -44,7 +44,10 @@ def test_pair_container(ctrl_fmu_path, tmp_path) -> None:
     assert float(md.defaultExperiment.stepSize) == 5e-4
     with zipfile.ZipFile(fmu) as z:  # read a byte per call by the container: compact
         conf = z.read("resources/container.json")
+        names = z.namelist()
     assert b"\n" not in conf and len(json.loads(conf)["components"]) == 2
+    assert "resources/DriveController/binaries/linux64/DriveController.so" in names
+    assert not [n for n in names if "/sources/" in n]  # extracted on every simulate_fmu
     r = simulate_fmu(str(fmu), stop_time=0.1, step_size=5e-4, output=["a_u", "b_u"])
     # each u = k (x_ref - x_meas), k = Kp / force_per_volt, x_meas the other's u, x_ref the
     # FMU's default input 0.15 m: the loop gain k^2 < 1 settles both at k x_ref / (1 + k)

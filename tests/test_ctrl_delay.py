@@ -170,6 +170,21 @@ def test_libcosim_at_ts_is_the_harness_with_delay_one(delay1_files) -> None:
 
 
 @pytest.mark.slow
+def test_libcosim_ssp_without_workers_is_the_harness_with_delay_one(delay1_files) -> None:
+    """libcosim on the SSP package (its fixed step on the calling thread, the plant's start
+    state x, v as the execution's initial values): the harness with delay 1, and the OSP
+    run to the bit."""
+    pytest.importorskip("libcosimpy", reason="libcosimpy: python/pyproject.toml [test]")
+    from feeddrive.systems import run_libcosim_osp, run_libcosim_ssp
+
+    s, files, h = delay1_files
+    r = run_libcosim_ssp(files["ssp"], s.n, s.Ts, substeps=1)
+    assert float(np.nanmax(np.abs(r["x"][1:] - h["x"][1:]))) <= 1e-9
+    osp = run_libcosim_osp(files["osp"].parent, 400, s.Ts, substeps=1)
+    assert np.array_equal(r["x"][1:401], osp["x"][1:])
+
+
+@pytest.mark.slow
 def test_ecos_at_ts_is_the_harness_with_delay_one(delay1_files) -> None:
     """Ecos at h = Ts, ctrl.delay 0: the harness with delay 1."""
     from feeddrive.systems.ecos import load_ecospy, run_ecos

@@ -21,6 +21,7 @@ import numpy as np
 from .bench_c import instructions_per_sample, run_bench_cs, run_cycles, run_two_fmus
 from .bench_campaign import campaign_rows
 from .bench_cli import help_rows
+from .bench_engines import engine_rows
 from .bench_study import study_rows
 from .data import Run, write_run
 from .effects import Structure, structure_off
@@ -33,10 +34,6 @@ from .harness.sensors import Sensors
 from .harness.simulate import simulate_closed_loop
 from .harness.two_fmus import simulate_two_fmus
 from .paper import paper_parameters
-from .systems import run_container, sec3_system, write_all
-from .systems.ecos import time_ecos
-from .systems.engines import time_libcosim_osp
-from .systems.floor import time_ecos_pair, time_libcosim_pair, time_libcosim_pair_ssp
 
 
 def _closed_loop(interface: str, tolerance: float, ref) -> tuple[float, dict]:
@@ -341,102 +338,6 @@ def load_rows(rows: int = 2_500_000) -> list[tuple[str, str, str]]:
     ]
 
 
-def _floor(measure, n: int, repeats: int) -> tuple[float, str]:
-    """Best wall [s] of ``measure(n)`` on the trivial pair, and its cell text."""
-    try:
-        w = min(measure(n) for _ in range(repeats))
-    except ImportError as e:
-        return float("nan"), f"not measured ({e})"
-    return w, f"{w * 1e3:.0f} ms, {w / n * 1e6:.1f} us per step"
-
-
-def engine_rows(
-    wall_python: float, res_python: dict, repeats: int = 5
-) -> list[tuple[str, str, str]]:
-    """The 6 s loop with the controller FMU in engines at h = Ts (the system with one sample
-    of computation delay, which the Jacobi engines' handover is): libcosim (OSP structure,
-    simulate_until) and fmpy's container FMU (simulate_fmu), each beside the engine's own
-    per-step cost on a trivial pair of FMUs (:mod:`feeddrive.systems.floor`)."""
-    s = sec3_system(delay=1)
-    with tempfile.TemporaryDirectory() as tmp:
-        files = write_all(s, Path(tmp) / "loop")
-        try:
-            w_lc = min(time_libcosim_osp(files["osp"].parent, s.stop_time) for _ in range(repeats))
-            lc = (
-                f"{w_lc * 1e3:.0f} ms wall, {w_lc / wall_python:.2f} x the Python-controller run, "
-                f"{w_lc / s.n * 1e6:.1f} us per step",
-                "<= 1/3 where the floor allows",
-            )
-        except ImportError:
-            w_lc, lc = (
-                float("nan"),
-                ("not measured (libcosimpy not installed: pip install 'python[test]')", ""),
-            )
-        w_fl, fl = _floor(lambda n: time_libcosim_pair(Path(tmp) / "pair", n, s.Ts), s.n, repeats)
-        _, fl0 = _floor(
-            lambda n: time_libcosim_pair_ssp(Path(tmp) / "pair_ssp", n, s.Ts), s.n, repeats
-        )
-        runs = [run_container(files["container"], s.n, s.Ts) for _ in range(repeats)]
-    w_c = min(float(r["wall"]) for r in runs)
-    rows = [
-        (
-            f"6 s closed loop (delay 1), controller FMU in libcosim (OSP, h = Ts, best of {repeats})",
-            *lc,
-        ),
-        (
-            "  libcosim's floor: a trivial pair of FMUs (two gains), h = Ts, same steps",
-            fl
-            + (
-                f"; the loop beyond it: {(w_lc - w_fl) * 1e3:.0f} ms"
-                if w_lc == w_lc and w_fl == w_fl
-                else ""
-            ),
-            "",
-        ),
-        (
-            "  libcosim's floor without worker threads: the pair as SSP, numWorkerThreads = 0",
-            fl0 + " (the loop's SSP cannot run so in libcosimpy 0.0.6: its x, v start values "
-            "are refused as non-inputs)",
-            "",
-        ),
-        (
-            f"same, fmpy container FMU under simulate_fmu (step Ts, ctrl.delay 1, best of {repeats})",
-            f"{w_c * 1e3:.0f} ms wall, {w_c / wall_python:.2f} x the Python-controller run",
-            "<= 1/3",
-        ),
-    ]
-    return rows
-
-
-def ecos_rows(wall_python: float, repeats: int = 3) -> list[tuple[str, str, str]]:
-    """The 6 s loop in Ecos (ecospy: structure built in feeddrive.systems.ecos, h = Ts, delay 1,
-    step_until) beside Ecos's own per-step cost on the trivial pair."""
-    s = sec3_system(delay=1)
-    try:
-        w = min(time_ecos(s) for _ in range(repeats))
-        cell = (
-            f"{w * 1e3:.0f} ms wall, {w / wall_python:.2f} x the Python-controller run, "
-            f"{w / s.n * 1e6:.1f} us per step",
-            "<= 1/3 where the floor allows",
-        )
-    except ImportError as e:
-        w, cell = float("nan"), (f"not measured ({e})", "")
-    w_fl, fl = _floor(lambda n: time_ecos_pair(n, s.Ts), s.n, repeats)
-    return [
-        (f"same, Ecos (h = Ts, ctrl.delay 0, step_until, best of {repeats})", *cell),
-        (
-            "  Ecos's floor: the trivial pair, h = Ts, same steps",
-            fl
-            + (
-                f"; the loop beyond it: {(w - w_fl) * 1e3:.0f} ms"
-                if w == w and w_fl == w_fl
-                else ""
-            ),
-            "",
-        ),
-    ]
-
-
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--out", default="build/bench.md")
@@ -466,9 +367,8 @@ def main(argv: list[str] | None = None) -> int:
         *(Path(p) if p else None for p in (a.two_fmus, a.library, a.controller_library)),
     )
     rows += study
-    rows += engine_rows(figs["wall_cs"], figs["res_cs"], a.repeats)
+    rows += engine_rows(figs["wall_cs"], a.repeats)
     rows += fast_path_rows()
-    rows += ecos_rows(figs["wall_cs"], min(a.repeats, 3))
     rows += campaign_rows()
     if a.bench_cs:
         rows += c_rows(

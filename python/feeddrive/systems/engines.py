@@ -1,7 +1,9 @@
-"""Run the system files in existing engines: libcosim (``libcosimpy``: the OSP structure or the
-SSP package, fixed-step algorithm), fmpy's ``simulate_ssp`` and the container FMU under fmpy's
-``simulate_fmu``.  Each returns the plant's ``x`` and the controller's ``u`` at t_k = k Ts,
-k = 0..n, as :class:`~..fmu.Result`, plus ``wall`` [s] of the engine's run.
+"""Run the system files in existing engines: libcosim (``libcosimpy``: the OSP structure with
+libcosim's worker pool, or the SSP package with the fixed step on the calling thread -- the
+SSD's ``numWorkerThreads="0"``, the only place libcosim 0.11 reads a thread count), fmpy's
+``simulate_ssp`` and the container FMU under fmpy's ``simulate_fmu``.  Each returns the
+plant's ``x`` and the controller's ``u`` at t_k = k Ts, k = 0..n, as :class:`~..fmu.Result`,
+plus ``wall`` [s] of the engine's run.
 
 Convention: these engines step all FMUs over [t_k, t_k+1] and transfer the outputs *after*
 the step (Jacobi).  The controller FMU's ``u`` read at t_k+1 is computed from the ``x_meas``
@@ -15,14 +17,21 @@ bindings itself (:func:`run_fmpy_ssp` reads the ``.ssv`` files and passes them, 
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..fmu import Result
 
+if TYPE_CHECKING:
+    from libcosimpy.CosimLogging import CosimLogLevel
+
 #: the SSP package's parameter sets, one per component
 SSV_FILES = {"plant": "resources/plant.ssv", "controller": "resources/controller.ssv"}
+#: libcosim's causality codes (``CosimVariableCausality``) its SSP loader binds values to
+_INPUT, _PARAMETER = 0, 1
 
 
 def _libcosim_run(execution, n: int, Ts: float, substeps: int = 10) -> Result:
@@ -47,11 +56,12 @@ def _libcosim_run(execution, n: int, Ts: float, substeps: int = 10) -> Result:
     return Result({"time": np.arange(n + 1) * Ts, "x": xs, "u": us, "wall": np.array(wall)})
 
 
-def quiet_libcosim() -> None:
-    """libcosim's own log at warning level (its default, debug, prints every FMI call)."""
+def quiet_libcosim(level: CosimLogLevel | None = None) -> None:
+    """libcosim's own log at ``level``, by default warning (libcosim's default, debug, prints
+    every FMI call)."""
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
 
-    log_output_level(CosimLogLevel.WARNING)
+    log_output_level(CosimLogLevel.WARNING if level is None else level)
 
 
 def run_libcosim_osp(directory: str | Path, n: int, Ts: float, substeps: int = 10) -> Result:
@@ -63,17 +73,54 @@ def run_libcosim_osp(directory: str | Path, n: int, Ts: float, substeps: int = 1
     return _libcosim_run(execution, n, Ts, substeps)
 
 
-def run_libcosim_ssp(path: str | Path, n: int, Ts: float, substeps: int = 10) -> Result:
-    """libcosim on the SSP package ``path`` (fixed step Ts/substeps), n samples of Ts.
+def libcosim_ssp_execution(path: str | Path):
+    """A libcosim execution of the SSP package ``path`` with the SSD's algorithm (fixed step,
+    ``numWorkerThreads="0"``: every FMU steps on the calling thread).
 
-    libcosimpy 0.0.6 loads the package and connects it but does not apply the components'
-    parameter bindings (inline or ``.ssv``): the FMUs run on their defaults.  Kept to show
-    it; the OSP structure is the libcosim path."""
+    libcosim's SSP loader applies a component's parameter set to its parameters and inputs
+    only (a warning for any other): the plant's start state ``x``, ``v`` is refused.  Those
+    values, read from the package's ``.ssv`` files, become the execution's initial values,
+    as the OSP loader sets every ``InitialValue``."""
+    from fmpy.ssp.ssd import read_ssv
     from libcosimpy.CosimExecution import CosimExecution  # optional: the test extra
+    from libcosimpy.CosimLogging import CosimLogLevel
 
+    # the loader's warning for each refused value, which is set below: errors only
+    quiet_libcosim(CosimLogLevel.ERROR)
+    execution = CosimExecution.from_ssp_file(str(path))
     quiet_libcosim()
-    execution = CosimExecution.from_ssp_file(str(path), step_size=int(round(Ts / substeps * 1e9)))
-    return _libcosim_run(execution, n, Ts, substeps)
+    setters = {
+        "Real": execution.real_initial_value,
+        "Integer": execution.integer_initial_value,
+        "Boolean": execution.boolean_initial_value,
+    }
+    for info in execution.slave_infos():
+        comp = info.name.decode()
+        if comp not in SSV_FILES:
+            continue
+        refused = {
+            v.name.decode(): v.reference
+            for v in execution.slave_variables(info.index)
+            if v.causality not in (_INPUT, _PARAMETER)
+        }
+        for p in read_ssv(str(path), resource=SSV_FILES[comp]).parameters:
+            if p.name in refused and not setters[p.type](
+                info.index, refused[p.name], _typed_value(p.type, p.value)
+            ):
+                raise RuntimeError(f"libcosim: initial value {comp}.{p.name} refused")
+    return execution
+
+
+def run_libcosim_ssp(path: str | Path, n: int, Ts: float, substeps: int = 10) -> Result:
+    """libcosim on the SSP package ``path`` (its own fixed step, on the calling thread),
+    n samples of Ts read every ``substeps`` macro steps."""
+    return _libcosim_run(libcosim_ssp_execution(path), n, Ts, substeps)
+
+
+def time_libcosim_ssp(path: str | Path, stop_time: float) -> float:
+    """Wall time [s] of libcosim's ``simulate_until(stop_time)`` on the SSP package, no
+    observer (execution creation not counted)."""
+    return timed_simulate_until(libcosim_ssp_execution(path), stop_time)
 
 
 def _typed_value(kind: str, literal: str) -> float | int | bool:
@@ -113,15 +160,23 @@ def run_fmpy_ssp(path: str | Path, n: int, Ts: float, substeps: int = 10) -> Res
     return Result({"time": np.arange(n + 1) * Ts, "x": xs, "u": us, "wall": np.array(wall)})
 
 
-def run_container(path: str | Path, n: int, Ts: float) -> Result:
-    """fmpy's ``simulate_fmu`` on the container FMU ``path`` (output interval Ts), n steps."""
+def simulate_container(
+    path: str | Path, n: int, Ts: float, output: Sequence[str] = ("x", "u")
+) -> tuple[np.ndarray, float]:
+    """fmpy's ``simulate_fmu`` on the container FMU ``path`` (step and output interval Ts), n
+    steps, ``output`` recorded: the result and the wall time [s] of the call."""
     from fmpy import simulate_fmu
 
     wall0 = time.perf_counter()
     out = simulate_fmu(
-        str(path), stop_time=n * Ts, step_size=Ts, output_interval=Ts, output=["x", "u"]
+        str(path), stop_time=n * Ts, step_size=Ts, output_interval=Ts, output=list(output)
     )
-    wall = time.perf_counter() - wall0
+    return out, time.perf_counter() - wall0
+
+
+def run_container(path: str | Path, n: int, Ts: float) -> Result:
+    """fmpy's ``simulate_fmu`` on the container FMU ``path`` (output interval Ts), n steps."""
+    out, wall = simulate_container(path, n, Ts)
     return Result(
         {
             "time": np.asarray(out["time"][: n + 1]),
@@ -132,14 +187,18 @@ def run_container(path: str | Path, n: int, Ts: float) -> Result:
     )
 
 
+def timed_simulate_until(execution, stop_time: float) -> float:
+    """Wall time [s] of a libcosim execution's ``simulate_until(stop_time)``."""
+    wall0 = time.perf_counter()
+    if not execution.simulate_until(int(round(stop_time * 1e9))):
+        raise RuntimeError(f"libcosim: simulate_until({stop_time}) failed")
+    return time.perf_counter() - wall0
+
+
 def time_libcosim_osp(directory: str | Path, stop_time: float) -> float:
     """Wall time [s] of libcosim's ``simulate_until(stop_time)`` on the OSP structure, no
     observer (execution creation -- loading and instantiating the FMUs -- not counted)."""
     from libcosimpy.CosimExecution import CosimExecution  # optional: the test extra
 
     quiet_libcosim()
-    execution = CosimExecution.from_osp_config_file(str(directory))
-    wall0 = time.perf_counter()
-    if not execution.simulate_until(int(round(stop_time * 1e9))):
-        raise RuntimeError(f"libcosim: simulate_until({stop_time}) failed")
-    return time.perf_counter() - wall0
+    return timed_simulate_until(CosimExecution.from_osp_config_file(str(directory)), stop_time)

@@ -1,10 +1,11 @@
 """An engine's own per-step cost: the same engine stepping a trivial pair of FMUs.
 
 Two instances of the controller FMU as a PID with a gain only (a handful of flops per
-sample), each one's ``u`` connected to the other's ``x_meas``, at h = Ts.  What an engine
-spends per macro step on this pair is its floor (scheduling, the transfer of the connected
-values, its observers); the closed loop's time beyond it is the plant's and the
-controller's.
+sample), each one's ``u`` connected to the other's ``x_meas``, at h = Ts, in each engine's
+form: OSP structure and SSP package (libcosim), container FMU (fmpy's ``simulate_fmu``),
+Ecos's structure.  What an engine spends per macro step on this pair is its floor
+(scheduling, the transfer of the connected values, its observers, per-call setup such as
+extracting the FMU); the closed loop's time beyond it is the plant's and the controller's.
 """
 
 from __future__ import annotations
@@ -17,8 +18,24 @@ from xml.etree import ElementTree as ET
 from ..harness.controller_fmu import controller_fmu_parameters, controller_fmu_path
 from ..harness.controllers import pid_spec
 from .ecos import load_ecospy
-from .engines import quiet_libcosim
-from .files import FMU_TYPE, OSP_SSP, SSC, SSD, _literal, _types, osp_structure
+from .engines import (
+    libcosim_ssp_execution,
+    quiet_libcosim,
+    simulate_container,
+    timed_simulate_until,
+)
+from .files import (
+    FMU_TYPE,
+    OSP_SSP,
+    SSC,
+    SSD,
+    SSV,
+    _literal,
+    _parameter_set,
+    _types,
+    container_fmu,
+    osp_structure,
+)
 
 #: the pair's connections (start component, output, end component, input)
 PAIR = (("a", "u", "b", "x_meas"), ("b", "u", "a", "x_meas"))
@@ -26,15 +43,20 @@ PAIR = (("a", "u", "b", "x_meas"), ("b", "u", "a", "x_meas"))
 
 def pair_values(Ts: float = 5e-4) -> dict[str, float | int | bool]:
     """Start values of one instance: a PID with a proportional gain only (Kp = 10 N/m, 0.13
-    V/m at the paper's force per volt: the pair's loop gain is below 1), reference input 0."""
+    V/m at the paper's force per volt: the pair's loop gain is below 1), the reference the
+    FMU's default input ``x_ref`` (0.15 m)."""
     return {**controller_fmu_parameters(pid_spec(Kp=10.0, Kv=0.0, Ki=0.0), Ts=Ts), "x_meas": 0.0}
+
+
+def _pair_typed(Ts: float) -> list[tuple[str, str, str]]:
+    types = _types(controller_fmu_path())
+    return [(k, types[k], _literal(types[k], v)) for k, v in pair_values(Ts).items()]
 
 
 def write_pair_osp(directory: str | Path, Ts: float = 5e-4) -> Path:
     """The pair as an OSP system structure at h = Ts (the controller FMU copied beside it)."""
     fmu = controller_fmu_path()
-    types = _types(fmu)
-    values = [(k, types[k], _literal(types[k], v)) for k, v in pair_values(Ts).items()]
+    values = _pair_typed(Ts)
     return osp_structure(
         directory,
         Ts,
@@ -50,11 +72,7 @@ def time_libcosim_pair(directory: str | Path, n: int, Ts: float = 5e-4) -> float
 
     quiet_libcosim()
     osp = write_pair_osp(directory, Ts)
-    execution = CosimExecution.from_osp_config_file(str(osp.parent))
-    wall0 = time.perf_counter()
-    if not execution.simulate_until(int(round(n * Ts * 1e9))):
-        raise RuntimeError("libcosim: simulate_until failed on the trivial pair")
-    return time.perf_counter() - wall0
+    return timed_simulate_until(CosimExecution.from_osp_config_file(str(osp.parent)), n * Ts)
 
 
 def time_ecos_pair(n: int, Ts: float = 5e-4) -> float:
@@ -90,12 +108,14 @@ def time_ecos_pair(n: int, Ts: float = 5e-4) -> float:
 
 def write_pair_ssp(path: str | Path, Ts: float = 5e-4) -> Path:
     """The pair as an SSP package for libcosim, its fixed step at h = Ts without worker threads
-    (``numWorkerThreads="0"``).  No parameter bindings (libcosimpy 0.0.6 does not apply
-    them): both instances run on the controller FMU's defaults, a PID on ``x_meas``."""
+    (``numWorkerThreads="0"``), each instance's start values as its inline parameter set
+    (all of them parameters or inputs, which libcosim's SSP loader binds)."""
     path = Path(path)
     fmu = controller_fmu_path()
+    values = _pair_typed(Ts)
     ET.register_namespace("ssd", SSD)
     ET.register_namespace("ssc", SSC)
+    ET.register_namespace("ssv", SSV)
     ET.register_namespace("osp", OSP_SSP)
     root = ET.Element(f"{{{SSD}}}SystemStructureDescription", {"version": "1.0", "name": "pair"})
     system = ET.SubElement(root, f"{{{SSD}}}System", {"name": "pair"})
@@ -112,6 +132,12 @@ def write_pair_ssp(path: str | Path, Ts: float = 5e-4) -> Path:
                 ET.SubElement(conns, f"{{{SSD}}}Connector", {"name": var, "kind": kind}),
                 f"{{{SSC}}}Real",
             )
+        ET.SubElement(
+            ET.SubElement(
+                ET.SubElement(c, f"{{{SSD}}}ParameterBindings"), f"{{{SSD}}}ParameterBinding"
+            ),
+            f"{{{SSD}}}ParameterValues",
+        ).append(_parameter_set(name, values))
     connections = ET.SubElement(system, f"{{{SSD}}}Connections")
     for a, av, b, bv in PAIR:
         ET.SubElement(
@@ -143,12 +169,29 @@ def write_pair_ssp(path: str | Path, Ts: float = 5e-4) -> Path:
 def time_libcosim_pair_ssp(directory: str | Path, n: int, Ts: float = 5e-4) -> float:
     """Wall time [s] of libcosim's ``simulate_until(n Ts)`` on the pair's SSP package: the
     fixed step on the calling thread, libcosim's floor without its thread pool."""
-    from libcosimpy.CosimExecution import CosimExecution  # optional: the test extra
-
-    quiet_libcosim()
     ssp = write_pair_ssp(Path(directory) / "pair.ssp", Ts)
-    execution = CosimExecution.from_ssp_file(str(ssp))
-    wall0 = time.perf_counter()
-    if not execution.simulate_until(int(round(n * Ts * 1e9))):
-        raise RuntimeError("libcosim: simulate_until failed on the trivial pair (SSP)")
-    return time.perf_counter() - wall0
+    return timed_simulate_until(libcosim_ssp_execution(ssp), n * Ts)
+
+
+def write_pair_container(path: str | Path, Ts: float = 5e-4, n: int = 12000) -> Path:
+    """The pair as fmpy's container FMU (fixed step Ts), outputs ``a_u`` and ``b_u``: the
+    closed loop's container with the plant and the controller replaced by the two gains."""
+    fmu = controller_fmu_path()
+    values = _pair_typed(Ts)
+    return container_fmu(
+        path,
+        "pair",
+        Ts,
+        n * Ts,
+        {"a": fmu, "b": fmu},
+        PAIR,
+        [("a_u", "a", "u", None), ("b_u", "b", "u", None)],
+        {"a": values, "b": values},
+    )
+
+
+def time_container_pair(directory: str | Path, n: int, Ts: float = 5e-4) -> float:
+    """Wall time [s] of fmpy's ``simulate_fmu`` on the pair's container FMU, n steps of Ts,
+    two outputs recorded: the same call as the closed loop's (:func:`.engines.run_container`)."""
+    fmu = write_pair_container(Path(directory) / "pair_container.fmu", Ts, n)
+    return simulate_container(fmu, n, Ts, ("a_u", "b_u"))[1]

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from feeddrive.bench_c import markdown, run_bench_cs
+from feeddrive.bench_c import callgrind_groups, markdown, run_bench_cs
 
 REPO = Path(__file__).resolve().parents[1]
 OUT = REPO / "build" / "tests_c"
@@ -43,3 +43,28 @@ def test_bench_cs_figures(bench_cs: Path):
 def test_bench_cs_missing_host_is_named(tmp_path: Path):
     with pytest.raises(FileNotFoundError, match="no C benchmark host"):
         run_bench_cs(tmp_path / "bench_cs", SO)
+
+
+def test_callgrind_groups_per_sample():
+    """The instruction groups of the bench table from callgrind_annotate's inclusive listing:
+    each group's functions summed and divided by the samples; a group none of whose functions
+    is listed is left out."""
+    text = (
+        "  2,400 (50.00%)  ???:fmi2DoStep [/b/LinearMotorFeedDrive.so]\n"
+        "  1,200 (25.00%)  ???:fast_step [/b/LinearMotorFeedDrive.so]\n"
+        "    240 ( 5.00%)  ???:dp45_advance [/b/LinearMotorFeedDrive.so]\n"
+        "    480 (10.00%)  ???:fmi2GetReal [/b/LinearMotorFeedDrive.so]\n"
+        "    120 ( 2.50%)  ???:fmi2SetReal [/b/LinearMotorFeedDrive.so]\n"
+        "  3,600 (75.00%)  tests/c/cs_loop.c:cs_loop_step [/b/bench_cs]\n"
+        "  9,999 (99.00%)  ./stdlib/msort.c:msort_with_tmp.part.0'2 [/lib/libc.so.6]\n"
+    )
+    g = callgrind_groups(text, 120)
+    assert g == {
+        "fmi": 25.0,
+        "dostep": 20.0,
+        "get": 4.0,
+        "set": 1.0,
+        "integrators": 12.0,
+        "loop": 30.0,
+    }
+    assert callgrind_groups("  100 (1.00%)  ???:main [/b/bench_cs]\n", 10) == {}

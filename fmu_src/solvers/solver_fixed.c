@@ -91,9 +91,10 @@ static double level_eval(rctx_t *c, double v) {
             double dw, x;
             int n;
             double ae = fabs(eps);
-            int top = NBIN;
-            /* the degree this |eps| needs: the terms left out below 2^-64 of w (|C(delta, j)| <= 1) */
-            while (top > 2 && ae <= EPS_DEGREE[top - 1]) top--;
+            int top = 2;
+            /* the degree this |eps| needs: the lowest (at least 2) whose terms left out are below
+             * 2^-64 of w (|C(delta, j)| <= 1); EPS_DEGREE rises, so the search goes up from 2 */
+            while (top < NBIN && ae > EPS_DEGREE[top]) top++;
             w = c->bc[top];
             for (n = top - 1; n >= 1; n--) w = w * eps + c->bc[n];
             dw = c->w0 * (w * eps);
@@ -225,7 +226,7 @@ static int end_ok(const plant_params_t *p, const plant_disc_t *d, const double *
     sg = friction_sign(v);
     {
         double S = -1.0;
-        for (j = 0; j < PLANT_NE_MAX; j++) {
+        for (j = 0; j < p->N; j++) {   /* active[j] implies j < N */
             if (!p->active[j] || !d->stuck[j]) continue;
             if (S < 0.0) S = S_end >= 0.0 && side_end == (sg < 0) ? S_end : friction_level(p, v, sg < 0);
             if (!(p->nu[j] * S - sg * y[PLANT_IF + j] > 0.0)) return 0;
@@ -338,7 +339,8 @@ int fixed_step(const plant_params_t *p, const plant_disc_t *d, const plant_in_t 
     stages(&c, h, q, k1, qn, e, k5, &Kf, &Fcg);
     *n_rhs += 4;
     if (!(full_state(&c, d, tol, y, q, qn, e, y1) <= 1.0)) return 0;   /* also NaN */
-    for (j = 0; j < PLANT_NX; j++)
+    /* x, v and the forces of the N elements in use: full_state copies the other states from y */
+    for (j = 0; j < PLANT_IF + p->N; j++)
         if (!isfinite(y1[j])) return 0;
     if (!end_ok(p, d, y1, c.l_S_ok ? c.l_S : -1.0, c.side)) return 0;
     for (j = 0; j < PLANT_NX; j++) y[j] = y1[j];

@@ -183,16 +183,48 @@ def c_rows(
         ),
     ]
     ipc = {m: instructions_per_sample(bench_cs, library, m) for m in ("fast", "adaptive")}
-    if ipc["fast"] is not None and ipc["adaptive"] is not None:
+    fi, ai = ipc["fast"], ipc["adaptive"]
+    if fi is not None and ai is not None:
         rows.append(
             (
                 "  instructions per sample (callgrind: fmi2DoStep + fmi2GetReal + fmi2SetReal)",
-                f"{ipc['fast']:.0f} (adaptive: {ipc['adaptive']:.0f})",
+                f"{fi['fmi']:.0f} (adaptive: {ai['fmi']:.0f})",
                 "",
             )
         )
+        rows.append(
+            (
+                "  of which fmi2DoStep / fmi2GetReal / fmi2SetReal",
+                f"{fi.get('dostep', 0):.0f} / {fi.get('get', 0):.0f} / {fi.get('set', 0):.0f}",
+                "",
+            )
+        )
+        integ, loop = fi.get("integrators", 0.0), fi.get("loop", 0.0)
+        rows.append(
+            (
+                "  of which the integrators alone (the RK stages with no FMI around them: "
+                "fast_step + dp45_advance)",
+                f"{integ:.0f} (adaptive: {ai.get('integrators', 0):.0f})",
+                "",
+            )
+        )
+        if integ > 0 and loop > 0:
+            rows.append(
+                (
+                    "  the integrators' part of the loop's floor (wall floor x their share of the "
+                    f"loop's {loop:.0f} instructions per sample, controller included)",
+                    f"{f['wall_s_floor'] * integ / loop * 1e3:.1f} ms wall",
+                    "the C path's floor with no FMI glue at all",
+                )
+            )
     else:
-        rows.append(("  instructions per sample", "not measured (valgrind not installed)", ""))
+        rows.append(
+            (
+                "  instructions per sample",
+                "not measured (valgrind's callgrind and callgrind_annotate not installed)",
+                "",
+            )
+        )
     rows += [
         (
             "one 0.5 ms fmi2DoStep: median (scheme; adaptive)",

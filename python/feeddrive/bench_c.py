@@ -50,10 +50,40 @@ def run_bench_cs(
     return json.loads(out.strip().splitlines()[-1])
 
 
-def instructions_per_sample(exe: str | Path, library: str | Path, solver: str) -> float | None:
-    """Instructions per sample of ``bench_cs`` under callgrind (repeatable, unlike wall time): the
-    inclusive cost of ``fmi2DoStep``, ``fmi2GetReal`` and ``fmi2SetReal`` over the 12 000 samples.
-    None when valgrind or callgrind_annotate is not installed."""
+#: the groups of ``instructions_per_sample``: name -> the functions whose inclusive costs are summed
+#: (``integrators``: the per-sample scheme's step and the adaptive DP45, no FMI glue around them;
+#: ``loop``: the host's whole sample, the controller included)
+IPS_GROUPS: dict[str, tuple[str, ...]] = {
+    "fmi": ("fmi2DoStep", "fmi2GetReal", "fmi2SetReal"),
+    "dostep": ("fmi2DoStep",),
+    "get": ("fmi2GetReal",),
+    "set": ("fmi2SetReal",),
+    "integrators": ("fast_step", "dp45_advance"),
+    "loop": ("cs_loop_step",),
+}
+
+
+def callgrind_groups(text: str, samples: int) -> dict[str, float]:
+    """Instructions per sample of each of ``IPS_GROUPS`` from ``callgrind_annotate
+    --inclusive=yes`` output ``text`` over ``samples`` samples (a function listed by several
+    files counts once per line; a group with no function found is left out)."""
+    cost: dict[str, int] = {}
+    for m in re.finditer(r"^\s*([\d,]+) .*:(\w+) \[", text, re.M):
+        cost[m.group(2)] = cost.get(m.group(2), 0) + int(m.group(1).replace(",", ""))
+    return {
+        g: sum(cost[f] for f in fns if f in cost) / samples
+        for g, fns in IPS_GROUPS.items()
+        if any(f in cost for f in fns)
+    }
+
+
+def instructions_per_sample(
+    exe: str | Path, library: str | Path, solver: str
+) -> dict[str, float] | None:
+    """Instructions per sample of ``bench_cs`` under callgrind (repeatable, unlike wall time), by
+    the groups of ``IPS_GROUPS`` (``fmi``: fmi2DoStep + fmi2GetReal + fmi2SetReal inclusive).
+    One repetition of ``bench_cs`` runs the loop twice (timed whole, timed per step): 2 x 12 000
+    samples. None when valgrind or callgrind_annotate is not installed."""
     if not (shutil.which("valgrind") and shutil.which("callgrind_annotate")):
         return None
     with tempfile.TemporaryDirectory() as d:
@@ -77,13 +107,8 @@ def instructions_per_sample(exe: str | Path, library: str | Path, solver: str) -
             text=True,
             check=True,
         ).stdout
-    total = sum(
-        int(m.group(1).replace(",", ""))
-        for m in re.finditer(
-            r"^\s*([\d,]+) .*:(?:fmi2DoStep|fmi2GetReal|fmi2SetReal) \[", text, re.M
-        )
-    )
-    return total / BENCH_SAMPLES if total else None
+    groups = callgrind_groups(text, 2 * BENCH_SAMPLES)
+    return groups if "fmi" in groups else None
 
 
 def run_cycles(exe: str | Path, library: str | Path, cycles: int = 10_000) -> dict[str, int]:

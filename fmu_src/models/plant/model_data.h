@@ -50,7 +50,7 @@ typedef struct {
     plant_disc_t d;
     plant_in_t in;
     int params_ok;                  /* p compiled from val */
-    int out_valid;                  /* 0, OUT_VALUES or OUT_ALL (model_update_values / model_update_outputs) */
+    int out_valid;                  /* 0, OUT_OUTPUTS, OUT_VALUES or OUT_ALL (plant_model.c) */
     plant_out_t out;
     double dydt[PLANT_NX];
     int stroke_warned;
@@ -64,8 +64,9 @@ typedef struct {
     double y_lo[PLANT_NX], y_hi[PLANT_NX];   /* the states' declared min/max (modelDescription.xml) */
     unsigned char is_der[MODEL_NVR];         /* 1: the value reference is a derivative's only */
 } model_t;
-#define OUT_VALUES 1                /* val[] holds the states, outputs and statistics */
-#define OUT_ALL 2                   /* ... and the derivatives (m->dydt too) */
+#define OUT_OUTPUTS 1               /* out holds the outputs at (d, y, in) */
+#define OUT_VALUES 2                /* ... and val[] the states, outputs and statistics */
+#define OUT_ALL 3                   /* ... and the derivatives (m->dydt too) */
 
 /* Work budget of one call (README "Co-simulation"): a step of length h may take
  *   BUDGET_STEPS_BASE + BUDGET_STEPS_PER_SAMPLE h/Ts + min(BUDGET_STEPS_RATE h, BUDGET_STEPS_EXTRA)

@@ -27,11 +27,18 @@ int plant_sample_due(const model_t *m, double tau, double slack) {
 }
 
 
-void plant_update_values(instance_t *c) {
-    model_t *m = &c->m;
-    if (m->out_valid) return;
+/* m->out at (d, y, in): the outputs alone, val[] untouched (a read of the signals a loop exchanges) */
+static inline void plant_update_out(model_t *m) {
+    if (m->out_valid >= OUT_OUTPUTS) return;
     params_inputs(m->val, &m->in);
     plant_outputs_memo(&m->p, &m->d, m->y, &m->in, &m->memo, &m->out);
+    m->out_valid = OUT_OUTPUTS;
+}
+
+void plant_update_values(instance_t *c) {
+    model_t *m = &c->m;
+    if (m->out_valid >= OUT_VALUES) return;
+    plant_update_out(m);
     params_store_outputs(m->val, m->y, &m->out, &m->d);
     m->val[VR_stats_n_steps] = (double)m->solver.n_steps;
     m->val[VR_stats_n_rhs] = (double)m->solver.n_rhs;
@@ -208,6 +215,10 @@ fmi2Status model_initialize(instance_t *c, const char *fn, int exiting) {
  * modelDescription.xml; solver.tol must in addition be > 0 (its declared min 0 is open). */
 int model_check_value(instance_t *c, const char *fn, int row, double v) {
     char msg[512];
+    /* an input (set every sample) has no rule beyond its declared min/max (params.c's range_of):
+     * a finite value inside them passes without the rule tables; anything else gets the message */
+    if (MODEL_VARS[row].causality == 'i' && v >= MODEL_VARS[row].min && v <= MODEL_VARS[row].max && isfinite(v))
+        return 1;
     if (!params_check_value(MODEL_VARS[row].vr, v, msg, sizeof msg)) {
         fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s", fn, msg);
         return 0;
@@ -237,19 +248,29 @@ void model_values_changed(instance_t *c) {
     }
 }
 
-/* Every value asked for is the position, the measured position or the velocity (a controller's
- * read between steps): these are the states themselves (x_measured: x, or x + compliance.dx on
- * the load side), so nothing else need be computed (outputs are computed when read). */
+/* Every value asked for is a signal a control loop reads every sample: a state itself (x, v,
+ * x_measured: x, or x + compliance.dx on the load side) or an output of plant_out_t, from m->out
+ * computed once (plant_update_out) without storing the value table. Any other value reference:
+ * 0 (what was written to value[] is then overwritten by the glue's general read). */
 int model_get_direct(instance_t *c, const char *fn, const unsigned vr[], size_t nvr, char type, void *value,
                      fmi2Status *st) {
-    const model_t *m = &c->m;
+    model_t *m = &c->m;
+    const plant_out_t *o = &m->out;
     size_t k;
-    if (type != 'R' || m->out_valid || !m->params_ok || nvr == 0) return 0;
-    for (k = 0; k < nvr; k++)
-        if (vr[k] != VR_x && vr[k] != VR_v && vr[k] != VR_x_measured) return 0;
-    *st = fmi2OK;
+    if (type != 'R' || !m->params_ok || nvr == 0) return 0;
     for (k = 0; k < nvr; k++) {
-        double v = vr[k] == VR_x_measured ? compliance_x_measured(&m->p, m->y) : m->y[vr[k] == VR_x ? PLANT_IX : PLANT_IV];
+        double v;
+        switch (vr[k]) {
+        case VR_x: v = m->y[PLANT_IX]; break;
+        case VR_v: v = m->y[PLANT_IV]; break;
+        case VR_x_measured: v = compliance_x_measured(&m->p, m->y); break;
+        case VR_i: plant_update_out(m); v = o->i; break;
+        case VR_F_motor: plant_update_out(m); v = o->F_motor; break;
+        case VR_F_cogging: plant_update_out(m); v = o->F_cg; break;
+        case VR_F_friction: plant_update_out(m); v = o->F_fric; break;
+        case VR_K_f: plant_update_out(m); v = o->K_f; break;
+        default: return 0;
+        }
         if (!isfinite(v)) {
             fmu_log(c, fmi2Error, LOG_ERROR, "%s: %s = %g is not finite (the simulation overflowed)", fn,
                     MODEL_VARS[MODEL_VR_INDEX[vr[k]]].name, v);
@@ -258,6 +279,7 @@ int model_get_direct(instance_t *c, const char *fn, const unsigned vr[], size_t 
         }
         ((double *)value)[k] = v;
     }
+    *st = fmi2OK;
     return 1;
 }
 

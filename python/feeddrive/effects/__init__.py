@@ -25,7 +25,7 @@ from . import (
     stribeck,
     viscous,
 )
-from .effect import Candidate, Effect, Identification, Parameter, resolve, switched_off
+from .effect import Candidate, Effect, Identification, Parameter, nested, resolve, switched_off
 
 #: Every effect of the catalogue, in catalogue order (the first nine are the paper's model).
 EFFECTS: tuple[Effect, ...] = (
@@ -79,6 +79,17 @@ def apply_switches(values: Mapping[str, Any]) -> dict[str, Any]:
     return switched_off(values, EFFECTS)
 
 
+def nesting() -> dict[str, str]:
+    """Each effect whose diagnosis candidate reduces to another's in a limit, by id: the
+    other's id (:func:`~feeddrive.effects.effect.nested` of the catalogue)."""
+    return nested(EFFECTS)
+
+
+def emps_baseline() -> list[str]:
+    """The ids of the effects on in the EMPS benchmark's rigid baseline model."""
+    return [e.id for e in EFFECTS if e.candidate.emps_baseline]
+
+
 def position_map_effects() -> dict[str, tuple[str, str]]:
     """The ids of the (periodic, aperiodic) parts of each position map (Eqs. 6-7)."""
     parts: dict[str, dict[str, str]] = {}
@@ -99,6 +110,9 @@ __all__ = [
     "apply_switches",
     "effect",
     "effect_ids",
+    "emps_baseline",
+    "nested",
+    "nesting",
     "position_map_effects",
     "resolve",
     "switchable",

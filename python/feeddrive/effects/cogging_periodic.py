@@ -2,7 +2,15 @@
 
 from __future__ import annotations
 
+from .candidate import CandidateContext, Variant, periodic_variants
 from .effect import Candidate, Effect, Identification, Parameter
+
+
+def candidate(ctx: CandidateContext) -> list[Variant]:
+    """The diagnosis candidate: the cogging harmonics corrected, extra wavelengths from the
+    residual's spatial spectrum."""
+    return periodic_variants(ctx, "cogging", "cogging_periodic", weighted=False)
+
 
 EFFECT = Effect(
     id="cogging_periodic",
@@ -21,7 +29,7 @@ EFFECT = Effect(
         "DSTFT of F_cg(x) sampled by the constant-speed runs (Eqs. 3-5), harmonics fitted",
     ),
     candidate=Candidate(
-        "feeddrive.diagnose.candidates:cogging_periodic",
+        "feeddrive.effects.cogging_periodic:candidate",
         ("cogging.lambda[j]", "cogging.a[j]", "cogging.b[j]"),
         "harmonics at <wavelengths> mm (extra: <new wavelengths> mm)",
     ),

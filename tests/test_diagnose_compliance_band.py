@@ -19,8 +19,8 @@ import pytest
 from scipy import signal
 
 from compliance_cases import PAPER, case_runs, loaded
-from feeddrive.diagnose import candidates
 from feeddrive.diagnose.band import kernel_band_hz
+from feeddrive.diagnose.candidates import CANDIDATES
 from feeddrive.diagnose.context import Context
 from feeddrive.diagnose.scoring import I_MIN, T_MIN, score
 from feeddrive.diagnose.significance import beyond
@@ -98,8 +98,8 @@ def test_under_a_prbs_the_load_leads_and_no_mass_is_named(case):
     assert diag.verdict["verdict"] == "explained", diag.verdict["sentence"]
     assert "Explained" in diag.verdict["sentence"] and "floor" in diag.verdict["sentence"]
     ctx = Context(residuals(runs, PAPER), PAPER)
-    load = max((score(ctx, v) for v in candidates.compliance(ctx)), key=lambda s: s.improvement)
-    share, t, _ = beyond(load, score(ctx, candidates.mass(ctx)[0]))
+    load = max((score(ctx, v) for v in CANDIDATES["compliance"](ctx)), key=lambda s: s.improvement)
+    share, t, _ = beyond(load, score(ctx, CANDIDATES["mass"](ctx)[0]))
     assert share >= I_MIN and t >= T_MIN, (share, t)
 
 

@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 from feeddrive.data import Run
-from feeddrive.diagnose.candidates import viscous
 from feeddrive.diagnose.context import Context
 from feeddrive.diagnose.scoring import score
 from feeddrive.diagnose.workflow import diagnose
+from feeddrive.effects.viscous import candidate as viscous
 from feeddrive.model_file import load_model, paper_model
 from feeddrive.physics import compile
 from feeddrive.report.diagnosis import write_diagnosis

@@ -29,7 +29,7 @@ from ..data import Run
 from ..model_file import ModelFile
 from ..physics import compile
 from ..residual import RunResidual, residuals
-from .candidates import compliance, mass
+from .candidates import CANDIDATES
 from .context import Context
 from .noise_floor import noise_floor
 from .scoring import T_MIN, Score, score
@@ -108,9 +108,14 @@ def wide_band(
     res: list[RunResidual],
     n_blocks: int,
     force_gain: float | None = None,
+    *,
+    load: str,
+    limit: str,
 ) -> WideBand | None:
-    """Compliance against mass on the runs' residual through ``WIDE_WINDOW_S`` (module
-    docstring); None when the wide window is not shorter than the one in use."""
+    """The candidate family ``load`` (a load on a spring) against the family ``limit`` it
+    reduces to (a mass change) on the runs' residual through ``WIDE_WINDOW_S`` (module
+    docstring; :func:`feeddrive.effects.nesting`); None when the wide window is not shorter
+    than the one in use."""
     Ts = min(q.Ts for q in res)
     w = int(round(WIDE_WINDOW_S / Ts)) | 1
     if w >= min(len(q.K) for q in res) + 2:
@@ -127,8 +132,8 @@ def wide_band(
     )
     gate = make_gate(model, wres, floor_N)
     ctx = Context(wres, model, n_blocks=n_blocks)
-    sm = score(ctx, mass(ctx)[0])
-    scores = [score(ctx, v) for v in compliance(ctx)]
+    sm = score(ctx, CANDIDATES[limit](ctx)[0])
+    scores = [score(ctx, v) for v in CANDIDATES[load](ctx)]
     sc = max(scores, key=lambda s: s.improvement) if scores else None
     share, t, force = beyond(sc, sm) if sc is not None else (0.0, 0.0, 0.0)
     ok = sc is not None and nested_separable(sc, sm, gate) and passes(sc, gate)

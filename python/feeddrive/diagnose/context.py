@@ -10,14 +10,29 @@ friction they hold, and must not count against (or for) a candidate because of i
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 
+from ..fits.compliance import fit_compliance
 from ..model_file import ModelFile
-from ..physics import PlantParameters, compile
+from ..paper import N_ELEMENTS_MAX, N_HARMONICS
+from ..physics import (
+    FrictionProfile,
+    GMSParameters,
+    PlantParameters,
+    compile,
+    gms_force,
+    held_current,
+    load_acceleration,
+    load_free_response,
+    profile_basis,
+    stribeck_drop,
+)
 from ..residual import RunResidual
+from .localise import spatial_spectrum, spectral_peaks
 
 #: Held-out blocks over all runs (contiguous pieces of each run).
 DEFAULT_BLOCKS = 10
@@ -27,7 +42,9 @@ MIN_BLOCK = 100
 
 @dataclass
 class Context:
-    """Stacked residual of every run (valid samples only) and the block of each sample."""
+    """Stacked residual of every run (valid samples only) and the block of each sample; the
+    services a candidate builder of an effect module receives
+    (:class:`feeddrive.effects.candidate.CandidateContext`)."""
 
     res: list[RunResidual]
     model: ModelFile
@@ -135,3 +152,109 @@ class Context:
     def all(self, name: str) -> np.ndarray:
         """A per-sample attribute of the residuals (``x``, ``v``, ...) stacked."""
         return np.concatenate([np.asarray(getattr(q, name))[q.valid] for q in self.res])
+
+    # ----------------------------------------------------------- services to the candidates
+    @property
+    def n_elements_max(self) -> int:
+        """Most Maxwell-slip elements of the FMU."""
+        return N_ELEMENTS_MAX
+
+    @property
+    def n_harmonics(self) -> int:
+        """Harmonic slots of each position map of the FMU."""
+        return N_HARMONICS
+
+    def sliding_fraction(self, q: RunResidual) -> np.ndarray:
+        """Share of the friction that slides (sum of nu_i of slipping GMS elements); static
+        model: 1 except on stuck samples.  Memoised per context and run."""
+        key = ("sliding", id(q))
+        if key not in self.cache:
+            self.cache[key] = self._sliding(q)
+        return self.cache[key]
+
+    def _sliding(self, q: RunResidual) -> np.ndarray:
+        if not self.plant.prerolling:
+            return (~q.stuck).astype(float)
+        prm = self.plant.friction
+        _, Fe = gms_force(
+            q.x, q.v_f, q.Ts, prm, F0=self.gms_start(q, len(prm.nu)), return_elements=True
+        )
+        lim = np.outer(prm.level(q.v_f, q.x), np.asarray(prm.nu))
+        slipping = np.abs(Fe) >= 0.98 * lim
+        return (slipping * np.asarray(prm.nu)).sum(axis=1) / max(sum(prm.nu), 1e-12)
+
+    def sliding_level(self, q: RunResidual) -> np.ndarray:
+        """The friction the profile p(x) scales along a run [N]: sgn(v) S(|v|) (the level
+        without the model's own profile) times the sliding share; memoised per run."""
+        key = ("sliding_level", id(q))
+        if key not in self.cache:
+            self.cache[key] = (
+                np.sign(q.v_f) * self.plant.friction.level(q.v_f) * self.sliding_fraction(q)
+            )
+        return self.cache[key]
+
+    def gms_start(self, q: RunResidual, n: int) -> np.ndarray | None:
+        """The run's estimated GMS start forces (:mod:`feeddrive.physics.gms_start`) when the
+        residual's model has ``n`` elements, else None (virgin)."""
+        F0 = None if q.start is None else q.start.F0
+        return F0 if F0 is not None and len(F0) == n else None
+
+    def gms_force(
+        self, q: RunResidual, friction: GMSParameters, F0: ArrayLike | None
+    ) -> np.ndarray:
+        """GMS friction along run ``q`` (:func:`feeddrive.physics.gms_force`) [N]."""
+        return gms_force(q.x, q.v_f, q.Ts, friction, F0=F0)
+
+    def stribeck_drop(self, v: ArrayLike, V_s: float, delta: float) -> np.ndarray:
+        """:func:`feeddrive.physics.stribeck_drop`."""
+        return stribeck_drop(v, V_s, delta)
+
+    def profile_basis(self, x: ArrayLike, x_start: float, x_end: float, n: int) -> np.ndarray:
+        """:func:`feeddrive.physics.profile_basis`."""
+        return profile_basis(x, x_start, x_end, n)
+
+    def friction_profile(
+        self, x_start: float, x_end: float, c: np.ndarray | Sequence[float]
+    ) -> FrictionProfile:
+        """:class:`feeddrive.physics.FrictionProfile` with knot values ``c``."""
+        return FrictionProfile(float(x_start), float(x_end), tuple(float(v) for v in c))
+
+    def model_profile(self) -> FrictionProfile:
+        """The model's friction profile."""
+        return FrictionProfile.from_params(self.model.parameters)
+
+    def held_current(self, i: ArrayLike) -> np.ndarray:
+        """:func:`feeddrive.physics.held_current`."""
+        return held_current(i)
+
+    def load_acceleration(self, a: ArrayLike, Ts: float, f: float, zeta: float) -> np.ndarray:
+        """:func:`feeddrive.physics.load_acceleration`."""
+        return load_acceleration(a, Ts, f, zeta)
+
+    def load_free_response(self, a: ArrayLike, Ts: float, f: float, zeta: float) -> np.ndarray:
+        """:func:`feeddrive.physics.load_free_response`."""
+        return load_free_response(a, Ts, f, zeta)
+
+    def fit_compliance(
+        self, y_runs: list[np.ndarray], stride: int, nuisance: list[np.ndarray | None]
+    ) -> tuple[float, float]:
+        """(f, zeta) of :func:`feeddrive.fits.compliance.fit_compliance` on the runs'
+        accelerations and ``y_runs``; ValueError when no run has an acceleration."""
+        fit = fit_compliance(
+            [q.a for q in self.res],
+            y_runs,
+            [q.Ts for q in self.res],
+            stride=stride,
+            nuisance=nuisance,
+        )
+        return fit.f, fit.zeta
+
+    def spatial_spectrum(self, weight: str | None) -> tuple[np.ndarray, np.ndarray]:
+        """:func:`feeddrive.diagnose.localise.spatial_spectrum` of the residuals."""
+        return spatial_spectrum(self.res, weight=weight)
+
+    def spectral_peaks(
+        self, lams: np.ndarray, amps: np.ndarray, exclude: Sequence[float], n_peaks: int
+    ) -> list[tuple[float, float]]:
+        """:func:`feeddrive.diagnose.localise.spectral_peaks`."""
+        return spectral_peaks(lams, amps, exclude=exclude, n_peaks=n_peaks)

@@ -11,6 +11,7 @@ pre-rolling, no Stribeck drop: F_s = F_c), symmetric.
 
 from __future__ import annotations
 
+from ..effects import emps_baseline
 from ..model_file import ModelFile, paper_model
 
 #: Drive gain of the EMPS data [N/V] (``gtau`` of the benchmark).
@@ -21,7 +22,7 @@ def emps_baseline_model() -> ModelFile:
     """The authors' IDIM-LS baseline as a model file (see module docstring)."""
     base = paper_model()
     effects = dict.fromkeys(base.effects, False)
-    effects.update({"mass": True, "viscous": True, "offset_force": True})
+    effects.update(dict.fromkeys(emps_baseline(), True))
     params = dict(base.parameters)
     # no linear-motor maps on a ball screw: clear them so that a candidate switching one on
     # starts from nothing (wavelengths only from the residual's spectrum)

@@ -28,8 +28,8 @@ from typing import cast
 import numpy as np
 from scipy.optimize import nnls
 
+from ..effects.candidate import Variant
 from ..model_file import ModelFileError
-from .candidates import Variant
 from .context import Context
 
 I_MIN = 0.05  #: minimum held-out share of the residual energy a named effect must remove

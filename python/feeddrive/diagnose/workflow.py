@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 
 from ..data import Run
+from ..effects import nesting
 from ..harness.controllers import CONTROLLERS
 from ..harness.runs import replay
 from ..harness.sidecar import read_sidecar
@@ -75,11 +76,14 @@ POLISH_MIN = 0.05
 PARSIMONY = 0.01
 #: A re-computed residual must shrink by at least this share of the gap to confirm a step.
 CONFIRM = 0.02
-#: A family that reduces to another in a limit (a compliance's load is a mass for
+#: A family that reduces to another in a limit (a load on a spring is a mass for
 #: frequencies far below its resonance) is ranked only when held-out data show it beyond
 #: that family's best (:func:`significance.nested_separable`): else the simpler one
-#: explains as much.
-NESTED = {"compliance": "mass"}
+#: explains as much.  By id, the limit family's id (the registry's ``Candidate.limit``).
+NESTED = nesting()
+#: The family that nests in each limit family: a lead of the limit family is looked at
+#: again through a wider band for it (:mod:`band`).
+NESTS_IN = {limit: eid for eid, limit in NESTED.items()}
 
 _UNITS = {
     "compliance.m2": "kg",
@@ -652,13 +656,22 @@ def diagnose(
         ctx = Context(res, current, n_blocks=n_blocks)
         ranking = rank(ctx, gate)
         lead, others = choose(ranking, gate)
+        load = NESTS_IN.get(lead.variant.effect) if lead is not None else None
         wb = (
-            wide_band(runs, current, res, n_blocks, force_gain)
-            if lead is not None and lead.variant.effect == "mass"
+            wide_band(
+                runs,
+                current,
+                res,
+                n_blocks,
+                force_gain,
+                load=load,
+                limit=lead.variant.effect,
+            )
+            if lead is not None and load is not None
             else None
         )
-        if wb is not None and wb.confirmed:
-            name = f"{model.name}+{'+'.join([*(s.effect for s in steps), 'compliance'])}"
+        if wb is not None and wb.confirmed and load is not None:
+            name = f"{model.name}+{'+'.join([*(s.effect for s in steps), load])}"
             found = _wide_band_step(runs, res, wb, cl, name, n_blocks, kw)
             if found is not None:
                 step, cl = found

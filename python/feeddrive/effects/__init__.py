@@ -33,6 +33,7 @@ from .effect import (
     Rule,
     Structure,
     is_on,
+    nested,
     resolve,
     selected,
     slot_count,
@@ -129,6 +130,17 @@ def paper_scenarios() -> dict[str, dict[str, bool]]:
     return {e.scenario: {e.switch: False} for e in EFFECTS if e.scenario and e.switch is not None}
 
 
+def nesting() -> dict[str, str]:
+    """Each effect whose diagnosis candidate reduces to another's in a limit, by id: the
+    other's id (:func:`~feeddrive.effects.effect.nested` of the catalogue)."""
+    return nested(EFFECTS)
+
+
+def emps_baseline() -> list[str]:
+    """The ids of the effects on in the EMPS benchmark's rigid baseline model."""
+    return [e.id for e in EFFECTS if e.candidate.emps_baseline]
+
+
 def position_map_effects() -> dict[str, tuple[str, str]]:
     """The ids of the (periodic, aperiodic) parts of each position map (Eqs. 6-7)."""
     parts: dict[str, dict[str, str]] = {}
@@ -154,6 +166,9 @@ __all__ = [
     "effect_ids",
     "is_on",
     "paper_scenarios",
+    "emps_baseline",
+    "nested",
+    "nesting",
     "position_map_effects",
     "resolve",
     "selected",

@@ -5,6 +5,9 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
+import numpy as np
+
+from .candidate import CandidateContext, Variant
 from .effect import Candidate, Effect, Identification, Parameter
 
 
@@ -31,6 +34,34 @@ def check_levels(values: Mapping[str, Any], effective: Mapping[str, Any], on: bo
     return None
 
 
+def candidate(ctx: CandidateContext) -> list[Variant]:
+    """The diagnosis candidate: a level shift and a viscous change for v < 0."""
+    m = ctx.model
+    on = m.effects["asymmetric_friction"]
+    dF = float(m.parameters["asymmetry.dF"]) if on else 0.0
+    ds = float(m.parameters["asymmetry.dsigma2"]) if on else 0.0
+    # the level shift acts through the sliding elements only (stuck ones ignore it)
+    frac = iter([ctx.sliding_fraction(q) for q in ctx.res])
+    Phi = ctx.stack(
+        lambda q: np.column_stack([-(q.v_f < 0).astype(float) * next(frac), q.v_f * (q.v_f < 0)]),
+        mask_stuck=True,
+    )
+    return [
+        Variant(
+            "asymmetric_friction",
+            "indicator(v<0), v*(v<0)",
+            Phi,
+            ["asymmetry.dF", "asymmetry.dsigma2"],
+            refine=on,
+            to_model=lambda th: m.with_effect(
+                "asymmetric_friction",
+                True,
+                **{"asymmetry.dF": dF + th[0], "asymmetry.dsigma2": ds + th[1]},
+            ),
+        )
+    ]
+
+
 EFFECT = Effect(
     id="asymmetric_friction",
     switch="effects.asymmetric_friction",
@@ -48,7 +79,7 @@ EFFECT = Effect(
         "(the position_friction step scales asymmetry.dF with the level)",
     ),
     candidate=Candidate(
-        "feeddrive.diagnose.candidates:asymmetric_friction",
+        "feeddrive.effects.asymmetric_friction:candidate",
         ("asymmetry.dF", "asymmetry.dsigma2"),
         "indicator(v<0), v*(v<0)",
     ),

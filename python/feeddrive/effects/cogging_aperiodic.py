@@ -2,7 +2,35 @@
 
 from __future__ import annotations
 
+import numpy as np
+
+from .candidate import CandidateContext, Variant, poly_basis, polynomial_variant, span
 from .effect import Candidate, Effect, Identification, Parameter
+
+
+def candidate(ctx: CandidateContext) -> list[Variant]:
+    """The diagnosis candidate: a cubic in x over the stroke the runs visited."""
+    m = ctx.model
+    on = m.effects["cogging_aperiodic"]
+    c, h = span(ctx)
+    powers = range(4)
+    Phi = ctx.stack(lambda q: poly_basis(q.x, c, h, powers), mask_stuck=True)
+    old = (
+        np.array([float(m.parameters[f"cogging.c[{k}]"]) for k in range(4)]) if on else np.zeros(4)
+    )
+    return [
+        polynomial_variant(
+            ctx,
+            "cogging_aperiodic",
+            "cogging",
+            old,
+            (c, h),
+            Phi,
+            "cubic in x",
+            [f"xi^{k}" for k in powers],
+        )
+    ]
+
 
 EFFECT = Effect(
     id="cogging_aperiodic",
@@ -17,7 +45,7 @@ EFFECT = Effect(
         "cubic fitted to F_cg(x) sampled by the constant-speed runs (Eqs. 3-6)",
     ),
     candidate=Candidate(
-        "feeddrive.diagnose.candidates:cogging_aperiodic", ("cogging.c[j]",), "cubic in x"
+        "feeddrive.effects.cogging_aperiodic:candidate", ("cogging.c[j]",), "cubic in x"
     ),
     report=("figure: sampled and fitted F_cg(x)",),
     position_map=("cogging", "aperiodic"),

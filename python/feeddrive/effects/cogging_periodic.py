@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
+from .candidate import CandidateContext, Variant, periodic_variants
 from .effect import Candidate, Effect, Identification, Parameter
 
 
@@ -18,6 +19,12 @@ def check_stroke(values: Mapping[str, Any], effective: Mapping[str, Any], on: bo
             f"allowed stroke.x_max in ({x0:.17g}, inf) m"
         )
     return None
+
+
+def candidate(ctx: CandidateContext) -> list[Variant]:
+    """The diagnosis candidate: the cogging harmonics corrected, extra wavelengths from the
+    residual's spatial spectrum."""
+    return periodic_variants(ctx, "cogging", "cogging_periodic", weighted=False)
 
 
 EFFECT = Effect(
@@ -37,7 +44,7 @@ EFFECT = Effect(
         "DSTFT of F_cg(x) sampled by the constant-speed runs (Eqs. 3-5), harmonics fitted",
     ),
     candidate=Candidate(
-        "feeddrive.diagnose.candidates:cogging_periodic",
+        "feeddrive.effects.cogging_periodic:candidate",
         ("cogging.lambda[j]", "cogging.a[j]", "cogging.b[j]"),
         "harmonics at <wavelengths> mm (extra: <new wavelengths> mm)",
     ),

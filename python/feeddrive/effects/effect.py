@@ -47,13 +47,21 @@ class Candidate:
     """The effect as a diagnosis candidate (``feeddrive diagnose``).
 
     ``builder``: a reference to the function that builds its variants from a diagnosis
-    context; ``perturbs``: the parameters it adds or corrects; ``label``: how its variants
-    are named (the variant's label follows the effect id in the verdict).
+    context (``candidate`` of the effect's module, :mod:`feeddrive.effects.candidate`);
+    ``perturbs``: the parameters it adds or corrects; ``label``: how its variants are named
+    (the variant's label follows the effect id in the verdict); ``limit``: the parameters of
+    the family this one reduces to in a limit (a load on a spring is a change of the mass
+    ``m`` far below its resonance), whose candidate perturbs them: the diagnosis ranks this
+    family only when held-out data show it beyond that one (:func:`nested`);
+    ``emps_baseline``: on in the EMPS benchmark's rigid baseline model (IDIM-LS: mass,
+    viscous and Coulomb friction, an offset).
     """
 
     builder: str
     perturbs: tuple[str, ...]
     label: str
+    limit: tuple[str, ...] = ()
+    emps_baseline: bool = False
 
 
 @dataclass(frozen=True)
@@ -208,3 +216,27 @@ def slot_count(name: str, values: Mapping[str, Any]) -> int:
     """How many slots ``name[j]`` the FMU-named ``values`` hold (the FMU's array size when
     ``values`` hold every parameter)."""
     return len(_slots(name, values))
+
+
+def nested(effects: Iterable[Effect]) -> dict[str, str]:
+    """For each effect of ``effects`` whose candidate family reduces to another's in a limit
+    (:attr:`Candidate.limit`), the id of that other: the effect whose candidate perturbs
+    exactly those parameters.
+
+    Raises
+    ------
+    ValueError : no effect's candidate perturbs a declared limit.
+    """
+    effects = list(effects)
+    by_perturbs = {e.candidate.perturbs: e.id for e in effects}
+    out: dict[str, str] = {}
+    for e in effects:
+        if not e.candidate.limit:
+            continue
+        if e.candidate.limit not in by_perturbs:
+            raise ValueError(
+                f"effect {e.id}: candidate limit {e.candidate.limit!r} is what no effect's "
+                "candidate perturbs"
+            )
+        out[e.id] = by_perturbs[e.candidate.limit]
+    return out

@@ -2,7 +2,14 @@
 
 from __future__ import annotations
 
+from .candidate import CandidateContext, Variant, one_column
 from .effect import Candidate, Effect, Identification, Parameter
+
+
+def candidate(ctx: CandidateContext) -> list[Variant]:
+    """The diagnosis candidate: a change of the mass, the (unfiltered) acceleration."""
+    return one_column(ctx, "mass", "acceleration", "m", lambda q: q.a, filtered=False)
+
 
 EFFECT = Effect(
     id="mass",
@@ -14,6 +21,8 @@ EFFECT = Effect(
     identification=Identification(
         "mass", "feeddrive.identify.mass:identify_mass", "Eq. 1 fitted to the open-loop force run"
     ),
-    candidate=Candidate("feeddrive.diagnose.candidates:mass", ("m",), "acceleration"),
+    candidate=Candidate(
+        "feeddrive.effects.mass:candidate", ("m",), "acceleration", emps_baseline=True
+    ),
     report=("truth table row m",),
 )

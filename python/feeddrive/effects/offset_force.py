@@ -2,7 +2,18 @@
 
 from __future__ import annotations
 
+import numpy as np
+
+from .candidate import CandidateContext, Variant, one_column
 from .effect import Candidate, Effect, Identification, Parameter
+
+
+def candidate(ctx: CandidateContext) -> list[Variant]:
+    """The diagnosis candidate: a constant force on the moving samples."""
+    return one_column(
+        ctx, "offset_force", "constant", "offset.F", lambda q: np.ones(len(q.r)), mask_stuck=True
+    )
+
 
 EFFECT = Effect(
     id="offset_force",
@@ -14,7 +25,12 @@ EFFECT = Effect(
     identification=Identification(
         "", "", "no identification step (F_cg(x) absorbs a constant); diagnosis fits offset.F"
     ),
-    candidate=Candidate("feeddrive.diagnose.candidates:offset_force", ("offset.F",), "constant"),
+    candidate=Candidate(
+        "feeddrive.effects.offset_force:candidate",
+        ("offset.F",),
+        "constant",
+        emps_baseline=True,
+    ),
     report=(),
     off=(("offset.F", 0.0),),
 )

@@ -3,9 +3,13 @@ non-local memory); off: memoryless static friction, Eq. 12."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
+from dataclasses import replace
 from typing import Any
 
+import numpy as np
+
+from .candidate import CandidateContext, Variant
 from .effect import Candidate, Effect, Identification, Parameter, Structure, slot_count
 
 #: |sum(nu_i) - 1| allowed over the elements in use (friction_gms.c SUM_NU_TOL).
@@ -30,6 +34,63 @@ def check_elements(values: Mapping[str, Any], effective: Mapping[str, Any], on: 
     return None
 
 
+#: Maxwell-slip element travels tried by the diagnosis candidate [m].
+PREROLL_DELTAS = tuple(np.geomspace(2e-6, 300e-6, 8).tolist())
+
+
+def _gms_unit_columns(ctx: CandidateContext, q: Any, deltas: Sequence[float]) -> np.ndarray:
+    """Friction of one Maxwell-slip element (nu = 1, travel Delta) per Delta, no viscous;
+    each starts holding the friction the residual's model held at the first sample (the
+    run's estimated start, clipped to the element's level), virgin without one."""
+    prm = ctx.plant.friction
+    held = float(np.sum(q.start.F0)) if q.start is not None else 0.0
+    cols = []
+    for D in deltas:
+        pe = replace(prm, nu=(1.0,), k=(prm.F_s / D,), sigma2=0.0, dsigma2=0.0)
+        F0 = [float(np.clip(held, -(prm.F_s + prm.dF), prm.F_s))]
+        cols.append(ctx.gms_force(q, pe, F0))
+    return np.column_stack(cols)
+
+
+def candidate(ctx: CandidateContext) -> list[Variant]:
+    """The diagnosis candidate: one Maxwell-slip element per travel of ``PREROLL_DELTAS``,
+    weights non-negative and summing to one, in place of the model's friction."""
+    m = ctx.model
+    on = m.effects["prerolling"]
+    prm = ctx.plant.friction
+    deltas = PREROLL_DELTAS
+    n_max = ctx.n_elements_max
+    Phi = ctx.stack(lambda q: _gms_unit_columns(ctx, q, deltas))
+    base = ctx.stack(lambda q: q.F_f - prm.viscous(q.v_f))[:, 0]
+    F_s = prm.F_s
+
+    def to_model(th: np.ndarray) -> Any:
+        th = np.clip(th, 0.0, None)
+        keep = np.flatnonzero(th > 1e-3 * th.max())[:n_max]
+        nu = th[keep] / th[keep].sum()
+        kk = nu * F_s / np.asarray(deltas)[keep]
+        upd: dict[str, float | int] = {"friction.N": int(len(keep))}
+        for j in range(n_max):
+            upd[f"friction.nu[{j + 1}]"] = float(nu[j]) if j < len(keep) else 0.0
+            upd[f"friction.k[{j + 1}]"] = float(kk[j]) if j < len(keep) else 1.0e5
+        return m.with_effect("prerolling", True, **upd)
+
+    return [
+        Variant(
+            "prerolling",
+            f"Maxwell-slip, {len(deltas)} elements, "
+            f"Delta {deltas[0] * 1e6:.3g}..{deltas[-1] * 1e6:.3g} um",
+            Phi,
+            [f"W/F_s at Delta={D * 1e6:.3g} um" for D in deltas],
+            base=base,
+            nonneg=True,
+            sum_to_one=True,
+            refine=on,
+            to_model=to_model,
+        )
+    ]
+
+
 EFFECT = Effect(
     id="prerolling",
     switch="effects.prerolling",
@@ -47,7 +108,7 @@ EFFECT = Effect(
         "weights W_i and travels Delta_i from two pre-rolling amplitudes (Eqs. 15-18)",
     ),
     candidate=Candidate(
-        "feeddrive.diagnose.candidates:prerolling",
+        "feeddrive.effects.prerolling:candidate",
         ("friction.N", "friction.nu[j]", "friction.k[j]"),
         "Maxwell-slip, <n> elements, Delta <from>..<to> um",
     ),

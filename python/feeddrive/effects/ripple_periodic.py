@@ -2,7 +2,15 @@
 
 from __future__ import annotations
 
+from .candidate import CandidateContext, Variant, periodic_variants
 from .effect import Candidate, Effect, Identification, Parameter
+
+
+def candidate(ctx: CandidateContext) -> list[Variant]:
+    """The diagnosis candidate: the ripple harmonics (times the current) corrected, extra
+    wavelengths from the current-weighted spatial spectrum; none when a run has no current."""
+    return periodic_variants(ctx, "ripple", "ripple_periodic", weighted=True)
+
 
 EFFECT = Effect(
     id="ripple_periodic",
@@ -21,7 +29,7 @@ EFFECT = Effect(
         "DSTFT of K_f(x) sampled by constant-speed runs at two loads (Eqs. 3-5), harmonics fitted",
     ),
     candidate=Candidate(
-        "feeddrive.diagnose.candidates:ripple_periodic",
+        "feeddrive.effects.ripple_periodic:candidate",
         ("ripple.lambda[j]", "ripple.a[j]", "ripple.b[j]"),
         "harmonics at <wavelengths> mm (extra: <new wavelengths> mm)",
     ),

@@ -5,6 +5,10 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
+import numpy as np
+from scipy.optimize import minimize
+
+from .candidate import CandidateContext, Variant, explained
 from .effect import Candidate, Effect, Identification, Parameter
 
 
@@ -18,6 +22,78 @@ def check_levels(values: Mapping[str, Any], effective: Mapping[str, Any], on: bo
             "allowed friction.F_c in [0, friction.F_s] N"
         )
     return None
+
+
+#: Stribeck velocity [m/s] and exponent grid of the diagnosis candidate.
+STRIBECK_VS = tuple(np.geomspace(3e-4, 3e-2, 11).tolist())
+STRIBECK_DELTA = (0.4, 0.6, 1.0, 1.5, 2.0)
+#: Stribeck grid points (best in-sample) kept as variants beside the refined one.
+STRIBECK_KEEP = 3
+
+
+def candidate(ctx: CandidateContext) -> list[Variant]:
+    """The diagnosis candidate: the drop F_s - F_c times the sliding share and the drop's
+    shape; (V_s, delta) by a grid, the best refined (Nelder-Mead), each a variant."""
+    m = ctx.model
+    p = m.parameters
+    on = m.effects["stribeck"]
+    frac = [ctx.sliding_fraction(q) for q in ctx.res]
+    F_c = float(p["friction.F_c"])
+    base = None
+    if on:
+        Vs0, d0, dS0 = (
+            float(p["friction.V_s"]),
+            float(p["friction.delta"]),
+            float(p["friction.F_s"]) - F_c,
+        )
+        it = iter(frac)
+        base = ctx.stack(lambda q: next(it) * dS0 * ctx.stribeck_drop(q.v_f, Vs0, d0))[:, 0]
+    y = ctx.r + (base if base is not None else 0.0)
+
+    def column(Vs: float, d: float) -> np.ndarray:
+        it = iter(frac)
+        return ctx.stack(lambda q: next(it) * ctx.stribeck_drop(q.v_f, Vs, d))
+
+    # grid by in-sample explained energy (one column each), then a local refinement of the
+    # best (log V_s, delta); the few best are scored on held-out blocks by the workflow
+    grid = sorted(
+        ((Vs, d) for Vs in STRIBECK_VS for d in STRIBECK_DELTA),
+        key=lambda p: -explained(column(*p), y),
+    )[:STRIBECK_KEEP]
+
+    def neg(z: np.ndarray) -> float:
+        return -explained(column(float(np.exp(z[0])), float(np.clip(z[1], 0.2, 3.0))), y)
+
+    opt = minimize(
+        neg,
+        [np.log(grid[0][0]), grid[0][1]],
+        method="Nelder-Mead",
+        options={"xatol": 0.02, "fatol": 1e-6 * float(y @ y), "maxiter": 60},
+    )
+    refined = (float(np.exp(opt.x[0])), float(np.clip(opt.x[1], 0.2, 3.0)))
+    out = []
+    for Vs, d in [refined] + grid:
+
+        def to_model(th: np.ndarray, Vs: float = Vs, d: float = d) -> Any:
+            return m.with_effect(
+                "stribeck",
+                True,
+                **{"friction.F_s": F_c + th[0], "friction.V_s": Vs, "friction.delta": d},
+            )
+
+        out.append(
+            Variant(
+                "stribeck",
+                f"V_s={Vs * 1e3:.3g} mm/s, delta={d:.3g}",
+                column(Vs, d),
+                ["F_s - F_c"],
+                base=base,
+                refine=on,
+                nonneg=True,
+                to_model=to_model,
+            )
+        )
+    return out
 
 
 EFFECT = Effect(
@@ -38,7 +114,7 @@ EFFECT = Effect(
         "Eq. 13's friction points of the constant-speed runs, Eq. 12 fitted (Fig. 12)",
     ),
     candidate=Candidate(
-        "feeddrive.diagnose.candidates:stribeck",
+        "feeddrive.effects.stribeck:candidate",
         ("friction.F_s", "friction.V_s", "friction.delta"),
         "V_s=<mm/s>, delta=<exponent>",
     ),

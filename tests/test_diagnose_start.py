@@ -171,8 +171,11 @@ SETS = {
 }
 
 
-#: Gap / floor allowed on every set (measured 0.37-1.46 x; the virgin start leaves 10-100 x).
-RATIO = 1.5
+#: Gap / floor allowed on every set: measured 0.37-2.65 x (the loaded 272 N run and the cut
+#: after a reversal reach 1.8 x and 2.65 x with numpy 2.4 / scipy 1.17 wheels, 1.46 x at most
+#: with earlier builds), while the virgin start leaves 10-100 x: 3 x still tells an estimated
+#: start from a virgin one.
+RATIO = 3.0
 
 
 @pytest.mark.parametrize("kind", list(SETS))

@@ -171,10 +171,17 @@ SETS = {
 }
 
 
-#: Gap / floor allowed on every set: measured 0.37-2.65 x (the loaded 272 N run and the cut
-#: after a reversal reach 1.8 x and 2.65 x with numpy 2.4 / scipy 1.17 wheels, 1.46 x at most
-#: with earlier builds), while the virgin start leaves 10-100 x: 3 x still tells an estimated
-#: start from a virgin one.
+#: Gap / floor allowed on every set.  The ratio is set by the noise realisation, not by the
+#: start estimate nor the numpy/scipy build: on ``Sensors(seed=1)`` it is 0.36-2.65 x (the
+#: most, 2.65 x, on the cut after a reversal and 1.8 x on the loaded 272 N run, the same to
+#: four digits with numpy 2.1.3-2.4.6, scipy 1.14.1-1.17.1, fmpy 0.3.30-0.3.32), and over
+#: the samples the estimate fits the cut leaves 0.4 x.  The excess sits after the memory is
+#: wiped: after a later reversal and at the final stop under load the elements stick where
+#: the 100 nm scale reads the position, and a stuck element keeps that error (k_i times it,
+#: sum k_i q / 2 = 0.09 N) while it sticks: the 272 N run's final hold leaves +0.127 N, with
+#: a 1 nm scale -0.03 N.  Which rounding a stop or reversal draws moves the ratio (seeds 2
+#: and 3: loaded_272N 5.0 x and 2.2 x).  The virgin start leaves 10-100 x: 3 x tells an
+#: estimated start from a virgin one on this realisation.
 RATIO = 3.0
 
 
@@ -185,7 +192,8 @@ def test_the_model_that_made_the_data_is_explained_on_every_run_kind(kind):
     v = diag.verdict
     assert diag.steps == [], [(s.effect, s.evidence["explained_force_N"]) for s in diag.steps]
     assert v["verdict"] == "explained", v["sentence"]
-    assert v["gap_N"] <= RATIO * v["noise_floor_N"], (v["gap_N"], v["noise_floor_N"])
+    ratio = v["gap_N"] / v["noise_floor_N"]
+    assert ratio <= RATIO, f"{kind}: gap {v['gap_N']:.4f} N = {ratio:.2f} x the floor"
 
 
 def test_a_virgin_start_leaves_the_transient_the_estimate_removes():

@@ -4,8 +4,9 @@ Data: the GMS along a made-up motion from a known start state (unit tests), and 
 campaign ``feeddrive experiments`` writes (short runs, the paper's model) diagnosed with
 the model that made it, whole and cut to start mid-motion, after a reversal and at a
 standstill that holds a load.  The model that made the data must name nothing, be
-``explained`` and leave at most 1.5 x the noise floor; with the virgin start the same runs
-leave many times the floor (the start transient the estimate removes).
+``explained`` and leave at most 1.5 x the noise floor (3 x on the short runs where a stop or
+a reversal weighs heavily, see ``RATIO``); with the virgin start the same runs leave many
+times the floor (the start transient the estimate removes).
 """
 
 from __future__ import annotations
@@ -171,18 +172,22 @@ SETS = {
 }
 
 
-#: Gap / floor allowed on every set.  The ratio is set by the noise realisation, not by the
-#: start estimate nor the numpy/scipy build: on ``Sensors(seed=1)`` it is 0.36-2.65 x (the
-#: most, 2.65 x, on the cut after a reversal and 1.8 x on the loaded 272 N run, the same to
-#: four digits with numpy 2.1.3-2.4.6, scipy 1.14.1-1.17.1, fmpy 0.3.30-0.3.32), and over
-#: the samples the estimate fits the cut leaves 0.4 x.  The excess sits after the memory is
-#: wiped: after a later reversal and at the final stop under load the elements stick where
-#: the 100 nm scale reads the position, and a stuck element keeps that error (k_i times it,
-#: sum k_i q / 2 = 0.09 N) while it sticks: the 272 N run's final hold leaves +0.127 N, with
-#: a 1 nm scale -0.03 N.  Which rounding a stop or reversal draws moves the ratio (seeds 2
-#: and 3: loaded_272N 5.0 x and 2.2 x).  The virgin start leaves 10-100 x: 3 x tells an
-#: estimated start from a virgin one on this realisation.
-RATIO = 3.0
+#: Gap / floor allowed on a set.  What is left over the samples the start estimate fits is
+#: at the floor's order (0.4 x on the cut after a reversal; 60 random bounded least-squares
+#: starts find no better start there); a set's ratio is set by what follows once the
+#: memory is wiped.  There a stop or a reversal at a few mm/s sticks the elements where the
+#: 100 nm scale and the 5 ms velocity place them, and the held force that follows is off by
+#: a tenth of a newton for as long as they stick (the 272.7 N run's final hold: +0.127 N,
+#: read to 1 nm -0.03 N; the cut's later reversals: -0.05 N and +0.1 N over 0.35 s).  Where
+#: that is a large share of a short run the ratio follows the rounding the stop draws
+#: (Sensors(seed=1): 1.82 x, 2.65 x, 1.04 x on the three ``STOP_SETS``; seeds 2 and 3: up
+#: to 5 x), not the numpy/scipy build (the same to four digits with numpy 2.1.3-2.4.6, scipy
+#: 1.14.1-1.17.1, fmpy 0.3.30-0.3.32); elsewhere 0.36-1.39 x.  The virgin start leaves
+#: 10-100 x.
+RATIO = 1.5
+#: Gap / floor allowed on the sets where a stop or a reversal is a large share of a short run.
+STOP_RATIO = 3.0
+STOP_SETS = frozenset({"loaded_272N", "cut_after_reversal", "cut_standstill_under_load"})
 
 
 @pytest.mark.parametrize("kind", list(SETS))
@@ -193,7 +198,8 @@ def test_the_model_that_made_the_data_is_explained_on_every_run_kind(kind):
     assert diag.steps == [], [(s.effect, s.evidence["explained_force_N"]) for s in diag.steps]
     assert v["verdict"] == "explained", v["sentence"]
     ratio = v["gap_N"] / v["noise_floor_N"]
-    assert ratio <= RATIO, f"{kind}: gap {v['gap_N']:.4f} N = {ratio:.2f} x the floor"
+    bound = STOP_RATIO if kind in STOP_SETS else RATIO
+    assert ratio <= bound, f"{kind}: gap {v['gap_N']:.4f} N = {ratio:.2f} x the floor"
 
 
 def test_a_virgin_start_leaves_the_transient_the_estimate_removes():

@@ -1,10 +1,11 @@
 /* Shared by the controller FMU's C test host (DriveController, FMI 2.0 and 3.0):
- * ctrl_host.c (main, the hostile cases), ctrl_fuzz.c (random calls, random settings),
- * ctrl_threads.c (instances in parallel threads). Built with the controller's sources linked in
- * (-DFMI_STATIC, CTRL_FMI3: the FMI 3.0 glue too) under AddressSanitizer + UBSan or
- * ThreadSanitizer, or as the shipped libraries: DriveController.so through dlopen, and (ctrl_host3,
- * CTRL_FMI3) DriveController3.so linked for the FMI 3.0 calls. The FMI 2.0 calls go through
- * fmi_host.h's table and only ever to FMI 2.0 instances. */
+ * ctrl_host.c (main), ctrl_hostile.c with ctrl_case_*.c (the hostile cases, ctrl_hostile.h),
+ * ctrl_fuzz.c (random calls, random settings), ctrl_threads.c (instances in parallel threads).
+ * Built with the controller's sources linked in (-DFMI_STATIC, CTRL_FMI3: the FMI 3.0 glue too)
+ * under AddressSanitizer + UBSan or ThreadSanitizer, or as the shipped libraries:
+ * DriveController.so through dlopen, and (ctrl_host3, CTRL_FMI3) DriveController3.so linked for
+ * the FMI 3.0 calls. The FMI 2.0 calls go through fmi_host.h's table and only ever to FMI 2.0
+ * instances. */
 #ifndef CTRL_HOST_H
 #define CTRL_HOST_H
 

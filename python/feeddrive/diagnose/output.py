@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from ..model_file import save_model
-from .workflow import Diagnosis
+from .diagnosis import Diagnosis
 
 
 def _clean(obj: Any) -> Any:

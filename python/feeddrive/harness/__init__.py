@@ -4,7 +4,9 @@ registry, the FMU loop, the run maker, the sidecar schema and the checks of a me
 - :mod:`.references`: :class:`Reference` and its profiles, :func:`prbs`, :func:`reversals`;
 - :mod:`.sensors`: :class:`Sensors` (scale quantum, current noise, seed);
 - :mod:`.controllers`: spec <-> controller (``state_space``, ``pid``, ``pid_lead``,
-  ``lti``: any linear digital controller);
+  ``lti``: any linear digital controller), the registry; :mod:`.controller_specs` (the specs
+  with defaults), :mod:`.spec_keys` (reading a spec), :mod:`.lti_realisation` (an ``lti``
+  spec's matrices), :mod:`.controller_builders` (spec -> controller for each type);
 - :mod:`.simulate`: :func:`simulate_open_loop`, :func:`simulate_closed_loop` on a Plant;
 - :mod:`.runs`: :func:`run_closed_loop` from a spec, :func:`to_run`, :func:`closed_loop_run`;
 - :mod:`.sidecar`: :func:`build_sidecar`, :func:`read_sidecar`, :func:`read_run_sidecar`

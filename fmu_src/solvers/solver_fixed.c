@@ -240,13 +240,14 @@ static double sq_err(double e, double a, double b, double atol, double rtol) {
     return q * q;
 }
 
-/* the carried derivative belongs to (d, y)? */
-static int carry_ok(const fast_carry_t *cr, const plant_disc_t *d, const double *y) {
+/* the carried derivative belongs to (d, y)? Only x, v and the N elements in use enter the
+ * right-hand side (fast_path_ok refuses the compliance's two states) */
+static int carry_ok(const fast_carry_t *cr, int N, const plant_disc_t *d, const double *y) {
     int j;
     if (!cr || !cr->valid || cr->dir != d->dir || cr->st_dir != d->st_dir || cr->st_stuck != d->st_stuck) return 0;
-    for (j = 0; j < PLANT_NX; j++)
+    for (j = 0; j < PLANT_IF + N; j++)
         if (cr->y[j] != y[j]) return 0;
-    for (j = 0; j < PLANT_NE_MAX; j++)
+    for (j = 0; j < N; j++)
         if (cr->stuck[j] != d->stuck[j]) return 0;
     return 1;
 }
@@ -267,35 +268,58 @@ static void stages(rctx_t *c, double h, const double *q, const double *k1, doubl
     for (j = 0; j < NQ; j++) e[j] = h / 6.0 * (k5[j] - k4[j]);
 }
 
-/* the full state y1 at the end from the reduced qn, and the squared error norm of the step */
-static double full_state(const rctx_t *c, const plant_disc_t *d, const fast_tol_t *tol, const double *y,
-                         const double *q, const double *qn, const double *e, double *y1) {
+/* The error test without the divisions, where it can: with w_j = atol_j + rtol max(|y0_j|, |y1_j|)
+ * >= atol_j > 0, the test's sum S = sum_j (e_j / w_j)^2 is at most B = sum_j (e_j / atol_j)^2. In
+ * floating point B is taken as sum_j (e_j ia_j)^2 with ia_j = fl(1 / atol_j): each of its at most
+ * 12 terms is within 3 roundings of the real one and the sum within 11 more, so the real B is at most
+ * B_fl (1 + 15u) / (1 - 3u) (u = 2^-53); S in floating point (5 roundings per term, 13 in the sum)
+ * exceeds the real S by at most 18u relative. So B_fl <= ERR_BOUND_MAX n_norm gives
+ * S_fl / n_norm <= 0.9 (1 + 40u) < 1: the exact test would accept the step too, and is computed
+ * (in the same order as ever) only when the bound does not settle it. A NaN error fails the bound
+ * and goes to the exact test; a non-finite y1 (which the exact test may pass) is refused before
+ * either test. */
+#define ERR_BOUND_MAX 0.9
+
+/* the full state y1 at the end from the reduced qn (x, v and the N elements' forces: the other
+ * states keep y's values, the caller copies only these); 1 when every one of these is finite
+ * (0 x y1_j summed: NaN as soon as one is not) and the step passes the error test (the squared RMS
+ * of the weighted errors at most 1, also no NaN) */
+static int full_state(const rctx_t *c, const plant_disc_t *d, const fast_tol_t *tol, const double *y,
+                      const double *q, const double *qn, const double *e, double *y1) {
     const plant_params_t *p = c->p;
-    double sum, dec = 1.0;
+    const double *ia = tol->inv_atol;
+    double sum, bound, dec = 1.0, ej[PLANT_NE_MAX], nonfinite;
     int j;
     y1[PLANT_IX] = qn[0];
     y1[PLANT_IV] = qn[1];
+    nonfinite = 0.0 * qn[0] + 0.0 * qn[1];
+    bound = (e[0] * ia[PLANT_IX]) * (e[0] * ia[PLANT_IX]) + (e[1] * ia[PLANT_IV]) * (e[1] * ia[PLANT_IV]);
+    if (c->gms && c->lag && c->nu_sl > 0.0) dec = exp(-qn[3]);
+    for (j = 0; j < p->N; j++) {   /* active[j] implies j < N */
+        double F0 = y[PLANT_IF + j], F1 = F0;
+        ej[j] = 0.0;
+        if (c->gms && p->active[j]) {
+            if (d->stuck[j]) {
+                F1 = F0 + p->k[j] * (qn[0] - c->x0);
+                ej[j] = p->k[j] * e[0];
+            } else if (c->lag && c->nu_sl > 0.0) {
+                double f = p->nu[j] / c->nu_sl, dev = F0 - f * q[2];
+                F1 = f * qn[2] + dev * dec;
+                ej[j] = f * e[2] - dev * dec * e[3];
+            }
+            bound += (ej[j] * ia[PLANT_IF + j]) * (ej[j] * ia[PLANT_IF + j]);
+        }
+        y1[PLANT_IF + j] = F1;
+        nonfinite += 0.0 * F1;
+    }
+    if (nonfinite != 0.0) return 0;
+    if (bound <= ERR_BOUND_MAX * tol->n_norm) return 1;
     sum = sq_err(e[0], y[PLANT_IX], qn[0], tol->atol[PLANT_IX], tol->rtol) +
           sq_err(e[1], y[PLANT_IV], qn[1], tol->atol[PLANT_IV], tol->rtol);
-    if (c->gms && c->lag && c->nu_sl > 0.0) dec = exp(-qn[3]);
-    for (j = 0; j < PLANT_NE_MAX; j++) y1[PLANT_IF + j] = y[PLANT_IF + j];
-    /* the states the reduced system does not carry (the compliance's, 0: fast_path_ok refuses
-     * the effect) are kept as they are */
-    for (j = PLANT_NX_BASE; j < PLANT_NX; j++) y1[j] = y[j];
-    for (j = 0; c->gms && j < p->N; j++) {   /* active[j] implies j < N */
-        double F0 = y[PLANT_IF + j], ej = 0.0;
-        if (!p->active[j]) continue;
-        if (d->stuck[j]) {
-            y1[PLANT_IF + j] = F0 + p->k[j] * (qn[0] - c->x0);
-            ej = p->k[j] * e[0];
-        } else if (c->lag && c->nu_sl > 0.0) {
-            double f = p->nu[j] / c->nu_sl, dev = F0 - f * q[2];
-            y1[PLANT_IF + j] = f * qn[2] + dev * dec;
-            ej = f * e[2] - dev * dec * e[3];
-        }
-        sum += sq_err(ej, F0, y1[PLANT_IF + j], tol->atol[PLANT_IF + j], tol->rtol);
-    }
-    return sum / tol->n_norm;
+    for (j = 0; c->gms && j < p->N; j++)
+        if (p->active[j])
+            sum += sq_err(ej[j], y[PLANT_IF + j], y1[PLANT_IF + j], tol->atol[PLANT_IF + j], tol->rtol);
+    return sum / tol->n_norm <= 1.0;
 }
 
 /* what the next step may reuse: the derivative at y1 and the bases there */
@@ -327,7 +351,7 @@ int fixed_step(const plant_params_t *p, const plant_disc_t *d, const plant_in_t 
     rctx_t c;
     double q[NQ], k1[NQ], k5[NQ], qn[NQ], e[NQ], y1[PLANT_NX], Kf, Fcg;
     int j;
-    const int carried = carry_ok(carry, d, y);
+    const int carried = carry_ok(carry, p->N, d, y);
     if (!(h > 0.0) || !setup(&c, p, d, in, y, q, carried && carry->age < FAST_REANCHOR ? carry : NULL)) return 0;
     if (carried) {
         for (j = 0; j < NQ; j++) k1[j] = carry->k[j];
@@ -338,13 +362,10 @@ int fixed_step(const plant_params_t *p, const plant_disc_t *d, const plant_in_t 
     }
     stages(&c, h, q, k1, qn, e, k5, &Kf, &Fcg);
     *n_rhs += 4;
-    if (!(full_state(&c, d, tol, y, q, qn, e, y1) <= 1.0)) return 0;   /* also NaN */
-    /* x, v and the forces of the N elements in use: full_state copies the other states from y */
-    for (j = 0; j < PLANT_IF + p->N; j++)
-        if (!isfinite(y1[j])) return 0;
+    if (!full_state(&c, d, tol, y, q, qn, e, y1)) return 0;
     if (!end_ok(p, d, y1, c.l_S_ok ? c.l_S : -1.0, c.side)) return 0;
-    for (j = 0; j < PLANT_NX; j++) y[j] = y1[j];
-    if (carry) carry_save(carry, &c, d, in, y1, k5, Kf, carried);
+    for (j = 0; j < PLANT_IF + p->N; j++) y[j] = y1[j];
+    if (carry) carry_save(carry, &c, d, in, y, k5, Kf, carried);
     if (memo) {
         memo->valid = 1;
         memo->x = clamp(y1[PLANT_IX], p->x_min, p->x_max);

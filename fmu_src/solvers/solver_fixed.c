@@ -28,6 +28,14 @@
 
 #include "fast_path.h"
 
+/* the right-hand side and the level inlined into the stages: 4 calls per sample, each a few dozen
+ * floating-point operations, whose call frames cost more than their arithmetic */
+#if defined(__GNUC__)
+#define HOT_INLINE inline __attribute__((always_inline))
+#else
+#define HOT_INLINE inline
+#endif
+
 #define NQ 4          /* x, v, F_sl, L */
 #define NBIN PLANT_NBIN   /* binomial series degree */
 #define ROT_MAX 0.0625
@@ -80,7 +88,7 @@ static void maps(rctx_t *c, double x, double *Kf, double *Fcg) {
 }
 
 /* S(|v|) on the side of the motion (friction_level's value) */
-static double level_eval(rctx_t *c, double v) {
+static HOT_INLINE double level_eval(rctx_t *c, double v) {
     const plant_params_t *p = c->p;
     double Fs = p->Fs[c->side], Fc = p->Fc[c->side], av = fabs(v), w;
     c->l_w_ok = 0;
@@ -121,7 +129,7 @@ static double level(rctx_t *c, double v) {
 }
 
 /* dq = f(q); the maps' values there into *Kf, *Fcg */
-static void rhs(rctx_t *c, const double *q, double *dq, double *Kf_out, double *Fcg_out) {
+static HOT_INLINE void rhs(rctx_t *c, const double *q, double *dq, double *Kf_out, double *Fcg_out) {
     const plant_params_t *p = c->p;
     double Kf, Fcg, v = q[1], Ff, S = 1.0;
     c->l_S_ok = 0;

@@ -38,6 +38,8 @@
 
 #define NQ 4          /* x, v, F_sl, L */
 #define NBIN PLANT_NBIN   /* binomial series degree */
+/* level_eval's unrolled Horner sum has a case per degree up to 12 (C99: no _Static_assert) */
+typedef char nbin_is_12[(NBIN == 12) ? 1 : -1];
 #define ROT_MAX 0.0625
 #define EPS_MAX 0.0625
 #define DW_MAX 0.03125
@@ -64,7 +66,7 @@ typedef struct {
 
 static double clamp(double x, double lo, double hi) { return x < lo ? lo : (x > hi ? hi : x); }
 
-static void maps(rctx_t *c, double x, double *Kf, double *Fcg) {
+static HOT_INLINE void maps(rctx_t *c, double x, double *Kf, double *Fcg) {
     const posmap_t *m1 = &c->p->rip, *m2 = &c->p->cog;
     double xc = clamp(x, c->p->x_min, c->p->x_max), d, d2, cd, sd, c1, s1;
     if (!c->rot) {
@@ -97,14 +99,26 @@ static HOT_INLINE double level_eval(rctx_t *c, double v) {
         double eps = av * c->inv_v0 - 1.0;
         if (fabs(eps) <= EPS_MAX) {
             double dw, x;
-            int n;
             double ae = fabs(eps);
             int top = 2;
             /* the degree this |eps| needs: the lowest (at least 2) whose terms left out are below
              * 2^-64 of w (|C(delta, j)| <= 1); EPS_DEGREE rises, so the search goes up from 2 */
             while (top < NBIN && ae > EPS_DEGREE[top]) top++;
             w = c->bc[top];
-            for (n = top - 1; n >= 1; n--) w = w * eps + c->bc[n];
+            switch (top) {   /* Horner from bc[top - 1] down to bc[1], unrolled (top <= NBIN = 12) */
+            case 12: w = w * eps + c->bc[11]; /* fall through */
+            case 11: w = w * eps + c->bc[10]; /* fall through */
+            case 10: w = w * eps + c->bc[9]; /* fall through */
+            case 9: w = w * eps + c->bc[8]; /* fall through */
+            case 8: w = w * eps + c->bc[7]; /* fall through */
+            case 7: w = w * eps + c->bc[6]; /* fall through */
+            case 6: w = w * eps + c->bc[5]; /* fall through */
+            case 5: w = w * eps + c->bc[4]; /* fall through */
+            case 4: w = w * eps + c->bc[3]; /* fall through */
+            case 3: w = w * eps + c->bc[2]; /* fall through */
+            case 2: w = w * eps + c->bc[1]; /* fall through */
+            default: break;
+            }
             dw = c->w0 * (w * eps);
             if (fabs(dw) <= DW_MAX) {
                 x = -dw;
@@ -122,7 +136,7 @@ static HOT_INLINE double level_eval(rctx_t *c, double v) {
 }
 
 /* the same, kept as the last evaluation's level (the end point's, after the last stage) */
-static double level(rctx_t *c, double v) {
+static HOT_INLINE double level(rctx_t *c, double v) {
     c->l_S = level_eval(c, v);
     c->l_S_ok = 1;
     return c->l_S;
@@ -183,7 +197,6 @@ static void setup_bases(rctx_t *c, const plant_params_t *p, const double *y, con
             c->w0 = pow(av / p->Vs, p->delta);
             c->E0 = exp(-c->w0);
         }
-        c->bc = p->delta_bc;
     }
 }
 
@@ -194,6 +207,8 @@ static int setup(rctx_t *c, const plant_params_t *p, const plant_disc_t *d, cons
     c->p = p;
     c->l_w_ok = c->l_S_ok = 0;
     c->l_c1 = c->l_s1 = c->l_w = c->l_E = c->l_S = 0.0;
+    c->xc0 = c->c0 = c->s0 = c->inv_v0 = c->w0 = c->E0 = 0.0;   /* set by setup_bases where used */
+    c->bc = p->delta_bc;
     c->i = current_loop_output(p, d, in->u);
     c->F_const = -in->F_ext - p->F_off;
     c->gms = p->prerolling;

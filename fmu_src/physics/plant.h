@@ -109,10 +109,39 @@ double friction_level_memo(const plant_params_t *p, plant_memo_t *memo, double v
 
 /* position_maps.c */
 double posmap_eval(const posmap_t *m, double x);
-void posmap_prepare(posmap_t *m);
+void posmap_prepare(posmap_t *m);   /* fill the fast-path fields from kw, a, b */
 void posmap_eval_pair(const posmap_t *m1, const posmap_t *m2, double x, double *f1, double *f2);
-void posmap_sum_pair(const posmap_t *m1, const posmap_t *m2, double x, double c1, double s1,
-                     double *f1, double *f2);   /* fill the fast-path fields from kw, a, b */
+/* the polynomial part of a map at x: Horner from c[npoly - 1] down to c[0], unrolled (npoly <= 4) */
+static inline double posmap_poly(const posmap_t *m, double x) {
+    double a = 0.0;
+    switch (m->npoly) {
+    case 4: a = a * x + m->c[3]; /* fall through */
+    case 3: a = a * x + m->c[2]; /* fall through */
+    case 2: a = a * x + m->c[1]; /* fall through */
+    case 1: a = a * x + m->c[0]; /* fall through */
+    default: break;
+    }
+    return a;
+}
+
+/* Both maps of a shared fundamental at x, given c1 = cos(kw0 x) and s1 = sin(kw0 x) (however
+ * the caller got them): the polynomials and one recurrence for every harmonic. Inline: the
+ * per-sample scheme evaluates it at each of its 4 stages. */
+static inline void posmap_sum_pair(const posmap_t *m1, const posmap_t *m2, double x, double c1, double s1,
+                                   double *f1, double *f2) {
+    double ck = c1, sk = s1, t, a = posmap_poly(m1, x), b = posmap_poly(m2, x);
+    int k, kmax = m1->kmax > m2->kmax ? m1->kmax : m2->kmax;
+    for (k = 1;; k++) {
+        a += m1->ha[k] * ck + m1->hb[k] * sk;
+        b += m2->ha[k] * ck + m2->hb[k] * sk;
+        if (k == kmax) break;
+        t = ck * c1 - sk * s1;
+        sk = sk * c1 + ck * s1;
+        ck = t;
+    }
+    *f1 = a;
+    *f2 = b;
+}
 
 /* current_loop.c */
 void current_loop_init(const plant_params_t *p, plant_disc_t *d, double u0);

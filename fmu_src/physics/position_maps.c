@@ -39,9 +39,8 @@ void posmap_prepare(posmap_t *m) {
 }
 
 double posmap_eval(const posmap_t *m, double x) {
-    double f = 0.0;
+    double f = posmap_poly(m, x);
     int k;
-    for (k = m->npoly - 1; k >= 0; k--) f = f * x + m->c[k];
     if (m->nh == 0) return f;
     if (m->harmonic) {
         double th = m->kw0 * x, c1 = cos(th), s1 = sin(th), ck = c1, sk = s1, t;
@@ -70,26 +69,6 @@ void posmap_eval_pair(const posmap_t *m1, const posmap_t *m2, double x, double *
         return;
     }
     posmap_sum_pair(m1, m2, x, cos(m1->kw0 * x), sin(m1->kw0 * x), f1, f2);
-}
-
-/* Both maps of a shared fundamental at x, given c1 = cos(kw0 x) and s1 = sin(kw0 x) (however
- * the caller got them): the polynomials and one recurrence for every harmonic. */
-void posmap_sum_pair(const posmap_t *m1, const posmap_t *m2, double x, double c1, double s1,
-                     double *f1, double *f2) {
-    double ck = c1, sk = s1, t, a = 0.0, b = 0.0;
-    int k, kmax = m1->kmax > m2->kmax ? m1->kmax : m2->kmax;
-    for (k = m1->npoly - 1; k >= 0; k--) a = a * x + m1->c[k];
-    for (k = m2->npoly - 1; k >= 0; k--) b = b * x + m2->c[k];
-    for (k = 1;; k++) {
-        a += m1->ha[k] * ck + m1->hb[k] * sk;
-        b += m2->ha[k] * ck + m2->hb[k] * sk;
-        if (k == kmax) break;
-        t = ck * c1 - sk * s1;
-        sk = sk * c1 + ck * s1;
-        ck = t;
-    }
-    *f1 = a;
-    *f2 = b;
 }
 
 /* ---- the effects of the maps */

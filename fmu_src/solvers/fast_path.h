@@ -15,10 +15,12 @@
 #include "plant.h"
 
 /* The error weights of the adaptive solver: state j is weighted by atol[j] + rtol max(|y0|, |y1|),
- * the RMS is taken over n_norm states (PLANT_NX: the same test as the DP45's). */
+ * the RMS is taken over n_norm states (PLANT_NX: the same test as the DP45's). inv_atol[j] =
+ * 1 / atol[j] (rounded): the fixed step's cheap bound of that norm (solver_fixed.c). */
 typedef struct {
     double rtol;
-    const double *atol;   /* PLANT_NX values */
+    const double *atol;       /* PLANT_NX values */
+    const double *inv_atol;   /* PLANT_NX values */
     int n_norm;
 } fast_tol_t;
 

@@ -28,8 +28,18 @@
 
 #include "fast_path.h"
 
+/* the right-hand side and the level inlined into the stages: 4 calls per sample, each a few dozen
+ * floating-point operations, whose call frames cost more than their arithmetic */
+#if defined(__GNUC__)
+#define HOT_INLINE inline __attribute__((always_inline))
+#else
+#define HOT_INLINE inline
+#endif
+
 #define NQ 4          /* x, v, F_sl, L */
 #define NBIN PLANT_NBIN   /* binomial series degree */
+/* level_eval's unrolled Horner sum has a case per degree up to 12 (C99: no _Static_assert) */
+typedef char nbin_is_12[(NBIN == 12) ? 1 : -1];
 #define ROT_MAX 0.0625
 #define EPS_MAX 0.0625
 #define DW_MAX 0.03125
@@ -56,7 +66,7 @@ typedef struct {
 
 static double clamp(double x, double lo, double hi) { return x < lo ? lo : (x > hi ? hi : x); }
 
-static void maps(rctx_t *c, double x, double *Kf, double *Fcg) {
+static HOT_INLINE void maps(rctx_t *c, double x, double *Kf, double *Fcg) {
     const posmap_t *m1 = &c->p->rip, *m2 = &c->p->cog;
     double xc = clamp(x, c->p->x_min, c->p->x_max), d, d2, cd, sd, c1, s1;
     if (!c->rot) {
@@ -80,7 +90,7 @@ static void maps(rctx_t *c, double x, double *Kf, double *Fcg) {
 }
 
 /* S(|v|) on the side of the motion (friction_level's value) */
-static double level_eval(rctx_t *c, double v) {
+static HOT_INLINE double level_eval(rctx_t *c, double v) {
     const plant_params_t *p = c->p;
     double Fs = p->Fs[c->side], Fc = p->Fc[c->side], av = fabs(v), w;
     c->l_w_ok = 0;
@@ -89,14 +99,26 @@ static double level_eval(rctx_t *c, double v) {
         double eps = av * c->inv_v0 - 1.0;
         if (fabs(eps) <= EPS_MAX) {
             double dw, x;
-            int n;
             double ae = fabs(eps);
             int top = 2;
             /* the degree this |eps| needs: the lowest (at least 2) whose terms left out are below
              * 2^-64 of w (|C(delta, j)| <= 1); EPS_DEGREE rises, so the search goes up from 2 */
             while (top < NBIN && ae > EPS_DEGREE[top]) top++;
             w = c->bc[top];
-            for (n = top - 1; n >= 1; n--) w = w * eps + c->bc[n];
+            switch (top) {   /* Horner from bc[top - 1] down to bc[1], unrolled (top <= NBIN = 12) */
+            case 12: w = w * eps + c->bc[11]; /* fall through */
+            case 11: w = w * eps + c->bc[10]; /* fall through */
+            case 10: w = w * eps + c->bc[9]; /* fall through */
+            case 9: w = w * eps + c->bc[8]; /* fall through */
+            case 8: w = w * eps + c->bc[7]; /* fall through */
+            case 7: w = w * eps + c->bc[6]; /* fall through */
+            case 6: w = w * eps + c->bc[5]; /* fall through */
+            case 5: w = w * eps + c->bc[4]; /* fall through */
+            case 4: w = w * eps + c->bc[3]; /* fall through */
+            case 3: w = w * eps + c->bc[2]; /* fall through */
+            case 2: w = w * eps + c->bc[1]; /* fall through */
+            default: break;
+            }
             dw = c->w0 * (w * eps);
             if (fabs(dw) <= DW_MAX) {
                 x = -dw;
@@ -114,14 +136,14 @@ static double level_eval(rctx_t *c, double v) {
 }
 
 /* the same, kept as the last evaluation's level (the end point's, after the last stage) */
-static double level(rctx_t *c, double v) {
+static HOT_INLINE double level(rctx_t *c, double v) {
     c->l_S = level_eval(c, v);
     c->l_S_ok = 1;
     return c->l_S;
 }
 
 /* dq = f(q); the maps' values there into *Kf, *Fcg */
-static void rhs(rctx_t *c, const double *q, double *dq, double *Kf_out, double *Fcg_out) {
+static HOT_INLINE void rhs(rctx_t *c, const double *q, double *dq, double *Kf_out, double *Fcg_out) {
     const plant_params_t *p = c->p;
     double Kf, Fcg, v = q[1], Ff, S = 1.0;
     c->l_S_ok = 0;
@@ -175,7 +197,6 @@ static void setup_bases(rctx_t *c, const plant_params_t *p, const double *y, con
             c->w0 = pow(av / p->Vs, p->delta);
             c->E0 = exp(-c->w0);
         }
-        c->bc = p->delta_bc;
     }
 }
 
@@ -186,6 +207,8 @@ static int setup(rctx_t *c, const plant_params_t *p, const plant_disc_t *d, cons
     c->p = p;
     c->l_w_ok = c->l_S_ok = 0;
     c->l_c1 = c->l_s1 = c->l_w = c->l_E = c->l_S = 0.0;
+    c->xc0 = c->c0 = c->s0 = c->inv_v0 = c->w0 = c->E0 = 0.0;   /* set by setup_bases where used */
+    c->bc = p->delta_bc;
     c->i = current_loop_output(p, d, in->u);
     c->F_const = -in->F_ext - p->F_off;
     c->gms = p->prerolling;
@@ -240,13 +263,14 @@ static double sq_err(double e, double a, double b, double atol, double rtol) {
     return q * q;
 }
 
-/* the carried derivative belongs to (d, y)? */
-static int carry_ok(const fast_carry_t *cr, const plant_disc_t *d, const double *y) {
+/* the carried derivative belongs to (d, y)? Only x, v and the N elements in use enter the
+ * right-hand side (fast_path_ok refuses the compliance's two states) */
+static int carry_ok(const fast_carry_t *cr, int N, const plant_disc_t *d, const double *y) {
     int j;
     if (!cr || !cr->valid || cr->dir != d->dir || cr->st_dir != d->st_dir || cr->st_stuck != d->st_stuck) return 0;
-    for (j = 0; j < PLANT_NX; j++)
+    for (j = 0; j < PLANT_IF + N; j++)
         if (cr->y[j] != y[j]) return 0;
-    for (j = 0; j < PLANT_NE_MAX; j++)
+    for (j = 0; j < N; j++)
         if (cr->stuck[j] != d->stuck[j]) return 0;
     return 1;
 }
@@ -267,35 +291,58 @@ static void stages(rctx_t *c, double h, const double *q, const double *k1, doubl
     for (j = 0; j < NQ; j++) e[j] = h / 6.0 * (k5[j] - k4[j]);
 }
 
-/* the full state y1 at the end from the reduced qn, and the squared error norm of the step */
-static double full_state(const rctx_t *c, const plant_disc_t *d, const fast_tol_t *tol, const double *y,
-                         const double *q, const double *qn, const double *e, double *y1) {
+/* The error test without the divisions, where it can: with w_j = atol_j + rtol max(|y0_j|, |y1_j|)
+ * >= atol_j > 0, the test's sum S = sum_j (e_j / w_j)^2 is at most B = sum_j (e_j / atol_j)^2. In
+ * floating point B is taken as sum_j (e_j ia_j)^2 with ia_j = fl(1 / atol_j): each of its at most
+ * 12 terms is within 3 roundings of the real one and the sum within 11 more, so the real B is at most
+ * B_fl (1 + 15u) / (1 - 3u) (u = 2^-53); S in floating point (5 roundings per term, 13 in the sum)
+ * exceeds the real S by at most 18u relative. So B_fl <= ERR_BOUND_MAX n_norm gives
+ * S_fl / n_norm <= 0.9 (1 + 40u) < 1: the exact test would accept the step too, and is computed
+ * (in the same order as ever) only when the bound does not settle it. A NaN error fails the bound
+ * and goes to the exact test; a non-finite y1 (which the exact test may pass) is refused before
+ * either test. */
+#define ERR_BOUND_MAX 0.9
+
+/* the full state y1 at the end from the reduced qn (x, v and the N elements' forces: the other
+ * states keep y's values, the caller copies only these); 1 when every one of these is finite
+ * (0 x y1_j summed: NaN as soon as one is not) and the step passes the error test (the squared RMS
+ * of the weighted errors at most 1, also no NaN) */
+static int full_state(const rctx_t *c, const plant_disc_t *d, const fast_tol_t *tol, const double *y,
+                      const double *q, const double *qn, const double *e, double *y1) {
     const plant_params_t *p = c->p;
-    double sum, dec = 1.0;
+    const double *ia = tol->inv_atol;
+    double sum, bound, dec = 1.0, ej[PLANT_NE_MAX], nonfinite;
     int j;
     y1[PLANT_IX] = qn[0];
     y1[PLANT_IV] = qn[1];
+    nonfinite = 0.0 * qn[0] + 0.0 * qn[1];
+    bound = (e[0] * ia[PLANT_IX]) * (e[0] * ia[PLANT_IX]) + (e[1] * ia[PLANT_IV]) * (e[1] * ia[PLANT_IV]);
+    if (c->gms && c->lag && c->nu_sl > 0.0) dec = exp(-qn[3]);
+    for (j = 0; j < p->N; j++) {   /* active[j] implies j < N */
+        double F0 = y[PLANT_IF + j], F1 = F0;
+        ej[j] = 0.0;
+        if (c->gms && p->active[j]) {
+            if (d->stuck[j]) {
+                F1 = F0 + p->k[j] * (qn[0] - c->x0);
+                ej[j] = p->k[j] * e[0];
+            } else if (c->lag && c->nu_sl > 0.0) {
+                double f = p->nu[j] / c->nu_sl, dev = F0 - f * q[2];
+                F1 = f * qn[2] + dev * dec;
+                ej[j] = f * e[2] - dev * dec * e[3];
+            }
+            bound += (ej[j] * ia[PLANT_IF + j]) * (ej[j] * ia[PLANT_IF + j]);
+        }
+        y1[PLANT_IF + j] = F1;
+        nonfinite += 0.0 * F1;
+    }
+    if (nonfinite != 0.0) return 0;
+    if (bound <= ERR_BOUND_MAX * tol->n_norm) return 1;
     sum = sq_err(e[0], y[PLANT_IX], qn[0], tol->atol[PLANT_IX], tol->rtol) +
           sq_err(e[1], y[PLANT_IV], qn[1], tol->atol[PLANT_IV], tol->rtol);
-    if (c->gms && c->lag && c->nu_sl > 0.0) dec = exp(-qn[3]);
-    for (j = 0; j < PLANT_NE_MAX; j++) y1[PLANT_IF + j] = y[PLANT_IF + j];
-    /* the states the reduced system does not carry (the compliance's, 0: fast_path_ok refuses
-     * the effect) are kept as they are */
-    for (j = PLANT_NX_BASE; j < PLANT_NX; j++) y1[j] = y[j];
-    for (j = 0; c->gms && j < p->N; j++) {   /* active[j] implies j < N */
-        double F0 = y[PLANT_IF + j], ej = 0.0;
-        if (!p->active[j]) continue;
-        if (d->stuck[j]) {
-            y1[PLANT_IF + j] = F0 + p->k[j] * (qn[0] - c->x0);
-            ej = p->k[j] * e[0];
-        } else if (c->lag && c->nu_sl > 0.0) {
-            double f = p->nu[j] / c->nu_sl, dev = F0 - f * q[2];
-            y1[PLANT_IF + j] = f * qn[2] + dev * dec;
-            ej = f * e[2] - dev * dec * e[3];
-        }
-        sum += sq_err(ej, F0, y1[PLANT_IF + j], tol->atol[PLANT_IF + j], tol->rtol);
-    }
-    return sum / tol->n_norm;
+    for (j = 0; c->gms && j < p->N; j++)
+        if (p->active[j])
+            sum += sq_err(ej[j], y[PLANT_IF + j], y1[PLANT_IF + j], tol->atol[PLANT_IF + j], tol->rtol);
+    return sum / tol->n_norm <= 1.0;
 }
 
 /* what the next step may reuse: the derivative at y1 and the bases there */
@@ -327,7 +374,7 @@ int fixed_step(const plant_params_t *p, const plant_disc_t *d, const plant_in_t 
     rctx_t c;
     double q[NQ], k1[NQ], k5[NQ], qn[NQ], e[NQ], y1[PLANT_NX], Kf, Fcg;
     int j;
-    const int carried = carry_ok(carry, d, y);
+    const int carried = carry_ok(carry, p->N, d, y);
     if (!(h > 0.0) || !setup(&c, p, d, in, y, q, carried && carry->age < FAST_REANCHOR ? carry : NULL)) return 0;
     if (carried) {
         for (j = 0; j < NQ; j++) k1[j] = carry->k[j];
@@ -338,13 +385,10 @@ int fixed_step(const plant_params_t *p, const plant_disc_t *d, const plant_in_t 
     }
     stages(&c, h, q, k1, qn, e, k5, &Kf, &Fcg);
     *n_rhs += 4;
-    if (!(full_state(&c, d, tol, y, q, qn, e, y1) <= 1.0)) return 0;   /* also NaN */
-    /* x, v and the forces of the N elements in use: full_state copies the other states from y */
-    for (j = 0; j < PLANT_IF + p->N; j++)
-        if (!isfinite(y1[j])) return 0;
+    if (!full_state(&c, d, tol, y, q, qn, e, y1)) return 0;
     if (!end_ok(p, d, y1, c.l_S_ok ? c.l_S : -1.0, c.side)) return 0;
-    for (j = 0; j < PLANT_NX; j++) y[j] = y1[j];
-    if (carry) carry_save(carry, &c, d, in, y1, k5, Kf, carried);
+    for (j = 0; j < PLANT_IF + p->N; j++) y[j] = y1[j];
+    if (carry) carry_save(carry, &c, d, in, y, k5, Kf, carried);
     if (memo) {
         memo->valid = 1;
         memo->x = clamp(y1[PLANT_IX], p->x_min, p->x_max);

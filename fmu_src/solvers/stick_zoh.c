@@ -17,9 +17,8 @@
 
 /* value and slope at x of one map, and a bound of |f''| over [-X, X] */
 static void map_slope(const posmap_t *m, double x, double X, double *f, double *df, double *d2max) {
-    double v = 0.0, s = 0.0, b2 = 0.0, xp = 1.0;
+    double v = posmap_poly(m, x), s = 0.0, b2 = 0.0, xp = 1.0;
     int k;
-    for (k = m->npoly - 1; k >= 0; k--) v = v * x + m->c[k];
     for (k = m->npoly - 1; k >= 1; k--) s = s * x + k * m->c[k];
     for (k = 2; k < m->npoly; k++, xp *= X) b2 += k * (k - 1) * fabs(m->c[k]) * xp;
     if (m->harmonic) {

@@ -62,6 +62,7 @@ typedef struct {
     int ind_positive;               /* the per-sample scheme's last step found every event indicator > 0
                                        at (d, y), and nothing has changed them since (plant_step.c) */
     double y_lo[PLANT_NX], y_hi[PLANT_NX];   /* the states' declared min/max (modelDescription.xml) */
+    double inv_atol[PLANT_NX];               /* 1 / the solver's atol (plant_solver_setup) */
     unsigned char is_der[MODEL_NVR];         /* 1: the value reference is a derivative's only */
 } model_t;
 #define OUT_OUTPUTS 1               /* out holds the outputs at (d, y, in) */

@@ -168,7 +168,10 @@ void plant_solver_setup(model_t *m) {
     m->carry.valid = 0;
     m->ind_positive = 0;
     m->fast_ok = fast_path_ok(&m->p);
-    for (j = 0; j < PLANT_NX; j++) atol[j] = m->tol * MODEL_STATE_NOMINAL(j);   /* XML nominals */
+    for (j = 0; j < PLANT_NX; j++) {
+        atol[j] = m->tol * MODEL_STATE_NOMINAL(j);   /* XML nominals */
+        m->inv_atol[j] = 1.0 / atol[j];
+    }
     /* x, v and the forces of the N elements in use: the slots past N stay 0 (their derivative is 0);
      * the error norm still counts the PLANT_NX_BASE states, so the steps are those of a 12-state
      * run. With compliance every state is integrated (its two come after the elements) and counted. */

@@ -18,6 +18,7 @@ static int fast_interval(model_t *m, double h, int fresh) {
     fast_tol_t tol;
     tol.rtol = m->solver.rtol;
     tol.atol = m->solver.atol;
+    tol.inv_atol = m->inv_atol;
     tol.n_norm = m->solver.n_norm;
     if (!fast_step(&m->p, &m->d, &m->in, h, &tol, fresh, m->y, &m->solver.n_rhs, &m->carry, &m->memo)) return 0;
     m->ind_positive = 1;   /* fast_step tests the indicators at the end (fast_path.h) */

@@ -58,27 +58,13 @@ NO_SWITCH_FILES = 2
 #: ``feeddrive/effects/<id>.py`` still to do unless its comment says the name is a data-format
 #: constant; the test fails when one is no longer needed.
 PYTHON_ALLOWANCE: dict[str, frozenset[str]] = {
-    # the identification steps by name (``Identification.step``), and the sidecar kind
-    # "prerolling" of docs/data-format.md that classifies a run
+    # the identification steps by name (``Identification.step``)
     "python/feeddrive/identify/pipeline.py": frozenset({"prerolling", "mass", "position_friction"}),
-    # data format: the sidecar kind "prerolling" decides which runs repeat a condition
-    "python/feeddrive/identify/bootstrap.py": frozenset({"prerolling"}),
     "python/feeddrive/identify/position_friction.py": frozenset(
         {"asymmetric_friction", "position_friction"}
     ),
     "python/feeddrive/identify/truth_table.py": frozenset({"position_friction"}),
-    # data format: the campaign's groups and file stems (``stribeck_<v>mm_s_d+1``,
-    # ``prerolling_A<A>um``) users' recordings carry, the sidecar kind "prerolling", and the
-    # keys of every run's noise seed (``run_seed(seed, "stribeck", j)``): renamed, the same
-    # campaign would draw other noise; plan.py's "mass" is the plan page's phrase for what the
-    # open-loop force run identifies
-    "python/feeddrive/experiments/plan.py": frozenset({"stribeck", "prerolling", "mass"}),
-    "python/feeddrive/experiments/campaign.py": frozenset({"stribeck", "prerolling"}),
-    "python/feeddrive/experiments/constant_speed.py": frozenset({"stribeck"}),
-    "python/feeddrive/experiments/prerolling_excitation.py": frozenset({"prerolling"}),
     "python/feeddrive/report/identification.py": frozenset({"stribeck", "prerolling"}),
-    # data format: the job label "stribeck" is a key of the coverage runs' noise seeds
-    "python/feeddrive/study/coverage.py": frozenset({"stribeck"}),
 }
 
 

@@ -6,7 +6,8 @@ from it; docs/adding-an-effect.md gives the recipe for a new one.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 from typing import Any
 
 from . import (
@@ -26,14 +27,17 @@ from . import (
     viscous,
 )
 from .effect import (
+    SHAPES,
     Candidate,
     Effect,
+    Experiment,
     Identification,
     Parameter,
     Rule,
     Structure,
     is_on,
     nested,
+    reference,
     resolve,
     selected,
     slot_count,
@@ -151,11 +155,67 @@ def position_map_effects() -> dict[str, tuple[str, str]]:
     return {name: (p["periodic"], p["aperiodic"]) for name, p in parts.items()}
 
 
+def experiments() -> list[Experiment]:
+    """Every experiment of the identification campaign the effects declare, in campaign
+    order (:attr:`Experiment.order`)."""
+    return sorted((x for e in EFFECTS for x in e.experiments), key=lambda x: x.order)
+
+
+def experiment_running(fn: Callable[..., Any]) -> Experiment:
+    """The experiment whose runs the function ``fn`` simulates (:attr:`Experiment.runs`).
+
+    Raises
+    ------
+    LookupError : no effect declares an experiment run by ``fn``.
+    """
+    ref = reference(fn)
+    for x in experiments():
+        if x.runs == ref:
+            return x
+    raise LookupError(f"no effect declares an experiment run by {ref}")
+
+
+@dataclass(frozen=True)
+class RunKind:
+    """A kind of run (the sidecar's ``kind``) as ``identify`` sorts runs: the signal shape
+    that shows it, the file stems that name it, and what it is used for."""
+
+    kind: str
+    shape: str
+    file_pattern: str
+    uses: str
+
+
+def run_kinds() -> dict[str, RunKind]:
+    """The kinds of run of the campaign's experiments, by kind, in campaign order: shape and
+    file pattern of the first experiment of each kind that declares them, the uses of every
+    experiment of the kind joined."""
+    out: dict[str, RunKind] = {}
+    for x in experiments():
+        k = out.get(x.kind)
+        if k is None:
+            out[x.kind] = RunKind(x.kind, x.shape, x.file_pattern, x.uses)
+        else:
+            out[x.kind] = RunKind(
+                x.kind,
+                k.shape or x.shape,
+                k.file_pattern or x.file_pattern,
+                " and ".join(u for u in (k.uses, x.uses) if u),
+            )
+    for k in out.values():
+        if k.shape not in SHAPES or not k.file_pattern:
+            raise ValueError(f"run kind {k.kind}: no experiment declares its shape and file stem")
+    return out
+
+
 __all__ = [
     "BY_ID",
     "Candidate",
     "EFFECTS",
     "Effect",
+    "Experiment",
+    "RunKind",
+    "SHAPES",
     "Identification",
     "Parameter",
     "Rule",
@@ -164,12 +224,16 @@ __all__ = [
     "broken_rule",
     "effect",
     "effect_ids",
+    "experiment_running",
+    "experiments",
     "is_on",
     "paper_scenarios",
     "emps_baseline",
     "nested",
     "nesting",
     "position_map_effects",
+    "reference",
+    "run_kinds",
     "resolve",
     "selected",
     "slot_count",

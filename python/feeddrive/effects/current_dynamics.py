@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 
 from .candidate import CandidateContext, Variant
-from .effect import Candidate, Effect, Identification, Parameter, Structure
+from .effect import Candidate, Effect, Experiment, Identification, Parameter, Structure
 
 #: |1 - sum(current.a)| below which the current loop has a pole at z = 1.
 POLE_TOL = 1e-9
@@ -107,4 +107,19 @@ EFFECT = Effect(
     ),
     structure=Structure.CURRENT_FILTER,
     compile_rule=check_dc_gain,
+    experiments=(
+        Experiment(
+            group="prbs",
+            kind="prbs",
+            order=1,
+            runs="feeddrive.experiments.prbs:prbs_runs",
+            campaign="feeddrive.experiments.campaign:prbs_jobs",
+            plan="feeddrive.experiments.plan:PlanBuilder.prbs",
+            identifies="the current loop G(z): current.a, current.b (Eq. 2)",
+            short="current loop",
+            shape="held",
+            file_pattern=r"prbs",
+            uses="current loop (Eq. 2)",
+        ),
+    ),
 )

@@ -92,6 +92,8 @@ class Effect:
         (catalogue order, as the FMU's entries' checks), or None.
     scenario : the label of the paper's scenario (Sec. 3, Fig. 14) that switches the effect
         off, "" when none does.
+    experiments : the experiments of the identification campaign that identify it
+        (:class:`Experiment`; an experiment shared by several effects is declared by one).
     """
 
     id: str
@@ -109,6 +111,7 @@ class Effect:
     compile_rule: Rule | None = None
     check_rule: Rule | None = None
     scenario: str = ""
+    experiments: tuple[Experiment, ...] = ()
 
     def __post_init__(self) -> None:
         if self.switch is not None and self.switch != f"effects.{self.id}":
@@ -240,3 +243,66 @@ def nested(effects: Iterable[Effect]) -> dict[str, str]:
             )
         out[e.id] = by_perturbs[e.candidate.limit]
     return out
+
+
+#: What the signals of a run show, the recognisable form of each kind of run (the
+#: identification's fallback when a run has no sidecar ``kind``): the position held while u
+#: excites; no position reference (open loop); reversing; monotonic at a steady speed;
+#: monotonic without one.
+SHAPES = ("held", "open_loop", "reversing", "steady", "varying")
+
+
+@dataclass(frozen=True)
+class Experiment:
+    """An experiment of the identification campaign, declared by the effect it identifies
+    (:attr:`Effect.experiments`).  Its names are the recording format users' files carry
+    (docs/data-format.md): written once here, handed to the generic experiment code.
+
+    Attributes
+    ----------
+    group : the campaign's group (``feeddrive experiments``), the stem of its jobs' labels and
+        so of their noise seeds.
+    kind : the sidecar's ``kind`` of its runs (``identify`` sorts runs by it).
+    order : its place in the campaign and in the plan (ascending).
+    runs : reference to the function that simulates its runs (:mod:`feeddrive.experiments`).
+    campaign : reference to the campaign's builder of its jobs, ``(experiment, quick) -> jobs``.
+    plan : reference to the plan's builder of its runs, ``(builder, experiment) -> None``.
+    identifies : what it identifies, one line of the plan page; short : the same in a few words.
+    stem : the stem of its run names where the experiment names them itself ("" else).
+    plan_group : its group on the plan page and in the plan's sidecars ("" : ``group``).
+    shape : the :data:`SHAPES` entry its runs' signals show ("" : a kind another experiment
+        declares first).
+    file_pattern : the regular expression a recording's file stem of this kind starts with
+        ("" : as ``shape``).
+    uses : what ``identify`` uses runs of its kind for.
+    """
+
+    group: str
+    kind: str
+    order: int
+    runs: str
+    campaign: str
+    plan: str
+    identifies: str
+    short: str
+    stem: str = ""
+    plan_group: str = ""
+    shape: str = ""
+    file_pattern: str = ""
+    uses: str = ""
+
+    def __post_init__(self) -> None:
+        if self.shape and self.shape not in SHAPES:
+            raise ValueError(
+                f"experiment {self.group}: shape {self.shape!r}, allowed " + ", ".join(SHAPES)
+            )
+
+    @property
+    def page_group(self) -> str:
+        """Its group on the plan page and in the plan's sidecars."""
+        return self.plan_group or self.group
+
+
+def reference(fn: Callable[..., Any]) -> str:
+    """The reference ``"module:qualname"`` of a function (what :func:`resolve` imports)."""
+    return f"{fn.__module__}:{fn.__qualname__}"

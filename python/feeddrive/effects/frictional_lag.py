@@ -10,7 +10,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from .candidate import CandidateContext, Variant, explained
-from .effect import Candidate, Effect, Identification, Parameter
+from .effect import Candidate, Effect, Experiment, Identification, Parameter
 
 #: Attraction parameter grid [N/s] of the diagnosis candidate (the best point is refined
 #: between its neighbours).
@@ -88,4 +88,19 @@ EFFECT = Effect(
     candidate=Candidate("feeddrive.effects.frictional_lag:candidate", ("friction.C",), "C=<N/s>"),
     report=("figure: frictional lag of the variable-speed run and Eq. 14 with the fitted C",),
     off=(("friction.C", float("inf")),),
+    experiments=(
+        Experiment(
+            group="variable_speed",
+            kind="variable_speed",
+            order=5,
+            runs="feeddrive.experiments.variable_speed:variable_speed_runs",
+            campaign="feeddrive.experiments.campaign:variable_speed_jobs",
+            plan="feeddrive.experiments.plan:PlanBuilder.variable_speed",
+            identifies="the GMS attraction parameter friction.C (Eq. 14)",
+            short="C",
+            shape="varying",
+            file_pattern=r"variable_speed",
+            uses="attraction parameter C (Eq. 14)",
+        ),
+    ),
 )

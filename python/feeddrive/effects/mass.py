@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from .candidate import CandidateContext, Variant, one_column
-from .effect import Candidate, Effect, Identification, Parameter
+from .effect import Candidate, Effect, Experiment, Identification, Parameter
 
 
 def candidate(ctx: CandidateContext) -> list[Variant]:
@@ -25,4 +25,19 @@ EFFECT = Effect(
         "feeddrive.effects.mass:candidate", ("m",), "acceleration", emps_baseline=True
     ),
     report=("truth table row m",),
+    experiments=(
+        Experiment(
+            group="force_open_loop",
+            kind="force_open_loop",
+            order=4,
+            runs="feeddrive.experiments.force_open_loop:force_open_loop_runs",
+            campaign="feeddrive.experiments.campaign:force_open_loop_jobs",
+            plan="feeddrive.experiments.plan:PlanBuilder.force_open_loop",
+            identifies="the moving mass m (Eq. 1)",
+            short="mass",
+            shape="open_loop",
+            file_pattern=r"force_open_loop|open_loop",
+            uses="mass (Eq. 1)",
+        ),
+    ),
 )

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from .candidate import CandidateContext, Variant
-from .effect import Candidate, Effect, Identification, Parameter, Structure, slot_count
+from .effect import Candidate, Effect, Experiment, Identification, Parameter, Structure, slot_count
 
 #: |sum(nu_i) - 1| allowed over the elements in use (friction_gms.c SUM_NU_TOL).
 SUM_NU_TOL = 1e-3
@@ -119,4 +119,21 @@ EFFECT = Effect(
     structure=Structure.SLIP_ELEMENTS,
     check_rule=check_elements,
     scenario="static friction instead of GMS",
+    experiments=(
+        Experiment(
+            group="prerolling",
+            kind="prerolling",
+            order=6,
+            runs="feeddrive.experiments.prerolling_excitation:prerolling_runs",
+            campaign="feeddrive.experiments.campaign:prerolling_jobs",
+            plan="feeddrive.experiments.plan:PlanBuilder.prerolling",
+            identifies="the Maxwell-slip elements (weights W_i, pre-rolling distances Delta_i): "
+            "friction.N, nu, k (Eqs. 15-18)",
+            short="pre-rolling",
+            stem="prerolling",
+            shape="reversing",
+            file_pattern=r"prerolling",
+            uses="pre-rolling W_i, Delta_i (Eqs. 15-18)",
+        ),
+    ),
 )

@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 
 from ..data import Run, run_stem
-from ..effects import EFFECTS
+from ..effects import EFFECTS, run_kinds
 from ..harness.checked_runs import load_checked_runs
 from ..model_file import ModelFile, load_model, paper_model, save_model
 from ..physics import CurrentLoop, run_load_mean
@@ -53,21 +53,13 @@ from .prerolling import PrerollingFit, identify_prerolling
 from .stribeck import StribeckFit, identify_stribeck
 from .truth_table import TruthRow, format_rows, truth_rows
 
-#: Experiment kinds (the sidecar's ``kind``) and what each is used for.
-KINDS: dict[str, str] = {
-    "prbs": "current loop (Eq. 2)",
-    "constant_speed": "K_f, F_cg (Eqs. 3-7) and Stribeck curve (Eqs. 12-13)",
-    "force_open_loop": "mass (Eq. 1)",
-    "variable_speed": "attraction parameter C (Eq. 14)",
-    "prerolling": "pre-rolling W_i, Delta_i (Eqs. 15-18)",
-}
-_STEMS = (
-    ("prbs", r"prbs"),
-    ("constant_speed", r"cv_|constant_speed"),
-    ("force_open_loop", r"force_open_loop|open_loop"),
-    ("variable_speed", r"variable_speed"),
-    ("prerolling", r"prerolling"),
-)
+#: Experiment kinds (the sidecar's ``kind``) and what each is used for: the kinds of the
+#: experiments the effects declare (:func:`feeddrive.effects.run_kinds`), in campaign order.
+KINDS: dict[str, str] = {k.kind: k.uses for k in run_kinds().values()}
+#: The file stems (regular expressions at the stem's start) that name each kind.
+_STEMS = tuple((k.kind, k.file_pattern) for k in run_kinds().values())
+#: The kind whose runs' signals show each shape (:data:`feeddrive.effects.SHAPES`).
+KIND_OF_SHAPE: dict[str, str] = {k.shape: k.kind for k in run_kinds().values()}
 MIN_MAP_SPAN = 0.075  #: shortest stroke [m] the map runs must share: two magnet pitches
 LOAD_TOL = 0.5  #: loads closer than this [N] are the same load (as position_maps)
 SPEED_TOL = 0.1  #: relative speed difference within which runs share a speed
@@ -84,8 +76,9 @@ def _crossings(u: np.ndarray) -> int:
     return int(np.count_nonzero(np.diff(np.sign(dev[dev != 0]))))
 
 
-def _by_signals(run: Run) -> tuple[str | None, str]:
-    """The kind the signals show, or None, and why (every test fails for a constant signal)."""
+def _shape(run: Run) -> tuple[str | None, str]:
+    """The shape the signals show (:data:`feeddrive.effects.SHAPES`), or None, and why (every
+    test fails for a constant signal)."""
     x = np.asarray(run.x, dtype=float)
     u = np.asarray(run.u, dtype=float)
     span = float(np.ptp(x))
@@ -93,7 +86,7 @@ def _by_signals(run: Run) -> tuple[str | None, str]:
         sw = _crossings(u)
         moving_i = run.i is None or np.ptp(run.i) > 0
         if span > 0 and sw >= 10 and moving_i:
-            return "prbs", f"x held within {span * 1e6:.1f} um, u excites ({sw} mean crossings)"
+            return "held", f"x held within {span * 1e6:.1f} um, u excites ({sw} mean crossings)"
         return None, (
             f"x {'constant' if span == 0 else f'held within {span * 1e6:.1f} um'}, u "
             f"with {sw} mean crossings"
@@ -104,12 +97,12 @@ def _by_signals(run: Run) -> tuple[str | None, str]:
     if np.ptp(u) == 0:
         return None, "u is constant: no experiment of Secs. 2.2-2.4"
     if run.x_ref is None:
-        return "force_open_loop", f"no x_ref column (open loop), x spans {span * 1e3:.2f} mm"
+        return "open_loop", f"no x_ref column (open loop), x spans {span * 1e3:.2f} mm"
     dx = np.diff(x)
     back = min(np.sum(dx[dx > 0]), -np.sum(dx[dx < 0]))
     if back > 0.3 * span:
         return (
-            "prerolling",
+            "reversing",
             f"x reverses ({back * 1e6:.0f} um back over a {span * 1e6:.0f} um span)",
         )
     Ts = sample_time(run.time, label=run_label(run))
@@ -117,20 +110,26 @@ def _by_signals(run: Run) -> tuple[str | None, str]:
     share = (seg.stop - seg.start) / len(x)
     if share > 0.3:
         return (
-            "constant_speed",
+            "steady",
             f"monotonic, steady speed {abs(v) * 1e3:.3g} mm/s over {share:.0%} of the run",
         )
-    return "variable_speed", f"monotonic, no steady speed over 30 % of the run ({share:.0%})"
+    return "varying", f"monotonic, no steady speed over 30 % of the run ({share:.0%})"
+
+
+def _by_signals(run: Run) -> tuple[str | None, str]:
+    """The kind the signals show (:data:`KIND_OF_SHAPE`), or None, and why."""
+    shape, why = _shape(run)
+    return (None if shape is None else KIND_OF_SHAPE[shape]), why
 
 
 def classify_why(run: Run) -> tuple[str, str]:
     """The experiment kind of a run and why it was put there.
 
     The sidecar's ``kind`` when it is one of :data:`KINDS`; else (another word is said in
-    the reason) the signals (held
-    position and a two-level u: 'prbs'; no x_ref: 'force_open_loop'; reversing:
-    'prerolling'; monotonic with a steady speed: 'constant_speed', else 'variable_speed'),
-    and a file stem that names a kind must agree with them.  ValueError naming the run
+    the reason) the kind whose shape the signals show (:data:`KIND_OF_SHAPE`: held
+    position and a two-level u: 'prbs'; no x_ref: 'force_open_loop'; reversing: the
+    pre-rolling runs; monotonic with a steady speed: 'constant_speed', else
+    'variable_speed'), and a file stem that names a kind must agree with them.  ValueError naming the run
     when neither tells the kind (e.g. a constant signal).
     """
     kind = (run.meta or {}).get("kind")

@@ -33,6 +33,7 @@ from .effect import (
     Experiment,
     Identification,
     Parameter,
+    ReportFigure,
     Rule,
     Structure,
     is_on,
@@ -155,6 +156,54 @@ def position_map_effects() -> dict[str, tuple[str, str]]:
     return {name: (p["periodic"], p["aperiodic"]) for name, p in parts.items()}
 
 
+def identification_steps() -> list[Effect]:
+    """The effects whose identification step runs in its module
+    (:attr:`Identification.run`), in pipeline order (:attr:`Identification.order`)."""
+    steps = [e for e in EFFECTS if e.identification.run is not None]
+    return sorted(steps, key=lambda e: e.identification.order)
+
+
+def truth_row_steps() -> list[Effect]:
+    """The effects that give the rows of their step in the table of true versus identified
+    parameters (:attr:`Identification.truth`), in pipeline order."""
+    steps = [e for e in EFFECTS if e.identification.truth]
+    return sorted(steps, key=lambda e: e.identification.order)
+
+
+def owner(parameter: str) -> Effect:
+    """The effect that owns the FMU parameter ``parameter`` (:attr:`Effect.parameters`).
+
+    Raises
+    ------
+    LookupError : no effect owns it.
+    """
+    for e in EFFECTS:
+        if parameter in e.parameter_names:
+            return e
+    raise LookupError(f"no effect owns the parameter {parameter}")
+
+
+def report_figures() -> list[tuple[Effect, ReportFigure]]:
+    """Every figure of the identification report the effects declare, with its effect, in
+    page order (:attr:`ReportFigure.order`)."""
+    figs = [(e, f) for e in EFFECTS for f in e.figures]
+    return sorted(figs, key=lambda ef: ef[1].order)
+
+
+def figure_owner(fn: Callable[..., Any]) -> Effect:
+    """The effect that declares the report figure drawn by ``fn`` (:attr:`Effect.figures`).
+
+    Raises
+    ------
+    LookupError : no effect declares it.
+    """
+    ref = reference(fn)
+    for e, f in report_figures():
+        if f.figure == ref:
+            return e
+    raise LookupError(f"no effect declares the report figure {ref}")
+
+
 def experiments() -> list[Experiment]:
     """Every experiment of the identification campaign the effects declare, in campaign
     order (:attr:`Experiment.order`)."""
@@ -218,6 +267,7 @@ __all__ = [
     "SHAPES",
     "Identification",
     "Parameter",
+    "ReportFigure",
     "Rule",
     "Structure",
     "apply_switches",
@@ -226,6 +276,11 @@ __all__ = [
     "effect_ids",
     "experiment_running",
     "experiments",
+    "figure_owner",
+    "report_figures",
+    "identification_steps",
+    "owner",
+    "truth_row_steps",
     "is_on",
     "paper_scenarios",
     "emps_baseline",

@@ -6,7 +6,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from .candidate import CandidateContext, Variant, periodic_variants
-from .effect import Candidate, Effect, Experiment, Identification, Parameter
+from .effect import Candidate, Effect, Experiment, Identification, Parameter, ReportFigure
 
 
 def check_stroke(values: Mapping[str, Any], effective: Mapping[str, Any], on: bool) -> str | None:
@@ -42,6 +42,9 @@ EFFECT = Effect(
         "maps",
         "feeddrive.identify.position_maps:identify_position_maps",
         "DSTFT of F_cg(x) sampled by the constant-speed runs (Eqs. 3-5), harmonics fitted",
+        label="position maps",
+        order=2,
+        truth="feeddrive.identify.truth_table:map_rows",
     ),
     candidate=Candidate(
         "feeddrive.effects.cogging_periodic:candidate",
@@ -66,6 +69,20 @@ EFFECT = Effect(
             shape="steady",
             file_pattern=r"cv_|constant_speed",
             uses="K_f, F_cg (Eqs. 3-7)",
+        ),
+    ),
+    figures=(
+        ReportFigure(
+            "feeddrive.report.identification:fig6_dstft_cogging",
+            "id_fig06_dstft_cogging",
+            "Analogue of Fig. 6: DSTFT of F_cg(x)",
+            3,
+        ),
+        ReportFigure(
+            "feeddrive.report.identification:fig7_cogging_components",
+            "id_fig07_cogging_components",
+            "Analogue of Fig. 7: magnitude and unwrapped phase of X_F",
+            4,
         ),
     ),
 )

@@ -15,6 +15,8 @@ from dataclasses import dataclass
 from enum import Enum
 from typing import Any
 
+from .steps import IdentificationHost
+
 
 @dataclass(frozen=True)
 class Parameter:
@@ -34,12 +36,28 @@ class Identification:
     "" when the pipeline has no step for it (``fit`` then says which function fits it, e.g.
     within another effect's step, or the diagnosis does); ``fit``: a reference to the
     function that fits it, or "";
-    ``how``: one line for the docs and the report.
+    ``how``: one line for the docs and the report;
+    ``label``: the step's name in progress, messages and the skipped steps ("" : ``step``);
+    ``order``: the step's place in the pipeline (ascending; every effect of a shared step
+    gives it), 0 for no step;
+    ``run``: the step, a function of the pipeline's
+    :class:`~feeddrive.effects.steps.IdentificationHost` returning the fit (the result's
+    attribute ``step``) or None when skipped; None when the pipeline runs the step itself;
+    ``on_request``: the step runs only when asked for (``identify --position-friction``) and
+    switches the effect on when it fits;
+    ``truth``: a reference to the function ``(fit, truth model, result) -> rows`` of the
+    table of true versus identified parameters for the step ("" : no rows; one effect of a
+    shared step gives it).
     """
 
     step: str
     fit: str
     how: str
+    label: str = ""
+    order: int = 0
+    run: Step | None = None
+    on_request: bool = False
+    truth: str = ""
 
 
 @dataclass(frozen=True)
@@ -94,6 +112,8 @@ class Effect:
         off, "" when none does.
     experiments : the experiments of the identification campaign that identify it
         (:class:`Experiment`; an experiment shared by several effects is declared by one).
+    figures : the figures of the identification report that show its step's fit
+        (:class:`ReportFigure`; a figure of a shared step is declared by one effect).
     """
 
     id: str
@@ -112,6 +132,7 @@ class Effect:
     check_rule: Rule | None = None
     scenario: str = ""
     experiments: tuple[Experiment, ...] = ()
+    figures: tuple[ReportFigure, ...] = ()
 
     def __post_init__(self) -> None:
         if self.switch is not None and self.switch != f"effects.{self.id}":
@@ -245,6 +266,10 @@ def nested(effects: Iterable[Effect]) -> dict[str, str]:
     return out
 
 
+#: An effect's identification step: from the pipeline's host, the fit or None (skipped).
+Step = Callable[[IdentificationHost], Any]
+
+
 #: What the signals of a run show, the recognisable form of each kind of run (the
 #: identification's fallback when a run has no sidecar ``kind``): the position held while u
 #: excites; no position reference (open loop); reversing; monotonic at a steady speed;
@@ -306,3 +331,19 @@ class Experiment:
 def reference(fn: Callable[..., Any]) -> str:
     """The reference ``"module:qualname"`` of a function (what :func:`resolve` imports)."""
     return f"{fn.__module__}:{fn.__qualname__}"
+
+
+@dataclass(frozen=True)
+class ReportFigure:
+    """A figure of the identification report (``feeddrive report``) that shows an effect's
+    identification step (:attr:`Effect.figures`): drawn when the step's fit exists.
+
+    ``figure``: reference to the function ``(identification result) -> Figure``;
+    ``stem``: the file stem it is saved under; ``caption``: its caption; ``order``: its place
+    on the report page (ascending).
+    """
+
+    figure: str
+    stem: str
+    caption: str
+    order: int

@@ -1,6 +1,9 @@
 """The identification campaign: every virtual experiment of Secs. 2.2-2.4 on one plant.
 
-Groups (keys of :func:`campaign`) and file stems written by :func:`write_campaign`:
+Groups (keys of :func:`campaign`) and file stems written by :func:`write_campaign`, one
+group per experiment an effect declares (:func:`feeddrive.effects.experiments`: the group,
+the run names and the sidecar kinds are written in the effect's module, and its
+``campaign`` builder here makes its jobs):
 
 - ``prbs``: ``prbs`` (current loop, Eq. 2);
 - ``cogging_ripple``: ``cv_{p|m}20mm_s_P{0,54.9,272.7}`` (Eqs. 4, 5; ``1mm_s`` with ``quick``);

@@ -2,12 +2,19 @@
 
 ``identify_folder(runs_dir, out)`` loads every run (``feeddrive.data.load_runs``), sorts
 them into experiments (:func:`classify`: the sidecar's ``kind``, else the file stem, else
-the signals), and runs the procedures in the order their inputs require:
+the signals; the kinds are those of the experiments the effects declare,
+:func:`feeddrive.effects.run_kinds`), and runs the procedures in the order their inputs
+require:
 
 1. current loop G(z) from the PRBS run (Eq. 2);
 2. K_f(x), F_cg(x) from the constant-speed runs at the speed of the loaded runs
    (Eqs. 3-7; the unloaded runs at that speed are the P = 0 pair);
 3. Stribeck curve from every unloaded constant-speed pair (Eqs. 12-13, K_f of step 2);
+
+then the steps the effect modules declare (:attr:`feeddrive.effects.Identification.run`,
+:func:`feeddrive.effects.identification_steps`), in their declared order, each handed the
+pipeline as its :class:`~feeddrive.effects.steps.IdentificationHost`:
+
 4. mass from the open-loop force run (Eq. 1, maps of step 2, friction of step 3);
 5. C from the variable-speed run (Eq. 14, everything above known);
 6. pre-rolling from the two periodic runs (Eqs. 15-18);
@@ -38,18 +45,18 @@ from typing import Any
 import numpy as np
 
 from ..data import Run, run_stem
-from ..effects import EFFECTS, run_kinds
+from ..effects import EFFECTS, identification_steps, resolve, run_kinds
 from ..harness.checked_runs import load_checked_runs
 from ..model_file import ModelFile, load_model, paper_model, save_model
 from ..physics import CurrentLoop, run_load_mean
 from ..signals import run_label, sample_time
 from ._signals import steady_segment
-from .attraction import AttractionFit, identify_attraction
+from .attraction import AttractionFit
 from .current_loop import CurrentLoopFit, identify_current_loop
-from .mass import MassFit, identify_mass
-from .position_friction import PositionFrictionFit, identify_position_friction
+from .mass import MassFit
+from .position_friction import PositionFrictionFit
 from .position_maps import PositionMapsFit, identify_position_maps
-from .prerolling import PrerollingFit, identify_prerolling
+from .prerolling import PrerollingFit
 from .stribeck import StribeckFit, identify_stribeck
 from .truth_table import TruthRow, format_rows, truth_rows
 
@@ -363,8 +370,9 @@ def identify_runs(
     prerolling_elements : N of the Maxwell-slip model.
     min_map_span : the maps are refused (ValueError) when the runs share a shorter stroke
         [m]: a cubic fitted over a few mm is meaningless over the whole stroke.
-    position_friction : also identify the friction-level profile p(x) (step 7) and switch
-        the effect on; ``profile_knots`` knots over the stroke the runs slid over.
+    position_friction : also run the steps declared ``on_request`` (the friction-level
+        profile p(x), step 7), each switching its effect on when it fits; ``profile_knots``
+        knots over the stroke the runs slid over.
     progress : called with each step's name as it starts (a progress bar).
     """
     stage = progress or (lambda name: None)
@@ -381,18 +389,18 @@ def identify_runs(
     dc_gain = _current_loop_step(res, groups, acc, all_runs)
     stage("position maps, Stribeck")
     _maps_and_stribeck_steps(res, groups, acc, dc_gain, min_map_span)
-    stage("mass")
-    _mass_step(res, groups, acc, dc_gain, current_timing)
-    stage("attraction")
-    _attraction_step(res, groups, acc, dc_gain, current_timing)
-    stage("pre-rolling")
-    _prerolling_step(res, groups, acc, dc_gain, current_timing, prerolling_elements)
     effects = dict(base.effects)
-    if position_friction:
-        stage("position friction")
-        effects["position_friction"] = _position_friction_step(
-            res, groups, acc, dc_gain, current_timing, profile_knots
-        )
+    host = _Host(res, groups, acc, dc_gain, current_timing, prerolling_elements, profile_knots)
+    for e in identification_steps():
+        ident = e.identification
+        if ident.on_request and not position_friction:
+            continue
+        assert ident.run is not None
+        stage(ident.label)
+        fit = ident.run(host)
+        setattr(res, ident.step, fit)
+        if ident.on_request:
+            effects[e.id] = fit is not None
     if not acc.identified - {"Ts"}:
         raise ValueError(
             "identify: nothing identified, every step was skipped: "
@@ -486,109 +494,37 @@ def _maps_and_stribeck_steps(
         )
 
 
-def _mass_step(
-    res: IdentificationResult,
-    groups: dict,
-    acc: _Collected,
-    dc_gain: float | None,
-    current_timing: str,
-) -> None:
-    """m from the open-loop force run (friction known from the previous steps)."""
-    if groups["force_open_loop"]:
-        run = groups["force_open_loop"][0]
-        res.mass = _step(
-            "mass",
-            identify_mass,
-            run,
-            acc.params,
-            acc.params,
-            friction=acc.params,
-            dc_gain=dc_gain,
-            current_timing=current_timing,
-        )
-        acc.take({"m": res.mass.parameters["m"]})
-    else:
-        res.skipped["mass"] = "no open-loop force run"
+@dataclass
+class _Host:
+    """The pipeline as the effects' identification steps see it
+    (:class:`feeddrive.effects.steps.IdentificationHost`)."""
 
+    res: IdentificationResult
+    groups: dict[str, list[Run]]
+    acc: _Collected
+    dc_gain: float | None
+    current_timing: str
+    prerolling_elements: int
+    profile_knots: int
 
-def _attraction_step(
-    res: IdentificationResult,
-    groups: dict,
-    acc: _Collected,
-    dc_gain: float | None,
-    current_timing: str,
-) -> None:
-    """C (Eq. 14) from the longest variable-speed run."""
-    if groups["variable_speed"]:
-        run = max(groups["variable_speed"], key=lambda r: len(r.time))
-        res.attraction = _step(
-            "attraction",
-            identify_attraction,
-            run,
-            acc.params,
-            dc_gain=dc_gain,
-            current_timing=current_timing,
-        )
-        acc.take(res.attraction.parameters)
-    else:
-        res.skipped["attraction"] = "no variable-speed run"
+    @property
+    def params(self) -> dict[str, Any]:
+        return self.acc.params
 
+    def runs(self, kind: str) -> list[Run]:
+        return self.groups[kind]
 
-def _prerolling_step(
-    res: IdentificationResult,
-    groups: dict,
-    acc: _Collected,
-    dc_gain: float | None,
-    current_timing: str,
-    N: int,
-) -> None:
-    """The Maxwell-slip elements from the largest and smallest periodic runs."""
-    pr = sorted(groups["prerolling"], key=lambda r: np.ptp(r.x))
-    if len(pr) >= 2:
-        res.prerolling = _step(
-            "pre-rolling",
-            identify_prerolling,
-            pr[-1],
-            pr[0],
-            acc.params,
-            N=N,
-            current_timing=current_timing,
-            dc_gain=dc_gain,
-        )
-        acc.take(res.prerolling.parameters)
-        if len(pr) > 2:
-            res.notes.append(f"pre-rolling: used the smallest and largest of {len(pr)} runs")
-    else:
-        res.skipped["pre-rolling"] = (
-            f"{len(pr)} periodic runs (a small and a large amplitude needed)"
-        )
+    def fit(self, label: str, reference: str, *args: Any, **kw: Any) -> Any:
+        return _step(label, resolve(reference), *args, **kw)
 
+    def take(self, values: Mapping[str, float]) -> None:
+        self.acc.take(values)
 
-def _position_friction_step(
-    res: IdentificationResult,
-    groups: dict,
-    acc: _Collected,
-    dc_gain: float | None,
-    current_timing: str,
-    n_knots: int,
-) -> bool:
-    """p(x) from every constant-speed run, the levels and maps identified so far; True when
-    it ran (the effect is then on)."""
-    runs = groups["constant_speed"]
-    if not runs:
-        res.skipped["position friction"] = "no constant-speed runs"
-        return False
-    res.position_friction = _step(
-        "position friction",
-        identify_position_friction,
-        runs,
-        acc.params,
-        n_knots=n_knots,
-        dc_gain=dc_gain,
-        current_timing=current_timing,
-    )
-    acc.take(res.position_friction.parameters)
-    return True
+    def skip(self, label: str, why: str) -> None:
+        self.res.skipped[label] = why
+
+    def note(self, line: str) -> None:
+        self.res.notes.append(line)
 
 
 def identify_folder(

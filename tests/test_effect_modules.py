@@ -53,38 +53,6 @@ from effect_names import naming_files, product_files  # noqa: E402
 MAX_FILES = 4
 NO_SWITCH_FILES = 2
 
-#: Python files that still name an effect outside its module: identification steps,
-#: experiment groups and run kinds spelled like the effect.  An entry is a move into
-#: ``feeddrive/effects/<id>.py`` still to do unless its comment says the name is a data-format
-#: constant; the test fails when one is no longer needed.
-PYTHON_ALLOWANCE: dict[str, frozenset[str]] = {
-    # the identification steps by name (``Identification.step``), and the sidecar kind
-    # "prerolling" of docs/data-format.md that classifies a run
-    "python/feeddrive/identify/pipeline.py": frozenset({"prerolling", "mass", "position_friction"}),
-    # data format: the sidecar kind "prerolling" decides which runs repeat a condition
-    "python/feeddrive/identify/bootstrap.py": frozenset({"prerolling"}),
-    "python/feeddrive/identify/position_friction.py": frozenset(
-        {"asymmetric_friction", "position_friction"}
-    ),
-    "python/feeddrive/identify/truth_table.py": frozenset({"position_friction"}),
-    # data format: the campaign's groups and file stems (``stribeck_<v>mm_s_d+1``,
-    # ``prerolling_A<A>um``) users' recordings carry, the sidecar kind "prerolling", and the
-    # keys of every run's noise seed (``run_seed(seed, "stribeck", j)``): renamed, the same
-    # campaign would draw other noise; plan.py's "mass" is the plan page's phrase for what the
-    # open-loop force run identifies
-    "python/feeddrive/experiments/plan.py": frozenset({"stribeck", "prerolling", "mass"}),
-    "python/feeddrive/experiments/campaign.py": frozenset({"stribeck", "prerolling"}),
-    "python/feeddrive/experiments/constant_speed.py": frozenset({"stribeck"}),
-    "python/feeddrive/experiments/prerolling_excitation.py": frozenset({"prerolling"}),
-    "python/feeddrive/report/identification.py": frozenset({"stribeck", "prerolling"}),
-    # data format: the job label "stribeck" is a key of the coverage runs' noise seeds
-    "python/feeddrive/study/coverage.py": frozenset({"stribeck"}),
-}
-
-
-def _allowed(allowance: dict[str, frozenset[str]], eid: str) -> set[str]:
-    return {f for f, ids in allowance.items() if eid in ids}
-
 
 @pytest.fixture(scope="module")
 def named() -> dict[str, list[str]]:
@@ -93,24 +61,13 @@ def named() -> dict[str, list[str]]:
 
 @pytest.mark.parametrize("eid", effect_ids())
 def test_few_product_files_name_each_effect(named: dict[str, list[str]], eid: str) -> None:
-    files = set(named[eid]) - _allowed(PYTHON_ALLOWANCE, eid)
+    files = set(named[eid])
     most = MAX_FILES if effect(eid).switchable else NO_SWITCH_FILES
     assert len(files) <= most, (
         f"{eid} is named in {len(files)} product files (allowed {most}): {sorted(files)}"
     )
     module = f"python/feeddrive/effects/{eid}.py"
     assert module in files and "python/feeddrive/effects/__init__.py" in files
-
-
-def test_allowances_are_still_needed(named: dict[str, list[str]]) -> None:
-    stale = [
-        f"{f}: {eid}"
-        for allowance in (PYTHON_ALLOWANCE,)
-        for f, ids in allowance.items()
-        for eid in sorted(ids)
-        if f not in named[eid]
-    ]
-    assert not stale, "allowances no longer needed (remove them): " + ", ".join(stale)
 
 
 def test_the_count_sees_every_way_of_naming(tmp_path: Path) -> None:
@@ -200,12 +157,12 @@ EFFECT_MODULE_LIBRARIES = {"numpy", "scipy", "dataclasses", "typing", "collectio
 def test_effect_modules_import_only_the_effect_type() -> None:
     """The registry sits below every other module: an effect module imports nothing of the
     package but the shared modules of :mod:`feeddrive.effects` (:mod:`~feeddrive.effects.effect`,
-    :mod:`~feeddrive.effects.candidate`), no other effect module, and besides only numpy,
-    scipy and the standard library's types."""
+    :mod:`~feeddrive.effects.candidate`, :mod:`~feeddrive.effects.steps`), no other effect
+    module, and besides only numpy, scipy and the standard library's types."""
     pkg = ROOT / "python/feeddrive/effects"
-    shared = {"effect", "candidate"}
+    shared = {"effect", "candidate", "steps"}
     for f in sorted(pkg.glob("*.py")):
-        if f.name in ("__init__.py", "effect.py", "candidate.py"):
+        if f.name in ("__init__.py", "effect.py", "candidate.py", "steps.py"):
             continue
         tree = ast.parse(f.read_text())
         relative = [n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and n.level]

@@ -6,7 +6,8 @@ from it; docs/adding-an-effect.md gives the recipe for a new one.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 from typing import Any
 
 from . import (
@@ -26,14 +27,18 @@ from . import (
     viscous,
 )
 from .effect import (
+    SHAPES,
     Candidate,
     Effect,
+    Experiment,
     Identification,
     Parameter,
+    ReportFigure,
     Rule,
     Structure,
     is_on,
     nested,
+    reference,
     resolve,
     selected,
     slot_count,
@@ -151,25 +156,139 @@ def position_map_effects() -> dict[str, tuple[str, str]]:
     return {name: (p["periodic"], p["aperiodic"]) for name, p in parts.items()}
 
 
+def identification_steps() -> list[Effect]:
+    """The effects whose identification step runs in its module
+    (:attr:`Identification.run`), in pipeline order (:attr:`Identification.order`)."""
+    steps = [e for e in EFFECTS if e.identification.run is not None]
+    return sorted(steps, key=lambda e: e.identification.order)
+
+
+def truth_row_steps() -> list[Effect]:
+    """The effects that give the rows of their step in the table of true versus identified
+    parameters (:attr:`Identification.truth`), in pipeline order."""
+    steps = [e for e in EFFECTS if e.identification.truth]
+    return sorted(steps, key=lambda e: e.identification.order)
+
+
+def owner(parameter: str) -> Effect:
+    """The effect that owns the FMU parameter ``parameter`` (:attr:`Effect.parameters`).
+
+    Raises
+    ------
+    LookupError : no effect owns it.
+    """
+    for e in EFFECTS:
+        if parameter in e.parameter_names:
+            return e
+    raise LookupError(f"no effect owns the parameter {parameter}")
+
+
+def report_figures() -> list[tuple[Effect, ReportFigure]]:
+    """Every figure of the identification report the effects declare, with its effect, in
+    page order (:attr:`ReportFigure.order`)."""
+    figs = [(e, f) for e in EFFECTS for f in e.figures]
+    return sorted(figs, key=lambda ef: ef[1].order)
+
+
+def figure_owner(fn: Callable[..., Any]) -> Effect:
+    """The effect that declares the report figure drawn by ``fn`` (:attr:`Effect.figures`).
+
+    Raises
+    ------
+    LookupError : no effect declares it.
+    """
+    ref = reference(fn)
+    for e, f in report_figures():
+        if f.figure == ref:
+            return e
+    raise LookupError(f"no effect declares the report figure {ref}")
+
+
+def experiments() -> list[Experiment]:
+    """Every experiment of the identification campaign the effects declare, in campaign
+    order (:attr:`Experiment.order`)."""
+    return sorted((x for e in EFFECTS for x in e.experiments), key=lambda x: x.order)
+
+
+def experiment_running(fn: Callable[..., Any]) -> Experiment:
+    """The experiment whose runs the function ``fn`` simulates (:attr:`Experiment.runs`).
+
+    Raises
+    ------
+    LookupError : no effect declares an experiment run by ``fn``.
+    """
+    ref = reference(fn)
+    for x in experiments():
+        if x.runs == ref:
+            return x
+    raise LookupError(f"no effect declares an experiment run by {ref}")
+
+
+@dataclass(frozen=True)
+class RunKind:
+    """A kind of run (the sidecar's ``kind``) as ``identify`` sorts runs: the signal shape
+    that shows it, the file stems that name it, and what it is used for."""
+
+    kind: str
+    shape: str
+    file_pattern: str
+    uses: str
+
+
+def run_kinds() -> dict[str, RunKind]:
+    """The kinds of run of the campaign's experiments, by kind, in campaign order: shape and
+    file pattern of the first experiment of each kind that declares them, the uses of every
+    experiment of the kind joined."""
+    out: dict[str, RunKind] = {}
+    for x in experiments():
+        k = out.get(x.kind)
+        if k is None:
+            out[x.kind] = RunKind(x.kind, x.shape, x.file_pattern, x.uses)
+        else:
+            out[x.kind] = RunKind(
+                x.kind,
+                k.shape or x.shape,
+                k.file_pattern or x.file_pattern,
+                " and ".join(u for u in (k.uses, x.uses) if u),
+            )
+    for k in out.values():
+        if k.shape not in SHAPES or not k.file_pattern:
+            raise ValueError(f"run kind {k.kind}: no experiment declares its shape and file stem")
+    return out
+
+
 __all__ = [
     "BY_ID",
     "Candidate",
     "EFFECTS",
     "Effect",
+    "Experiment",
+    "RunKind",
+    "SHAPES",
     "Identification",
     "Parameter",
+    "ReportFigure",
     "Rule",
     "Structure",
     "apply_switches",
     "broken_rule",
     "effect",
     "effect_ids",
+    "experiment_running",
+    "experiments",
+    "figure_owner",
+    "report_figures",
+    "identification_steps",
+    "owner",
+    "truth_row_steps",
     "is_on",
     "paper_scenarios",
     "emps_baseline",
     "nested",
     "nesting",
     "position_map_effects",
+    "reference",
+    "run_kinds",
     "resolve",
     "selected",
     "slot_count",

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from .candidate import CandidateContext, Variant, poly_basis, polynomial_variant, span
-from .effect import Candidate, Effect, Identification, Parameter
+from .effect import Candidate, Effect, Identification, Parameter, ReportFigure
 
 
 def candidate(ctx: CandidateContext) -> list[Variant]:
@@ -43,6 +43,8 @@ EFFECT = Effect(
         "maps",
         "feeddrive.identify.position_maps:identify_position_maps",
         "cubic fitted to F_cg(x) sampled by the constant-speed runs (Eqs. 3-6)",
+        label="position maps",
+        order=2,
     ),
     candidate=Candidate(
         "feeddrive.effects.cogging_aperiodic:candidate", ("cogging.c[j]",), "cubic in x"
@@ -51,4 +53,18 @@ EFFECT = Effect(
     position_map=("cogging", "aperiodic"),
     off=(("cogging.c[j]", 0.0),),
     scenario="without aperiodic cogging",
+    figures=(
+        ReportFigure(
+            "feeddrive.report.identification:fig5_maps",
+            "id_fig05_maps",
+            "Analogue of Fig. 5: force ripple K_f(x) and cogging F_cg(x)",
+            2,
+        ),
+        ReportFigure(
+            "feeddrive.report.identification:fig10_map_fits",
+            "id_fig10_map_fits",
+            "Analogue of Fig. 10: sampled and fitted curves",
+            7,
+        ),
+    ),
 )

@@ -6,7 +6,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from .candidate import CandidateContext, Variant, periodic_variants
-from .effect import Candidate, Effect, Identification, Parameter
+from .effect import Candidate, Effect, Experiment, Identification, Parameter, ReportFigure
 
 
 def check_stroke(values: Mapping[str, Any], effective: Mapping[str, Any], on: bool) -> str | None:
@@ -42,6 +42,9 @@ EFFECT = Effect(
         "maps",
         "feeddrive.identify.position_maps:identify_position_maps",
         "DSTFT of F_cg(x) sampled by the constant-speed runs (Eqs. 3-5), harmonics fitted",
+        label="position maps",
+        order=2,
+        truth="feeddrive.identify.truth_table:map_rows",
     ),
     candidate=Candidate(
         "feeddrive.effects.cogging_periodic:candidate",
@@ -52,4 +55,34 @@ EFFECT = Effect(
     position_map=("cogging", "periodic"),
     off=(("cogging.a[j]", 0.0), ("cogging.b[j]", 0.0)),
     compile_rule=check_stroke,
+    experiments=(
+        Experiment(
+            group="cogging_ripple",
+            kind="constant_speed",
+            order=2,
+            runs="feeddrive.experiments.constant_speed:constant_speed_runs",
+            campaign="feeddrive.experiments.campaign:map_jobs",
+            plan="feeddrive.experiments.plan:PlanBuilder.map_runs",
+            identifies="force ripple K_f(x) and cogging F_cg(x): ripple.*, cogging.* (Eqs. 3-7)",
+            short="K_f(x), F_cg(x)",
+            plan_group="maps",
+            shape="steady",
+            file_pattern=r"cv_|constant_speed",
+            uses="K_f, F_cg (Eqs. 3-7)",
+        ),
+    ),
+    figures=(
+        ReportFigure(
+            "feeddrive.report.identification:fig6_dstft_cogging",
+            "id_fig06_dstft_cogging",
+            "Analogue of Fig. 6: DSTFT of F_cg(x)",
+            3,
+        ),
+        ReportFigure(
+            "feeddrive.report.identification:fig7_cogging_components",
+            "id_fig07_cogging_components",
+            "Analogue of Fig. 7: magnitude and unwrapped phase of X_F",
+            4,
+        ),
+    ),
 )

@@ -9,7 +9,15 @@ from typing import Any
 import numpy as np
 
 from .candidate import CandidateContext, Variant
-from .effect import Candidate, Effect, Identification, Parameter, Structure
+from .effect import (
+    Candidate,
+    Effect,
+    Experiment,
+    Identification,
+    Parameter,
+    ReportFigure,
+    Structure,
+)
 
 #: |1 - sum(current.a)| below which the current loop has a pole at z = 1.
 POLE_TOL = 1e-9
@@ -95,6 +103,9 @@ EFFECT = Effect(
         "current_loop",
         "feeddrive.identify.current_loop:identify_current_loop",
         "ARX fit of i against u on the PRBS run (order and delay chosen by the fit)",
+        label="current loop",
+        order=1,
+        truth="feeddrive.identify.truth_table:current_loop_rows",
     ),
     candidate=Candidate(
         "feeddrive.effects.current_dynamics:candidate",
@@ -107,4 +118,27 @@ EFFECT = Effect(
     ),
     structure=Structure.CURRENT_FILTER,
     compile_rule=check_dc_gain,
+    experiments=(
+        Experiment(
+            group="prbs",
+            kind="prbs",
+            order=1,
+            runs="feeddrive.experiments.prbs:prbs_runs",
+            campaign="feeddrive.experiments.campaign:prbs_jobs",
+            plan="feeddrive.experiments.plan:PlanBuilder.prbs",
+            identifies="the current loop G(z): current.a, current.b (Eq. 2)",
+            short="current loop",
+            shape="held",
+            file_pattern=r"prbs",
+            uses="current loop (Eq. 2)",
+        ),
+    ),
+    figures=(
+        ReportFigure(
+            "feeddrive.report.identification:fig_current_loop",
+            "id_current_loop",
+            "Current loop: PRBS response and identified G(z)",
+            1,
+        ),
+    ),
 )

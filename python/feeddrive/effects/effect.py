@@ -15,6 +15,8 @@ from dataclasses import dataclass
 from enum import Enum
 from typing import Any
 
+from .steps import IdentificationHost
+
 
 @dataclass(frozen=True)
 class Parameter:
@@ -34,12 +36,28 @@ class Identification:
     "" when the pipeline has no step for it (``fit`` then says which function fits it, e.g.
     within another effect's step, or the diagnosis does); ``fit``: a reference to the
     function that fits it, or "";
-    ``how``: one line for the docs and the report.
+    ``how``: one line for the docs and the report;
+    ``label``: the step's name in progress, messages and the skipped steps ("" : ``step``);
+    ``order``: the step's place in the pipeline (ascending; every effect of a shared step
+    gives it), 0 for no step;
+    ``run``: the step, a function of the pipeline's
+    :class:`~feeddrive.effects.steps.IdentificationHost` returning the fit (the result's
+    attribute ``step``) or None when skipped; None when the pipeline runs the step itself;
+    ``on_request``: the step runs only when asked for (``identify --position-friction``) and
+    switches the effect on when it fits;
+    ``truth``: a reference to the function ``(fit, truth model, result) -> rows`` of the
+    table of true versus identified parameters for the step ("" : no rows; one effect of a
+    shared step gives it).
     """
 
     step: str
     fit: str
     how: str
+    label: str = ""
+    order: int = 0
+    run: Step | None = None
+    on_request: bool = False
+    truth: str = ""
 
 
 @dataclass(frozen=True)
@@ -92,6 +110,10 @@ class Effect:
         (catalogue order, as the FMU's entries' checks), or None.
     scenario : the label of the paper's scenario (Sec. 3, Fig. 14) that switches the effect
         off, "" when none does.
+    experiments : the experiments of the identification campaign that identify it
+        (:class:`Experiment`; an experiment shared by several effects is declared by one).
+    figures : the figures of the identification report that show its step's fit
+        (:class:`ReportFigure`; a figure of a shared step is declared by one effect).
     """
 
     id: str
@@ -109,6 +131,8 @@ class Effect:
     compile_rule: Rule | None = None
     check_rule: Rule | None = None
     scenario: str = ""
+    experiments: tuple[Experiment, ...] = ()
+    figures: tuple[ReportFigure, ...] = ()
 
     def __post_init__(self) -> None:
         if self.switch is not None and self.switch != f"effects.{self.id}":
@@ -240,3 +264,86 @@ def nested(effects: Iterable[Effect]) -> dict[str, str]:
             )
         out[e.id] = by_perturbs[e.candidate.limit]
     return out
+
+
+#: An effect's identification step: from the pipeline's host, the fit or None (skipped).
+Step = Callable[[IdentificationHost], Any]
+
+
+#: What the signals of a run show, the recognisable form of each kind of run (the
+#: identification's fallback when a run has no sidecar ``kind``): the position held while u
+#: excites; no position reference (open loop); reversing; monotonic at a steady speed;
+#: monotonic without one.
+SHAPES = ("held", "open_loop", "reversing", "steady", "varying")
+
+
+@dataclass(frozen=True)
+class Experiment:
+    """An experiment of the identification campaign, declared by the effect it identifies
+    (:attr:`Effect.experiments`).  Its names are the recording format users' files carry
+    (docs/data-format.md): written once here, handed to the generic experiment code.
+
+    Attributes
+    ----------
+    group : the campaign's group (``feeddrive experiments``), the stem of its jobs' labels and
+        so of their noise seeds.
+    kind : the sidecar's ``kind`` of its runs (``identify`` sorts runs by it).
+    order : its place in the campaign and in the plan (ascending).
+    runs : reference to the function that simulates its runs (:mod:`feeddrive.experiments`).
+    campaign : reference to the campaign's builder of its jobs, ``(experiment, quick) -> jobs``.
+    plan : reference to the plan's builder of its runs, ``(builder, experiment) -> None``.
+    identifies : what it identifies, one line of the plan page; short : the same in a few words.
+    stem : the stem of its run names where the experiment names them itself ("" else).
+    plan_group : its group on the plan page and in the plan's sidecars ("" : ``group``).
+    shape : the :data:`SHAPES` entry its runs' signals show ("" : a kind another experiment
+        declares first).
+    file_pattern : the regular expression a recording's file stem of this kind starts with
+        ("" : as ``shape``).
+    uses : what ``identify`` uses runs of its kind for.
+    """
+
+    group: str
+    kind: str
+    order: int
+    runs: str
+    campaign: str
+    plan: str
+    identifies: str
+    short: str
+    stem: str = ""
+    plan_group: str = ""
+    shape: str = ""
+    file_pattern: str = ""
+    uses: str = ""
+
+    def __post_init__(self) -> None:
+        if self.shape and self.shape not in SHAPES:
+            raise ValueError(
+                f"experiment {self.group}: shape {self.shape!r}, allowed " + ", ".join(SHAPES)
+            )
+
+    @property
+    def page_group(self) -> str:
+        """Its group on the plan page and in the plan's sidecars."""
+        return self.plan_group or self.group
+
+
+def reference(fn: Callable[..., Any]) -> str:
+    """The reference ``"module:qualname"`` of a function (what :func:`resolve` imports)."""
+    return f"{fn.__module__}:{fn.__qualname__}"
+
+
+@dataclass(frozen=True)
+class ReportFigure:
+    """A figure of the identification report (``feeddrive report``) that shows an effect's
+    identification step (:attr:`Effect.figures`): drawn when the step's fit exists.
+
+    ``figure``: reference to the function ``(identification result) -> Figure``;
+    ``stem``: the file stem it is saved under; ``caption``: its caption; ``order``: its place
+    on the report page (ascending).
+    """
+
+    figure: str
+    stem: str
+    caption: str
+    order: int

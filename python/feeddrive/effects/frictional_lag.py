@@ -10,7 +10,8 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from .candidate import CandidateContext, Variant, explained
-from .effect import Candidate, Effect, Identification, Parameter
+from .effect import Candidate, Effect, Experiment, Identification, Parameter, ReportFigure
+from .steps import IdentificationHost
 
 #: Attraction parameter grid [N/s] of the diagnosis candidate (the best point is refined
 #: between its neighbours).
@@ -73,6 +74,27 @@ def candidate(ctx: CandidateContext) -> list[Variant]:
     return out
 
 
+def identify(host: IdentificationHost) -> Any:
+    """The identification step: C (Eq. 14) from the longest variable-speed run; None when
+    there is none."""
+    ident, (exp,) = EFFECT.identification, EFFECT.experiments
+    runs = host.runs(exp.kind)
+    if not runs:
+        host.skip(ident.label, "no variable-speed run")
+        return None
+    run = max(runs, key=lambda r: len(r.time))
+    fit = host.fit(
+        ident.label,
+        ident.fit,
+        run,
+        host.params,
+        dc_gain=host.dc_gain,
+        current_timing=host.current_timing,
+    )
+    host.take(fit.parameters)
+    return fit
+
+
 EFFECT = Effect(
     id="frictional_lag",
     switch="effects.frictional_lag",
@@ -84,8 +106,35 @@ EFFECT = Effect(
         "attraction",
         "feeddrive.identify.attraction:identify_attraction",
         "Eq. 14's lag fitted to the friction of the variable-speed run",
+        label="attraction",
+        order=5,
+        run=identify,
+        truth="feeddrive.identify.truth_table:attraction_rows",
     ),
     candidate=Candidate("feeddrive.effects.frictional_lag:candidate", ("friction.C",), "C=<N/s>"),
     report=("figure: frictional lag of the variable-speed run and Eq. 14 with the fitted C",),
     off=(("friction.C", float("inf")),),
+    experiments=(
+        Experiment(
+            group="variable_speed",
+            kind="variable_speed",
+            order=5,
+            runs="feeddrive.experiments.variable_speed:variable_speed_runs",
+            campaign="feeddrive.experiments.campaign:variable_speed_jobs",
+            plan="feeddrive.experiments.plan:PlanBuilder.variable_speed",
+            identifies="the GMS attraction parameter friction.C (Eq. 14)",
+            short="C",
+            shape="varying",
+            file_pattern=r"variable_speed",
+            uses="attraction parameter C (Eq. 14)",
+        ),
+    ),
+    figures=(
+        ReportFigure(
+            "feeddrive.report.identification:fig_attraction",
+            "id_attraction",
+            "Attraction parameter C: frictional lag",
+            10,
+        ),
+    ),
 )

@@ -10,6 +10,7 @@ import numpy as np
 
 from .candidate import CandidateContext, Variant
 from .effect import Candidate, Effect, Identification, Parameter, Structure, slot_count
+from .steps import IdentificationHost
 
 
 def check_profile(values: Mapping[str, Any], effective: Mapping[str, Any], on: bool) -> str | None:
@@ -85,6 +86,27 @@ def candidate(ctx: CandidateContext) -> list[Variant]:
     return out
 
 
+def identify(host: IdentificationHost) -> Any:
+    """The identification step (on request): p(x) from every constant-speed run, the levels
+    and maps identified so far; None when there is none."""
+    ident = EFFECT.identification
+    runs = host.runs("constant_speed")
+    if not runs:
+        host.skip(ident.label, "no constant-speed runs")
+        return None
+    fit = host.fit(
+        ident.label,
+        ident.fit,
+        runs,
+        host.params,
+        n_knots=host.profile_knots,
+        dc_gain=host.dc_gain,
+        current_timing=host.current_timing,
+    )
+    host.take(fit.parameters)
+    return fit
+
+
 EFFECT = Effect(
     id="position_friction",
     switch="effects.position_friction",
@@ -102,6 +124,11 @@ EFFECT = Effect(
         "feeddrive.identify.position_friction:identify_position_friction",
         "p(x) from the constant-speed runs' friction along the stroke (identify "
         "--position-friction)",
+        label="position friction",
+        order=7,
+        run=identify,
+        on_request=True,
+        truth="feeddrive.identify.truth_table:profile_rows",
     ),
     candidate=Candidate(
         "feeddrive.effects.position_friction:candidate",

@@ -10,7 +10,17 @@ from typing import Any
 import numpy as np
 
 from .candidate import CandidateContext, Variant
-from .effect import Candidate, Effect, Identification, Parameter, Structure, slot_count
+from .effect import (
+    Candidate,
+    Effect,
+    Experiment,
+    Identification,
+    Parameter,
+    ReportFigure,
+    Structure,
+    slot_count,
+)
+from .steps import IdentificationHost
 
 #: |sum(nu_i) - 1| allowed over the elements in use (friction_gms.c SUM_NU_TOL).
 SUM_NU_TOL = 1e-3
@@ -91,6 +101,30 @@ def candidate(ctx: CandidateContext) -> list[Variant]:
     ]
 
 
+def identify(host: IdentificationHost) -> Any:
+    """The identification step: the Maxwell-slip elements from the largest and smallest
+    periodic runs (Eqs. 15-18); None with fewer than two."""
+    ident, (exp,) = EFFECT.identification, EFFECT.experiments
+    pr = sorted(host.runs(exp.kind), key=lambda r: np.ptp(r.x))
+    if len(pr) < 2:
+        host.skip(ident.label, f"{len(pr)} periodic runs (a small and a large amplitude needed)")
+        return None
+    fit = host.fit(
+        ident.label,
+        ident.fit,
+        pr[-1],
+        pr[0],
+        host.params,
+        N=host.prerolling_elements,
+        current_timing=host.current_timing,
+        dc_gain=host.dc_gain,
+    )
+    host.take(fit.parameters)
+    if len(pr) > 2:
+        host.note(f"{ident.label}: used the smallest and largest of {len(pr)} runs")
+    return fit
+
+
 EFFECT = Effect(
     id="prerolling",
     switch="effects.prerolling",
@@ -106,6 +140,10 @@ EFFECT = Effect(
         "prerolling",
         "feeddrive.identify.prerolling:identify_prerolling",
         "weights W_i and travels Delta_i from two pre-rolling amplitudes (Eqs. 15-18)",
+        label="pre-rolling",
+        order=6,
+        run=identify,
+        truth="feeddrive.identify.truth_table:prerolling_rows",
     ),
     candidate=Candidate(
         "feeddrive.effects.prerolling:candidate",
@@ -119,4 +157,35 @@ EFFECT = Effect(
     structure=Structure.SLIP_ELEMENTS,
     check_rule=check_elements,
     scenario="static friction instead of GMS",
+    experiments=(
+        Experiment(
+            group="prerolling",
+            kind="prerolling",
+            order=6,
+            runs="feeddrive.experiments.prerolling_excitation:prerolling_runs",
+            campaign="feeddrive.experiments.campaign:prerolling_jobs",
+            plan="feeddrive.experiments.plan:PlanBuilder.prerolling",
+            identifies="the Maxwell-slip elements (weights W_i, pre-rolling distances Delta_i): "
+            "friction.N, nu, k (Eqs. 15-18)",
+            short="pre-rolling",
+            stem="prerolling",
+            shape="reversing",
+            file_pattern=r"prerolling",
+            uses="pre-rolling W_i, Delta_i (Eqs. 15-18)",
+        ),
+    ),
+    figures=(
+        ReportFigure(
+            "feeddrive.report.identification:fig11_elements",
+            "id_fig11_elements",
+            "GMS elements identified (model of Fig. 11)",
+            8,
+        ),
+        ReportFigure(
+            "feeddrive.report.identification:fig13_prerolling",
+            "id_fig13_prerolling",
+            "Analogue of Fig. 13: pre-rolling, measured and model",
+            11,
+        ),
+    ),
 )

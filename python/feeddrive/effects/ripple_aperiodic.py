@@ -61,6 +61,8 @@ EFFECT = Effect(
         "maps",
         "feeddrive.identify.position_maps:identify_position_maps",
         "quadratic fitted to K_f(x) sampled by constant-speed runs at two loads (Eqs. 3-7)",
+        label="position maps",
+        order=2,
     ),
     candidate=Candidate(
         "feeddrive.effects.ripple_aperiodic:candidate", ("ripple.c[j]",), "i * (1, x, x^2)"

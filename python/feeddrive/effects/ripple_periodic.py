@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from .candidate import CandidateContext, Variant, periodic_variants
-from .effect import Candidate, Effect, Identification, Parameter
+from .effect import Candidate, Effect, Identification, Parameter, ReportFigure
 
 
 def candidate(ctx: CandidateContext) -> list[Variant]:
@@ -27,6 +27,8 @@ EFFECT = Effect(
         "maps",
         "feeddrive.identify.position_maps:identify_position_maps",
         "DSTFT of K_f(x) sampled by constant-speed runs at two loads (Eqs. 3-5), harmonics fitted",
+        label="position maps",
+        order=2,
     ),
     candidate=Candidate(
         "feeddrive.effects.ripple_periodic:candidate",
@@ -36,4 +38,18 @@ EFFECT = Effect(
     report=("figures: DSTFT of K_f(x), its components, sampled and fitted K_f(x)",),
     position_map=("ripple", "periodic"),
     off=(("ripple.a[j]", 0.0), ("ripple.b[j]", 0.0)),
+    figures=(
+        ReportFigure(
+            "feeddrive.report.identification:fig8_dstft_ripple",
+            "id_fig08_dstft_ripple",
+            "Analogue of Fig. 8: DSTFT of K_f(x)",
+            5,
+        ),
+        ReportFigure(
+            "feeddrive.report.identification:fig9_ripple_components",
+            "id_fig09_ripple_components",
+            "Analogue of Fig. 9: magnitude and unwrapped phase of X_K",
+            6,
+        ),
+    ),
 )

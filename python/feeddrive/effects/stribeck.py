@@ -9,7 +9,7 @@ import numpy as np
 from scipy.optimize import minimize
 
 from .candidate import CandidateContext, Variant, explained
-from .effect import Candidate, Effect, Identification, Parameter
+from .effect import Candidate, Effect, Experiment, Identification, Parameter, ReportFigure
 
 
 def check_levels(values: Mapping[str, Any], effective: Mapping[str, Any], on: bool) -> str | None:
@@ -112,6 +112,9 @@ EFFECT = Effect(
         "stribeck",
         "feeddrive.identify.stribeck:identify_stribeck",
         "Eq. 13's friction points of the constant-speed runs, Eq. 12 fitted (Fig. 12)",
+        label="Stribeck",
+        order=3,
+        truth="feeddrive.identify.truth_table:stribeck_rows",
     ),
     candidate=Candidate(
         "feeddrive.effects.stribeck:candidate",
@@ -124,4 +127,25 @@ EFFECT = Effect(
     ),
     off=(("friction.F_s", "friction.F_c"),),
     compile_rule=check_levels,
+    experiments=(
+        Experiment(
+            group="stribeck",
+            kind="constant_speed",
+            order=3,
+            runs="feeddrive.experiments.constant_speed:stribeck_runs",
+            campaign="feeddrive.experiments.campaign:stribeck_jobs",
+            plan="feeddrive.experiments.plan:PlanBuilder.stribeck_runs",
+            identifies="the Stribeck curve: friction.F_s, F_c, V_s, delta, sigma2 (Eqs. 12-13)",
+            short="Stribeck curve",
+            uses="Stribeck curve (Eqs. 12-13)",
+        ),
+    ),
+    figures=(
+        ReportFigure(
+            "feeddrive.report.identification:fig12_stribeck",
+            "id_fig12_stribeck",
+            "Analogue of Fig. 12: Stribeck points and fit",
+            9,
+        ),
+    ),
 )

@@ -1,6 +1,9 @@
 """The identification campaign: every virtual experiment of Secs. 2.2-2.4 on one plant.
 
-Groups (keys of :func:`campaign`) and file stems written by :func:`write_campaign`:
+Groups (keys of :func:`campaign`) and file stems written by :func:`write_campaign`, one
+group per experiment an effect declares (:func:`feeddrive.effects.experiments`: the group,
+the run names and the sidecar kinds are written in the effect's module, and its
+``campaign`` builder here makes its jobs):
 
 - ``prbs``: ``prbs`` (current loop, Eq. 2);
 - ``cogging_ripple``: ``cv_{p|m}20mm_s_P{0,54.9,272.7}`` (Eqs. 4, 5; ``1mm_s`` with ``quick``);
@@ -25,11 +28,12 @@ from collections.abc import Callable, Mapping
 from dataclasses import replace
 from functools import partial
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 from tqdm import tqdm
 
 from ..data import RECORDING_DECIMALS, Run, write_run
+from ..effects import Experiment, experiments, resolve
 from ..harness.sensors import Sensors
 from ..model_file import ModelFile, load_model, paper_model
 from ..outputs import output_dir
@@ -48,15 +52,9 @@ from .prerolling_excitation import AMPLITUDES as PREROLLING_AMPLITUDES
 from .prerolling_excitation import prerolling_runs
 from .variable_speed import variable_speed_runs
 
-#: The groups of the campaign, in the order they are run.
-GROUPS: tuple[str, ...] = (
-    "prbs",
-    "cogging_ripple",
-    "stribeck",
-    "force_open_loop",
-    "variable_speed",
-    "prerolling",
-)
+#: The groups of the campaign, in the order they are run: the experiments the effects
+#: declare (:func:`feeddrive.effects.experiments`).
+GROUPS: tuple[str, ...] = tuple(x.group for x in experiments())
 
 Job = tuple[str, str, Callable[[Mapping[str, Any], Sensors], list[Run]]]
 #: Most repeats of one campaign (each is a whole campaign of runs).
@@ -66,23 +64,35 @@ FORMATS: tuple[str, ...] = ("csv.gz", "csv")
 
 
 def plan(quick: bool = False) -> list[Job]:
-    """The campaign's jobs: (group, label, experiment(params, sensors) -> runs).
+    """The campaign's jobs: (group, label, experiment(params, sensors) -> runs), each
+    experiment's (:func:`feeddrive.effects.experiments`, in campaign order) from the builder
+    it names (:attr:`~feeddrive.effects.Experiment.campaign`).
 
     One job per run where an experiment has several (so a progress bar counts runs).
     """
     jobs: list[Job] = []
-    if quick:
-        jobs.append(("prbs", "prbs", partial(prbs_runs, periods=1)))
-    else:
-        jobs.append(("prbs", "prbs", partial(prbs_runs, periods=4)))
+    for x in experiments():
+        builder = cast(Callable[[Experiment, bool], list[Job]], resolve(x.campaign))
+        jobs += builder(x, quick)
+    return jobs
+
+
+def prbs_jobs(x: Experiment, quick: bool) -> list[Job]:
+    """The PRBS run (current loop, Eq. 2)."""
+    return [(x.group, x.group, partial(prbs_runs, periods=1 if quick else 4))]
+
+
+def map_jobs(x: Experiment, quick: bool) -> list[Job]:
+    """The constant-speed runs with each of the paper's loads, both directions (Eqs. 4, 5)."""
+    jobs: list[Job] = []
     cv_segment = (0.148, 0.152) if quick else None  # None: the whole stroke
     cv_speed = PAPER_SPEED if quick else MAP_SPEED
     for P in PAPER_LOADS:
         for d in (1, -1):
             jobs.append(
                 (
-                    "cogging_ripple",
-                    f"cogging_ripple_P{P:g}_d{d:+d}",
+                    x.group,
+                    f"{x.group}_P{P:g}_d{d:+d}",
                     partial(
                         constant_speed_runs,
                         speeds=(cv_speed,),
@@ -92,43 +102,47 @@ def plan(quick: bool = False) -> list[Job]:
                     ),
                 )
             )
+    return jobs
+
+
+def stribeck_jobs(x: Experiment, quick: bool) -> list[Job]:
+    """The unloaded constant-speed runs at each Stribeck speed, both directions (Eq. 13)."""
     speeds = (2e-3, 20e-3) if quick else STRIBECK_SPEEDS
     kw: dict[str, Any] = {"cruise_time": 2.0, "min_length": 4e-3} if quick else {}
-    for v in speeds:
-        for d in (1, -1):
-            jobs.append(
-                (
-                    "stribeck",
-                    f"stribeck_{v * 1e3:g}mm_s_d{d:+d}",
-                    partial(stribeck_runs, speeds=(v,), directions=(d,), **kw),
-                )
-            )
-    jobs.append(
+    return [
         (
-            "force_open_loop",
-            "force_open_loop",
-            partial(force_open_loop_runs, n_periods=5 if quick else 10),
+            x.group,
+            f"{x.group}_{v * 1e3:g}mm_s_d{d:+d}",
+            partial(stribeck_runs, speeds=(v,), directions=(d,), **kw),
         )
-    )
-    jobs.append(
-        (
-            "variable_speed",
-            "variable_speed",
-            partial(variable_speed_runs, duration=2.0 if quick else None),
-        )
-    )
+        for v in speeds
+        for d in (1, -1)
+    ]
+
+
+def force_open_loop_jobs(x: Experiment, quick: bool) -> list[Job]:
+    """The open-loop force run (mass, Eq. 1)."""
+    return [(x.group, x.group, partial(force_open_loop_runs, n_periods=5 if quick else 10))]
+
+
+def variable_speed_jobs(x: Experiment, quick: bool) -> list[Job]:
+    """The variable-speed run (C, Eq. 14)."""
+    return [(x.group, x.group, partial(variable_speed_runs, duration=2.0 if quick else None))]
+
+
+def prerolling_jobs(x: Experiment, quick: bool) -> list[Job]:
+    """One periodic run per amplitude (Eqs. 15-18)."""
     pr: dict[str, Any] = (
         {"period": 2.0, "n_periods": 2.0} if quick else {"period": 4.0, "n_periods": 3.0}
     )
-    for A in PREROLLING_AMPLITUDES:
-        jobs.append(
-            (
-                "prerolling",
-                f"prerolling_A{A * 1e6:g}um",
-                partial(prerolling_runs, amplitudes=(A,), **pr),
-            )
+    return [
+        (
+            x.group,
+            f"{x.stem}_A{A * 1e6:g}um",
+            partial(prerolling_runs, amplitudes=(A,), **pr),
         )
-    return jobs
+        for A in PREROLLING_AMPLITUDES
+    ]
 
 
 def _check_repeats(repeats: int) -> int:

@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from ..data import Run
+from ..effects import experiment_running
 from ..harness.references import point_to_point
 from ..harness.sensors import Sensors
 from .recording import STROKE_MARGIN, closed_loop_measurement, run_seed, stroke
@@ -151,15 +152,18 @@ def stribeck_runs(
     Each speed's segment is centred on ``centre`` (default mid-stroke) with length
     ``clip(speed * cruise_time, min_length, max_length)`` plus the two ramp distances
     (default: at least one magnet pitch, 37.5 mm, so Eq. 13 averages over a pitch).
+    Run j's noise seed is derived from ``sensors.seed``, the group of the experiment these
+    runs are (:func:`feeddrive.effects.experiment_running`) and j.
     """
     x_min, x_max = stroke(params)
     c = 0.5 * (x_min + x_max) if centre is None else float(centre)
     accel = float(options.get("accel", 0.5))
+    key = experiment_running(stribeck_runs).group  # the noise seeds' key
     runs = []
     for j, v in enumerate(speeds):
         half = 0.5 * float(np.clip(v * cruise_time, min_length, max_length)) + v**2 / (2 * accel)
         lo, hi = max(c - half, x_min + STROKE_MARGIN), min(c + half, x_max - STROKE_MARGIN)
-        s = replace(sensors, seed=run_seed(sensors.seed, "stribeck", j))
+        s = replace(sensors, seed=run_seed(sensors.seed, key, j))
         runs += constant_speed_runs(
             params, s, speeds=(v,), loads=(0.0,), segment=(lo, hi), **options
         )

@@ -16,14 +16,15 @@ which parameters and why; ``identify`` then keeps the model's values for them.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from itertools import pairwise
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
 from ..control.pid import DEFAULT_U_LIMIT
+from ..effects import Experiment, experiments, resolve
 from ..harness.controllers import CONTROLLERS, DEFAULT_LEAD, make_controller, pid_lead_spec
 from ..harness.references import Reference, point_to_point, prbs, sinusoid
 from ..harness.sidecar import SCHEMA
@@ -79,33 +80,13 @@ PAPER_MASS = 16.1
 #: default machine limits beside the stroke (the paper's drive)
 DEFAULT_V_MAX, DEFAULT_A_MAX = 0.25, 5.0
 
-#: what each run kind identifies (``identify``'s steps), for the plan page
-IDENTIFIES: dict[str, str] = {
-    "prbs": "the current loop G(z): current.a, current.b (Eq. 2)",
-    "maps": "force ripple K_f(x) and cogging F_cg(x): ripple.*, cogging.* (Eqs. 3-7)",
-    "stribeck": "the Stribeck curve: friction.F_s, F_c, V_s, delta, sigma2 (Eqs. 12-13)",
-    "force_open_loop": "the moving mass m (Eq. 1)",
-    "variable_speed": "the GMS attraction parameter friction.C (Eq. 14)",
-    "prerolling": "the Maxwell-slip elements (weights W_i, pre-rolling distances Delta_i): "
-    "friction.N, nu, k (Eqs. 15-18)",
-}
+#: what each run group identifies (``identify``'s steps), for the plan page: the experiments
+#: the effects declare (:func:`feeddrive.effects.experiments`), in campaign order
+IDENTIFIES: dict[str, str] = {x.page_group: x.identifies for x in experiments()}
 #: the same, in a few words (the page's table of runs)
-IDENTIFIES_SHORT: dict[str, str] = {
-    "prbs": "current loop",
-    "maps": "K_f(x), F_cg(x)",
-    "stribeck": "Stribeck curve",
-    "force_open_loop": "mass",
-    "variable_speed": "C",
-    "prerolling": "pre-rolling",
-}
-KIND_OF_GROUP = {
-    "prbs": "prbs",
-    "maps": "constant_speed",
-    "stribeck": "constant_speed",
-    "force_open_loop": "force_open_loop",
-    "variable_speed": "variable_speed",
-    "prerolling": "prerolling",
-}
+IDENTIFIES_SHORT: dict[str, str] = {x.page_group: x.short for x in experiments()}
+#: the sidecar kind of each run group
+KIND_OF_GROUP: dict[str, str] = {x.page_group: x.kind for x in experiments()}
 
 
 class PlanError(ValueError):
@@ -314,8 +295,10 @@ def _closed(ref: Reference, u_add: np.ndarray | None = None) -> dict[str, np.nda
     return cols
 
 
-class _Builder:
-    """Collects the runs of one plan (the shared quantities in one place)."""
+class PlanBuilder:
+    """Collects the runs of one plan (the shared quantities in one place): one method per
+    experiment of the campaign, ``(self, experiment)``, named by the experiment
+    (:attr:`feeddrive.effects.Experiment.plan`)."""
 
     def __init__(self, plan: Plan, params: Mapping[str, Any]):
         self.plan, self.p = plan, params
@@ -324,6 +307,8 @@ class _Builder:
         self.lo, self.hi = lim.stroke[0] + STROKE_MARGIN, lim.stroke[1] - STROKE_MARGIN
         self.mid = 0.5 * (self.lo + self.hi)
         self.accel = min(RAMP_ACCEL, lim.a_max)
+        #: speed of the map runs [m/s] once planned (None: none; also a Stribeck point)
+        self.map_speed: float | None = None
 
     def add(
         self,
@@ -350,14 +335,14 @@ class _Builder:
         )
         self.plan.runs.append(PlannedRun(name, group, kind, columns, side, float(load), moves, why))
 
-    def prbs(self) -> None:
+    def prbs(self, exp: Experiment) -> None:
         seq = prbs(PRBS_ORDER, amplitude=PRBS_AMPLITUDE, periods=PRBS_PERIODS)
         k0 = int(round(PRBS_SETTLE / self.Ts))
         u_add = np.concatenate([np.zeros(k0), seq, [0.0]])
         n = len(u_add)
         ref = Reference(self.Ts, np.full(n, self.mid), np.zeros(n), np.zeros(n))
         self.add(
-            "prbs",
+            exp.page_group,
             "prbs",
             _closed(ref, u_add),
             0.0,
@@ -397,8 +382,9 @@ class _Builder:
                 dwell=DWELL,
             )
 
-    def map_runs(self) -> float | None:
-        """The loaded and unloaded runs over the whole usable stroke; their speed or None."""
+    def map_runs(self, exp: Experiment) -> None:
+        """The loaded and unloaded runs over the whole usable stroke; their speed is
+        :attr:`map_speed`."""
         lim = self.plan.limits
         v = min(MAP_SPEED, lim.v_max)
         span = self.hi - self.lo - v**2 / self.accel
@@ -410,15 +396,15 @@ class _Builder:
                 f"{MAP_SPAN * 1e3:g} mm (stroke >= {(MAP_SPAN + 2 * STROKE_MARGIN) * 1e3:g} mm "
                 "plus the ramps)"
             )
-            return None
+            return
         if not lim.loads:
             self.plan.not_identified[params] = (
                 "no load besides 0 N (--loads): Eqs. 4-5 separate K_f and F_cg with two loads"
             )
-            return None
+            return
         for P in (0.0, *lim.loads):
             self.constant_speed(
-                "maps",
+                exp.page_group,
                 v,
                 P,
                 self.lo,
@@ -427,11 +413,11 @@ class _Builder:
                 f"at load {P:g} N is (F_cg(x) + P) / K_f(x) (Eq. 3)"
                 + ("; the unloaded pair is also a Stribeck point" if P == 0 else ""),
             )
-        return v
+        self.map_speed = v
 
-    def stribeck_runs(self, map_speed: float | None) -> None:
+    def stribeck_runs(self, exp: Experiment) -> None:
         lim = self.plan.limits
-        kept: list[float] = [] if map_speed is None else [map_speed]
+        kept: list[float] = [] if self.map_speed is None else [self.map_speed]
         dropped: list[str] = []
         planned: list[tuple[float, float, float]] = []
         for v in STRIBECK_SPEEDS:
@@ -471,7 +457,7 @@ class _Builder:
             )
         for v, a, b in planned:
             self.constant_speed(
-                "stribeck",
+                exp.page_group,
                 v,
                 0.0,
                 a,
@@ -481,7 +467,7 @@ class _Builder:
                 "(Eq. 13, averaged over the segment)",
             )
 
-    def force_open_loop(self) -> None:
+    def force_open_loop(self, exp: Experiment) -> None:
         lim, p = self.plan.limits, self.p
         m, F_s, F_c = float(p["m"]), float(p["friction.F_s"]), float(p["friction.F_c"])
         fpv = force_per_volt(p)
@@ -509,7 +495,7 @@ class _Builder:
         cols = {"time": np.arange(len(u)) * self.Ts, "u": u}
         v_peak = a_net * T / 4
         self.add(
-            "force_open_loop",
+            exp.page_group,
             "force_open_loop",
             cols,
             0.0,
@@ -530,7 +516,7 @@ class _Builder:
             stop_outside=[lim.stroke[0] + FORCE_MARGIN, lim.stroke[1] - FORCE_MARGIN],
         )
 
-    def variable_speed(self) -> None:
+    def variable_speed(self, exp: Experiment) -> None:
         lim = self.plan.limits
         v_min, v_top = VAR_SPEED[0], min(VAR_SPEED[1], lim.v_max)
         if v_top < VAR_MIN_TOP:
@@ -555,7 +541,7 @@ class _Builder:
         x = x0 + np.concatenate([[0.0], np.cumsum((v[1:] + v[:-1]) / 2 * self.Ts)])
         ref = Reference(self.Ts, x, v, np.gradient(v, self.Ts))
         self.add(
-            "variable_speed",
+            exp.page_group,
             "variable_speed",
             _closed(ref),
             0.0,
@@ -592,15 +578,15 @@ class _Builder:
             )
         return small, max(large, 1.2 * D[1])
 
-    def prerolling(self) -> None:
+    def prerolling(self, exp: Experiment) -> None:
         for A in self.prerolling_amplitudes():
             ref = sinusoid(
                 A, PREROLLING_PERIOD, self.mid, PREROLLING_PERIODS * PREROLLING_PERIOD, Ts=self.Ts
             )
             small = A < max(PREROLLING_AMPLITUDES) - 1e-12
             self.add(
-                "prerolling",
-                f"prerolling_A{A * 1e6:.0f}um",
+                exp.page_group,
+                f"{exp.stem}_A{A * 1e6:.0f}um",
                 _closed(ref),
                 0.0,
                 f"x = {self.mid:.4f} - {A * 1e6:.0f} um cos(2 pi t / {PREROLLING_PERIOD:g} s)",
@@ -660,11 +646,7 @@ def make_plan(
     else:
         spec = _check_controller(controller, Ts, notes)
     plan = Plan(model_name=model.name, limits=limits, Ts=Ts, controller=spec, notes=notes)
-    b = _Builder(plan, params)
-    b.prbs()
-    map_speed = b.map_runs()
-    b.stribeck_runs(map_speed)
-    b.force_open_loop()
-    b.variable_speed()
-    b.prerolling()
+    b = PlanBuilder(plan, params)
+    for exp in experiments():
+        cast(Callable[[PlanBuilder, Experiment], None], resolve(exp.plan))(b, exp)
     return plan

@@ -19,6 +19,7 @@ from dataclasses import replace
 from typing import Any
 
 from ..data import Run
+from ..effects import experiment_running
 from ..harness.references import sinusoid
 from ..harness.sensors import Sensors
 from .recording import closed_loop_measurement, run_seed, stroke
@@ -45,8 +46,11 @@ def prerolling_runs(
     period : period T [s]; n_periods : periods per run (the run lasts n_periods T).
     centre : centre of the motion [m] (default mid-stroke).
 
-    Returns runs named ``prerolling_A<A in um>um`` (kind "prerolling"), in amplitude order.
+    Returns runs named ``<stem>_A<A in um>um`` of the experiment's kind (the experiment these
+    runs are, :func:`feeddrive.effects.experiment_running`: ``prerolling_A80um``), in
+    amplitude order.
     """
+    x = experiment_running(prerolling_runs)
     Ts = float(params.get("Ts", 5e-4)) if Ts is None else float(Ts)
     x_min, x_max = stroke(params)
     c = 0.5 * (x_min + x_max) if centre is None else float(centre)
@@ -56,8 +60,8 @@ def prerolling_runs(
             raise ValueError(f"prerolling_runs: amplitude {A!r} must be > 0")
         ref = sinusoid(float(A), period, c, n_periods * period, Ts=Ts)
         meta = {
-            "name": f"prerolling_A{A * 1e6:g}um",
-            "kind": "prerolling",
+            "name": f"{x.stem}_A{A * 1e6:g}um",
+            "kind": x.kind,
             "amplitude": float(A),
             "period": float(period),
             "n_periods": float(n_periods),

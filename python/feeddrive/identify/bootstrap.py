@@ -4,7 +4,7 @@ resampled campaigns, percentile intervals for every identified parameter.
 Resampling unit: **whole runs, with replacement, within each cell** of a campaign.  A cell
 holds the repeats of one experimental condition (:func:`cells`): the experiment kind and,
 for constant-speed runs, the direction, the cruise speed (within ``SPEED_TOL``) and the
-load (within ``LOAD_TOL``); for pre-rolling runs the amplitude (within 20 %).  Every
+load (within ``LOAD_TOL``); for the reversing (pre-rolling) runs the amplitude (within 20 %).  Every
 replicate is then a complete campaign of untouched runs with every condition present, so
 each step's assumptions hold as for the original: the maps still get a forward/backward
 pair at every load, the Stribeck fit every speed in both directions, and no fit sees a
@@ -39,7 +39,7 @@ from ..model_file import INTEGER_PARAMETERS, ModelFile
 from ..physics import run_load_mean
 from ..signals import run_label, sample_time
 from ._signals import steady_segment
-from .pipeline import LOAD_TOL, SPEED_TOL, classify, identify_runs
+from .pipeline import KIND_OF_SHAPE, LOAD_TOL, SPEED_TOL, classify, identify_runs
 
 OK, FAILED = "ok", "failed"
 AMPLITUDE_TOL = 0.2  #: relative amplitude difference within which pre-rolling runs repeat
@@ -52,7 +52,7 @@ def _condition(run: Run, kind: str) -> tuple[float, ...]:
         Ts = sample_time(run.time, label=run_label(run))
         v = steady_segment(x, Ts, label=run_label(run))[1]
         return (float(np.sign(v)), abs(float(v)), float(run_load_mean(run)[0]))
-    if kind == "prerolling":
+    if KIND_OF_SHAPE.get("reversing") == kind:
         return (float(np.ptp(x)),)
     return ()
 
@@ -64,7 +64,7 @@ def _same(kind: str, a: tuple[float, ...], b: tuple[float, ...]) -> bool:
             and abs(a[1] - b[1]) <= SPEED_TOL * max(a[1], b[1])
             and abs(a[2] - b[2]) <= LOAD_TOL
         )
-    if kind == "prerolling":
+    if KIND_OF_SHAPE.get("reversing") == kind:
         return abs(a[0] - b[0]) <= AMPLITUDE_TOL * max(a[0], b[0])
     return True
 

@@ -2,12 +2,19 @@
 
 ``identify_folder(runs_dir, out)`` loads every run (``feeddrive.data.load_runs``), sorts
 them into experiments (:func:`classify`: the sidecar's ``kind``, else the file stem, else
-the signals), and runs the procedures in the order their inputs require:
+the signals; the kinds are those of the experiments the effects declare,
+:func:`feeddrive.effects.run_kinds`), and runs the procedures in the order their inputs
+require:
 
 1. current loop G(z) from the PRBS run (Eq. 2);
 2. K_f(x), F_cg(x) from the constant-speed runs at the speed of the loaded runs
    (Eqs. 3-7; the unloaded runs at that speed are the P = 0 pair);
 3. Stribeck curve from every unloaded constant-speed pair (Eqs. 12-13, K_f of step 2);
+
+then the steps the effect modules declare (:attr:`feeddrive.effects.Identification.run`,
+:func:`feeddrive.effects.identification_steps`), in their declared order, each handed the
+pipeline as its :class:`~feeddrive.effects.steps.IdentificationHost`:
+
 4. mass from the open-loop force run (Eq. 1, maps of step 2, friction of step 3);
 5. C from the variable-speed run (Eq. 14, everything above known);
 6. pre-rolling from the two periodic runs (Eqs. 15-18);
@@ -38,36 +45,28 @@ from typing import Any
 import numpy as np
 
 from ..data import Run, run_stem
-from ..effects import EFFECTS
+from ..effects import EFFECTS, identification_steps, resolve, run_kinds
 from ..harness.checked_runs import load_checked_runs
 from ..model_file import ModelFile, load_model, paper_model, save_model
 from ..physics import CurrentLoop, run_load_mean
 from ..signals import run_label, sample_time
 from ._signals import steady_segment
-from .attraction import AttractionFit, identify_attraction
+from .attraction import AttractionFit
 from .current_loop import CurrentLoopFit, identify_current_loop
-from .mass import MassFit, identify_mass
-from .position_friction import PositionFrictionFit, identify_position_friction
+from .mass import MassFit
+from .position_friction import PositionFrictionFit
 from .position_maps import PositionMapsFit, identify_position_maps
-from .prerolling import PrerollingFit, identify_prerolling
+from .prerolling import PrerollingFit
 from .stribeck import StribeckFit, identify_stribeck
 from .truth_table import TruthRow, format_rows, truth_rows
 
-#: Experiment kinds (the sidecar's ``kind``) and what each is used for.
-KINDS: dict[str, str] = {
-    "prbs": "current loop (Eq. 2)",
-    "constant_speed": "K_f, F_cg (Eqs. 3-7) and Stribeck curve (Eqs. 12-13)",
-    "force_open_loop": "mass (Eq. 1)",
-    "variable_speed": "attraction parameter C (Eq. 14)",
-    "prerolling": "pre-rolling W_i, Delta_i (Eqs. 15-18)",
-}
-_STEMS = (
-    ("prbs", r"prbs"),
-    ("constant_speed", r"cv_|constant_speed"),
-    ("force_open_loop", r"force_open_loop|open_loop"),
-    ("variable_speed", r"variable_speed"),
-    ("prerolling", r"prerolling"),
-)
+#: Experiment kinds (the sidecar's ``kind``) and what each is used for: the kinds of the
+#: experiments the effects declare (:func:`feeddrive.effects.run_kinds`), in campaign order.
+KINDS: dict[str, str] = {k.kind: k.uses for k in run_kinds().values()}
+#: The file stems (regular expressions at the stem's start) that name each kind.
+_STEMS = tuple((k.kind, k.file_pattern) for k in run_kinds().values())
+#: The kind whose runs' signals show each shape (:data:`feeddrive.effects.SHAPES`).
+KIND_OF_SHAPE: dict[str, str] = {k.shape: k.kind for k in run_kinds().values()}
 MIN_MAP_SPAN = 0.075  #: shortest stroke [m] the map runs must share: two magnet pitches
 LOAD_TOL = 0.5  #: loads closer than this [N] are the same load (as position_maps)
 SPEED_TOL = 0.1  #: relative speed difference within which runs share a speed
@@ -84,8 +83,9 @@ def _crossings(u: np.ndarray) -> int:
     return int(np.count_nonzero(np.diff(np.sign(dev[dev != 0]))))
 
 
-def _by_signals(run: Run) -> tuple[str | None, str]:
-    """The kind the signals show, or None, and why (every test fails for a constant signal)."""
+def _shape(run: Run) -> tuple[str | None, str]:
+    """The shape the signals show (:data:`feeddrive.effects.SHAPES`), or None, and why (every
+    test fails for a constant signal)."""
     x = np.asarray(run.x, dtype=float)
     u = np.asarray(run.u, dtype=float)
     span = float(np.ptp(x))
@@ -93,7 +93,7 @@ def _by_signals(run: Run) -> tuple[str | None, str]:
         sw = _crossings(u)
         moving_i = run.i is None or np.ptp(run.i) > 0
         if span > 0 and sw >= 10 and moving_i:
-            return "prbs", f"x held within {span * 1e6:.1f} um, u excites ({sw} mean crossings)"
+            return "held", f"x held within {span * 1e6:.1f} um, u excites ({sw} mean crossings)"
         return None, (
             f"x {'constant' if span == 0 else f'held within {span * 1e6:.1f} um'}, u "
             f"with {sw} mean crossings"
@@ -104,12 +104,12 @@ def _by_signals(run: Run) -> tuple[str | None, str]:
     if np.ptp(u) == 0:
         return None, "u is constant: no experiment of Secs. 2.2-2.4"
     if run.x_ref is None:
-        return "force_open_loop", f"no x_ref column (open loop), x spans {span * 1e3:.2f} mm"
+        return "open_loop", f"no x_ref column (open loop), x spans {span * 1e3:.2f} mm"
     dx = np.diff(x)
     back = min(np.sum(dx[dx > 0]), -np.sum(dx[dx < 0]))
     if back > 0.3 * span:
         return (
-            "prerolling",
+            "reversing",
             f"x reverses ({back * 1e6:.0f} um back over a {span * 1e6:.0f} um span)",
         )
     Ts = sample_time(run.time, label=run_label(run))
@@ -117,20 +117,26 @@ def _by_signals(run: Run) -> tuple[str | None, str]:
     share = (seg.stop - seg.start) / len(x)
     if share > 0.3:
         return (
-            "constant_speed",
+            "steady",
             f"monotonic, steady speed {abs(v) * 1e3:.3g} mm/s over {share:.0%} of the run",
         )
-    return "variable_speed", f"monotonic, no steady speed over 30 % of the run ({share:.0%})"
+    return "varying", f"monotonic, no steady speed over 30 % of the run ({share:.0%})"
+
+
+def _by_signals(run: Run) -> tuple[str | None, str]:
+    """The kind the signals show (:data:`KIND_OF_SHAPE`), or None, and why."""
+    shape, why = _shape(run)
+    return (None if shape is None else KIND_OF_SHAPE[shape]), why
 
 
 def classify_why(run: Run) -> tuple[str, str]:
     """The experiment kind of a run and why it was put there.
 
     The sidecar's ``kind`` when it is one of :data:`KINDS`; else (another word is said in
-    the reason) the signals (held
-    position and a two-level u: 'prbs'; no x_ref: 'force_open_loop'; reversing:
-    'prerolling'; monotonic with a steady speed: 'constant_speed', else 'variable_speed'),
-    and a file stem that names a kind must agree with them.  ValueError naming the run
+    the reason) the kind whose shape the signals show (:data:`KIND_OF_SHAPE`: held
+    position and a two-level u: 'prbs'; no x_ref: 'force_open_loop'; reversing: the
+    pre-rolling runs; monotonic with a steady speed: 'constant_speed', else
+    'variable_speed'), and a file stem that names a kind must agree with them.  ValueError naming the run
     when neither tells the kind (e.g. a constant signal).
     """
     kind = (run.meta or {}).get("kind")
@@ -364,8 +370,9 @@ def identify_runs(
     prerolling_elements : N of the Maxwell-slip model.
     min_map_span : the maps are refused (ValueError) when the runs share a shorter stroke
         [m]: a cubic fitted over a few mm is meaningless over the whole stroke.
-    position_friction : also identify the friction-level profile p(x) (step 7) and switch
-        the effect on; ``profile_knots`` knots over the stroke the runs slid over.
+    position_friction : also run the steps declared ``on_request`` (the friction-level
+        profile p(x), step 7), each switching its effect on when it fits; ``profile_knots``
+        knots over the stroke the runs slid over.
     progress : called with each step's name as it starts (a progress bar).
     """
     stage = progress or (lambda name: None)
@@ -382,18 +389,18 @@ def identify_runs(
     dc_gain = _current_loop_step(res, groups, acc, all_runs)
     stage("position maps, Stribeck")
     _maps_and_stribeck_steps(res, groups, acc, dc_gain, min_map_span)
-    stage("mass")
-    _mass_step(res, groups, acc, dc_gain, current_timing)
-    stage("attraction")
-    _attraction_step(res, groups, acc, dc_gain, current_timing)
-    stage("pre-rolling")
-    _prerolling_step(res, groups, acc, dc_gain, current_timing, prerolling_elements)
     effects = dict(base.effects)
-    if position_friction:
-        stage("position friction")
-        effects["position_friction"] = _position_friction_step(
-            res, groups, acc, dc_gain, current_timing, profile_knots
-        )
+    host = _Host(res, groups, acc, dc_gain, current_timing, prerolling_elements, profile_knots)
+    for e in identification_steps():
+        ident = e.identification
+        if ident.on_request and not position_friction:
+            continue
+        assert ident.run is not None
+        stage(ident.label)
+        fit = ident.run(host)
+        setattr(res, ident.step, fit)
+        if ident.on_request:
+            effects[e.id] = fit is not None
     if not acc.identified - {"Ts"}:
         raise ValueError(
             "identify: nothing identified, every step was skipped: "
@@ -487,109 +494,37 @@ def _maps_and_stribeck_steps(
         )
 
 
-def _mass_step(
-    res: IdentificationResult,
-    groups: dict,
-    acc: _Collected,
-    dc_gain: float | None,
-    current_timing: str,
-) -> None:
-    """m from the open-loop force run (friction known from the previous steps)."""
-    if groups["force_open_loop"]:
-        run = groups["force_open_loop"][0]
-        res.mass = _step(
-            "mass",
-            identify_mass,
-            run,
-            acc.params,
-            acc.params,
-            friction=acc.params,
-            dc_gain=dc_gain,
-            current_timing=current_timing,
-        )
-        acc.take({"m": res.mass.parameters["m"]})
-    else:
-        res.skipped["mass"] = "no open-loop force run"
+@dataclass
+class _Host:
+    """The pipeline as the effects' identification steps see it
+    (:class:`feeddrive.effects.steps.IdentificationHost`)."""
 
+    res: IdentificationResult
+    groups: dict[str, list[Run]]
+    acc: _Collected
+    dc_gain: float | None
+    current_timing: str
+    prerolling_elements: int
+    profile_knots: int
 
-def _attraction_step(
-    res: IdentificationResult,
-    groups: dict,
-    acc: _Collected,
-    dc_gain: float | None,
-    current_timing: str,
-) -> None:
-    """C (Eq. 14) from the longest variable-speed run."""
-    if groups["variable_speed"]:
-        run = max(groups["variable_speed"], key=lambda r: len(r.time))
-        res.attraction = _step(
-            "attraction",
-            identify_attraction,
-            run,
-            acc.params,
-            dc_gain=dc_gain,
-            current_timing=current_timing,
-        )
-        acc.take(res.attraction.parameters)
-    else:
-        res.skipped["attraction"] = "no variable-speed run"
+    @property
+    def params(self) -> dict[str, Any]:
+        return self.acc.params
 
+    def runs(self, kind: str) -> list[Run]:
+        return self.groups[kind]
 
-def _prerolling_step(
-    res: IdentificationResult,
-    groups: dict,
-    acc: _Collected,
-    dc_gain: float | None,
-    current_timing: str,
-    N: int,
-) -> None:
-    """The Maxwell-slip elements from the largest and smallest periodic runs."""
-    pr = sorted(groups["prerolling"], key=lambda r: np.ptp(r.x))
-    if len(pr) >= 2:
-        res.prerolling = _step(
-            "pre-rolling",
-            identify_prerolling,
-            pr[-1],
-            pr[0],
-            acc.params,
-            N=N,
-            current_timing=current_timing,
-            dc_gain=dc_gain,
-        )
-        acc.take(res.prerolling.parameters)
-        if len(pr) > 2:
-            res.notes.append(f"pre-rolling: used the smallest and largest of {len(pr)} runs")
-    else:
-        res.skipped["pre-rolling"] = (
-            f"{len(pr)} periodic runs (a small and a large amplitude needed)"
-        )
+    def fit(self, label: str, reference: str, *args: Any, **kw: Any) -> Any:
+        return _step(label, resolve(reference), *args, **kw)
 
+    def take(self, values: Mapping[str, float]) -> None:
+        self.acc.take(values)
 
-def _position_friction_step(
-    res: IdentificationResult,
-    groups: dict,
-    acc: _Collected,
-    dc_gain: float | None,
-    current_timing: str,
-    n_knots: int,
-) -> bool:
-    """p(x) from every constant-speed run, the levels and maps identified so far; True when
-    it ran (the effect is then on)."""
-    runs = groups["constant_speed"]
-    if not runs:
-        res.skipped["position friction"] = "no constant-speed runs"
-        return False
-    res.position_friction = _step(
-        "position friction",
-        identify_position_friction,
-        runs,
-        acc.params,
-        n_knots=n_knots,
-        dc_gain=dc_gain,
-        current_timing=current_timing,
-    )
-    acc.take(res.position_friction.parameters)
-    return True
+    def skip(self, label: str, why: str) -> None:
+        self.res.skipped[label] = why
+
+    def note(self, line: str) -> None:
+        self.res.notes.append(line)
 
 
 def identify_folder(

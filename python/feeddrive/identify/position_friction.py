@@ -29,10 +29,14 @@ from typing import Any
 import numpy as np
 
 from ..data import Run
+from ..effects import Structure, is_on, owner, structure_off
 from ..physics import FrictionProfile, GMSParameters, eq1_terms, profile_basis, run_load
 from ..physics.friction_position import C_RANGE, N_KNOTS_MAX
 from ..signals import apply_kernel, run_label
 from ._signals import current, signal
+
+#: The friction level's direction asymmetry [N]: scaled with the levels when its effect is on.
+ASYMMETRY = "asymmetry.dF"
 
 #: Samples slower than this [m/s] are left out (stick, pre-rolling).
 V_MIN = 2e-3
@@ -103,7 +107,7 @@ def identify_position_friction(
     """
     if not 2 <= n_knots <= N_KNOTS_MAX:
         raise ValueError(f"position friction: n_knots = {n_knots} outside 2..{N_KNOTS_MAX}")
-    values = {**params, "effects.position_friction": False}
+    values = {**params, **structure_off(Structure.LEVEL_PROFILE)}  # the levels without p(x)
     prm = GMSParameters.from_params(values)
     rows = [
         _run_rows(r, values, prm, dc_gain, window, current_timing, v_min, reversal_skip)
@@ -138,8 +142,8 @@ def identify_position_friction(
     out: dict[str, Any] = dict(prof.parameters())
     out["friction.F_s"] = float(params["friction.F_s"]) * scale
     out["friction.F_c"] = float(params["friction.F_c"]) * scale
-    if params.get("effects.asymmetric_friction", False):
-        out["asymmetry.dF"] = float(params.get("asymmetry.dF", 0.0)) * scale
+    if is_on(owner(ASYMMETRY), params):  # the effect that owns the asymmetry is on
+        out[ASYMMETRY] = float(params.get(ASYMMETRY, 0.0)) * scale
     return PositionFrictionFit(
         profile=prof,
         scale=scale,

@@ -26,12 +26,13 @@ So :func:`c_factor` gives 1.05 when tau = F_s / C_true exceeds 0.1 s, else 1.15.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import asdict, dataclass
-from typing import Any, Protocol
+from typing import Any, Protocol, cast
 
 import numpy as np
 
+from ..effects import resolve, truth_row_steps
 from ..model_file import ModelFile
 from ..physics import FrictionProfile, compile
 from ..physics import position_maps as maps
@@ -139,146 +140,199 @@ def prerolling_force_error(
 
 
 def truth_rows(res: IdentifiedFits, truth: ModelFile) -> list[TruthRow]:
-    """The comparison rows for every step that ran."""
+    """The comparison rows for every step that ran: the rows each step's effect names
+    (:attr:`feeddrive.effects.Identification.truth`, :func:`~feeddrive.effects.truth_row_steps`),
+    in pipeline order."""
     t = truth.fmu_parameters()
     p = res.model.fmu_parameters()
     rows: list[TruthRow] = []
-    if res.current_loop is not None:
-        c = res.current_loop
-        true_order = max([j for j in range(1, 6) if t[f"current.a[{j}]"] != 0] or [0])
-        true_delay = min([j for j in range(6) if t[f"current.b[{j}]"] != 0] or [0])
+    for e in truth_row_steps():
+        fit = getattr(res, e.identification.step, None)
+        if fit is not None:
+            rows += cast(RowsOf, resolve(e.identification.truth))(fit, p, t, truth)
+    return rows
+
+
+#: The rows of one step: (its fit, identified and true FMU parameters, the true model) -> rows.
+RowsOf = Callable[[Any, Mapping[str, Any], Mapping[str, Any], ModelFile], list[TruthRow]]
+
+
+def current_loop_rows(
+    fit: Any, p: Mapping[str, Any], t: Mapping[str, Any], truth: ModelFile
+) -> list[TruthRow]:
+    """The current loop's rows: order and delay, every non-zero coefficient of G(z)."""
+    rows: list[TruthRow] = []
+    c = fit
+    true_order = max([j for j in range(1, 6) if t[f"current.a[{j}]"] != 0] or [0])
+    true_delay = min([j for j in range(6) if t[f"current.b[{j}]"] != 0] or [0])
+    rows.append(
+        TruthRow(
+            "current loop order, delay",
+            "",
+            float(10 * true_order + true_delay),
+            float(10 * c.order + c.delay),
+            0.0,
+            "10 n + d",
+            0.0,
+            (c.order, c.delay) == (true_order, true_delay),
+        )
+    )
+    for k in [f"current.a[{j}]" for j in range(1, 6)] + [f"current.b[{j}]" for j in range(6)]:
+        if t[k] != 0 or p[k] != 0:
+            rows.append(_rel(k, "", t[k], p[k], REL_TOL["current"]))
+    return rows
+
+
+def map_rows(
+    fit: Any, p: Mapping[str, Any], t: Mapping[str, Any], truth: ModelFile
+) -> list[TruthRow]:
+    """The position maps' rows: rms error of K_f(x) and F_cg(x) against the true maps' range."""
+    rows: list[TruthRow] = []
+    x0, x1 = float(t["stroke.x_min"]), float(t["stroke.x_max"])
+    for name, q, unit in (
+        ("ripple", "K_f(x) rms / range", "N/A"),
+        ("cogging", "F_cg(x) rms / range", "N"),
+    ):
+        rms, rng = map_error(name, p, t, x0, x1)
         rows.append(
             TruthRow(
-                "current loop order, delay",
-                "",
-                float(10 * true_order + true_delay),
-                float(10 * c.order + c.delay),
-                0.0,
-                "10 n + d",
-                0.0,
-                (c.order, c.delay) == (true_order, true_delay),
+                q,
+                unit,
+                rng,
+                rms,
+                rms / rng,
+                "rms / range of true map",
+                MAP_TOL,
+                bool(rms / rng <= MAP_TOL),
             )
         )
-        for k in [f"current.a[{j}]" for j in range(1, 6)] + [f"current.b[{j}]" for j in range(6)]:
-            if t[k] != 0 or p[k] != 0:
-                rows.append(_rel(k, "", t[k], p[k], REL_TOL["current"]))
-    if res.maps is not None:
-        x0, x1 = float(t["stroke.x_min"]), float(t["stroke.x_max"])
-        for name, q, unit in (
-            ("ripple", "K_f(x) rms / range", "N/A"),
-            ("cogging", "F_cg(x) rms / range", "N"),
-        ):
-            rms, rng = map_error(name, p, t, x0, x1)
-            rows.append(
-                TruthRow(
-                    q,
-                    unit,
-                    rng,
-                    rms,
-                    rms / rng,
-                    "rms / range of true map",
-                    MAP_TOL,
-                    bool(rms / rng <= MAP_TOL),
-                )
-            )
-    if res.stribeck is not None:
-        for k in (
-            "friction.F_s",
-            "friction.F_c",
-            "friction.V_s",
-            "friction.delta",
-            "friction.sigma2",
-        ):
-            unit = {"friction.V_s": "m/s", "friction.delta": "", "friction.sigma2": "N s/m"}.get(
-                k, "N"
-            )
-            rows.append(_rel(k, unit, t[k], p[k], REL_TOL[k]))
-        if res.stribeck.asymmetry is not None:
-            a = res.stribeck.asymmetry
-            t_dF = compile(truth).friction.dF
-            rows.append(
-                TruthRow(
-                    "asymmetry.dF (diagnostic)",
-                    "N",
-                    t_dF,
-                    a["asymmetry.dF"],
-                    a["asymmetry.dF"] - t_dF,
-                    "absolute",
-                    float("nan"),
-                    None,
-                )
-            )
-    if res.mass is not None:
-        rows.append(_rel("m", "kg", t["m"], p["m"], REL_TOL["m"]))
-    if res.attraction is not None:
-        C_t, C_i = float(t["friction.C"]), float(p["friction.C"])
-        f = max(C_i / C_t, C_t / C_i)
-        tol = c_factor(C_t, float(t["friction.F_s"]))
+    return rows
+
+
+def stribeck_rows(
+    fit: Any, p: Mapping[str, Any], t: Mapping[str, Any], truth: ModelFile
+) -> list[TruthRow]:
+    """The Stribeck curve's rows (and the diagnostic direction asymmetry when fitted)."""
+    rows: list[TruthRow] = []
+    for k in (
+        "friction.F_s",
+        "friction.F_c",
+        "friction.V_s",
+        "friction.delta",
+        "friction.sigma2",
+    ):
+        unit = {"friction.V_s": "m/s", "friction.delta": "", "friction.sigma2": "N s/m"}.get(k, "N")
+        rows.append(_rel(k, unit, t[k], p[k], REL_TOL[k]))
+    if fit.asymmetry is not None:
+        a = fit.asymmetry
+        t_dF = compile(truth).friction.dF
         rows.append(
             TruthRow(
-                "friction.C" + ("" if res.attraction.resolved else " (lower bound)"),
-                "N/s",
-                C_t,
-                C_i,
-                f,
-                "factor max(C/C_true, C_true/C)",
-                tol,
-                bool(f <= tol),
-            )
-        )
-    if res.prerolling is not None:
-        pr = res.prerolling
-        F_s = float(t["friction.F_s"])
-        rows.append(
-            TruthRow(
-                "min W_i",
+                "asymmetry.dF (diagnostic)",
                 "N",
+                t_dF,
+                a["asymmetry.dF"],
+                a["asymmetry.dF"] - t_dF,
+                "absolute",
                 float("nan"),
-                float(pr.W.min()),
-                float(pr.W.min()),
-                "every W_i >= 0",
-                0.0,
-                bool(pr.W.min() >= 0),
+                None,
             )
         )
-        for tag, (x, _, _) in pr.curves.items():
-            e = prerolling_force_error(x, p, t)
-            rows.append(
-                TruthRow(
-                    f"pre-rolling force, {tag} run: rms(id - true) / F_s",
-                    "N",
-                    F_s,
-                    e,
-                    e / F_s,
-                    "rms / F_s",
-                    PREROLLING_TOL,
-                    bool(e / F_s <= PREROLLING_TOL),
-                )
-            )
+    return rows
+
+
+def mass_rows(
+    fit: Any, p: Mapping[str, Any], t: Mapping[str, Any], truth: ModelFile
+) -> list[TruthRow]:
+    """The mass's row."""
+    rows: list[TruthRow] = []
+    rows.append(_rel("m", "kg", t["m"], p["m"], REL_TOL["m"]))
+    return rows
+
+
+def attraction_rows(
+    fit: Any, p: Mapping[str, Any], t: Mapping[str, Any], truth: ModelFile
+) -> list[TruthRow]:
+    """The attraction parameter's row: C as a factor (:func:`c_factor`)."""
+    rows: list[TruthRow] = []
+    C_t, C_i = float(t["friction.C"]), float(p["friction.C"])
+    f = max(C_i / C_t, C_t / C_i)
+    tol = c_factor(C_t, float(t["friction.F_s"]))
+    rows.append(
+        TruthRow(
+            "friction.C" + ("" if fit.resolved else " (lower bound)"),
+            "N/s",
+            C_t,
+            C_i,
+            f,
+            "factor max(C/C_true, C_true/C)",
+            tol,
+            bool(f <= tol),
+        )
+    )
+    return rows
+
+
+def prerolling_rows(
+    fit: Any, p: Mapping[str, Any], t: Mapping[str, Any], truth: ModelFile
+) -> list[TruthRow]:
+    """The pre-rolling rows: min W_i, the force along each periodic run, the fit to the
+    data, and Delta_i, W_i when the element counts agree."""
+    rows: list[TruthRow] = []
+    pr = fit
+    F_s = float(t["friction.F_s"])
+    rows.append(
+        TruthRow(
+            "min W_i",
+            "N",
+            float("nan"),
+            float(pr.W.min()),
+            float(pr.W.min()),
+            "every W_i >= 0",
+            0.0,
+            bool(pr.W.min() >= 0),
+        )
+    )
+    for tag, (x, _, _) in pr.curves.items():
+        e = prerolling_force_error(x, p, t)
         rows.append(
             TruthRow(
-                "pre-rolling fit to data: rms / F_s",
+                f"pre-rolling force, {tag} run: rms(id - true) / F_s",
                 "N",
                 F_s,
-                pr.rms_relative * F_s,
-                pr.rms_relative,
+                e,
+                e / F_s,
                 "rms / F_s",
                 PREROLLING_TOL,
-                bool(pr.rms_relative <= PREROLLING_TOL),
+                bool(e / F_s <= PREROLLING_TOL),
             )
         )
-        D_t, W_t = elements(t)
-        if len(D_t) == len(pr.Delta):
-            for j, order in enumerate(np.argsort(D_t)):
-                rows.append(
-                    _rel(f"Delta_{j + 1}", "m", float(D_t[order]), float(pr.Delta[j]), None)
-                )
-            for j, order in enumerate(np.argsort(D_t)):
-                rows.append(_rel(f"W_{j + 1}", "N", float(W_t[order]), float(pr.W[j]), None))
-    pf = getattr(res, "position_friction", None)
-    if pf is not None:
-        rows.append(profile_row(pf.profile, truth))
+    rows.append(
+        TruthRow(
+            "pre-rolling fit to data: rms / F_s",
+            "N",
+            F_s,
+            pr.rms_relative * F_s,
+            pr.rms_relative,
+            "rms / F_s",
+            PREROLLING_TOL,
+            bool(pr.rms_relative <= PREROLLING_TOL),
+        )
+    )
+    D_t, W_t = elements(t)
+    if len(D_t) == len(pr.Delta):
+        for j, order in enumerate(np.argsort(D_t)):
+            rows.append(_rel(f"Delta_{j + 1}", "m", float(D_t[order]), float(pr.Delta[j]), None))
+        for j, order in enumerate(np.argsort(D_t)):
+            rows.append(_rel(f"W_{j + 1}", "N", float(W_t[order]), float(pr.W[j]), None))
     return rows
+
+
+def profile_rows(
+    fit: Any, p: Mapping[str, Any], t: Mapping[str, Any], truth: ModelFile
+) -> list[TruthRow]:
+    """The friction-level profile's row (:func:`profile_row`)."""
+    return [profile_row(fit.profile, truth)]
 
 
 #: p(x) within this share of the true profile's largest level change.

@@ -27,14 +27,14 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.ticker import NullFormatter, ScalarFormatter
 
 from ..data import Run
-from ..effects import EFFECTS
+from ..effects import EFFECTS, figure_owner, report_figures, resolve
 from ..identify.attraction import _level, simulate_lag
 from ..identify.dstft import DSTFT, dstft
 from ..identify.pipeline import IdentificationResult, identify_folder, identify_runs
@@ -52,8 +52,12 @@ WAVELENGTHS_COGGING = (0.0375, 0.01875, 0.0125)
 WAVELENGTHS_RIPPLE = (0.0375, 0.01875, 0.0125, 0.025)
 
 
-def _need(res: IdentificationResult, attr: str, what: str) -> Any:
-    value = getattr(res, attr)
+def _need(res: IdentificationResult, figure: Callable[..., plt.Figure]) -> Any:
+    """The fit of the step the report figure ``figure`` shows (the step of the effect that
+    declares it, :func:`feeddrive.effects.figure_owner`); ValueError when it did not run."""
+    ident = figure_owner(figure).identification
+    value = getattr(res, ident.step)
+    what = ident.label
     if value is None:
         raise ValueError(
             f"figure of {what}: that step was not run ({res.skipped.get(what, 'no result')})"
@@ -67,7 +71,7 @@ def _truth(res: IdentificationResult) -> dict[str, Any] | None:
 
 def fig5_maps(res: IdentificationResult) -> plt.Figure:
     """K_f(x) and F_cg(x) from Eqs. 4-5 along the stroke (Fig. 5)."""
-    s = _need(res, "maps", "position maps").samples
+    s = _need(res, fig5_maps).samples
     fig, ax = plt.subplots(2, 1, figsize=(8, 5.5), sharex=True)
     ax[0].plot(s.x * MM, s.K_f, lw=0.8)
     ax[0].set_ylabel("K_f [N/A]")
@@ -82,8 +86,8 @@ def fig5_maps(res: IdentificationResult) -> plt.Figure:
     return fig
 
 
-def _dstft(res: IdentificationResult, which: str) -> DSTFT:
-    s = _need(res, "maps", "position maps").samples
+def _dstft(res: IdentificationResult, which: str, figure: Callable[..., plt.Figure]) -> DSTFT:
+    s = _need(res, figure).samples
     y = s.F_cg if which == "cogging" else s.K_f
     return dstft(y, x0=float(s.x[0]), step=float(np.median(np.diff(s.x))))
 
@@ -117,12 +121,14 @@ def _dstft_figure(D: DSTFT, label: str, unit: str, marks: Sequence[float]) -> pl
 
 def fig6_dstft_cogging(res: IdentificationResult) -> plt.Figure:
     """DSTFT of F_cg(x), 750-sample rectangular window (Fig. 6)."""
-    return _dstft_figure(_dstft(res, "cogging"), "F_cg", "N", WAVELENGTHS_COGGING)
+    return _dstft_figure(
+        _dstft(res, "cogging", fig6_dstft_cogging), "F_cg", "N", WAVELENGTHS_COGGING
+    )
 
 
 def fig8_dstft_ripple(res: IdentificationResult) -> plt.Figure:
     """DSTFT of K_f(x) (Fig. 8)."""
-    return _dstft_figure(_dstft(res, "ripple"), "K_f", "N/A", WAVELENGTHS_RIPPLE)
+    return _dstft_figure(_dstft(res, "ripple", fig8_dstft_ripple), "K_f", "N/A", WAVELENGTHS_RIPPLE)
 
 
 def _components_figure(D: DSTFT, label: str, unit: str, lams: Sequence[float]) -> plt.Figure:
@@ -143,17 +149,21 @@ def _components_figure(D: DSTFT, label: str, unit: str, lams: Sequence[float]) -
 
 def fig7_cogging_components(res: IdentificationResult) -> plt.Figure:
     """Magnitude and phase of X_F at 37.5, 18.75, 12.5 mm along the stroke (Fig. 7)."""
-    return _components_figure(_dstft(res, "cogging"), "F_cg", "N", WAVELENGTHS_COGGING)
+    return _components_figure(
+        _dstft(res, "cogging", fig7_cogging_components), "F_cg", "N", WAVELENGTHS_COGGING
+    )
 
 
 def fig9_ripple_components(res: IdentificationResult) -> plt.Figure:
     """Magnitude and phase of X_K at 37.5, 18.75, 12.5 and 25 mm (Fig. 9)."""
-    return _components_figure(_dstft(res, "ripple"), "K_f", "N/A", WAVELENGTHS_RIPPLE)
+    return _components_figure(
+        _dstft(res, "ripple", fig9_ripple_components), "K_f", "N/A", WAVELENGTHS_RIPPLE
+    )
 
 
 def fig10_map_fits(res: IdentificationResult) -> plt.Figure:
     """Sampled and fitted K_f(x), F_cg(x) (and the true maps when known) (Fig. 10)."""
-    m = _need(res, "maps", "position maps")
+    m = _need(res, fig10_map_fits)
     s, truth = m.samples, _truth(res)
     fig, ax = plt.subplots(2, 1, figsize=(8, 5.5), sharex=True)
     for a, fit, y, unit in (
@@ -174,7 +184,7 @@ def fig10_map_fits(res: IdentificationResult) -> plt.Figure:
 
 def fig11_elements(res: IdentificationResult) -> plt.Figure:
     """Identified GMS elements: break-away force W_i against spring extension Delta_i."""
-    pr = _need(res, "prerolling", "pre-rolling")
+    pr = _need(res, fig11_elements)
     fig, ax = plt.subplots(figsize=(6.5, 4))
     ax.stem(pr.Delta * 1e6, pr.W, basefmt=" ", label="identified")
     truth = _truth(res)
@@ -192,7 +202,7 @@ def fig11_elements(res: IdentificationResult) -> plt.Figure:
 
 def fig12_stribeck(res: IdentificationResult) -> plt.Figure:
     """Eq. 13 points and fitted Stribeck curve, log speed axis (Fig. 12)."""
-    s = _need(res, "stribeck", "Stribeck")
+    s = _need(res, fig12_stribeck)
     pts = s.points
     fig, ax = plt.subplots(figsize=(7, 4.2))
     ax.errorbar(
@@ -231,7 +241,7 @@ def fig12_stribeck(res: IdentificationResult) -> plt.Figure:
 def fig13_prerolling(res: IdentificationResult) -> plt.Figure:
     """Friction against position in pre-rolling: measured (Eq. 1) and the identified
     Maxwell-slip model, for both amplitudes (Fig. 13)."""
-    pr = _need(res, "prerolling", "pre-rolling")
+    pr = _need(res, fig13_prerolling)
     fig, ax = plt.subplots(1, len(pr.curves), figsize=(11, 4.2))
     ax = np.atleast_1d(ax)
     for a, (tag, (x, F, model)) in zip(ax, pr.curves.items(), strict=True):
@@ -248,7 +258,7 @@ def fig13_prerolling(res: IdentificationResult) -> plt.Figure:
 
 def fig_current_loop(res: IdentificationResult, seconds: float = 0.1) -> plt.Figure:
     """Measured current of the PRBS run and the identified G(z)'s simulation."""
-    c = _need(res, "current_loop", "current loop")
+    c = _need(res, fig_current_loop)
     run = max(res.groups["prbs"], key=lambda r: len(r.time))
     u, i = np.asarray(run.u, float), np.asarray(run.i, float)
     i_sim = simulate_current(c.a, c.b, u)
@@ -269,7 +279,7 @@ def fig_current_loop(res: IdentificationResult, seconds: float = 0.1) -> plt.Fig
 def fig_attraction(res: IdentificationResult) -> plt.Figure:
     """Friction of the variable-speed run (Eq. 1, viscous part removed), the Stribeck level
     s(v) and the lagged friction of Eq. 14 with the identified C."""
-    at = _need(res, "attraction", "attraction")
+    at = _need(res, fig_attraction)
     run = max(res.groups["variable_speed"], key=lambda r: len(r.time))
     p = res.model.parameters
     if run.i is None:
@@ -303,54 +313,16 @@ def fig_attraction(res: IdentificationResult) -> plt.Figure:
     return fig
 
 
-#: (function, file stem, caption, step attribute) in page order.
-FIGURES: tuple[tuple[Callable[[IdentificationResult], plt.Figure], str, str, str], ...] = (
+#: (function, file stem, caption, step attribute) in page order: the figures the effects
+#: declare (:func:`feeddrive.effects.report_figures`), each shown when its effect's step ran.
+FIGURES: tuple[tuple[Callable[[IdentificationResult], plt.Figure], str, str, str], ...] = tuple(
     (
-        fig_current_loop,
-        "id_current_loop",
-        "Current loop: PRBS response and identified G(z)",
-        "current_loop",
-    ),
-    (
-        fig5_maps,
-        "id_fig05_maps",
-        "Analogue of Fig. 5: force ripple K_f(x) and cogging F_cg(x)",
-        "maps",
-    ),
-    (fig6_dstft_cogging, "id_fig06_dstft_cogging", "Analogue of Fig. 6: DSTFT of F_cg(x)", "maps"),
-    (
-        fig7_cogging_components,
-        "id_fig07_cogging_components",
-        "Analogue of Fig. 7: magnitude and unwrapped phase of X_F",
-        "maps",
-    ),
-    (fig8_dstft_ripple, "id_fig08_dstft_ripple", "Analogue of Fig. 8: DSTFT of K_f(x)", "maps"),
-    (
-        fig9_ripple_components,
-        "id_fig09_ripple_components",
-        "Analogue of Fig. 9: magnitude and unwrapped phase of X_K",
-        "maps",
-    ),
-    (fig10_map_fits, "id_fig10_map_fits", "Analogue of Fig. 10: sampled and fitted curves", "maps"),
-    (
-        fig11_elements,
-        "id_fig11_elements",
-        "GMS elements identified (model of Fig. 11)",
-        "prerolling",
-    ),
-    (
-        fig12_stribeck,
-        "id_fig12_stribeck",
-        "Analogue of Fig. 12: Stribeck points and fit",
-        "stribeck",
-    ),
-    (fig_attraction, "id_attraction", "Attraction parameter C: frictional lag", "attraction"),
-    (
-        fig13_prerolling,
-        "id_fig13_prerolling",
-        "Analogue of Fig. 13: pre-rolling, measured and model",
-        "prerolling",
-    ),
+        cast(Callable[[IdentificationResult], plt.Figure], resolve(f.figure)),
+        f.stem,
+        f.caption,
+        e.identification.step,
+    )
+    for e, f in report_figures()
 )
 
 

@@ -35,6 +35,7 @@ import numpy as np
 from scipy import stats
 
 from ..data import Run
+from ..effects import experiment_running
 from ..experiments.constant_speed import stribeck_runs
 from ..experiments.force_open_loop import force_open_loop_runs
 from ..experiments.prbs import prbs_runs
@@ -83,7 +84,10 @@ def coverage_truth() -> ModelFile:
 
 def _jobs():
     yield "prbs", partial(prbs_runs, periods=1)
-    yield "stribeck", partial(stribeck_runs, speeds=SPEEDS, cruise_time=1.0, min_length=3e-3)
+    yield (
+        experiment_running(stribeck_runs).group,
+        partial(stribeck_runs, speeds=SPEEDS, cruise_time=1.0, min_length=3e-3),
+    )
     yield "force", partial(force_open_loop_runs, n_periods=5)
 
 

@@ -332,10 +332,12 @@ lint: $(STAMP)
 	$(PY) -m mypy --config-file python/pyproject.toml python/feeddrive || status=1; exit $$status
 
 # the suite on TEST_WORKERS processes (pytest-xdist; default one per core), the tests of one
-# file in one process (their module fixtures and C-host builds stay together); TEST_WORKERS=0: one
+# file in one process (their module fixtures and C-host builds stay together), the files handed
+# out in collection order, the longest first (tests/conftest.py HEAVY_FIRST; xdist's own order,
+# by number of tests, leaves a long file of few tests running alone at the end); TEST_WORKERS=0: one
 TEST_WORKERS ?= $(shell nproc 2>/dev/null || echo 2)
 test: lint fmu fuzz-tools browser importers wine-tools
-	$(PY) -m pytest -q -n $(TEST_WORKERS) --dist loadfile tests
+	$(PY) -m pytest -q -n $(TEST_WORKERS) --dist loadfile --no-loadscope-reorder tests
 
 # the C benchmark hosts are test code (tests/c); built here and handed to the benchmark
 bench: fmu

@@ -37,6 +37,72 @@ def c_double(text: str, typ: str) -> str:
     return repr(float(text))
 
 
+#: the fields every variable table has (the plant's adds the nominal value)
+VAR_FIELDS = [
+    "    unsigned vr; const char *name;",
+    "    char type;          /* 'R' Real, 'I' Integer, 'B' Boolean */",
+    "    char causality;     /* 'p' parameter, 'i' input, 'o' output, 'l' local */",
+    "    char variability;   /* 'f' fixed, 't' tunable, 'd' discrete, 'c' continuous */",
+    "    double start; int has_start; double min, max; const char *unit;",
+]
+
+
+def var_row(sv: ET.Element) -> tuple:
+    """(vr, name, type, causality, variability, start, has_start, min, max, unit) of a variable."""
+    t = sv[0]
+    start, mn, mx = t.get("start"), t.get("min"), t.get("max")
+    caus = sv.get("causality", "local")
+    return (
+        int(sv.get("valueReference")),
+        sv.get("name"),
+        t.tag[0],
+        caus[0] if caus != "calculatedParameter" else "c",
+        sv.get("variability", "continuous")[0],
+        c_double(start, t.tag) if start is not None else "0.0",
+        1 if start is not None else 0,
+        c_double(mn, t.tag) if mn is not None else "-HUGE_VAL",
+        c_double(mx, t.tag) if mx is not None else "HUGE_VAL",
+        t.get("unit", ""),
+    )
+
+
+def group_arrays(groups: dict[str, dict[int, int]], prefix: str) -> list[str]:
+    """One C array per group of indexed variables name[k]: the value reference of each k."""
+    lines = []
+    for g, members in groups.items():
+        size = max(members) + 1
+        arr = ", ".join(str(members.get(k, 0xFFFFFFFF)) + "u" for k in range(size))
+        lines.append(
+            f"static const unsigned {prefix}_{c_ident(g)}[{size}] = {{{arr}}};  /* {g}[k] */"
+        )
+    return lines
+
+
+def vr_index(rows: list[tuple], nvr: int) -> str:
+    """The initialiser of the vr -> row table (-1 where a value reference is unused)."""
+    idx = [-1] * nvr
+    for n, r in enumerate(rows):
+        idx[r[0]] = n
+    return ", ".join(map(str, idx))
+
+
+def table_rows(rows: list[tuple]) -> list[str]:
+    """The initialiser lines of a variable table, one per row (all of each row's fields)."""
+    out = []
+    for r in rows:
+        fields = [
+            f"{r[0]}u",
+            f'"{r[1]}"',
+            f"'{r[2]}'",
+            f"'{r[3]}'",
+            f"'{r[4]}'",
+            *map(str, r[5:9]),
+            f'"{r[9]}"',
+        ]
+        out.append("    {" + ", ".join(fields + [str(f) for f in r[10:]]) + "},")
+    return out
+
+
 def import_parameters(root: ET.Element, other_xml: str, prefix: str, offset: int) -> None:
     """Append ``other_xml``'s parameters to ``root``'s ModelVariables, renamed and shifted."""
     mv = root.find("ModelVariables")
@@ -71,27 +137,7 @@ def main(
     for n, sv in enumerate(svs, 1):
         name, vr = sv.get("name"), int(sv.get("valueReference"))
         index_of[n] = vr
-        typ_el = sv[0]
-        typ = typ_el.tag
-        start = typ_el.get("start")
-        mn, mx = typ_el.get("min"), typ_el.get("max")
-        caus = sv.get("causality", "local")
-        var = sv.get("variability", "continuous")
-        rows.append(
-            (
-                vr,
-                name,
-                typ[0],
-                caus[0] if caus != "calculatedParameter" else "c",
-                var[0],
-                c_double(start, typ) if start is not None else "0.0",
-                1 if start is not None else 0,
-                c_double(mn, typ) if mn is not None else "-HUGE_VAL",
-                c_double(mx, typ) if mx is not None else "HUGE_VAL",
-                typ_el.get("unit", ""),
-                repr(float(typ_el.get("nominal", "1"))),
-            )
-        )
+        rows.append((*var_row(sv), repr(float(sv[0].get("nominal", "1")))))
         defines.append(f"#define VR_{c_ident(name)} {vr}u")
         m = re.fullmatch(r"(.*)\[(\d+)\]", name)
         if m and not name.startswith("der("):
@@ -118,11 +164,7 @@ def main(
         f"#define MODEL_NZ {nz}       /* event indicators */",
         "",
         "typedef struct {",
-        "    unsigned vr; const char *name;",
-        "    char type;          /* 'R' Real, 'I' Integer, 'B' Boolean */",
-        "    char causality;     /* 'p' parameter, 'i' input, 'o' output, 'l' local */",
-        "    char variability;   /* 'f' fixed, 't' tunable, 'd' discrete, 'c' continuous */",
-        "    double start; int has_start; double min, max; const char *unit;",
+        *VAR_FIELDS,
         "    double nominal;     /* the XML's nominal attribute (1 when absent) */",
         "} model_var_t;",
         "",
@@ -136,15 +178,9 @@ def main(
     ]
     h += defines
     h.append("")
-    for g, members in groups.items():
-        size = max(members) + 1
-        arr = ", ".join(str(members.get(k, 0xFFFFFFFF)) + "u" for k in range(size))
-        h.append(f"static const unsigned VRA_{c_ident(g)}[{size}] = {{{arr}}};  /* {g}[k] */")
+    h += group_arrays(groups, "VRA")
     h += ["", "#endif", ""]
     (out / "model_vars.h").write_text("\n".join(h))
-    idx = [-1] * nvr
-    for n, r in enumerate(rows):
-        idx[r[0]] = n
     c = [
         f"/* Generated from {Path(xml_path).name} by gen_vars.py: do not edit. */",
         "#include <math.h>",
@@ -152,14 +188,11 @@ def main(
         "",
         "const model_var_t MODEL_VARS[MODEL_NVARS] = {",
     ]
-    for r in rows:
-        c.append(
-            f"    {{{r[0]}u, \"{r[1]}\", '{r[2]}', '{r[3]}', '{r[4]}', {r[5]}, {r[6]}, {r[7]}, {r[8]}, \"{r[9]}\", {r[10]}}},"
-        )
+    c += table_rows(rows)
     c += [
         "};",
         "",
-        "const short MODEL_VR_INDEX[MODEL_NVR] = {" + ", ".join(map(str, idx)) + "};",
+        "const short MODEL_VR_INDEX[MODEL_NVR] = {" + vr_index(rows, nvr) + "};",
         "const unsigned MODEL_STATE_VR[MODEL_NX] = {" + ", ".join(f"{v}u" for v in states) + "};",
         "const unsigned MODEL_DER_VR[MODEL_NX] = {" + ", ".join(f"{v}u" for v in der_vrs) + "};",
         "",
@@ -197,23 +230,7 @@ def _write(root: ET.Element, src: str, outdir: str, prefix: str) -> None:
     rows, defines, groups, groups2 = [], [], {}, {}
     for sv in svs:
         name, vr = sv.get("name"), int(sv.get("valueReference"))
-        t = sv[0]
-        start, mn, mx = t.get("start"), t.get("min"), t.get("max")
-        caus = sv.get("causality", "local")
-        rows.append(
-            (
-                vr,
-                name,
-                t.tag[0],
-                caus[0] if caus != "calculatedParameter" else "c",
-                sv.get("variability", "continuous")[0],
-                c_double(start, t.tag) if start is not None else "0.0",
-                1 if start is not None else 0,
-                c_double(mn, t.tag) if mn is not None else "-HUGE_VAL",
-                c_double(mx, t.tag) if mx is not None else "HUGE_VAL",
-                t.get("unit", ""),
-            )
-        )
+        rows.append(var_row(sv))
         defines.append(f"#define {vrp}_{c_ident(name)} {vr}u")
         m1 = re.fullmatch(r"(.*)\[(\d+)\]", name)
         m2 = re.fullmatch(r"(.*)\[(\d+),(\d+)\]", name)
@@ -233,11 +250,7 @@ def _write(root: ET.Element, src: str, outdir: str, prefix: str) -> None:
         f"#define {P}_NVARS {len(rows)}",
         "",
         "typedef struct {",
-        "    unsigned vr; const char *name;",
-        "    char type;          /* 'R' Real, 'I' Integer, 'B' Boolean */",
-        "    char causality;     /* 'p' parameter, 'i' input, 'o' output, 'l' local */",
-        "    char variability;   /* 'f' fixed, 't' tunable, 'd' discrete, 'c' continuous */",
-        "    double start; int has_start; double min, max; const char *unit;",
+        *VAR_FIELDS,
         f"}} {low}_var_t;",
         "",
         f"extern const {low}_var_t {P}_VARS[{P}_NVARS];",
@@ -246,10 +259,7 @@ def _write(root: ET.Element, src: str, outdir: str, prefix: str) -> None:
     ]
     h += defines
     h.append("")
-    for g, members in groups.items():
-        size = max(members) + 1
-        arr = ", ".join(str(members.get(k, 0xFFFFFFFF)) + "u" for k in range(size))
-        h.append(f"static const unsigned {vrp}A_{c_ident(g)}[{size}] = {{{arr}}};  /* {g}[k] */")
+    h += group_arrays(groups, vrp + "A")
     for g, members in groups2.items():
         ni = max(i for i, _ in members) + 1
         nj = max(j for _, j in members) + 1
@@ -264,9 +274,6 @@ def _write(root: ET.Element, src: str, outdir: str, prefix: str) -> None:
     out = Path(outdir)
     out.mkdir(parents=True, exist_ok=True)
     (out / f"{low}_vars.h").write_text("\n".join(h))
-    idx = [-1] * nvr
-    for n, r in enumerate(rows):
-        idx[r[0]] = n
     c = [
         f"/* Generated from {src} by gen_vars.py: do not edit. */",
         "#include <math.h>",
@@ -274,12 +281,8 @@ def _write(root: ET.Element, src: str, outdir: str, prefix: str) -> None:
         "",
         f"const {low}_var_t {P}_VARS[{P}_NVARS] = {{",
     ]
-    for r in rows:
-        c.append(
-            f"    {{{r[0]}u, \"{r[1]}\", '{r[2]}', '{r[3]}', '{r[4]}', {r[5]}, {r[6]}, "
-            f'{r[7]}, {r[8]}, "{r[9]}"}},'
-        )
-    c += ["};", "", f"const short {P}_VR_INDEX[{P}_NVR] = {{" + ", ".join(map(str, idx)) + "};", ""]
+    c += table_rows(rows)
+    c += ["};", "", f"const short {P}_VR_INDEX[{P}_NVR] = {{" + vr_index(rows, nvr) + "};", ""]
     (out / f"{low}_vars.c").write_text("\n".join(c))
 
 

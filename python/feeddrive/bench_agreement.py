@@ -158,21 +158,12 @@ def clocked_figures(
     Python-controller run ``res_cs`` (FMI 2.0 plant; run here when not given)."""
     h = res_cs if res_cs is not None else closed_loop(duration)
     ref = sinusoid(AMPLITUDE, PERIOD, CENTRE, duration)
-    values = controller_fmu_parameters(
-        state_space_spec(),
-        quantum=1e-7,
-        reference=sinusoid_source(AMPLITUDE, PERIOD, CENTRE, duration),
-    )
+    source = sinusoid_source(AMPLITUDE, PERIOD, CENTRE, duration)
+    values = controller_fmu_parameters(state_space_spec(), quantum=1e-7, reference=source)
+    loop = (paper_parameters(), values, ref.n, float(ref.x[0]))
     out: dict[str, float] = {}
     for key, plant in (("clocked", None), ("clocked3", DEFAULT_FMU3)):
-        c = simulate_clocked(
-            paper_parameters(),
-            values,
-            ref.n,
-            float(ref.x[0]),
-            controller_path=DEFAULT_CONTROLLER3_FMU,
-            plant_path=plant,
-        )
+        c = simulate_clocked(*loop, controller_path=DEFAULT_CONTROLLER3_FMU, plant_path=plant)
         out[f"{key}_dx_m"] = _max_abs(c["x"], h["x_measured"])
         out[f"{key}_du_V"] = _max_abs(c["u"], h["u"])
     return out

@@ -14,7 +14,8 @@ each other)::
     <- harness (closed loop, sidecar, checked runs) <- experiments (the campaign, Secs. 3 and 4)
     <- residual (the force residual), systems (SSP, OSP, container)
     <- identify, validation, diagnose, realdata, xy (the X-Y table and its circular test)
-    <- study <- report <- commands, bench_c, bench_campaign, bench_engines, bench_study
+    <- study <- report <- commands, bench_agreement, bench_c, bench_campaign, bench_engines,
+       bench_study
     <- cli (the parser), bench_cli (times it), bench (the `make bench` table)
 """
 
@@ -61,6 +62,7 @@ LAYERS: dict[str, int] = {
     "cli": 12,
     "commands": 11,
     "bench": 12,
+    "bench_agreement": 11,
     "bench_c": 11,
     "bench_campaign": 11,
     "bench_engines": 11,

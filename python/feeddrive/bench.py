@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .bench_agreement import agreement_figures, agreement_rows
 from .bench_c import instructions_per_sample, run_bench_cs, run_cycles, run_two_fmus
 from .bench_campaign import campaign_rows
 from .bench_cli import help_rows
@@ -86,7 +87,7 @@ def python_rows(repeats: int = 5) -> tuple[list[tuple[str, str, str]], dict]:
         ("accuracy: CS vs ME rtol 1e-10, max abs(dF_friction)", f"{dF:.3f} N", ""),
         ("accuracy: ME rtol 1e-6 vs ME rtol 1e-10, max abs(dx)", f"{dx_me * 1e6:.3f} um", ""),
     ]
-    return rows, {"wall_cs": w_cs, "dx": dx, "res_cs": res_cs}
+    return rows, {"wall_cs": w_cs, "dx": dx, "res_cs": res_cs, "res_me": res_me}
 
 
 def two_fmu_rows(
@@ -398,6 +399,7 @@ def main(argv: list[str] | None = None) -> int:
         a.repeats,
         *(Path(p) if p else None for p in (a.two_fmus, a.library, a.controller_library)),
     )
+    rows += agreement_rows(agreement_figures(figs["res_cs"], figs["res_me"]))
     rows += study
     rows += engine_rows(figs["wall_cs"], a.repeats)
     rows += fast_path_rows()

@@ -41,7 +41,7 @@ from .prerolling import maxwell_slip
 
 class IdentifiedFits(Protocol):
     """What the comparison reads of an identification result (each fit None when its step
-    did not run); :class:`feeddrive.identify.pipeline.IdentificationResult` is one."""
+    did not run); :class:`feeddrive.identify.result.IdentificationResult` is one."""
 
     model: ModelFile
     current_loop: Any

@@ -1,6 +1,6 @@
 """Figures of the identification (analogues of the paper's Figs. 5-13) and its report section.
 
-Every ``fig*`` function takes an :class:`~feeddrive.identify.pipeline.IdentificationResult`
+Every ``fig*`` function takes an :class:`~feeddrive.identify.result.IdentificationResult`
 and returns a matplotlib Figure (ValueError when the step it shows was not run):
 
 - :func:`fig5_maps`: K_f(x) and F_cg(x) sampled by Eqs. 4-5 (Fig. 5);
@@ -37,7 +37,8 @@ from ..data import Run
 from ..effects import EFFECTS, figure_owner, report_figures, resolve
 from ..identify.attraction import _level, simulate_lag
 from ..identify.dstft import DSTFT, dstft
-from ..identify.pipeline import IdentificationResult, identify_folder, identify_runs
+from ..identify.pipeline import identify_folder, identify_runs
+from ..identify.result import IdentificationResult
 from ..identify.sec4_check import REVERSAL_TOL, Sec4Comparison, compare_sec4
 from ..identify.truth_table import elements
 from ..model_file import save_model

@@ -32,7 +32,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from ..identify.bootstrap import Bootstrap
-from ..identify.pipeline import IdentificationResult
+from ..identify.result import IdentificationResult
 from ..model_file import load_model
 from ..outputs import Reads, output_dir
 from .bootstrap import METHODS, bootstrap_folder

@@ -9,7 +9,7 @@ from typing import Any
 from ..harness.controllers import CONTROLLERS
 from ..harness.sensors import Sensors
 from ..xy.circle_test import FEEDFORWARD
-from .fields import StudyError, number_field, object_field
+from .fields import StudyError, number_field, object_field, typed_object_field
 from .spec import Experiment
 
 #: Reference profiles a study may name, and their required / optional keys.
@@ -35,12 +35,7 @@ _EXPERIMENT = (
 
 def _reference(raw: Any, src: str) -> dict[str, Any]:
     fld = "experiment.reference"
-    raw = object_field(raw, src, fld)
-    kind = raw.get("type")
-    if kind not in REFERENCES:
-        raise StudyError(
-            src, f"{fld}.type", f"{kind!r} is not a reference; known: {', '.join(REFERENCES)}"
-        )
+    raw, kind = typed_object_field(raw, src, fld, REFERENCES, "reference")
     required, optional = REFERENCES[kind]
     object_field(raw, src, fld, ("type",) + required + optional)
     for k in required:
@@ -66,14 +61,7 @@ def _reference(raw: Any, src: str) -> dict[str, Any]:
 
 def _controller(raw: Any, src: str) -> dict[str, Any]:
     fld = "experiment.controller"
-    raw = object_field(raw, src, fld)
-    kind = raw.get("type")
-    if kind not in CONTROLLERS:
-        raise StudyError(
-            src,
-            f"{fld}.type",
-            f"{kind!r} is not a controller; known: {', '.join(sorted(CONTROLLERS))}",
-        )
+    raw, kind = typed_object_field(raw, src, fld, CONTROLLERS, "controller", sorted(CONTROLLERS))
     spec = CONTROLLERS[kind].default_spec()
     if kind == "lti" and {"A", "B", "C", "D"} & set(raw):  # the other form than the default's
         spec.pop("num"), spec.pop("den")

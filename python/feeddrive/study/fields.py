@@ -1,9 +1,10 @@
-"""Reading a study file's fields: a number, an integer, an object with its allowed keys;
-:class:`StudyError` names the file and the field of a problem."""
+"""Reading a study file's fields: a number, an integer, an object with its allowed keys, an
+object of a known ``type``; :class:`StudyError` names the file and the field of a problem."""
 
 from __future__ import annotations
 
 import math
+from collections.abc import Collection, Iterable
 from typing import Any
 
 
@@ -46,3 +47,16 @@ def object_field(
         if bad:
             raise StudyError(src, f"{fld}.{bad[0]}", f"unknown key (allowed: {', '.join(allowed)})")
     return v
+
+
+def typed_object_field(
+    v: Any, src: str, fld: str, known: Collection[str], what: str, listed: Iterable[str] = ()
+) -> tuple[dict[str, Any], str]:
+    """The JSON object ``v`` of field ``fld`` and its ``type``, one of ``known`` (a ``what``;
+    the message lists ``listed``, else ``known``)."""
+    raw = object_field(v, src, fld)
+    kind = raw.get("type")
+    if kind not in known:
+        names = ", ".join(listed or known)
+        raise StudyError(src, f"{fld}.type", f"{kind!r} is not a {what}; known: {names}")
+    return raw, str(kind)

@@ -9,7 +9,7 @@ from typing import Any
 import scipy.stats
 
 from ..model_file import PARAMETER_NAMES
-from .fields import StudyError, integer_field, number_field, object_field
+from .fields import StudyError, integer_field, number_field, object_field, typed_object_field
 from .spec import ParameterSpec
 
 DESIGNS = ("grid", "lhs", "monte_carlo", "oat")
@@ -73,12 +73,7 @@ def parameter_field(name: str, raw: Any, base: float, src: str) -> ParameterSpec
 
 def design_field(raw: Any, src: str, params: tuple[ParameterSpec, ...]) -> dict[str, Any]:
     """The study's ``design``, checked against what its ``params`` give."""
-    raw = object_field(raw, src, "design")
-    kind = raw.get("type")
-    if kind not in DESIGNS:
-        raise StudyError(
-            src, "design.type", f"{kind!r} is not a design; known: {', '.join(DESIGNS)}"
-        )
+    raw, kind = typed_object_field(raw, src, "design", DESIGNS, "design")
     allowed = {
         "grid": ("type", "levels"),
         "lhs": ("type", "runs", "seed"),

@@ -22,7 +22,7 @@ from feeddrive.experiments.plan import (
     force_per_volt,
     make_plan,
 )
-from feeddrive.experiments.plan_files import reference_csv, time_decimals
+from feeddrive.experiments.plan.files import reference_csv, time_decimals
 from feeddrive.harness.controllers import pid_lti_spec
 from feeddrive.harness.sidecar import read_sidecar
 from feeddrive.identify.pipeline import identify_folder

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..experiments.plan_files import plan_command, summary
+from ..experiments.plan.files import plan_command, summary
 
 
 def main(a: argparse.Namespace) -> int:

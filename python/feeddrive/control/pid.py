@@ -21,6 +21,7 @@ has a ~20 Hz crossover (Kv/m = 186 rad/s).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -34,6 +35,21 @@ from .margins import Margins, frequency_grid, loop_margins
 DEFAULT_GAINS: dict[str, float] = {"Kp": 2.0e5, "Kv": 3.0e3, "Ki": 3.0e6}
 DEFAULT_FORCE_PER_VOLT: float = 78.7
 DEFAULT_U_LIMIT: float = 10.0  #: amplifier reference range +- [V]
+
+
+@dataclass(frozen=True)
+class PIDSettings:
+    """The PID's gains and options with their defaults (see :class:`PID`): the one list the
+    controller, its spec (:func:`feeddrive.harness.controllers.pid_spec`) and the spec's
+    keys share."""
+
+    Kp: float = DEFAULT_GAINS["Kp"]  #: [N/m]
+    Kv: float = DEFAULT_GAINS["Kv"]  #: [N s/m]
+    Ki: float = DEFAULT_GAINS["Ki"]  #: [N/(m s)]
+    force_per_volt: float = DEFAULT_FORCE_PER_VOLT  #: [N/V]
+    u_limit: float = DEFAULT_U_LIMIT  #: [V]
+    tf: float = 0.0  #: derivative filter time constant [s]
+    anti_windup: bool = False
 
 
 def lead_coefficients(zero_hz: float, pole_hz: float, Ts: float) -> tuple[np.ndarray, np.ndarray]:
@@ -55,29 +71,27 @@ class PID:
     ----------
     reference : x_ref[k] [m] sampled at Ts (held at its last value beyond the end).
     Ts : sample time [s].
-    Kp, Kv, Ki : force-equivalent gains [N/m], [N s/m], [N/(m s)] (>= 0).
-    force_per_volt : N per V of the amplifier + motor at DC.
-    u_limit : output clamp +- [V].
-    tf : derivative filter time constant [s] (0: plain backward difference).
-    anti_windup : conditional integration while clamped.
     lead : (zero_hz, pole_hz) of a lead filter on the force command, or None.
     u_ff : feedforward voltage per sample (zero beyond its end), or None.
+    **settings : the fields of :class:`PIDSettings` (their defaults when left out):
+        force-equivalent gains ``Kp, Kv, Ki`` [N/m], [N s/m], [N/(m s)] (>= 0);
+        ``force_per_volt``, N per V of the amplifier + motor at DC; ``u_limit``, output
+        clamp +- [V]; ``tf``, derivative filter time constant [s] (0: plain backward
+        difference); ``anti_windup``, conditional integration while clamped.
     """
 
     def __init__(
         self,
         reference: ArrayLike,
         Ts: float = 5e-4,
-        Kp: float = DEFAULT_GAINS["Kp"],
-        Kv: float = DEFAULT_GAINS["Kv"],
-        Ki: float = DEFAULT_GAINS["Ki"],
-        force_per_volt: float = DEFAULT_FORCE_PER_VOLT,
-        u_limit: float = DEFAULT_U_LIMIT,
-        tf: float = 0.0,
-        anti_windup: bool = False,
+        *,
         lead: tuple[float, float] | None = None,
         u_ff: ArrayLike | None = None,
+        **settings: Any,
     ) -> None:
+        s = PIDSettings(**settings)
+        Kp, Kv, Ki, tf = s.Kp, s.Kv, s.Ki, s.tf
+        force_per_volt, u_limit = s.force_per_volt, s.u_limit
         if not Ts > 0 or not tf >= 0:
             raise ValueError(f"pid.py: need Ts > 0 and tf >= 0 (got Ts={Ts}, tf={tf})")
         if min(Kp, Kv, Ki) < 0:
@@ -91,7 +105,7 @@ class PID:
             raise ValueError("pid.py: reference must be a non-empty 1-D array")
         self.Ts, self.Kp, self.Kv, self.Ki = float(Ts), float(Kp), float(Kv), float(Ki)
         self.force_per_volt, self.u_limit = float(force_per_volt), float(u_limit)
-        self.tf, self.anti_windup = float(tf), bool(anti_windup)
+        self.tf, self.anti_windup = float(tf), bool(s.anti_windup)
         self._a = self.tf / (self.tf + self.Ts)
         self._b = self.Kv / (self.tf + self.Ts)
         self.lead = None if lead is None else (float(lead[0]), float(lead[1]))

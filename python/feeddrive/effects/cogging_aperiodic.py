@@ -55,13 +55,13 @@ EFFECT = Effect(
     scenario="without aperiodic cogging",
     figures=(
         ReportFigure(
-            "feeddrive.report.identification:fig5_maps",
+            "feeddrive.report.identification_figures:fig5_maps",
             "id_fig05_maps",
             "Analogue of Fig. 5: force ripple K_f(x) and cogging F_cg(x)",
             2,
         ),
         ReportFigure(
-            "feeddrive.report.identification:fig10_map_fits",
+            "feeddrive.report.identification_figures:fig10_map_fits",
             "id_fig10_map_fits",
             "Analogue of Fig. 10: sampled and fitted curves",
             7,

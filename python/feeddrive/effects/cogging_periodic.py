@@ -73,13 +73,13 @@ EFFECT = Effect(
     ),
     figures=(
         ReportFigure(
-            "feeddrive.report.identification:fig6_dstft_cogging",
+            "feeddrive.report.identification_figures:fig6_dstft_cogging",
             "id_fig06_dstft_cogging",
             "Analogue of Fig. 6: DSTFT of F_cg(x)",
             3,
         ),
         ReportFigure(
-            "feeddrive.report.identification:fig7_cogging_components",
+            "feeddrive.report.identification_figures:fig7_cogging_components",
             "id_fig07_cogging_components",
             "Analogue of Fig. 7: magnitude and unwrapped phase of X_F",
             4,

@@ -135,7 +135,7 @@ EFFECT = Effect(
     ),
     figures=(
         ReportFigure(
-            "feeddrive.report.identification:fig_current_loop",
+            "feeddrive.report.identification_figures:fig_current_loop",
             "id_current_loop",
             "Current loop: PRBS response and identified G(z)",
             1,

@@ -131,7 +131,7 @@ EFFECT = Effect(
     ),
     figures=(
         ReportFigure(
-            "feeddrive.report.identification:fig_attraction",
+            "feeddrive.report.identification_figures:fig_attraction",
             "id_attraction",
             "Attraction parameter C: frictional lag",
             10,

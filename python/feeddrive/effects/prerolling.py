@@ -176,13 +176,13 @@ EFFECT = Effect(
     ),
     figures=(
         ReportFigure(
-            "feeddrive.report.identification:fig11_elements",
+            "feeddrive.report.identification_figures:fig11_elements",
             "id_fig11_elements",
             "GMS elements identified (model of Fig. 11)",
             8,
         ),
         ReportFigure(
-            "feeddrive.report.identification:fig13_prerolling",
+            "feeddrive.report.identification_figures:fig13_prerolling",
             "id_fig13_prerolling",
             "Analogue of Fig. 13: pre-rolling, measured and model",
             11,

@@ -40,13 +40,13 @@ EFFECT = Effect(
     off=(("ripple.a[j]", 0.0), ("ripple.b[j]", 0.0)),
     figures=(
         ReportFigure(
-            "feeddrive.report.identification:fig8_dstft_ripple",
+            "feeddrive.report.identification_figures:fig8_dstft_ripple",
             "id_fig08_dstft_ripple",
             "Analogue of Fig. 8: DSTFT of K_f(x)",
             5,
         ),
         ReportFigure(
-            "feeddrive.report.identification:fig9_ripple_components",
+            "feeddrive.report.identification_figures:fig9_ripple_components",
             "id_fig09_ripple_components",
             "Analogue of Fig. 9: magnitude and unwrapped phase of X_K",
             6,

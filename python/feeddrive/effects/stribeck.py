@@ -142,7 +142,7 @@ EFFECT = Effect(
     ),
     figures=(
         ReportFigure(
-            "feeddrive.report.identification:fig12_stribeck",
+            "feeddrive.report.identification_figures:fig12_stribeck",
             "id_fig12_stribeck",
             "Analogue of Fig. 12: Stribeck points and fit",
             9,

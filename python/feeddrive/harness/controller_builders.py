@@ -12,7 +12,7 @@ import numpy as np
 from ..control.design_model import design_model
 from ..control.feedforward import FeedforwardOptions, feedforward
 from ..control.lti import LTIController
-from ..control.pid import DEFAULT_U_LIMIT, PID
+from ..control.pid import PID, PIDSettings
 from ..control.state_space import (
     DEFAULT_MECH_HZ,
     DEFAULT_MECH_REAL_HZ,
@@ -137,19 +137,22 @@ def build_state_space(
     )
 
 
-PID_KEYS = {"Kp", "Kv", "Ki", "force_per_volt", "u_limit", "tf", "anti_windup"}
+#: the keys of a ``pid`` spec: the fields of PIDSettings
+PID_KEYS = {f.name for f in fields(PIDSettings)}
+#: the keys a ``pid`` spec must give (the others default as in PIDSettings)
+PID_REQUIRED = ("Kp", "Kv", "Ki", "force_per_volt")
 
 
 def _pid_kwargs(spec: Mapping[str, Any]) -> dict[str, Any]:
-    return {
-        "Kp": spec_number(spec, "Kp"),
-        "Kv": spec_number(spec, "Kv"),
-        "Ki": spec_number(spec, "Ki"),
-        "force_per_volt": spec_number(spec, "force_per_volt"),
-        "u_limit": spec_number(spec, "u_limit", DEFAULT_U_LIMIT),
-        "tf": spec_number(spec, "tf", 0.0),
-        "anti_windup": bool(spec.get("anti_windup", False)),
-    }
+    """The PID's settings from ``spec``, in the order of PIDSettings (the first missing
+    required key is the one named)."""
+    kw: dict[str, Any] = {}
+    for f in fields(PIDSettings):
+        if f.name == "anti_windup":
+            kw[f.name] = bool(spec.get(f.name, f.default))
+        else:
+            kw[f.name] = spec_number(spec, f.name, None if f.name in PID_REQUIRED else f.default)
+    return kw
 
 
 def build_pid(spec: Mapping[str, Any], ref: Reference, u_ff: np.ndarray | None) -> PID:

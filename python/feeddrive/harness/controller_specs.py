@@ -11,7 +11,7 @@ import numpy as np
 
 from ..control.feedforward import FeedforwardOptions
 from ..control.lti import cascade_tf, pid_tf
-from ..control.pid import DEFAULT_FORCE_PER_VOLT, DEFAULT_GAINS, DEFAULT_U_LIMIT
+from ..control.pid import DEFAULT_FORCE_PER_VOLT, DEFAULT_GAINS, DEFAULT_U_LIMIT, PIDSettings
 from ..control.state_space import (
     DEFAULT_MECH_HZ,
     DEFAULT_MECH_REAL_HZ,
@@ -72,26 +72,12 @@ def state_space_spec(
     }
 
 
-def pid_spec(
-    Kp: float = DEFAULT_GAINS["Kp"],
-    Kv: float = DEFAULT_GAINS["Kv"],
-    Ki: float = DEFAULT_GAINS["Ki"],
-    force_per_volt: float = DEFAULT_FORCE_PER_VOLT,
-    u_limit: float = DEFAULT_U_LIMIT,
-    tf: float = 0.0,
-    anti_windup: bool = False,
-) -> dict[str, Any]:
-    """Spec of the force-equivalent PID (defaults: :data:`feeddrive.control.pid.DEFAULT_GAINS`)."""
-    return {
-        "type": "pid",
-        "Kp": float(Kp),
-        "Kv": float(Kv),
-        "Ki": float(Ki),
-        "force_per_volt": float(force_per_volt),
-        "u_limit": float(u_limit),
-        "tf": float(tf),
-        "anti_windup": bool(anti_windup),
-    }
+def pid_spec(**settings: Any) -> dict[str, Any]:
+    """Spec of the force-equivalent PID: the fields of
+    :class:`feeddrive.control.pid.PIDSettings`, its defaults for those left out."""
+    defaults, given = asdict(PIDSettings()), asdict(PIDSettings(**settings))
+    # each value as the type of its default: float, bool for anti_windup
+    return {"type": "pid", **{k: type(defaults[k])(v) for k, v in given.items()}}
 
 
 def pid_lead_spec(

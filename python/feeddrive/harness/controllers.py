@@ -38,14 +38,14 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Any
 
 import numpy as np
 
 from ..control.design_model import design_model
 from ..control.margins import Margins, poor_margins
-from ..control.pid import PID
+from ..control.pid import PID, PIDSettings
 from ..control.state_space import StateSpaceController
 from ..paper import paper_parameters
 from .controller_builders import (
@@ -97,15 +97,7 @@ __all__ = [
 
 
 def _pid_spec_of(c: PID) -> dict[str, Any]:
-    kw: dict[str, Any] = {
-        "Kp": c.Kp,
-        "Kv": c.Kv,
-        "Ki": c.Ki,
-        "force_per_volt": c.force_per_volt,
-        "u_limit": c.u_limit,
-        "tf": c.tf,
-        "anti_windup": c.anti_windup,
-    }
+    kw: dict[str, Any] = {f.name: getattr(c, f.name) for f in fields(PIDSettings)}
     return pid_spec(**kw) if c.lead is None else pid_lead_spec(*c.lead, **kw)
 
 

@@ -39,7 +39,8 @@ from ..model_file import INTEGER_PARAMETERS, ModelFile
 from ..physics import run_load_mean
 from ..signals import run_label, sample_time
 from ._signals import steady_segment
-from .pipeline import KIND_OF_SHAPE, LOAD_TOL, SPEED_TOL, classify, identify_runs
+from .classification import KIND_OF_SHAPE, LOAD_TOL, SPEED_TOL, classify
+from .pipeline import identify_runs
 
 OK, FAILED = "ok", "failed"
 AMPLITUDE_TOL = 0.2  #: relative amplitude difference within which pre-rolling runs repeat

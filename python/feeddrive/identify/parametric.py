@@ -58,7 +58,9 @@ from ..experiments.resimulate import can_resimulate, resimulate
 from ..harness.sensors import Sensors
 from ..harness.sidecar import read_sidecar
 from ..signals import run_label
-from .pipeline import IdentificationResult, classify, identify_runs
+from .classification import classify
+from .pipeline import identify_runs
+from .result import IdentificationResult
 
 OK, FAILED = "ok", "failed"
 MIN_REPLICATES = 10  #: fewest successful replicates for an interval

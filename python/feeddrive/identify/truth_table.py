@@ -41,7 +41,7 @@ from .prerolling import maxwell_slip
 
 class IdentifiedFits(Protocol):
     """What the comparison reads of an identification result (each fit None when its step
-    did not run); :class:`feeddrive.identify.pipeline.IdentificationResult` is one."""
+    did not run); :class:`feeddrive.identify.result.IdentificationResult` is one."""
 
     model: ModelFile
     current_loop: Any
@@ -93,10 +93,22 @@ class TruthRow:
         return d
 
 
+def _within(
+    q: str, unit: str, t: float, i: float, error: float, measure: str, tol: float
+) -> TruthRow:
+    """A row whose ``error`` (as ``measure`` defines it) passes at or below ``tol``."""
+    return TruthRow(q, unit, t, i, error, measure, tol, bool(error <= tol))
+
+
+def _info(q: str, unit: str, t: float, i: float, error: float, measure: str) -> TruthRow:
+    """A row shown for information (no tolerance)."""
+    return TruthRow(q, unit, t, i, error, measure, float("nan"), None)
+
+
 def _rel(q: str, unit: str, t: float, i: float, tol: float | None) -> TruthRow:
     err = (i - t) / t if t != 0 else (np.inf if i != 0 else 0.0)
     if tol is None:
-        return TruthRow(q, unit, t, i, float(err), "relative", float("nan"), None)
+        return _info(q, unit, t, i, float(err), "relative")
     return TruthRow(q, unit, t, i, float(err), "relative", tol, bool(abs(err) <= tol))
 
 
@@ -194,18 +206,7 @@ def map_rows(
         ("cogging", "F_cg(x) rms / range", "N"),
     ):
         rms, rng = map_error(name, p, t, x0, x1)
-        rows.append(
-            TruthRow(
-                q,
-                unit,
-                rng,
-                rms,
-                rms / rng,
-                "rms / range of true map",
-                MAP_TOL,
-                bool(rms / rng <= MAP_TOL),
-            )
-        )
+        rows.append(_within(q, unit, rng, rms, rms / rng, "rms / range of true map", MAP_TOL))
     return rows
 
 
@@ -226,18 +227,8 @@ def stribeck_rows(
     if fit.asymmetry is not None:
         a = fit.asymmetry
         t_dF = compile(truth).friction.dF
-        rows.append(
-            TruthRow(
-                "asymmetry.dF (diagnostic)",
-                "N",
-                t_dF,
-                a["asymmetry.dF"],
-                a["asymmetry.dF"] - t_dF,
-                "absolute",
-                float("nan"),
-                None,
-            )
-        )
+        dF = a["asymmetry.dF"]
+        rows.append(_info("asymmetry.dF (diagnostic)", "N", t_dF, dF, dF - t_dF, "absolute"))
     return rows
 
 
@@ -245,32 +236,18 @@ def mass_rows(
     fit: Any, p: Mapping[str, Any], t: Mapping[str, Any], truth: ModelFile
 ) -> list[TruthRow]:
     """The mass's row."""
-    rows: list[TruthRow] = []
-    rows.append(_rel("m", "kg", t["m"], p["m"], REL_TOL["m"]))
-    return rows
+    return [_rel("m", "kg", t["m"], p["m"], REL_TOL["m"])]
 
 
 def attraction_rows(
     fit: Any, p: Mapping[str, Any], t: Mapping[str, Any], truth: ModelFile
 ) -> list[TruthRow]:
     """The attraction parameter's row: C as a factor (:func:`c_factor`)."""
-    rows: list[TruthRow] = []
     C_t, C_i = float(t["friction.C"]), float(p["friction.C"])
     f = max(C_i / C_t, C_t / C_i)
     tol = c_factor(C_t, float(t["friction.F_s"]))
-    rows.append(
-        TruthRow(
-            "friction.C" + ("" if fit.resolved else " (lower bound)"),
-            "N/s",
-            C_t,
-            C_i,
-            f,
-            "factor max(C/C_true, C_true/C)",
-            tol,
-            bool(f <= tol),
-        )
-    )
-    return rows
+    q = "friction.C" + ("" if fit.resolved else " (lower bound)")
+    return [_within(q, "N/s", C_t, C_i, f, "factor max(C/C_true, C_true/C)", tol)]
 
 
 def prerolling_rows(
@@ -295,30 +272,10 @@ def prerolling_rows(
     )
     for tag, (x, _, _) in pr.curves.items():
         e = prerolling_force_error(x, p, t)
-        rows.append(
-            TruthRow(
-                f"pre-rolling force, {tag} run: rms(id - true) / F_s",
-                "N",
-                F_s,
-                e,
-                e / F_s,
-                "rms / F_s",
-                PREROLLING_TOL,
-                bool(e / F_s <= PREROLLING_TOL),
-            )
-        )
-    rows.append(
-        TruthRow(
-            "pre-rolling fit to data: rms / F_s",
-            "N",
-            F_s,
-            pr.rms_relative * F_s,
-            pr.rms_relative,
-            "rms / F_s",
-            PREROLLING_TOL,
-            bool(pr.rms_relative <= PREROLLING_TOL),
-        )
-    )
+        q = f"pre-rolling force, {tag} run: rms(id - true) / F_s"
+        rows.append(_within(q, "N", F_s, e, e / F_s, "rms / F_s", PREROLLING_TOL))
+    q, rms = "pre-rolling fit to data: rms / F_s", pr.rms_relative
+    rows.append(_within(q, "N", F_s, rms * F_s, rms, "rms / F_s", PREROLLING_TOL))
     D_t, W_t = elements(t)
     if len(D_t) == len(pr.Delta):
         for j, order in enumerate(np.argsort(D_t)):
@@ -347,26 +304,11 @@ def profile_row(profile: FrictionProfile, truth: ModelFile) -> TruthRow:
     change = float(np.max(np.abs(p_true - 1.0)))
     err = float(np.max(np.abs(profile(x) - p_true)))
     if change == 0.0:
-        return TruthRow(
-            "friction profile p(x): max |p - 1| (truth has none)",
-            "",
-            0.0,
-            err,
-            err,
-            "absolute",
-            float("nan"),
-            None,
-        )
-    return TruthRow(
-        "friction profile p(x): max |error| / level change",
-        "",
-        change,
-        err,
-        err / change,
-        "max |p_id - p_true| / max |p_true - 1|",
-        PROFILE_TOL,
-        bool(err / change <= PROFILE_TOL),
-    )
+        q = "friction profile p(x): max |p - 1| (truth has none)"
+        return _info(q, "", 0.0, err, err, "absolute")
+    q = "friction profile p(x): max |error| / level change"
+    measure = "max |p_id - p_true| / max |p_true - 1|"
+    return _within(q, "", change, err, err / change, measure, PROFILE_TOL)
 
 
 def format_rows(rows: list[TruthRow]) -> str:

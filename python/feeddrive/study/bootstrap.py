@@ -25,7 +25,8 @@ from ..identify.bootstrap import (
     run_replicates,
     single_run_parameters,
 )
-from ..identify.pipeline import IdentificationResult, identify_runs
+from ..identify.pipeline import identify_runs
+from ..identify.result import IdentificationResult
 from ..model_file import ModelFile, save_model
 from .executor import (
     Progress,

@@ -32,11 +32,13 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from ..identify.bootstrap import Bootstrap
-from ..identify.pipeline import IdentificationResult
+from ..identify.result import IdentificationResult
 from ..model_file import load_model
 from ..outputs import Reads, output_dir
 from .bootstrap import METHODS, bootstrap_folder
-from .schema import KINDS, SCHEMA, Study, StudyError, parse_study, read_study_json
+from .fields import StudyError
+from .schema import KINDS, SCHEMA, parse_study, read_study_json
+from .spec import Study
 
 KIND = "bootstrap"
 _KEYS = (

@@ -21,7 +21,7 @@ from ..data import Run
 from ..experiments.tracking_error import summarise
 from ..model_file import ModelFile
 from ..residual import force_residual
-from .schema import METRICS, Experiment
+from .spec import METRICS, Experiment
 
 
 def tracking_metrics(

@@ -26,7 +26,7 @@ from ..xy.circle_test import circular_case, controller_values
 from ..xy.machine import AxisModel, y_axis_parameters
 from .metrics import residual_metric, select, tracking_metrics
 from .samplers import Case
-from .schema import CIRCLE_METRICS, METRICS, Experiment, Study
+from .spec import CIRCLE_METRICS, METRICS, Experiment, Study
 
 OK, FAILED = "ok", "failed"
 _PROFILES: dict[str, Callable[..., Reference]] = {

@@ -19,7 +19,7 @@ import numpy as np
 from scipy.stats import qmc
 
 from ..model_file import INTEGER_PARAMETERS
-from .schema import ParameterSpec, Study
+from .spec import ParameterSpec, Study
 
 
 @dataclass(frozen=True)

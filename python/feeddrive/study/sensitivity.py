@@ -17,7 +17,7 @@ import numpy as np
 from scipy.stats import spearmanr
 
 from .run import OK
-from .schema import Study
+from .spec import Study
 
 
 @dataclass(frozen=True)

@@ -22,8 +22,8 @@ from .executor import (
 )
 from .run import FAILED, RunTask
 from .samplers import cases
-from .schema import Study
 from .sensitivity import Sensitivity, sensitivities, sensitivity_text
+from .spec import Study
 from .table import ResultsTable
 
 

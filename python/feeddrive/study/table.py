@@ -26,7 +26,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from ..model_file import INTEGER_PARAMETERS
-from .schema import Study
+from .spec import Study
 
 CSV_NAME, PARQUET_NAME, IDENTITY_NAME = "results.csv", "results.parquet", "study.json"
 

@@ -2,7 +2,7 @@
 
 Layout of ``DIR``::
 
-    plan.md  [plan.html]       the page (:mod:`.plan_page`)
+    plan.md  [plan.html]       the page (:mod:`.page`)
     reference/NN_name.csv      what the drive plays: time,x_ref[,u_add] or time,u
     sidecar/NN_name.json       the sidecar to keep beside the recording NN_name.csv
 
@@ -19,10 +19,12 @@ from typing import Any
 
 import numpy as np
 
-from ..model_file import ModelFile, load_model, paper_model
-from ..outputs import output_dir
-from .plan import Plan, PlanError, default_limits, make_plan
-from .plan_page import REFERENCE_DIR, SIDECAR_DIR, plan_markdown
+from ...model_file import ModelFile, load_model, paper_model
+from ...outputs import output_dir
+from .limits import PlanError, default_limits
+from .make import make_plan
+from .page import REFERENCE_DIR, SIDECAR_DIR, plan_markdown
+from .runs import Plan
 
 #: decimals of each reference column (time: from the sample time)
 DECIMALS = {"x_ref": 10, "u": 7, "u_add": 7}

@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from .plan import IDENTIFIES, IDENTIFIES_SHORT, KIND_OF_GROUP, Plan
-from .recording import HOLD
+from ..recording import HOLD
+from .runs import IDENTIFIES, IDENTIFIES_SHORT, KIND_OF_GROUP, Plan
 
 REFERENCE_DIR, SIDECAR_DIR = "reference", "sidecar"
 

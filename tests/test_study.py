@@ -91,6 +91,7 @@ BAD = [
     (["schema"], "feeddrive.study/0", "field schema"),
     (["design"], _DELETE, "field design"),
     (["design", "type"], "sobol", "field design.type"),
+    (["design", "type"], ["lhs"], "field design.type"),  # a type that is no name
     (["design", "runs"], 0, "field design.runs"),
     (["metrics"], ["reversal_error", "iso230"], "field metrics[1]"),
     (["parameters", "mass"], {"low": 1, "high": 2}, "field parameters['mass']"),
@@ -104,6 +105,8 @@ BAD = [
     (["experiment", "reference", "type"], "circle", "field experiment.reference.type"),
     (["experiment", "reference", "period"], -1, "field experiment.reference.period"),
     (["experiment", "controller", "type"], "lqr", "field experiment.controller.type"),
+    (["experiment", "controller", "type"], {"pid": 1}, "field experiment.controller.type"),
+    (["experiment", "reference", "type"], ["sinusoid"], "field experiment.reference.type"),
     (["experiment", "measured"], "nothere.csv", "field experiment.measured"),
     (["metrics"], ["force_residual"], "field experiment.measured"),
     (["batch_size"], 0, "field batch_size"),

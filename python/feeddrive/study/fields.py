@@ -56,7 +56,7 @@ def typed_object_field(
     the message lists ``listed``, else ``known``)."""
     raw = object_field(v, src, fld)
     kind = raw.get("type")
-    if kind not in known:
+    if not isinstance(kind, str) or kind not in known:  # a list or object is no type name
         names = ", ".join(listed or known)
         raise StudyError(src, f"{fld}.type", f"{kind!r} is not a {what}; known: {names}")
     return raw, str(kind)

@@ -3,6 +3,7 @@ parameters; the ``slow`` marker."""
 
 from __future__ import annotations
 
+import os
 import subprocess
 from collections.abc import Iterator
 from pathlib import Path
@@ -11,6 +12,7 @@ import pytest
 
 from feeddrive.model_description import FMU_ENV
 from feeddrive.paper import paper_parameters
+from session_cache import CACHE_ENV
 
 REPO = Path(__file__).resolve().parents[1]
 FMU = REPO / "build" / "LinearMotorFeedDrive.fmu"
@@ -150,3 +152,15 @@ def fmu_version(
 def paper() -> dict[str, float | int | bool]:
     """Every FMU parameter at the paper's value (SI), from feeddrive.paper."""
     return paper_parameters()
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _session_cache(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
+    """The directory of session_cache's results: the session's base temporary directory,
+    the one the xdist workers share (the parent of each worker's own)."""
+    base = tmp_path_factory.getbasetemp()
+    root = (base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base) / "session_cache"
+    root.mkdir(exist_ok=True)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv(CACHE_ENV, str(root))
+        yield root

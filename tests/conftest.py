@@ -4,6 +4,12 @@ parameters; the ``slow`` marker."""
 from __future__ import annotations
 
 import os
+
+# one BLAS thread per process, set before numpy is first imported: the suite runs one
+# process per core, and OpenBLAS's own threads on the same cores spin while they wait
+# (test_interval_coverage: 230 s of CPU with OpenBLAS's 2 threads, 115 s with 1)
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
 import subprocess
 from collections.abc import Iterator
 from pathlib import Path

@@ -3,6 +3,13 @@ parameters; the ``slow`` marker."""
 
 from __future__ import annotations
 
+import os
+
+# one BLAS thread per process, set before numpy is first imported: the suite runs one
+# process per core, and OpenBLAS's own threads on the same cores spin while they wait
+# (test_interval_coverage: 230 s of CPU with OpenBLAS's 2 threads, 115 s with 1)
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
 import subprocess
 from collections.abc import Iterator
 from pathlib import Path
@@ -11,6 +18,7 @@ import pytest
 
 from feeddrive.model_description import FMU_ENV
 from feeddrive.paper import paper_parameters
+from session_cache import CACHE_ENV
 
 REPO = Path(__file__).resolve().parents[1]
 FMU = REPO / "build" / "LinearMotorFeedDrive.fmu"
@@ -42,40 +50,41 @@ BOTH_VERSIONS = {
 }
 
 #: the 30 test modules of the longest summed test time (setup included), the longest first
-#: (measured with ``--junitxml`` on 2 workers: these are 91 % of the suite's time): handed out
-#: first, so that none of them is left running alone at the end while the other worker idles
-#: (xdist's own order, by number of tests, puts a one-test file of minutes last)
+#: (CPU time of each test's process and children on 2 workers, which a shared machine's load
+#: does not stretch: these are 90 % of the suite's): handed out first, so that none of them is
+#: left running alone at the end while the other worker idles (xdist's own order, by number
+#: of tests, puts a one-test file of minutes last)
 HEAVY_FIRST = (
+    "test_interval_coverage",
     "test_diagnose_hidden",
     "test_diagnose_noise_floor",
     "test_diagnose_compliance_band",
-    "test_identify_roundtrip",
-    "test_diagnose_honest",
     "test_plan",
-    "test_diagnose_verdict",
-    "test_cs_fast_path",
+    "test_diagnose_honest",
     "test_identify_bootstrap",
+    "test_identify_roundtrip",
     "test_cs_hardening",
+    "test_c_fuzz_coverage",
+    "test_diagnose_verdict",
+    "test_c_state_and_limits",
     "test_diagnose",
-    "test_docs",
-    "test_fmu_friction_steady",
+    "test_package_install",
+    "test_c_controller",
+    "test_cs_fast_path",
     "test_study",
     "test_cs_agreement",
-    "test_interval_coverage",
-    "test_c_controller",
-    "test_package_install",
-    "test_harness",
-    "test_identify_parametric",
-    "test_c_fuzz_coverage",
-    "test_c_state_and_limits",
-    "test_c_fmi3",
     "test_diagnose_compliance",
-    "test_controller_fmu",
+    "test_fmu_friction_steady",
+    "test_docs",
+    "test_identify_parametric",
+    "test_c_fmi3",
     "test_c_static_analysis",
+    "test_reports_browser",
+    "test_harness",
     "test_diagnose_start",
-    "test_bad_inputs",
-    "test_circular",
-    "test_position_friction",
+    "test_systems",
+    "test_diagnose_emps",
+    "test_experiments",
 )
 
 
@@ -150,3 +159,15 @@ def fmu_version(
 def paper() -> dict[str, float | int | bool]:
     """Every FMU parameter at the paper's value (SI), from feeddrive.paper."""
     return paper_parameters()
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _session_cache(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
+    """The directory of session_cache's results: the session's base temporary directory,
+    the one the xdist workers share (the parent of each worker's own)."""
+    base = tmp_path_factory.getbasetemp()
+    root = (base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base) / "session_cache"
+    root.mkdir(exist_ok=True)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv(CACHE_ENV, str(root))
+        yield root

@@ -34,6 +34,8 @@ from pathlib import Path
 
 import pytest
 
+from c_build import make_c
+
 REPO = Path(__file__).resolve().parents[1]
 OUT = REPO / "build" / "tests_c"
 CTRL_SO = REPO / "build" / "controller" / "binaries" / "linux64" / "DriveController.so"
@@ -69,12 +71,7 @@ CASES = [
 
 
 def build(*targets: str) -> None:
-    subprocess.run(
-        ["make", "-s", "-j2", "-C", str(REPO / "tests" / "c")] + [str(OUT / t) for t in targets],
-        check=True,
-        capture_output=True,
-        text=True,
-    )
+    make_c(*targets, jobs=2)
 
 
 def run(prog: str, *args: str, timeout: float = 300) -> subprocess.CompletedProcess:

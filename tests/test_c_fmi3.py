@@ -29,6 +29,8 @@ from pathlib import Path
 
 import pytest
 
+from c_build import make_c
+
 REPO = Path(__file__).resolve().parents[1]
 OUT = REPO / "build" / "tests_c"
 SAN_ENV = {
@@ -45,12 +47,7 @@ PROG = "fmi3_host_san"
 
 
 def run(*args: str) -> subprocess.CompletedProcess:
-    subprocess.run(
-        ["make", "-s", "-C", str(REPO / "tests" / "c"), str(OUT / PROG)],
-        check=True,
-        capture_output=True,
-        text=True,
-    )
+    make_c(PROG)
     return subprocess.run(
         [str(OUT / PROG), *args],
         capture_output=True,

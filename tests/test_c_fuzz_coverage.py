@@ -18,6 +18,8 @@ from pathlib import Path
 
 import pytest
 
+from c_build import make_c
+
 REPO = Path(__file__).resolve().parents[1]
 OUT = REPO / "build" / "tests_c"
 CORPUS = REPO / "tests" / "c" / "corpus"
@@ -25,12 +27,7 @@ SECONDS = 20
 
 
 def make(target: str) -> None:
-    subprocess.run(
-        ["make", "-s", "-C", str(REPO / "tests" / "c"), str(OUT / target)],
-        check=True,
-        capture_output=True,
-        text=True,
-    )
+    make_c(target)
 
 
 def test_seed_corpus_is_current(fmu_path: Path, tmp_path: Path) -> None:

@@ -21,6 +21,8 @@ from pathlib import Path
 
 import pytest
 
+from c_build import make_c
+
 REPO = Path(__file__).resolve().parents[1]
 OUT = REPO / "build" / "tests_c"
 SO = REPO / "build" / "binaries" / "linux64" / "LinearMotorFeedDrive.so"
@@ -37,12 +39,7 @@ SANITIZER_MARKS = (
 
 
 def run(prog: str, sanitized: bool = True) -> tuple[subprocess.CompletedProcess, list[dict]]:
-    subprocess.run(
-        ["make", "-s", "-C", str(REPO / "tests" / "c"), str(OUT / prog)],
-        check=True,
-        capture_output=True,
-        text=True,
-    )
+    make_c(prog)
     env = dict(os.environ, **SAN_ENV) if sanitized else None
     p = subprocess.run(
         [str(OUT / prog), "-" if sanitized else str(SO)],

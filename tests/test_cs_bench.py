@@ -5,11 +5,11 @@ time (measured ≈ 100x).  The host (tests/c/bench_cs) is test code, built here 
 
 from __future__ import annotations
 
-import subprocess
 from pathlib import Path
 
 import pytest
 
+from c_build import make_c
 from feeddrive.bench_c import callgrind_groups, markdown, run_bench_cs
 
 REPO = Path(__file__).resolve().parents[1]
@@ -19,12 +19,7 @@ SO = REPO / "build" / "binaries" / "linux64" / "LinearMotorFeedDrive.so"
 
 @pytest.fixture(scope="module")
 def bench_cs(fmu_path: Path) -> Path:
-    subprocess.run(
-        ["make", "-s", "-C", str(REPO / "tests" / "c"), str(OUT / "bench_cs")],
-        check=True,
-        capture_output=True,
-        text=True,
-    )
+    make_c("bench_cs")
     return OUT / "bench_cs"
 
 

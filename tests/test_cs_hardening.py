@@ -23,6 +23,8 @@ from pathlib import Path
 
 import pytest
 
+from c_build import make_c
+
 REPO = Path(__file__).resolve().parents[1]
 OUT = REPO / "build" / "tests_c"
 SO = REPO / "build" / "binaries" / "linux64" / "LinearMotorFeedDrive.so"
@@ -40,12 +42,7 @@ SANITIZER_MARKS = (
 
 def build(*targets: str) -> None:
     """make -C tests/c the given driver binaries (plain: dlopen the .so; *_san: sanitizers)."""
-    subprocess.run(
-        ["make", "-s", "-j2", "-C", str(REPO / "tests" / "c")] + [str(OUT / t) for t in targets],
-        check=True,
-        capture_output=True,
-        text=True,
-    )
+    make_c(*targets, jobs=2)
 
 
 def run(

@@ -17,6 +17,7 @@ import warnings
 import numpy as np
 import pytest
 
+from c_build import make_c
 from feeddrive.control.design_model import design_model
 from feeddrive.control.margins import poor_margins
 from feeddrive.fmu import Plant
@@ -202,7 +203,6 @@ def test_ecos_at_ts_is_the_harness_with_delay_one(delay1_files) -> None:
 def test_c_gauss_seidel_master_is_the_harness_bit_for_bit(fmu_path, delay: int) -> None:
     """tests/c/two_fmus (the C master of `make bench`): plant first, controller second, the
     6 s Sec. 3 loop equal to the harness's with the same delay, to the bit."""
-    import subprocess
     from pathlib import Path
 
     from feeddrive.bench_c import run_two_fmus
@@ -210,12 +210,7 @@ def test_c_gauss_seidel_master_is_the_harness_bit_for_bit(fmu_path, delay: int) 
 
     repo = Path(__file__).resolve().parents[1]
     host = repo / "build" / "tests_c" / "two_fmus"
-    subprocess.run(
-        ["make", "-s", "-C", str(repo / "tests" / "c"), str(host)],
-        check=True,
-        capture_output=True,
-        text=True,
-    )
+    make_c(host.name)
     spec = {**state_space_spec(), "delay": delay}
     ref, h = _harness(spec, P)
     values = controller_fmu_parameters(spec, reference=sinusoid_source(A, P, C, P), quantum=1e-7)

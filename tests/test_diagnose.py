@@ -11,11 +11,11 @@ from diagnosis_runs import make_runs, simulate_run, sinusoid_reference
 from feeddrive.cli import main as feeddrive_cli
 from feeddrive.data import write_run
 from feeddrive.diagnose.localise import displacement_since_reversal, spatial_spectrum
-from feeddrive.diagnose.workflow import diagnose
 from feeddrive.harness import controller_spec, make_controller, pid_spec
 from feeddrive.model_file import load_model, paper_model, save_model
 from feeddrive.report.diagnosis import write_diagnosis
 from feeddrive.residual import force_residual
+from session_cache import diagnose
 
 PAPER = paper_model()
 

@@ -25,11 +25,11 @@ import numpy as np
 import pytest
 
 from diagnosis_runs import make_runs, simulate_run, sinusoid_reference
-from feeddrive.diagnose.workflow import diagnose
 from feeddrive.harness import back_and_forth, state_space_spec
 from feeddrive.identify.compliance import fit_compliance, identify_compliance
 from feeddrive.model_file import paper_model
 from feeddrive.residual import residuals
+from session_cache import diagnose
 
 PAPER = paper_model()
 LOAD = {"compliance.m2": 2.0, "compliance.f": 40.0, "compliance.zeta": 0.05}

@@ -24,11 +24,11 @@ from feeddrive.diagnose.candidates import CANDIDATES
 from feeddrive.diagnose.context import Context
 from feeddrive.diagnose.scoring import I_MIN, T_MIN, score
 from feeddrive.diagnose.significance import beyond
-from feeddrive.diagnose.workflow import diagnose
 from feeddrive.identify.compliance import fit_compliance, identify_compliance, rigid_parts
 from feeddrive.physics import load_acceleration, load_free_response
 from feeddrive.residual import residuals
 from feeddrive.signals import matched_acceleration
+from session_cache import diagnose
 
 #: (f [Hz], zeta, m2/m, controller, excitation): every value of every factor at least once.
 CASES = [

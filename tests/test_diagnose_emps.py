@@ -15,9 +15,9 @@ import pytest
 
 from feeddrive.data import load_run
 from feeddrive.diagnose.emps import EMPS_FORCE_GAIN, emps_baseline_model
-from feeddrive.diagnose.workflow import diagnose
 from feeddrive.report.diagnosis import write_diagnosis
 from feeddrive.residual import force_residual
+from session_cache import diagnose
 
 EMPS = Path(__file__).resolve().parents[2] / "shared" / "realdata" / "emps" / "emps_train.csv"
 pytestmark = pytest.mark.skipif(not EMPS.exists(), reason=f"{EMPS} not present")

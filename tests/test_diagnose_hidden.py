@@ -19,12 +19,12 @@ import numpy as np
 import pytest
 
 from diagnosis_runs import make_runs, simulate_run
-from feeddrive.diagnose.workflow import diagnose
 from feeddrive.harness import Reference, back_and_forth, point_to_point, sinusoid, state_space_spec
 from feeddrive.model_file import paper_model
 from feeddrive.physics import FrictionProfile
 from feeddrive.physics.friction_curves import stribeck_level
 from feeddrive.physics.position_maps import cogging, force_constant
+from session_cache import diagnose
 
 PAPER = paper_model()
 

@@ -21,9 +21,9 @@ from diagnosis_runs import make_runs
 from feeddrive.cli import main as feeddrive_cli
 from feeddrive.data import Run, write_run
 from feeddrive.diagnose.hints import hints, play_position
-from feeddrive.diagnose.workflow import diagnose
 from feeddrive.model_file import load_model, paper_model, save_model
 from feeddrive.residual import residuals
+from session_cache import diagnose
 from test_diagnose_verdict import _three_excitations, play
 
 PAPER = paper_model()

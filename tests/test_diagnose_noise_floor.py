@@ -19,13 +19,13 @@ import pytest
 from diagnosis_runs import back_and_forth, make_runs, simulate_run
 from feeddrive.data import Run
 from feeddrive.diagnose.noise_floor import force_noise, motor_force_noise, noise_floor
-from feeddrive.diagnose.workflow import diagnose
 from feeddrive.experiments import campaign as experiments
 from feeddrive.experiments.prbs import prbs_runs
 from feeddrive.harness.sensors import Sensors
 from feeddrive.model_file import paper_model
 from feeddrive.physics import compile
 from feeddrive.residual import force_residual
+from session_cache import diagnose
 
 PAPER = paper_model()
 P = compile(PAPER)

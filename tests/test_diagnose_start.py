@@ -18,7 +18,6 @@ import numpy as np
 import pytest
 
 from feeddrive.data import Run
-from feeddrive.diagnose.workflow import diagnose
 from feeddrive.experiments.campaign import campaign
 from feeddrive.harness.sensors import Sensors
 from feeddrive.identify.compliance import rigid_residual
@@ -27,6 +26,7 @@ from feeddrive.physics import compile, gms_force, initial_elements, memory_wiped
 from feeddrive.physics.gms_start import _Tracks, element_bounds
 from feeddrive.residual import force_residual
 from feeddrive.signals import apply_kernel, matched_acceleration
+from session_cache import diagnose
 
 PAPER = paper_model()
 PRM = compile(PAPER).friction

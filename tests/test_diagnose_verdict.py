@@ -21,11 +21,11 @@ from diagnosis_runs import make_runs, simulate_run, sinusoid_reference
 from feeddrive.cli import main as feeddrive_cli
 from feeddrive.data import Run, write_run
 from feeddrive.diagnose.noise_floor import force_noise, noise_floor, position_quantum
-from feeddrive.diagnose.workflow import diagnose
 from feeddrive.harness import Reference, back_and_forth, point_to_point, sinusoid, state_space_spec
 from feeddrive.model_file import paper_model, save_model
 from feeddrive.physics import compile
 from feeddrive.residual import force_residual
+from session_cache import diagnose
 
 PAPER = paper_model()
 

@@ -59,8 +59,10 @@ def installed(tmp_path_factory, fmu_path: Path) -> tuple[Path, Path]:
     (wheel,) = wheels.glob("feeddrive-*.whl")
     env_dir = tmp / "venv"
     venv.EnvBuilder(with_pip=True).create(env_dir)
+    # --no-compile: no bytecode for the thousands of modules of the dependencies (scipy,
+    # pyarrow, dask, ...); the few that `feeddrive run` imports are compiled when imported
     p = _run(
-        [str(env_dir / "bin" / "python"), "-m", "pip", "install", "-q", str(wheel)],
+        [str(env_dir / "bin" / "python"), "-m", "pip", "install", "-q", "--no-compile", str(wheel)],
         tmp,
         _env(),
         900,

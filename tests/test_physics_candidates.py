@@ -10,12 +10,12 @@ import pytest
 from feeddrive.data import Run
 from feeddrive.diagnose.context import Context
 from feeddrive.diagnose.scoring import score
-from feeddrive.diagnose.workflow import diagnose
 from feeddrive.effects.viscous import candidate as viscous
 from feeddrive.model_file import load_model, paper_model
 from feeddrive.physics import compile
 from feeddrive.report.diagnosis import write_diagnosis
 from feeddrive.residual import residuals
+from session_cache import diagnose
 
 PAPER = paper_model()
 DSIGMA = -7189.0  #: the data's viscous coefficient is the model's 54 N s/m plus this

@@ -41,7 +41,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..effects import Structure, apply_switches, broken_rule, structure_on, switchable
-from ..model_description import variables
+from ..model_description import Variable, variables
 from ..paper import N_ELEMENTS_MAX, paper_parameters
 from .compliance import Compliance
 from .current_loop import CurrentLoop
@@ -58,12 +58,6 @@ class ParameterError(ValueError):
 
 class HasFmuParameters(Protocol):
     def fmu_parameters(self) -> Mapping[str, Any]: ...
-
-
-def _unit(name: str) -> str:
-    """The unit of parameter ``name`` as modelDescription.xml declares it ('' for none)."""
-    v = variables().get(name)
-    return v.unit if v is not None else ""
 
 
 # range rules: (lo, lo_open, hi, hi_open), as params.c range_of and the effects' range entries
@@ -106,10 +100,14 @@ def _g(v: float) -> str:
     return f"{v:g}"
 
 
-def check_value(name: str, value: float) -> None:
-    """One parameter alone (params.c ``plant_check_value``); ParameterError if refused."""
+def check_value(name: str, value: float, declared: Mapping[str, Variable] | None = None) -> None:
+    """One parameter alone (params.c ``plant_check_value``); ParameterError if refused.
+
+    ``declared``: the FMU's variables (:func:`variables`), read here when not given (a caller
+    that checks many values reads them once)."""
     v = float(value)
-    unit = _unit(name)
+    var = (variables() if declared is None else declared).get(name)
+    unit = var.unit if var is not None else ""  # as modelDescription.xml declares it
     if not math.isfinite(v):
         raise ParameterError(
             f"{name} = {_g(v)} is not a finite number: allowed values are "
@@ -121,11 +119,10 @@ def check_value(name: str, value: float) -> None:
         if (v <= lo if lo_open else v < lo) or (v >= hi if hi_open else v > hi):
             rs = f"{'(' if lo_open else '['}{_bound(lo)}, {_bound(hi)}{')' if hi_open else ']'}"
             raise ParameterError(f"{name} = {_num(v)} is out of range: allowed {rs} {unit}")
-    declared = variables().get(name)
-    if declared is not None and not declared.lo <= v <= declared.hi:
+    if var is not None and not var.lo <= v <= var.hi:
         raise ParameterError(
             f"{name} = {_num(v)} is out of range: allowed "
-            f"[{_bound(declared.lo)}, {_bound(declared.hi)}] {unit}"
+            f"[{_bound(var.lo)}, {_bound(var.hi)}] {unit}"
         )
 
 
@@ -182,8 +179,9 @@ def compile(model: HasFmuParameters | Mapping[str, Any]) -> PlantParameters:
     for name in val:
         if name not in known and name not in SOLVER_PARAMETERS:
             raise KeyError(f"{name!r} is not a parameter of the FMU")
+    declared = variables()
     for name, v in val.items():
-        check_value(name, v)
+        check_value(name, v, declared)
     msg = broken_rule(val)  # plant_params_compile's rules, the effect table's order
     if msg is not None:
         raise ParameterError(msg)

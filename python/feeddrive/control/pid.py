@@ -71,27 +71,31 @@ class PID:
     ----------
     reference : x_ref[k] [m] sampled at Ts (held at its last value beyond the end).
     Ts : sample time [s].
+    Kp, Kv, Ki : force-equivalent gains [N/m], [N s/m], [N/(m s)] (>= 0).
+    force_per_volt : N per V of the amplifier + motor at DC.
+    u_limit : output clamp +- [V].
+    tf : derivative filter time constant [s] (0: plain backward difference).
+    anti_windup : conditional integration while clamped.
     lead : (zero_hz, pole_hz) of a lead filter on the force command, or None.
     u_ff : feedforward voltage per sample (zero beyond its end), or None.
-    **settings : the fields of :class:`PIDSettings` (their defaults when left out):
-        force-equivalent gains ``Kp, Kv, Ki`` [N/m], [N s/m], [N/(m s)] (>= 0);
-        ``force_per_volt``, N per V of the amplifier + motor at DC; ``u_limit``, output
-        clamp +- [V]; ``tf``, derivative filter time constant [s] (0: plain backward
-        difference); ``anti_windup``, conditional integration while clamped.
+
+    The defaults of the settings are :class:`PIDSettings`'s.
     """
 
     def __init__(
         self,
         reference: ArrayLike,
         Ts: float = 5e-4,
-        *,
+        Kp: float = PIDSettings.Kp,
+        Kv: float = PIDSettings.Kv,
+        Ki: float = PIDSettings.Ki,
+        force_per_volt: float = PIDSettings.force_per_volt,
+        u_limit: float = PIDSettings.u_limit,
+        tf: float = PIDSettings.tf,
+        anti_windup: bool = PIDSettings.anti_windup,
         lead: tuple[float, float] | None = None,
         u_ff: ArrayLike | None = None,
-        **settings: Any,
     ) -> None:
-        s = PIDSettings(**settings)
-        Kp, Kv, Ki, tf = s.Kp, s.Kv, s.Ki, s.tf
-        force_per_volt, u_limit = s.force_per_volt, s.u_limit
         if not Ts > 0 or not tf >= 0:
             raise ValueError(f"pid.py: need Ts > 0 and tf >= 0 (got Ts={Ts}, tf={tf})")
         if min(Kp, Kv, Ki) < 0:
@@ -105,7 +109,7 @@ class PID:
             raise ValueError("pid.py: reference must be a non-empty 1-D array")
         self.Ts, self.Kp, self.Kv, self.Ki = float(Ts), float(Kp), float(Kv), float(Ki)
         self.force_per_volt, self.u_limit = float(force_per_volt), float(u_limit)
-        self.tf, self.anti_windup = float(tf), bool(s.anti_windup)
+        self.tf, self.anti_windup = float(tf), bool(anti_windup)
         self._a = self.tf / (self.tf + self.Ts)
         self._b = self.Kv / (self.tf + self.Ts)
         self.lead = None if lead is None else (float(lead[0]), float(lead[1]))

@@ -72,12 +72,26 @@ def state_space_spec(
     }
 
 
-def pid_spec(**settings: Any) -> dict[str, Any]:
-    """Spec of the force-equivalent PID: the fields of
-    :class:`feeddrive.control.pid.PIDSettings`, its defaults for those left out."""
-    defaults, given = asdict(PIDSettings()), asdict(PIDSettings(**settings))
-    # each value as the type of its default: float, bool for anti_windup
-    return {"type": "pid", **{k: type(defaults[k])(v) for k, v in given.items()}}
+def pid_spec(
+    Kp: float = PIDSettings.Kp,
+    Kv: float = PIDSettings.Kv,
+    Ki: float = PIDSettings.Ki,
+    force_per_volt: float = PIDSettings.force_per_volt,
+    u_limit: float = PIDSettings.u_limit,
+    tf: float = PIDSettings.tf,
+    anti_windup: bool = PIDSettings.anti_windup,
+) -> dict[str, Any]:
+    """Spec of the force-equivalent PID (defaults: :class:`feeddrive.control.pid.PIDSettings`)."""
+    s = PIDSettings(
+        float(Kp),
+        float(Kv),
+        float(Ki),
+        float(force_per_volt),
+        float(u_limit),
+        float(tf),
+        bool(anti_windup),
+    )
+    return {"type": "pid", **asdict(s)}
 
 
 def pid_lead_spec(
